@@ -1,0 +1,1 @@
+//! Criterion benchmarks of geodesic live in `benches/benches/`; this library is empty.

@@ -1,0 +1,11 @@
+//! One module per `geodesic` command; each owns its clap `Args` and a `run` function.
+
+pub mod capture;
+pub mod charge;
+pub mod diagnose;
+pub mod fit;
+pub mod history;
+pub mod merge;
+pub mod montecarlo;
+pub mod synth;
+pub mod verify;
