@@ -1,1 +1,19 @@
-//! placeholder
+//! geodesic-core: the verification framework's foundation.
+//!
+//! - [`units`]: units as engineers write them (`5 um/s`, `200 µm`, `3e8 e`) and dimensions.
+//! - [`requirement`]: requirements in YAML, loaded raw then checked, errors with `file:line:column`.
+//! - [`check`]: the [`check::Check`] trait and the [`check::Evidence`] a check returns.
+//! - [`matrix`]: the compliance matrix: evidence compared with limits, margins, statuses.
+//! - [`trace`]: the `verifies!` macro that traces tests to requirement IDs.
+//!
+//! This crate depends on no model crate: models <- framework <- CLI.
+
+pub mod check;
+pub mod matrix;
+pub mod requirement;
+pub mod trace;
+pub mod units;
+
+pub use check::{Check, CheckContext, CheckError, Evidence, Outcome};
+pub use requirement::{ReqId, Requirement, Requirements};
+pub use units::{Dim, Quantity};

@@ -1,0 +1,413 @@
+//! The compliance matrix: every requirement with its status, value, limit, margin, evidence and
+//! the tests that cover it.
+//!
+//! A requirement is `compliant` when a check measured a value that satisfies its limit,
+//! `non-compliant` when a measured value does not, and `not-verified` when no check gave a value
+//! (no check at all, or a check that states why it cannot). It is never silently compliant.
+//! When several checks measure the same requirement, the one with the smallest margin decides.
+
+use crate::check::{Evidence, Outcome};
+use crate::requirement::{Requirement, Requirements};
+use crate::trace::TestTrace;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Compliance status of a requirement.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, PartialOrd, Ord)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// Verified and met.
+    Compliant,
+    /// Verified and not met.
+    NonCompliant,
+    /// No evidence gives a value.
+    NotVerified,
+}
+
+impl Status {
+    /// The status as written in JSON (`compliant`, `non-compliant`, `not-verified`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Status::Compliant => "compliant",
+            Status::NonCompliant => "non-compliant",
+            Status::NotVerified => "not-verified",
+        }
+    }
+}
+
+/// One piece of evidence as shown in the matrix.
+#[derive(Clone, Debug, Serialize)]
+pub struct EvidenceEntry {
+    /// Name of the check that produced it.
+    pub check: String,
+    /// What produced the value.
+    pub activity: String,
+    /// Value in the requirement's unit (absent when not verified).
+    pub value: Option<f64>,
+    /// Why no value, if so.
+    pub reason: Option<String>,
+    /// Inputs (N, seed, dataset, ...).
+    pub inputs: BTreeMap<String, serde_json::Value>,
+    /// Files written (relative to the reports directory).
+    pub artifacts: Vec<String>,
+}
+
+/// A test that covers a requirement.
+#[derive(Clone, Debug, Serialize)]
+pub struct TestRef {
+    /// Test name.
+    pub test: String,
+    /// `file:line` of its `verifies!` call.
+    pub location: String,
+    /// Kind (`proptest`, `snapshot`, `unit`).
+    pub kind: String,
+}
+
+/// One row of the matrix.
+#[derive(Clone, Debug, Serialize)]
+pub struct Row {
+    /// Requirement ID.
+    pub id: String,
+    /// Status.
+    pub status: Status,
+    /// Deciding value, in `unit`.
+    pub value: Option<f64>,
+    /// Limit, in `unit`.
+    pub limit: f64,
+    /// Margin `(limit - value) / limit` (sign-adjusted for lower bounds).
+    pub margin: Option<f64>,
+    /// Unit of `value` and `limit`, as written in the requirement.
+    pub unit: String,
+    /// Comparison (`<=`, `<`, `>=`, `>`).
+    pub op: String,
+    /// Limit as written.
+    pub limit_text: String,
+    /// Probability level, if any.
+    pub probability: Option<String>,
+    /// Title.
+    pub title: String,
+    /// Shall statement.
+    pub text: String,
+    /// Family.
+    pub family: String,
+    /// Thesis source.
+    pub source: String,
+    /// Verification method.
+    pub method: String,
+    /// Verification activity.
+    pub activity: String,
+    /// Parent ID and margin.
+    pub parent: Option<String>,
+    /// Parent margin factor.
+    pub parent_margin: Option<f64>,
+    /// Children IDs.
+    pub children: Vec<String>,
+    /// Why it is not verified (when so).
+    pub reason: Option<String>,
+    /// Evidence.
+    pub evidence: Vec<EvidenceEntry>,
+    /// Tests that declare they verify this requirement.
+    pub tests: Vec<TestRef>,
+    /// `file:line` of the requirement.
+    pub defined_at: String,
+}
+
+/// A check whose evidence names a requirement that is not loaded.
+#[derive(Clone, Debug, Serialize)]
+pub struct Orphan {
+    /// Check name.
+    pub check: String,
+    /// The unknown requirement ID.
+    pub requirement: String,
+}
+
+/// Counts by status.
+#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+pub struct Summary {
+    /// Number of requirements.
+    pub total: usize,
+    /// Compliant.
+    pub compliant: usize,
+    /// Non-compliant.
+    pub non_compliant: usize,
+    /// Not verified.
+    pub not_verified: usize,
+}
+
+/// The compliance matrix.
+#[derive(Clone, Debug, Serialize)]
+pub struct Matrix {
+    /// Rows, in requirement order.
+    pub requirements: Vec<Row>,
+    /// Counts.
+    pub summary: Summary,
+    /// Evidence naming unknown requirements.
+    pub orphan_checks: Vec<Orphan>,
+}
+
+impl Matrix {
+    /// Builds the matrix from requirements, the evidence of each check (by check name) and the
+    /// test traces.
+    pub fn build(
+        reqs: &Requirements,
+        evidence: &[(String, Vec<Evidence>)],
+        traces: &[TestTrace],
+    ) -> Matrix {
+        let mut orphans = Vec::new();
+        let mut by_req: BTreeMap<&str, Vec<(&str, &Evidence)>> = BTreeMap::new();
+        for (check, evs) in evidence {
+            for e in evs {
+                if reqs.get(&e.requirement).is_some() {
+                    by_req
+                        .entry(e.requirement.as_str())
+                        .or_default()
+                        .push((check.as_str(), e));
+                } else {
+                    orphans.push(Orphan {
+                        check: check.clone(),
+                        requirement: e.requirement.clone(),
+                    });
+                }
+            }
+        }
+        let rows: Vec<Row> = reqs
+            .items
+            .iter()
+            .map(|r| {
+                row(
+                    r,
+                    reqs,
+                    by_req.get(r.id.as_str()).map(Vec::as_slice).unwrap_or(&[]),
+                    traces,
+                )
+            })
+            .collect();
+        let mut s = Summary {
+            total: rows.len(),
+            ..Default::default()
+        };
+        for r in &rows {
+            match r.status {
+                Status::Compliant => s.compliant += 1,
+                Status::NonCompliant => s.non_compliant += 1,
+                Status::NotVerified => s.not_verified += 1,
+            }
+        }
+        Matrix {
+            requirements: rows,
+            summary: s,
+            orphan_checks: orphans,
+        }
+    }
+
+    /// Exit status of `verify`: 1 if any requirement is non-compliant, else 0.
+    pub fn exit_code(&self) -> u8 {
+        u8::from(self.summary.non_compliant > 0)
+    }
+}
+
+fn row(
+    r: &Requirement,
+    reqs: &Requirements,
+    evs: &[(&str, &Evidence)],
+    traces: &[TestTrace],
+) -> Row {
+    let scale = r.unit.scale;
+    let limit = r.limit.value / scale;
+    let mut entries = Vec::new();
+    let mut best: Option<(f64, f64)> = None; // (value in unit, margin)
+    let mut reasons = Vec::new();
+    for (check, e) in evs {
+        let (value, reason) = match &e.outcome {
+            Outcome::Measured(q) if q.dim == r.dim && q.value.is_finite() => {
+                let v = q.value / scale;
+                let m = r.op.margin(v, limit);
+                if best.is_none_or(|(_, bm)| m < bm) {
+                    best = Some((v, m));
+                }
+                (Some(v), None)
+            }
+            Outcome::Measured(q) => {
+                let why = if q.value.is_finite() {
+                    format!("check {check} gave a {} for a {} requirement", q.dim, r.dim)
+                } else {
+                    format!("check {check} gave a non-finite value")
+                };
+                reasons.push(why.clone());
+                (None, Some(why))
+            }
+            Outcome::NotVerified(why) => {
+                reasons.push(why.clone());
+                (None, Some(why.clone()))
+            }
+        };
+        entries.push(EvidenceEntry {
+            check: check.to_string(),
+            activity: e.activity.clone(),
+            value,
+            reason,
+            inputs: e.inputs.clone(),
+            artifacts: e.artifacts.clone(),
+        });
+    }
+    let (status, value, margin, reason) = match best {
+        Some((v, m)) => {
+            let ok = r.op.holds(v, limit);
+            (
+                if ok {
+                    Status::Compliant
+                } else {
+                    Status::NonCompliant
+                },
+                Some(v),
+                Some(m),
+                None,
+            )
+        }
+        None => {
+            let why = if reasons.is_empty() {
+                "no check provides evidence for this requirement".to_string()
+            } else {
+                reasons.join("; ")
+            };
+            (Status::NotVerified, None, None, Some(why))
+        }
+    };
+    let tests = traces
+        .iter()
+        .filter(|t| t.requirements.contains(&r.id.as_str()))
+        .map(|t| TestRef {
+            test: t.test.to_string(),
+            location: format!("{}:{}", t.file, t.line),
+            kind: t.kind.to_string(),
+        })
+        .collect();
+    Row {
+        id: r.id.to_string(),
+        status,
+        value,
+        limit,
+        margin,
+        unit: r.unit.symbol.clone(),
+        op: r.op.symbol().to_string(),
+        limit_text: r.limit_text.clone(),
+        probability: r.probability.clone(),
+        title: r.title.clone(),
+        text: r.text.clone(),
+        family: r.family.clone(),
+        source: r.source.clone(),
+        method: r.method.to_string(),
+        activity: r.activity.clone(),
+        parent: r.parent.as_ref().map(|(p, _)| p.to_string()),
+        parent_margin: r.parent.as_ref().map(|(_, m)| *m),
+        children: reqs
+            .children(r.id.as_str())
+            .into_iter()
+            .map(|c| c.to_string())
+            .collect(),
+        reason,
+        evidence: entries,
+        tests,
+        defined_at: format!("{}:{}", r.origin.file.display(), r.origin.line),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::units::{Dim, Quantity};
+    use std::path::PathBuf;
+
+    fn reqs() -> Requirements {
+        let t = "family: f
+requirements:
+  - id: A-ONE
+    title: a
+    text: shall
+    source: s
+    quantity: q
+    dimension: velocity
+    limit: <= 5 um/s
+    method: analysis
+    activity: mc
+  - id: A-TWO
+    title: b
+    text: shall
+    source: s
+    quantity: q
+    dimension: dimensionless
+    limit: '>= 0.9973'
+    method: analysis
+    activity: mc
+  - id: A-THREE
+    title: c
+    text: shall
+    source: s
+    quantity: q
+    dimension: velocity
+    limit: <= 5 um/s
+    method: analysis
+    activity: none
+";
+        Requirements::from_sources(&[(PathBuf::from("f.yaml"), t.into())]).unwrap()
+    }
+
+    #[test]
+    fn statuses_and_margins() {
+        let r = reqs();
+        let ev = vec![(
+            "mc".to_string(),
+            vec![
+                Evidence::measured("A-ONE", Quantity::new(1.5e-6, Dim::VELOCITY), "mc"),
+                Evidence::measured("A-TWO", Quantity::new(0.99, Dim::DIMENSIONLESS), "mc"),
+                Evidence::measured("NOPE", Quantity::new(0.99, Dim::DIMENSIONLESS), "mc"),
+            ],
+        )];
+        let m = Matrix::build(&r, &ev, &[]);
+        assert_eq!(m.requirements[0].status, Status::Compliant);
+        assert!((m.requirements[0].value.unwrap() - 1.5).abs() < 1e-9);
+        assert!((m.requirements[0].margin.unwrap() - 0.7).abs() < 1e-9);
+        assert_eq!(m.requirements[1].status, Status::NonCompliant);
+        assert!(m.requirements[1].margin.unwrap() < 0.0);
+        assert_eq!(m.requirements[2].status, Status::NotVerified);
+        assert!(
+            m.requirements[2]
+                .reason
+                .as_ref()
+                .unwrap()
+                .contains("no check")
+        );
+        assert_eq!(m.orphan_checks.len(), 1);
+        assert_eq!(m.exit_code(), 1);
+    }
+
+    #[test]
+    fn wrong_dimension_is_not_verified_not_compliant() {
+        let r = reqs();
+        let ev = vec![(
+            "mc".to_string(),
+            vec![Evidence::measured(
+                "A-ONE",
+                Quantity::new(1e-9, Dim::LENGTH),
+                "mc",
+            )],
+        )];
+        let m = Matrix::build(&r, &ev, &[]);
+        assert_eq!(m.requirements[0].status, Status::NotVerified);
+    }
+
+    #[test]
+    fn worst_evidence_decides() {
+        let r = reqs();
+        let ev = vec![(
+            "mc".to_string(),
+            vec![
+                Evidence::measured("A-ONE", Quantity::new(1e-6, Dim::VELOCITY), "a"),
+                Evidence::measured("A-ONE", Quantity::new(6e-6, Dim::VELOCITY), "b"),
+            ],
+        )];
+        let m = Matrix::build(&r, &ev, &[]);
+        assert_eq!(m.requirements[0].status, Status::NonCompliant);
+        assert!((m.requirements[0].value.unwrap() - 6.0).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,604 @@
+//! Requirements in YAML: loaded in two steps, raw (serde, with source spans) then checked
+//! (units parsed, dimensions matched, IDs unique, parents resolved and their margins consistent).
+//!
+//! One file per family under `requirements/`. Every entry has an `id`, `title`, `text` (a
+//! "shall" statement), `source` (thesis table or section), `quantity` and its `dimension`, a
+//! `limit` written as engineers write it (`<= 5 um/s`), the verification `method` (ECSS-E-ST-10-02C:
+//! test, analysis, review-of-design, inspection), the `activity` that provides the evidence, an
+//! optional `check` naming the registered check that runs it, and an optional `parent` with the
+//! `margin` that links them (child limit = margin x parent limit). Every error names
+//! `file:line:column` and its cause in one line.
+
+use crate::units::{Dim, Quantity, Unit, parse_quantity};
+use serde::{Deserialize, Serialize};
+use serde_saphyr::Spanned;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A checked requirement identifier: upper-case words and digits joined by `-` (`REL-GPRM-VEL`).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct ReqId(String);
+
+impl ReqId {
+    /// Checks the form of an identifier.
+    ///
+    /// ```
+    /// use geodesic_core::requirement::ReqId;
+    /// assert!(ReqId::parse("REL-GPRM-VEL").is_ok());
+    /// assert!(ReqId::parse("rel gprm").is_err());
+    /// ```
+    pub fn parse(s: &str) -> Result<ReqId, String> {
+        let ok = !s.is_empty()
+            && s.split('-').all(|w| {
+                !w.is_empty()
+                    && w.chars()
+                        .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit())
+            })
+            && s.starts_with(|c: char| c.is_ascii_uppercase());
+        if ok {
+            Ok(ReqId(s.to_string()))
+        } else {
+            Err(format!(
+                "`{s}` is not a requirement ID (upper-case words and digits joined by '-', e.g. REL-GPRM-VEL)"
+            ))
+        }
+    }
+
+    /// The identifier text.
+    pub fn as_str(&self) -> &str {
+        &self.0
+    }
+}
+
+impl fmt::Display for ReqId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// Verification method (ECSS-E-ST-10-02C section 5.2.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Verification by test.
+    Test,
+    /// Verification by analysis (including similarity and simulation).
+    Analysis,
+    /// Verification by review of design.
+    ReviewOfDesign,
+    /// Verification by inspection.
+    Inspection,
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Method::Test => "test",
+            Method::Analysis => "analysis",
+            Method::ReviewOfDesign => "review-of-design",
+            Method::Inspection => "inspection",
+        })
+    }
+}
+
+/// How a value is compared with the limit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Op {
+    /// value <= limit
+    #[serde(rename = "<=")]
+    Le,
+    /// value < limit
+    #[serde(rename = "<")]
+    Lt,
+    /// value >= limit
+    #[serde(rename = ">=")]
+    Ge,
+    /// value > limit
+    #[serde(rename = ">")]
+    Gt,
+}
+
+impl Op {
+    /// Whether `value` satisfies `value <op> limit`.
+    pub fn holds(self, value: f64, limit: f64) -> bool {
+        match self {
+            Op::Le => value <= limit,
+            Op::Lt => value < limit,
+            Op::Ge => value >= limit,
+            Op::Gt => value > limit,
+        }
+    }
+
+    /// Margin as a fraction of the limit: `(limit - value) / limit` for an upper bound,
+    /// `(value - limit) / limit` for a lower bound; positive when the requirement is met.
+    pub fn margin(self, value: f64, limit: f64) -> f64 {
+        match self {
+            Op::Le | Op::Lt => (limit - value) / limit.abs(),
+            Op::Ge | Op::Gt => (value - limit) / limit.abs(),
+        }
+    }
+
+    /// The symbol as written in YAML.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Op::Le => "<=",
+            Op::Lt => "<",
+            Op::Ge => ">=",
+            Op::Gt => ">",
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    family: String,
+    #[serde(default)]
+    description: Option<String>,
+    requirements: Vec<RawRequirement>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRequirement {
+    id: Spanned<String>,
+    title: String,
+    text: String,
+    source: String,
+    quantity: String,
+    dimension: Spanned<String>,
+    limit: Spanned<String>,
+    #[serde(default)]
+    probability: Option<String>,
+    method: Spanned<String>,
+    activity: String,
+    #[serde(default)]
+    check: Option<Spanned<String>>,
+    #[serde(default)]
+    parent: Option<RawParent>,
+    #[serde(default)]
+    note: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawParent {
+    id: Spanned<String>,
+    margin: f64,
+}
+
+/// Where something was written: file, line and column (1-based).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Origin {
+    /// File path.
+    pub file: PathBuf,
+    /// Line (1-based).
+    pub line: u64,
+    /// Column (1-based).
+    pub column: u64,
+}
+
+impl fmt::Display for Origin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}:{}", self.file.display(), self.line, self.column)
+    }
+}
+
+/// A requirement loaded and checked.
+#[derive(Clone, Debug, Serialize)]
+pub struct Requirement {
+    /// Identifier.
+    pub id: ReqId,
+    /// Family (the file's `family`).
+    pub family: String,
+    /// Short title.
+    pub title: String,
+    /// The "shall" statement.
+    pub text: String,
+    /// Source in the thesis (table or section).
+    pub source: String,
+    /// What is measured or computed.
+    pub quantity: String,
+    /// Dimension of the quantity.
+    pub dim: Dim,
+    /// Comparison.
+    pub op: Op,
+    /// Limit in SI.
+    pub limit: Quantity,
+    /// The unit the limit was written in (values are reported in it).
+    pub unit: Unit,
+    /// The limit as written (`<= 5 um/s`).
+    pub limit_text: String,
+    /// Probability level the limit applies at (`99.73 %`), if any.
+    pub probability: Option<String>,
+    /// Verification method.
+    pub method: Method,
+    /// The verification activity that provides the evidence.
+    pub activity: String,
+    /// Name of the registered check that runs the activity, if any.
+    pub check: Option<String>,
+    /// Parent requirement and the margin that links them.
+    pub parent: Option<(ReqId, f64)>,
+    /// Free note.
+    pub note: Option<String>,
+    /// Where the entry starts.
+    pub origin: Origin,
+    /// Where the `check` field is (to report unknown checks).
+    #[serde(skip)]
+    pub check_origin: Option<Origin>,
+}
+
+/// Why a requirements directory was refused. Display is one line: `file:line:column: cause`.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{origin}: {cause}")]
+pub struct LoadError {
+    /// Where.
+    pub origin: Origin,
+    /// One-line cause.
+    pub cause: String,
+}
+
+fn origin_of<T>(file: &Path, s: &Spanned<T>) -> Origin {
+    Origin {
+        file: file.to_path_buf(),
+        line: s.referenced.line(),
+        column: s.referenced.column(),
+    }
+}
+
+/// All requirements of a directory, in file then entry order.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Requirements {
+    /// The requirements.
+    pub items: Vec<Requirement>,
+    /// Family descriptions by family name.
+    pub families: BTreeMap<String, String>,
+}
+
+impl Requirements {
+    /// Loads every `*.yaml` / `*.yml` file of `dir` (sorted by name).
+    pub fn load_dir(dir: &Path) -> Result<Requirements, LoadError> {
+        let top = |cause: String| LoadError {
+            origin: Origin {
+                file: dir.to_path_buf(),
+                line: 1,
+                column: 1,
+            },
+            cause,
+        };
+        let rd = std::fs::read_dir(dir)
+            .map_err(|e| top(format!("cannot read requirements directory: {e}")))?;
+        let mut files: Vec<PathBuf> = rd
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("yaml" | "yml")))
+            .collect();
+        files.sort();
+        if files.is_empty() {
+            return Err(top("no *.yaml requirement files in this directory".into()));
+        }
+        let mut sources = Vec::new();
+        for f in files {
+            let text = std::fs::read_to_string(&f).map_err(|e| LoadError {
+                origin: Origin {
+                    file: f.clone(),
+                    line: 1,
+                    column: 1,
+                },
+                cause: format!("cannot read: {e}"),
+            })?;
+            sources.push((f, text));
+        }
+        Requirements::from_sources(&sources)
+    }
+
+    /// Loads requirements from `(path, text)` pairs (the path is used in messages only).
+    pub fn from_sources(sources: &[(PathBuf, String)]) -> Result<Requirements, LoadError> {
+        let mut out = Requirements::default();
+        let mut seen: BTreeMap<String, Origin> = BTreeMap::new();
+        let mut parents: Vec<(usize, Spanned<String>, f64, PathBuf)> = Vec::new();
+        for (file, text) in sources {
+            let raw: RawFile = serde_saphyr::from_str(text).map_err(|e| {
+                let (line, column) = e
+                    .location()
+                    .map(|l| (l.line(), l.column()))
+                    .unwrap_or((1, 1));
+                LoadError {
+                    origin: Origin {
+                        file: file.clone(),
+                        line,
+                        column,
+                    },
+                    cause: first_line(&e.to_string()),
+                }
+            })?;
+            out.families.insert(
+                raw.family.clone(),
+                raw.description.clone().unwrap_or_default(),
+            );
+            for r in raw.requirements {
+                let at = |s: &Spanned<String>| origin_of(file, s);
+                let err = |s: &Spanned<String>, cause: String| LoadError {
+                    origin: at(s),
+                    cause,
+                };
+                let id = ReqId::parse(&r.id.value).map_err(|c| err(&r.id, c))?;
+                if let Some(prev) = seen.get(id.as_str()) {
+                    return Err(err(
+                        &r.id,
+                        format!("duplicate requirement ID {id} (first defined at {prev})"),
+                    ));
+                }
+                seen.insert(id.to_string(), at(&r.id));
+                let dim = Dim::from_name(&r.dimension.value).ok_or_else(|| {
+                    let names: Vec<&str> = Dim::NAMED.iter().map(|(n, _)| *n).collect();
+                    err(
+                        &r.dimension,
+                        format!(
+                            "unknown dimension `{}` (known: {})",
+                            r.dimension.value,
+                            names.join(", ")
+                        ),
+                    )
+                })?;
+                let (op, rest) = parse_op(&r.limit.value).map_err(|c| err(&r.limit, c))?;
+                let (limit, unit) = parse_quantity(rest)
+                    .map_err(|e| err(&r.limit, format!("limit `{}`: {e}", r.limit.value)))?;
+                if limit.dim != dim {
+                    return Err(err(
+                        &r.limit,
+                        format!(
+                            "limit `{}` is a {} but the requirement's dimension is {}",
+                            r.limit.value, limit.dim, dim
+                        ),
+                    ));
+                }
+                if limit.value == 0.0 {
+                    return Err(err(
+                        &r.limit,
+                        "a limit of zero leaves no relative margin; state a non-zero bound".into(),
+                    ));
+                }
+                let method: Method = match r.method.value.as_str() {
+                    "test" => Method::Test,
+                    "analysis" => Method::Analysis,
+                    "review-of-design" => Method::ReviewOfDesign,
+                    "inspection" => Method::Inspection,
+                    other => {
+                        return Err(err(
+                            &r.method,
+                            format!(
+                                "unknown verification method `{other}` (test, analysis, review-of-design, inspection)"
+                            ),
+                        ));
+                    }
+                };
+                for (name, v) in [
+                    ("title", &r.title),
+                    ("text", &r.text),
+                    ("source", &r.source),
+                    ("activity", &r.activity),
+                ] {
+                    if v.trim().is_empty() {
+                        return Err(err(&r.id, format!("requirement {id}: `{name}` is empty")));
+                    }
+                }
+                let idx = out.items.len();
+                if let Some(p) = r.parent {
+                    if !(p.margin.is_finite() && p.margin > 0.0) {
+                        return Err(err(
+                            &p.id,
+                            format!("parent margin {} must be a positive number", p.margin),
+                        ));
+                    }
+                    parents.push((idx, p.id, p.margin, file.clone()));
+                }
+                out.items.push(Requirement {
+                    id,
+                    family: raw.family.clone(),
+                    title: r.title,
+                    text: r.text,
+                    source: r.source,
+                    quantity: r.quantity,
+                    dim,
+                    op,
+                    limit,
+                    unit,
+                    limit_text: r.limit.value.trim().to_string(),
+                    probability: r.probability,
+                    method,
+                    activity: r.activity,
+                    check: r.check.as_ref().map(|c| c.value.clone()),
+                    check_origin: r.check.as_ref().map(|c| at(c)),
+                    parent: None,
+                    note: r.note,
+                    origin: at(&r.id),
+                });
+            }
+        }
+        for (idx, pid, margin, file) in parents {
+            let origin = origin_of(&file, &pid);
+            let perr = |cause: String| LoadError {
+                origin: origin.clone(),
+                cause,
+            };
+            let parent_id = ReqId::parse(&pid.value).map_err(perr)?;
+            let parent = out
+                .items
+                .iter()
+                .find(|p| p.id == parent_id)
+                .ok_or_else(|| perr(format!("parent {parent_id} does not exist")))?
+                .clone();
+            let child = &out.items[idx];
+            if parent.id == child.id {
+                return Err(perr(format!("{} names itself as its parent", child.id)));
+            }
+            if parent.dim != child.dim {
+                return Err(perr(format!(
+                    "parent {} is a {} but {} is a {}",
+                    parent.id, parent.dim, child.id, child.dim
+                )));
+            }
+            let expect = parent.limit.value * margin;
+            if (child.limit.value - expect).abs() > 1e-9 * expect.abs() {
+                return Err(perr(format!(
+                    "{} limit {} is not margin {} x parent {} limit {}",
+                    child.id, child.limit_text, margin, parent.id, parent.limit_text
+                )));
+            }
+            out.items[idx].parent = Some((parent_id, margin));
+        }
+        Ok(out)
+    }
+
+    /// Finds a requirement by ID.
+    pub fn get(&self, id: &str) -> Option<&Requirement> {
+        self.items.iter().find(|r| r.id.as_str() == id)
+    }
+
+    /// IDs of the requirements whose parent is `id`.
+    pub fn children(&self, id: &str) -> Vec<&ReqId> {
+        self.items
+            .iter()
+            .filter(|r| r.parent.as_ref().is_some_and(|(p, _)| p.as_str() == id))
+            .map(|r| &r.id)
+            .collect()
+    }
+
+    /// Checks that every `check:` field names one of `known` checks.
+    pub fn validate_checks(&self, known: &[&str]) -> Result<(), LoadError> {
+        for r in &self.items {
+            if let (Some(c), Some(o)) = (&r.check, &r.check_origin) {
+                if !known.contains(&c.as_str()) {
+                    return Err(LoadError {
+                        origin: o.clone(),
+                        cause: format!(
+                            "{} names unknown check `{c}` (known: {})",
+                            r.id,
+                            known.join(", ")
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn parse_op(s: &str) -> Result<(Op, &str), String> {
+    let t = s.trim();
+    for (sym, op) in [
+        ("<=", Op::Le),
+        ("≤", Op::Le),
+        (">=", Op::Ge),
+        ("≥", Op::Ge),
+        ("<", Op::Lt),
+        (">", Op::Gt),
+    ] {
+        if let Some(rest) = t.strip_prefix(sym) {
+            return Ok((op, rest.trim()));
+        }
+    }
+    Err(format!(
+        "limit `{t}` must start with <=, <, >= or > (e.g. `<= 5 um/s`)"
+    ))
+}
+
+fn first_line(s: &str) -> String {
+    let l = s.lines().next().unwrap_or("").trim();
+    // serde-saphyr prefixes "error: line N column M: "; the location is printed by us.
+    let l = l.strip_prefix("error: ").unwrap_or(l);
+    match l.find(": ") {
+        Some(i) if l.starts_with("line ") => l[i + 2..].to_string(),
+        _ => l.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = "family: release
+requirements:
+  - id: REL-A
+    title: A
+    text: The thing shall be slow.
+    source: Thesis Tab. 1
+    quantity: velocity
+    dimension: velocity
+    limit: <= 5 um/s
+    method: analysis
+    activity: Monte Carlo
+  - id: REL-B
+    title: B
+    text: The design shall allow 7.5 um/s.
+    source: Thesis ch. 7
+    quantity: velocity
+    dimension: velocity
+    limit: <= 7.5 um/s
+    method: analysis
+    activity: Monte Carlo
+    parent: {id: REL-A, margin: 1.5}
+";
+
+    fn load(t: &str) -> Result<Requirements, LoadError> {
+        Requirements::from_sources(&[(PathBuf::from("r.yaml"), t.to_string())])
+    }
+
+    #[test]
+    fn loads_and_links_parent() {
+        let r = load(GOOD).unwrap();
+        assert_eq!(r.items.len(), 2);
+        assert_eq!(r.items[1].parent.as_ref().unwrap().0.as_str(), "REL-A");
+        assert!((r.items[0].limit.value - 5e-6).abs() < 1e-18);
+        assert_eq!(r.children("REL-A").len(), 1);
+    }
+
+    fn err_of(t: &str) -> String {
+        load(t).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn errors_name_file_line_and_cause() {
+        let e = err_of(&GOOD.replace("id: REL-B", "id: REL-A"));
+        assert!(
+            e.starts_with("r.yaml:12:") && e.contains("duplicate"),
+            "{e}"
+        );
+        let e = err_of(&GOOD.replace("<= 7.5 um/s", "<= 7.5 furlong"));
+        assert!(e.starts_with("r.yaml:18:") && e.contains("furlong"), "{e}");
+        let e = err_of(&GOOD.replace("<= 7.5 um/s", "<= 7.5 mrad"));
+        assert!(e.contains("dimension"), "{e}");
+        let e = err_of(&GOOD.replace("margin: 1.5", "margin: 2"));
+        assert!(e.contains("margin"), "{e}");
+        let e = err_of(&GOOD.replace("id: REL-A, margin", "id: REL-Z, margin"));
+        assert!(
+            e.contains("does not exist") && e.starts_with("r.yaml:21:"),
+            "{e}"
+        );
+        let e = err_of(&GOOD.replace(
+            "    activity: Monte Carlo\n  - id",
+            "    activity: Monte Carlo\n    colour: red\n  - id",
+        ));
+        assert!(
+            e.starts_with("r.yaml:12:") && e.contains("unknown field"),
+            "{e}"
+        );
+        let e = err_of(&GOOD.replace("requirements:\n", "requirements: [\n"));
+        assert!(e.starts_with("r.yaml:"), "{e}");
+        let e = err_of(&GOOD.replace(
+            "method: analysis\n    activity: Monte Carlo\n  - id",
+            "method: guess\n    activity: Monte Carlo\n  - id",
+        ));
+        assert!(e.contains("method"), "{e}");
+        assert!(!e.contains('\n'));
+    }
+
+    #[test]
+    fn margins() {
+        assert!((Op::Le.margin(1.5, 5.0) - 0.7).abs() < 1e-12);
+        assert!((Op::Ge.margin(0.999, 0.9973) - 0.0017046).abs() < 1e-6);
+        assert!(Op::Le.margin(6.0, 5.0) < 0.0);
+    }
+}
