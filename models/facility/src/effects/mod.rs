@@ -1,0 +1,317 @@
+//! The effect catalogue: every named effect of interface.md, one Rust type per file.
+//!
+//! An effect is either a force on the TM mock-up (`tmmf-release`), a distortion of the
+//! measurement, or a component of the release-tip mechanism (`rt-retraction`). Each declares its
+//! parameters ([`ParamSpec`]: name, unit, nominal value, physical bounds) and its data-driven
+//! starting points for the fit. [`catalogue`] is the one list that fit, diagnose, synth and the
+//! reports read: adding an effect means adding a file here and one line to that list
+//! (docs/fitting.md, "Adding an effect").
+
+mod drift;
+mod interferometer_cyclic;
+mod needle_adhesion;
+mod needle_contact;
+mod needle_mass;
+mod piezo;
+mod plunger_compliance;
+mod tip_adhesion;
+mod tip_contact;
+mod voltage_ramp;
+
+pub use drift::Drift;
+pub use interferometer_cyclic::InterferometerCyclic;
+pub use needle_adhesion::NeedleAdhesion;
+pub use needle_contact::NeedleContact;
+pub use needle_mass::NeedleMass;
+pub use piezo::Piezo;
+pub use plunger_compliance::PlungerCompliance;
+pub use tip_adhesion::TipAdhesion;
+pub use tip_contact::TipContact;
+pub use voltage_ramp::VoltageRamp;
+
+use crate::retraction::RtConfig;
+
+/// The measurement scenarios of interface.md.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Scenario {
+    /// One-sided release of a pendulum TM mock-up in the TMMF (physics.md section 4).
+    TmmfRelease,
+    /// Unloaded retraction of the release tip (physics.md section 5).
+    RtRetraction,
+}
+
+impl Scenario {
+    /// The scenario's name in datasets and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scenario::TmmfRelease => "tmmf-release",
+            Scenario::RtRetraction => "rt-retraction",
+        }
+    }
+
+    /// Parses a scenario name.
+    pub fn from_name(s: &str) -> Option<Scenario> {
+        match s {
+            "tmmf-release" => Some(Scenario::TmmfRelease),
+            "rt-retraction" => Some(Scenario::RtRetraction),
+            _ => None,
+        }
+    }
+
+    /// The data channels the scenario needs, with their dimension name (`length`, `voltage`).
+    pub fn required_channels(self) -> &'static [&'static str] {
+        match self {
+            Scenario::TmmfRelease => &["x", "y"],
+            Scenario::RtRetraction => &["y"],
+        }
+    }
+
+    /// The channel the model predicts and the fit compares with.
+    pub fn fitted_channel(self) -> &'static str {
+        match self {
+            Scenario::TmmfRelease => "x",
+            Scenario::RtRetraction => "y",
+        }
+    }
+
+    /// The `known` constants the scenario needs.
+    pub fn required_known(self) -> &'static [&'static str] {
+        match self {
+            Scenario::TmmfRelease => &["m"],
+            Scenario::RtRetraction => &["E0"],
+        }
+    }
+
+    /// The minimal model of the scenario (the effects every model contains).
+    pub fn base_effects(self) -> &'static [&'static str] {
+        match self {
+            Scenario::TmmfRelease => &["needle_contact", "tip_contact"],
+            Scenario::RtRetraction => &["piezo"],
+        }
+    }
+}
+
+/// What an effect does to the model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EffectKind {
+    /// A force on the TM mock-up (`tmmf-release`).
+    Force,
+    /// A distortion of the measurement, added to the predicted channel.
+    Distortion,
+    /// A component of the release-tip mechanism ODE (`rt-retraction`).
+    Mechanism,
+}
+
+/// One parameter of an effect.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamSpec {
+    /// Name within the effect (`k_nd`); the full name is `effect.name`.
+    pub name: &'static str,
+    /// SI unit of the value.
+    pub unit: &'static str,
+    /// Nominal value (thesis or physics.md), the default start and the synth default.
+    pub nominal: f64,
+    /// Physical lower bound.
+    pub lower: f64,
+    /// Physical upper bound.
+    pub upper: f64,
+    /// Fitted in `ln(value)` (strictly positive, spans decades) rather than linearly.
+    pub log: bool,
+    /// Typical magnitude, the step scale of a linear parameter [unit].
+    pub scale: f64,
+}
+
+impl ParamSpec {
+    /// A positive parameter fitted in log space.
+    pub const fn log(
+        name: &'static str,
+        unit: &'static str,
+        nominal: f64,
+        lower: f64,
+        upper: f64,
+    ) -> Self {
+        ParamSpec {
+            name,
+            unit,
+            nominal,
+            lower,
+            upper,
+            log: true,
+            scale: nominal,
+        }
+    }
+
+    /// A signed parameter fitted linearly with the typical magnitude `scale`.
+    pub const fn lin(name: &'static str, unit: &'static str, nominal: f64, scale: f64) -> Self {
+        ParamSpec {
+            name,
+            unit,
+            nominal,
+            lower: f64::NEG_INFINITY,
+            upper: f64::INFINITY,
+            log: false,
+            scale,
+        }
+    }
+}
+
+/// The instantaneous state handed to a force effect of `tmmf-release` (physics.md section 4).
+#[derive(Debug, Clone, Copy)]
+pub struct TmState<'a> {
+    /// Time from the trigger [s].
+    pub t: f64,
+    /// TM displacement, + in the direction of tip retraction [m].
+    pub x: f64,
+    /// TM velocity [m/s].
+    pub v: f64,
+    /// Tip displacement (smooth profile) [m].
+    pub y: f64,
+    /// Tip contact elongation `e = (y - x) - F_pre/k_c` [m]; `e <= 0` is compression.
+    pub e_tip: f64,
+    /// Gap between TM and needles `x - x_n0` [m]; `<= 0` while they touch.
+    pub needle_gap: f64,
+    /// Preload of the needles on the TM at rest [N].
+    pub f_pre: f64,
+    /// True when an effect with its own body (`needle_mass`) replaces the fixed needle spring.
+    pub needle_body: bool,
+    /// The effect's own internal states (e.g. needle body position and velocity).
+    pub own: &'a [f64],
+}
+
+/// Data-driven quantities an effect may use for its starting points.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct GuessContext {
+    /// TM mock-up mass [kg] (`tmmf-release`).
+    pub m_kg: f64,
+    /// Late velocity of the fitted channel (slope over the last third of the record) [m/s].
+    pub late_velocity_m_s: f64,
+    /// Duration of the catapult: time from the trigger until the TM velocity first reaches 90 %
+    /// of its late value [s] (0 if unknown).
+    pub catapult_s: f64,
+    /// Peak-to-peak span of the fitted channel [m].
+    pub span_m: f64,
+    /// Record length after the trigger [s].
+    pub duration_s: f64,
+    /// Initial voltage [V] (`rt-retraction`).
+    pub e0_v: f64,
+}
+
+/// A named effect: a force on the TM, a distortion of the measurement or a mechanism component.
+pub trait Effect: Send + Sync {
+    /// Name in datasets, CLI and JSON (`tip_adhesion`).
+    fn name(&self) -> &'static str;
+    /// The scenario the effect belongs to.
+    fn scenario(&self) -> Scenario;
+    /// What the effect does.
+    fn kind(&self) -> EffectKind;
+    /// One-line description with its law and source.
+    fn summary(&self) -> &'static str;
+    /// The parameters, in the order of the parameter slices handed to the other methods.
+    fn params(&self) -> &'static [ParamSpec];
+    /// Full names of other effects' parameters this effect makes unidentifiable (held fixed).
+    fn supersedes(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// Number of internal ODE states (a force effect with its own dynamics).
+    fn n_states(&self) -> usize {
+        0
+    }
+    /// Force on the TM along +x [N] (`EffectKind::Force`); writes the time derivatives of the
+    /// effect's own states into `ds` (length [`Effect::n_states`]).
+    fn force(&self, _p: &[f64], _s: &TmState, _ds: &mut [f64]) -> f64 {
+        0.0
+    }
+    /// Additive distortion of the measured channel [m] at time `t` [s] and true value `x` [m].
+    fn distortion(&self, _p: &[f64], _t: f64, _x: f64) -> f64 {
+        0.0
+    }
+    /// Writes the effect's parameters into the mechanism configuration (`rt-retraction`).
+    fn configure_rt(&self, _p: &[f64], _rt: &mut RtConfig) {}
+    /// Starting points for the fit (each a full parameter vector of this effect), from the data.
+    fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
+        vec![self.params().iter().map(|p| p.nominal).collect()]
+    }
+}
+
+/// The catalogue: every effect of every scenario, in interface.md order.
+pub fn catalogue() -> &'static [&'static dyn Effect] {
+    static LIST: [&'static dyn Effect; 10] = [
+        &NeedleContact,
+        &TipContact,
+        &TipAdhesion,
+        &NeedleAdhesion,
+        &NeedleMass,
+        &InterferometerCyclic,
+        &Drift,
+        &Piezo,
+        &PlungerCompliance,
+        &VoltageRamp,
+    ];
+    &LIST
+}
+
+/// Looks an effect up by name.
+pub fn by_name(name: &str) -> Option<&'static dyn Effect> {
+    catalogue().iter().copied().find(|e| e.name() == name)
+}
+
+/// The effects of one scenario, in catalogue order.
+pub fn of_scenario(s: Scenario) -> Vec<&'static dyn Effect> {
+    catalogue()
+        .iter()
+        .copied()
+        .filter(|e| e.scenario() == s)
+        .collect()
+}
+
+/// The adhesion law of thesis eq. (adh), physics.md section 2: `A1 * e * exp(-e/lambda)` for
+/// `e > 0`, else 0 [N]; `a1` [N/m], `lambda` [m], `e` [m].
+pub fn adhesion_force(a1: f64, lambda: f64, e: f64) -> f64 {
+    if e > 0.0 {
+        a1 * e * (-e / lambda).exp()
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn catalogue_names_are_unique_and_match_interface() {
+        let names: Vec<&str> = catalogue().iter().map(|e| e.name()).collect();
+        let mut sorted = names.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(sorted.len(), names.len());
+        assert_eq!(by_name("needle_mass").unwrap().params().len(), 5);
+        assert_eq!(by_name("piezo").unwrap().params().len(), 6);
+        for e in catalogue() {
+            for p in e.params() {
+                assert!(
+                    p.lower <= p.nominal && p.nominal <= p.upper,
+                    "{}.{}",
+                    e.name(),
+                    p.name
+                );
+            }
+            assert!(
+                !e.starts(&GuessContext {
+                    m_kg: 0.089,
+                    ..Default::default()
+                })
+                .is_empty()
+            );
+        }
+    }
+
+    #[test]
+    fn adhesion_peaks_at_lambda() {
+        let (a1, l) = (1.3e5, 6e-7);
+        let peak = adhesion_force(a1, l, l);
+        assert!((peak - a1 * l / std::f64::consts::E).abs() < 1e-15);
+        assert!(adhesion_force(a1, l, 0.9 * l) < peak && adhesion_force(a1, l, 1.1 * l) < peak);
+        assert_eq!(adhesion_force(a1, l, -1e-9), 0.0);
+    }
+}

@@ -1,0 +1,87 @@
+//! `needle_contact`: the fixed blocking needles of the TMMF (physics.md section 4).
+
+use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
+
+/// Unilateral needle spring `F = k_nd*(x_n0 - x)` while `x < x_n0`, else 0, with
+/// `x_n0 = F_pre/k_nd`, so the needles push with `F_pre` before release (catapult effect,
+/// `I = F_pre*sqrt(m/k_nd)`, `dt = (pi/2)*sqrt(m/k_nd)`, thesis ch. 5 table of catapult
+/// contributions). With `needle_mass` present it contributes only `F_pre`.
+#[derive(Debug, Clone, Copy)]
+pub struct NeedleContact;
+
+static PARAMS: [ParamSpec; 2] = [
+    ParamSpec::log("k_nd", "N/m", 6.5e5, 1e4, 1e9),
+    ParamSpec::log("F_pre", "N", 7e-3, 1e-5, 5.0),
+];
+
+impl Effect for NeedleContact {
+    fn name(&self) -> &'static str {
+        "needle_contact"
+    }
+    fn scenario(&self) -> Scenario {
+        Scenario::TmmfRelease
+    }
+    fn kind(&self) -> EffectKind {
+        EffectKind::Force
+    }
+    fn summary(&self) -> &'static str {
+        "fixed needles: F = k_nd*(F_pre/k_nd - x) while touching (physics.md s.4)"
+    }
+    fn params(&self) -> &'static [ParamSpec] {
+        &PARAMS
+    }
+    fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
+        if s.needle_body || s.needle_gap >= 0.0 {
+            0.0
+        } else {
+            -p[0] * s.needle_gap
+        }
+    }
+    /// Needle stiffness from the catapult duration `dt = (pi/2) sqrt(m/k_nd)` and a grid around
+    /// the thesis range; preload from the late TM velocity, `F_pre = v sqrt(m k_nd)` (impulse
+    /// `I = F_pre sqrt(m/k_nd) = m v`).
+    fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
+        let mut ks = vec![2e5, 6.5e5, 2e6];
+        if g.catapult_s > 0.0 && g.m_kg > 0.0 {
+            let k = g.m_kg * (std::f64::consts::FRAC_PI_2 / g.catapult_s).powi(2);
+            ks.push(k.clamp(PARAMS[0].lower, PARAMS[0].upper));
+        }
+        ks.into_iter()
+            .map(|k| {
+                let f = if g.late_velocity_m_s.abs() > 0.0 && g.m_kg > 0.0 {
+                    g.late_velocity_m_s.abs() * (g.m_kg * k).sqrt()
+                } else {
+                    PARAMS[1].nominal
+                };
+                vec![k, f.clamp(PARAMS[1].lower, PARAMS[1].upper)]
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pushes_only_while_touching() {
+        let s = TmState {
+            t: 0.0,
+            x: 0.0,
+            v: 0.0,
+            y: 0.0,
+            e_tip: 0.0,
+            needle_gap: -1e-8,
+            f_pre: 6.5e-3,
+            needle_body: false,
+            own: &[],
+        };
+        let f = NeedleContact.force(&[6.5e5, 6.5e-3], &s, &mut []);
+        assert!((f - 6.5e-3).abs() < 1e-12);
+        let s2 = TmState {
+            needle_gap: 1e-9,
+            ..s
+        };
+        assert_eq!(NeedleContact.force(&[6.5e5, 6.5e-3], &s2, &mut []), 0.0);
+    }
+}

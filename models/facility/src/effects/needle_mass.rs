@@ -1,0 +1,92 @@
+//! `needle_mass`: the needles as a body with mass (physics.md section 4, examples README).
+
+use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
+
+/// The needles are a body of mass `m_nd` on a spring `k_nd` and damper `c_nd` to ground,
+/// preloaded to push with `F_pre` at rest; the TM touches it through the unilateral
+/// spring-damper `k_tm, c_tm` with initial compression `F_pre/k_tm` (thesis Tab. "Parameters of
+/// the TMmu supporting system": k_tm 2.03e6 N/m, k_nd 1.12e6 N/m, m_nd 1.74 kg). Replaces the
+/// fixed needle spring: `needle_contact` then contributes only `F_pre`.
+///
+/// States: body displacement `u` [m] (0 at rest) and velocity `u'` [m/s]. Contact compression
+/// `delta = F_pre/k_tm + u - x`; contact force on the TM `max(0, k_tm*delta + c_tm*(u' - x'))`
+/// while `delta > 0`; body `m_nd*u'' = F_pre - k_nd*u - c_nd*u' - F_contact`.
+#[derive(Debug, Clone, Copy)]
+pub struct NeedleMass;
+
+static PARAMS: [ParamSpec; 5] = [
+    ParamSpec::log("m_nd", "kg", 1.74, 1e-4, 100.0),
+    ParamSpec::log("k_nd", "N/m", 1.12e6, 1e3, 1e9),
+    ParamSpec::log("k_tm", "N/m", 2.03e6, 1e4, 1e9),
+    ParamSpec::log("c_nd", "N s/m", 1.0, 1e-4, 1e5),
+    ParamSpec::log("c_tm", "N s/m", 1.0, 1e-4, 1e5),
+];
+
+impl Effect for NeedleMass {
+    fn name(&self) -> &'static str {
+        "needle_mass"
+    }
+    fn scenario(&self) -> Scenario {
+        Scenario::TmmfRelease
+    }
+    fn kind(&self) -> EffectKind {
+        EffectKind::Force
+    }
+    fn summary(&self) -> &'static str {
+        "needle body m_nd on k_nd,c_nd, touching the TM through k_tm,c_tm (physics.md s.4)"
+    }
+    fn params(&self) -> &'static [ParamSpec] {
+        &PARAMS
+    }
+    fn supersedes(&self) -> &'static [&'static str] {
+        &["needle_contact.k_nd"]
+    }
+    fn n_states(&self) -> usize {
+        2
+    }
+    fn force(&self, p: &[f64], s: &TmState, ds: &mut [f64]) -> f64 {
+        let (m_nd, k_nd, k_tm, c_nd, c_tm) = (p[0], p[1], p[2], p[3], p[4]);
+        let (u, du) = (s.own[0], s.own[1]);
+        let delta = s.f_pre / k_tm + u - s.x;
+        let fc = if delta > 0.0 {
+            (k_tm * delta + c_tm * (du - s.v)).max(0.0)
+        } else {
+            0.0
+        };
+        ds[0] = du;
+        ds[1] = (s.f_pre - k_nd * u - c_nd * du - fc) / m_nd;
+        fc
+    }
+    fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
+        vec![
+            vec![1.74, 1.12e6, 2.03e6, 1.0, 1.0],
+            vec![0.1, 6.5e5, 2e6, 1.0, 1.0],
+            vec![0.01, 6.5e5, 1e6, 0.1, 0.1],
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn at_rest_the_body_is_in_equilibrium_and_pushes_with_the_preload() {
+        let p = [1.74, 1.12e6, 2.03e6, 1.0, 1.0];
+        let s = TmState {
+            t: 0.0,
+            x: 0.0,
+            v: 0.0,
+            y: 0.0,
+            e_tip: 0.0,
+            needle_gap: 0.0,
+            f_pre: 0.3,
+            needle_body: true,
+            own: &[0.0, 0.0],
+        };
+        let mut ds = [9.0, 9.0];
+        let f = NeedleMass.force(&p, &s, &mut ds);
+        assert!((f - 0.3).abs() < 1e-12);
+        assert!(ds[1].abs() < 1e-9);
+    }
+}

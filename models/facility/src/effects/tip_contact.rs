@@ -1,0 +1,57 @@
+//! `tip_contact`: the compressive branch of the release-tip contact (physics.md section 4).
+
+use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
+
+/// Linear compressive contact `F = k_c*e` for `e <= 0`, 0 for `e > 0`, with
+/// `e = (y - x) - F_pre/k_c`, so `F = -F_pre` before release (physics.md section 4).
+#[derive(Debug, Clone, Copy)]
+pub struct TipContact;
+
+static PARAMS: [ParamSpec; 1] = [ParamSpec::log("k_c", "N/m", 1e6, 1e4, 1e9)];
+
+impl Effect for TipContact {
+    fn name(&self) -> &'static str {
+        "tip_contact"
+    }
+    fn scenario(&self) -> Scenario {
+        Scenario::TmmfRelease
+    }
+    fn kind(&self) -> EffectKind {
+        EffectKind::Force
+    }
+    fn summary(&self) -> &'static str {
+        "tip contact: F = k_c*e for e <= 0, e = (y - x) - F_pre/k_c (physics.md s.4)"
+    }
+    fn params(&self) -> &'static [ParamSpec] {
+        &PARAMS
+    }
+    fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
+        if s.e_tip <= 0.0 { p[0] * s.e_tip } else { 0.0 }
+    }
+    fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
+        vec![vec![3e5], vec![1e6], vec![3e6]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn compressive_only() {
+        let s = TmState {
+            t: 0.0,
+            x: 0.0,
+            v: 0.0,
+            y: 0.0,
+            e_tip: -6e-9,
+            needle_gap: 0.0,
+            f_pre: 6e-3,
+            needle_body: false,
+            own: &[],
+        };
+        assert!((TipContact.force(&[1e6], &s, &mut []) + 6e-3).abs() < 1e-12);
+        let s2 = TmState { e_tip: 1e-9, ..s };
+        assert_eq!(TipContact.force(&[1e6], &s2, &mut []), 0.0);
+    }
+}

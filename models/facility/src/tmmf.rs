@@ -1,0 +1,194 @@
+//! TM mock-up dynamics of the TMMF release (physics.md section 4): `m*x'' = F_needles + F_tip`.
+//!
+//! The TM starts at rest at `x = 0` at the trigger, held by the needle preload against the tip;
+//! the tip follows the smooth retraction profile. The force effects of the model are summed; the
+//! distortion effects are added to the predicted reading. Integrated with fixed-step RK4, the
+//! step depending only on the sampling (so that finite-difference Jacobians are smooth).
+
+use crate::effects::{EffectKind, TmState};
+use crate::model::{Inputs, Model};
+
+/// Largest RK4 step [s].
+pub const H_MAX_S: f64 = 1.25e-6;
+
+struct Shared {
+    f_pre: f64,
+    inv_kc: f64,
+    x_n0: f64,
+    body: bool,
+}
+
+/// Predicted interferometer reading `x` [m] at `times` [s] (0 before the trigger, plus the
+/// distortions over the whole record).
+pub fn simulate(model: &Model, p: &[f64], times: &[f64], inputs: &Inputs) -> Vec<f64> {
+    let f_pre = model.get(p, "needle_contact.F_pre").unwrap_or(0.0);
+    let body = model.has("needle_mass");
+    let k_needle = if body {
+        model.get(p, "needle_mass.k_tm")
+    } else {
+        model.get(p, "needle_contact.k_nd")
+    };
+    let sh = Shared {
+        f_pre,
+        inv_kc: model.get(p, "tip_contact.k_c").map_or(0.0, |k| 1.0 / k),
+        x_n0: k_needle.map_or(0.0, |k| f_pre / k),
+        body,
+    };
+    // state layout: x, v, then each effect's own states
+    let mut offs = Vec::new();
+    let mut n = 2;
+    for e in &model.effects {
+        offs.push(n);
+        n += e.n_states();
+    }
+    let deriv = |t: f64, s: &[f64], ds: &mut [f64]| {
+        let y = inputs.profile.y(t);
+        let (x, v) = (s[0], s[1]);
+        let mut f = 0.0;
+        for (i, e) in model.effects.iter().enumerate() {
+            if e.kind() != EffectKind::Force {
+                continue;
+            }
+            let k = e.n_states();
+            let st = TmState {
+                t,
+                x,
+                v,
+                y,
+                e_tip: (y - x) - sh.f_pre * sh.inv_kc,
+                needle_gap: x - sh.x_n0,
+                f_pre: sh.f_pre,
+                needle_body: sh.body,
+                own: &s[offs[i]..offs[i] + k],
+            };
+            f += e.force(&p[model.range(i)], &st, &mut ds[offs[i]..offs[i] + k]);
+        }
+        ds[0] = v;
+        ds[1] = f / inputs.m_kg;
+    };
+    let mut s = vec![0.0; n];
+    let mut t = 0.0;
+    let mut out = Vec::with_capacity(times.len());
+    let mut ws = Rk4Work::new(n);
+    for &ti in times {
+        if ti > t {
+            let steps = ((ti - t) / H_MAX_S - 1e-9).ceil().max(1.0) as usize;
+            let h = (ti - t) / steps as f64;
+            for _ in 0..steps {
+                rk4_step(&deriv, t, h, &mut s, &mut ws);
+                t += h;
+            }
+            t = ti;
+        }
+        let x_true = if ti < 0.0 { 0.0 } else { s[0] };
+        let mut x = x_true;
+        for (i, e) in model.effects.iter().enumerate() {
+            if e.kind() == EffectKind::Distortion {
+                x += e.distortion(&p[model.range(i)], ti, x_true);
+            }
+        }
+        out.push(x);
+    }
+    out
+}
+
+/// Scratch space of [`rk4_step`].
+pub(crate) struct Rk4Work {
+    k1: Vec<f64>,
+    k2: Vec<f64>,
+    k3: Vec<f64>,
+    k4: Vec<f64>,
+    tmp: Vec<f64>,
+}
+
+impl Rk4Work {
+    pub(crate) fn new(n: usize) -> Self {
+        Rk4Work {
+            k1: vec![0.0; n],
+            k2: vec![0.0; n],
+            k3: vec![0.0; n],
+            k4: vec![0.0; n],
+            tmp: vec![0.0; n],
+        }
+    }
+}
+
+/// One classical Runge-Kutta step of size `h` from `t`.
+pub(crate) fn rk4_step<F: Fn(f64, &[f64], &mut [f64])>(
+    f: &F,
+    t: f64,
+    h: f64,
+    s: &mut [f64],
+    w: &mut Rk4Work,
+) {
+    f(t, s, &mut w.k1);
+    for ((o, &a), &k) in w.tmp.iter_mut().zip(s.iter()).zip(&w.k1) {
+        *o = a + 0.5 * h * k;
+    }
+    f(t + 0.5 * h, &w.tmp, &mut w.k2);
+    for ((o, &a), &k) in w.tmp.iter_mut().zip(s.iter()).zip(&w.k2) {
+        *o = a + 0.5 * h * k;
+    }
+    f(t + 0.5 * h, &w.tmp, &mut w.k3);
+    for ((o, &a), &k) in w.tmp.iter_mut().zip(s.iter()).zip(&w.k3) {
+        *o = a + h * k;
+    }
+    f(t + h, &w.tmp, &mut w.k4);
+    for (i, si) in s.iter_mut().enumerate() {
+        *si += h / 6.0 * (w.k1[i] + 2.0 * w.k2[i] + 2.0 * w.k3[i] + w.k4[i]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::effects::Scenario;
+    use crate::profile::TipProfile;
+
+    fn inputs(m: f64) -> Inputs {
+        Inputs {
+            m_kg: m,
+            profile: TipProfile {
+                jerk_m_s3: 6000.0,
+                v_m_s: 3e-3,
+            },
+            e0_v: 120.0,
+        }
+    }
+
+    #[test]
+    fn catapult_velocity_matches_the_impulse_formula() {
+        // A fast tip and no adhesion: the needles alone give I = F_pre*sqrt(m/k_nd) (thesis ch. 5).
+        let model = Model::new(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]).unwrap();
+        let (k_nd, f_pre, m) = (6.5e5, 6e-3, 0.089);
+        let times: Vec<f64> = (0..1601).map(|i| i as f64 * 5e-6).collect();
+        let mut inp = inputs(m);
+        inp.profile = TipProfile {
+            jerk_m_s3: 1e9,
+            v_m_s: 1.0,
+        };
+        let x = simulate(&model, &[k_nd, f_pre, 1e6], &times, &inp);
+        let v_late = (x[1600] - x[1500]) / (times[1600] - times[1500]);
+        let v_expected = f_pre * (m / k_nd).sqrt() / m;
+        assert!(
+            (v_late / v_expected - 1.0).abs() < 0.01,
+            "{v_late} vs {v_expected}"
+        );
+    }
+
+    #[test]
+    fn at_rest_before_the_trigger() {
+        let model = Model::new(
+            Scenario::TmmfRelease,
+            &["needle_contact", "tip_contact", "drift"],
+        )
+        .unwrap();
+        let x = simulate(
+            &model,
+            &[6.5e5, 6e-3, 1e6, 1e-9, 0.0, 0.0],
+            &[-1e-3, -5e-4],
+            &inputs(0.089),
+        );
+        assert_eq!(x, vec![1e-9, 1e-9]);
+    }
+}
