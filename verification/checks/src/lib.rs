@@ -1,1 +1,58 @@
-//! placeholder
+//! geodesic-checks: the one registry of verification activities.
+//!
+//! Each family module (`release`, `capture`, `charge`, `tm_state`, `facility`) exposes
+//! `checks()`; [`registry`] lists them all, and `geodesic verify`, the reports and the tests
+//! read that list. Adding a check is one type in its family module and one line there.
+//!
+//! [`TEST_TRACES`] is the table of tests that declare, with `geodesic_core::verifies!`, the
+//! requirements they verify; the build script collects it from the workspace sources and fails
+//! the build if a test names an unknown requirement.
+
+pub mod capture;
+pub mod charge;
+pub mod facility;
+pub mod release;
+pub mod tm_state;
+
+use geodesic_core::Check;
+use geodesic_core::trace::TestTrace;
+
+/// Every registered check, in a stable order.
+pub fn registry() -> Vec<Box<dyn Check>> {
+    let mut all: Vec<Box<dyn Check>> = Vec::new();
+    all.extend(release::checks());
+    all.extend(capture::checks());
+    all.extend(charge::checks());
+    all.extend(tm_state::checks());
+    all.extend(facility::checks());
+    all
+}
+
+/// Names of the registered checks.
+pub fn check_names() -> Vec<&'static str> {
+    registry().iter().map(|c| c.name()).collect()
+}
+
+/// Tests that declare the requirements they verify (collected at build time).
+pub static TEST_TRACES: &[TestTrace] = include!(concat!(env!("OUT_DIR"), "/traces.rs"));
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn check_names_are_unique() {
+        let mut n = check_names();
+        let len = n.len();
+        n.sort_unstable();
+        n.dedup();
+        assert_eq!(n.len(), len);
+    }
+
+    #[test]
+    fn traces_name_known_requirements() {
+        for t in TEST_TRACES {
+            geodesic_core::trace::assert_known(t.requirements, t.file);
+        }
+    }
+}

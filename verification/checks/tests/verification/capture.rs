@@ -1,0 +1,1 @@
+//! Traced tests of the capture family.

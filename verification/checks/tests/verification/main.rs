@@ -1,0 +1,9 @@
+//! The verification test binary: property-based (proptest) and snapshot (insta) tests that
+//! declare, with `geodesic_core::verifies!`, the requirement IDs they verify. One module per
+//! family.
+
+mod capture;
+mod charge;
+mod fit;
+mod framework;
+mod release;
