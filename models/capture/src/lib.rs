@@ -1,1 +1,48 @@
-//! placeholder
+//! Capture of the test mass (TM) by the drag-free and attitude control system after release
+//! (thesis ch. 7; physics.md section 6).
+//!
+//! - [`state`]: the 12 TM states (offsets, velocities, angles, rates) and their YAML form;
+//! - [`limits`]: the capture limits `x_LIM` and the requirement box, read from YAML
+//!   (default `xlim.yaml`, embedded), and the derivation of the default set;
+//! - [`criterion`]: the quartic criterion `sum_i (x0_i/x_LIM,i)^4 < 1`, the consistency
+//!   constraint, single-state limits and the largest capturable box scale;
+//! - [`probability`]: the capture probability of a release Monte Carlo (z velocities given,
+//!   other states from configurable distributions, seeded);
+//! - [`shear`]: the shear illustration of thesis ch. 6 (tangential pull -> rate and velocity);
+//! - [`drift`]: the offset reached in the 15 s of free drift before control starts.
+//!
+//! Physics only: no I/O beyond reading YAML configuration, no CLI.
+//!
+//! ```
+//! use geodesic_capture::{evaluate, StateName, TmState, Xlim};
+//! let xlim = Xlim::default_set();
+//! let mut s = TmState::zero();
+//! s.set(StateName::Vz, -3e-6);
+//! let e = evaluate(&xlim, &s);
+//! assert!(e.captured);
+//! assert_eq!(e.dominant[0].state, StateName::Vz);
+//! ```
+
+pub mod criterion;
+pub mod drift;
+pub mod error;
+pub mod limits;
+pub mod probability;
+pub mod shear;
+pub mod state;
+
+pub use criterion::{
+    Evaluation, Term, box_corner, consistency_residual, consistency_sum, evaluate, is_captured,
+    max_box_scale, quartic_sum, single_state_limits, terms,
+};
+pub use drift::{DRIFT_TIME_S, drift_angle_rad, drift_offset_m};
+pub use error::CaptureError;
+pub use limits::{
+    DEFAULT_XLIM_LABEL, DEFAULT_XLIM_YAML, DeriveError, Xlim, derive_xlim, derived_factor,
+};
+pub use probability::{
+    CaptureProbability, DEFAULT_DISTRIBUTION_LABEL, DEFAULT_DISTRIBUTION_YAML, StateDist,
+    StateDistribution, capture_probability,
+};
+pub use shear::{PulseShape, ShearInputs, THESIS_PRINTED_RATE_RAD_S, THESIS_PRINTED_VELOCITY_M_S};
+pub use state::{N_STATES, StateName, TmState};
