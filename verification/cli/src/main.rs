@@ -6,6 +6,7 @@
 //! success, 1 a verdict of non-compliance (`verify`), 2 bad input or usage with a one-line cause
 //! on standard error.
 
+mod builtin;
 mod cmd;
 mod error;
 
@@ -13,7 +14,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
-#[command(name = "geodesic", version, about = "Verify the LISA Pathfinder test-mass release against its requirements")]
+#[command(
+    name = "geodesic",
+    version,
+    about = "Verify the LISA Pathfinder test-mass release against its requirements"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

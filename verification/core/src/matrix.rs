@@ -88,6 +88,8 @@ pub struct Row {
     pub title: String,
     /// Shall statement.
     pub text: String,
+    /// What is measured or computed.
+    pub quantity: String,
     /// Family.
     pub family: String,
     /// Thesis source.
@@ -294,6 +296,7 @@ fn row(
         probability: r.probability.clone(),
         title: r.title.clone(),
         text: r.text.clone(),
+        quantity: r.quantity.clone(),
         family: r.family.clone(),
         source: r.source.clone(),
         method: r.method.to_string(),

@@ -1,16 +1,147 @@
-//! `geodesic verify`: not yet implemented.
+//! `geodesic verify`: loads the requirements, runs every registered check that verifies one of
+//! them, builds the compliance matrix and writes `compliance.md` and `compliance.json` into the
+//! reports directory (whole or not at all). Exit 0 when nothing is non-compliant, 1 when
+//! something is, 2 on bad input.
 
+use crate::builtin;
 use crate::error::{CliError, CmdResult};
+use geodesic_core::matrix::Matrix;
+use geodesic_core::{CheckContext, Requirements};
+use geodesic_report::{CheckRun, Report, RunInfo};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
 
 /// Flags of `geodesic verify`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Print exactly one JSON document on standard output.
+    /// Directory of requirement YAML files [default: ./requirements if present, else the
+    /// built-in set].
+    #[arg(long, value_name = "DIR")]
+    pub requirements: Option<PathBuf>,
+    /// Directory the reports are written to.
+    #[arg(long, value_name = "DIR", default_value = "reports")]
+    pub reports: PathBuf,
+    /// Monte Carlo sample count used by the checks that run one.
+    #[arg(long = "mc-n", value_name = "N", default_value_t = 100_000)]
+    pub mc_n: usize,
+    /// Monte Carlo seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print only the JSON compliance matrix on standard output.
     #[arg(long)]
     pub json: bool,
 }
 
+/// Loads the requirements named by `--requirements`, `./requirements`, or the built-in set.
+pub fn load_requirements(dir: Option<&PathBuf>) -> Result<(Requirements, String), CliError> {
+    match dir {
+        Some(d) => Ok((
+            Requirements::load_dir(d).map_err(|e| CliError::bad(e.to_string()))?,
+            d.display().to_string(),
+        )),
+        None if PathBuf::from("requirements").is_dir() => {
+            let d = PathBuf::from("requirements");
+            Ok((
+                Requirements::load_dir(&d).map_err(|e| CliError::bad(e.to_string()))?,
+                "requirements".into(),
+            ))
+        }
+        None => {
+            let src: Vec<(PathBuf, String)> = builtin::REQUIREMENTS
+                .iter()
+                .map(|(n, t)| (PathBuf::from(format!("<built-in>/{n}")), t.to_string()))
+                .collect();
+            Ok((
+                Requirements::from_sources(&src).map_err(|e| CliError::bad(e.to_string()))?,
+                "built-in".into(),
+            ))
+        }
+    }
+}
+
 /// Runs the command.
-pub fn run(_args: Args) -> CmdResult {
-    Err(CliError::bad("geodesic verify is not implemented yet"))
+pub fn run(args: Args) -> CmdResult {
+    if args.mc_n == 0 {
+        return Err(CliError::bad("--mc-n must be at least 1"));
+    }
+    let (reqs, source) = load_requirements(args.requirements.as_ref())?;
+    let registry = geodesic_checks::registry();
+    let names: Vec<&str> = registry.iter().map(|c| c.name()).collect();
+    reqs.validate_checks(&names)
+        .map_err(|e| CliError::bad(e.to_string()))?;
+
+    let staging = geodesic_report::write::Staging::new(&args.reports)
+        .map_err(|e| CliError::Io(e.to_string()))?;
+    let ctx = CheckContext {
+        reports_dir: staging.path().to_path_buf(),
+        mc_n: args.mc_n,
+        seed: args.seed,
+        quiet: args.json || !std::io::stderr().is_terminal(),
+    };
+    let mut evidence = Vec::new();
+    let mut runs = Vec::new();
+    for check in &registry {
+        if !check.verifies().iter().any(|id| reqs.get(id).is_some()) {
+            continue; // none of its requirements is loaded: listed as an orphan check below
+        }
+        if !ctx.quiet {
+            eprintln!("geodesic: running check {} ...", check.name());
+        }
+        let t0 = Instant::now();
+        let ev = check
+            .run(&ctx)
+            .map_err(|e| CliError::bad(format!("check {}: {e}", check.name())))?;
+        runs.push(CheckRun {
+            name: check.name().to_string(),
+            verifies: check.verifies().iter().map(|s| s.to_string()).collect(),
+            seconds: t0.elapsed().as_secs_f64(),
+        });
+        evidence.push((check.name().to_string(), ev));
+    }
+    let mut matrix = Matrix::build(&reqs, &evidence, geodesic_checks::TEST_TRACES);
+    for check in &registry {
+        if !check.verifies().iter().any(|id| reqs.get(id).is_some()) {
+            for id in check.verifies() {
+                matrix.orphan_checks.push(geodesic_core::matrix::Orphan {
+                    check: check.name().to_string(),
+                    requirement: id.to_string(),
+                });
+            }
+        }
+    }
+    let report = Report {
+        matrix,
+        run: RunInfo {
+            geodesic_version: env!("CARGO_PKG_VERSION").to_string(),
+            requirements: source,
+            mc_n: args.mc_n,
+            seed: args.seed,
+            checks: runs,
+        },
+    };
+    let json = serde_json::to_string_pretty(&report).map_err(|e| CliError::Io(e.to_string()))?;
+    let md = geodesic_report::markdown::render(&report);
+    let io = |e: geodesic_report::write::WriteError| CliError::Io(e.to_string());
+    staging
+        .write("compliance.json", json.as_bytes())
+        .map_err(io)?;
+    staging.write("compliance.md", md.as_bytes()).map_err(io)?;
+    let written = staging.commit().map_err(io)?;
+    if args.json {
+        println!("{json}");
+    } else {
+        let color = std::io::stdout().is_terminal();
+        print!(
+            "{}",
+            geodesic_report::terminal::table(&report.matrix, color)
+        );
+        for w in written
+            .iter()
+            .filter(|p| p.extension().is_some_and(|e| e == "md" || e == "json"))
+        {
+            println!("wrote {}", w.display());
+        }
+    }
+    Ok(report.matrix.exit_code())
 }

@@ -1,0 +1,216 @@
+//! `compliance.md`: the compliance matrix, a section per requirement with its evidence and
+//! tests, and the trace views (check to requirements, orphan checks, requirements without
+//! evidence).
+
+use crate::{Report, fmt_margin, fmt_opt};
+use geodesic_core::matrix::Status;
+use geodesic_core::units::fmt_num;
+use std::fmt::Write as _;
+
+fn cell(s: &str) -> String {
+    s.replace('|', "\\|").replace('\n', " ")
+}
+
+fn badge(s: Status) -> &'static str {
+    match s {
+        Status::Compliant => "✅ compliant",
+        Status::NonCompliant => "❌ non-compliant",
+        Status::NotVerified => "⚠️ not-verified",
+    }
+}
+
+/// Renders the whole Markdown report.
+pub fn render(rep: &Report) -> String {
+    let m = &rep.matrix;
+    let mut o = String::new();
+    let _ = writeln!(o, "# geodesic compliance matrix\n");
+    let _ = writeln!(
+        o,
+        "geodesic {} · requirements: `{}` · Monte Carlo N = {}, seed = {}\n",
+        rep.run.geodesic_version, rep.run.requirements, rep.run.mc_n, rep.run.seed
+    );
+    let s = &m.summary;
+    let _ = writeln!(
+        o,
+        "**{} requirements: {} compliant, {} non-compliant, {} not verified.** Margin = (limit − value) / limit \
+         (sign-adjusted for lower bounds; positive means met). A requirement without a value is `not-verified`, \
+         never compliant.\n",
+        s.total, s.compliant, s.non_compliant, s.not_verified
+    );
+    let _ = writeln!(
+        o,
+        "| ID | Title | Method | Status | Value | Limit | Margin | Evidence | Tests |"
+    );
+    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|");
+    for r in &m.requirements {
+        let value = r.value.map_or("—".to_string(), |_| {
+            format!("{} {}", fmt_opt(r.value), r.unit)
+        });
+        let ev: Vec<String> = r
+            .evidence
+            .iter()
+            .map(|e| format!("`{}`", e.check))
+            .collect();
+        let _ = writeln!(
+            o,
+            "| [{id}](#{anchor}) | {t} | {meth} | {st} | {value} | {op} {lim} {u} | {mg} | {ev} | {nt} |",
+            id = r.id,
+            anchor = r.id.to_lowercase(),
+            t = cell(&r.title),
+            meth = r.method,
+            st = badge(r.status),
+            op = r.op.replace('<', "&lt;").replace('>', "&gt;"),
+            lim = fmt_num(r.limit),
+            u = r.unit,
+            mg = fmt_margin(r.margin),
+            ev = if ev.is_empty() {
+                "—".into()
+            } else {
+                ev.join(", ")
+            },
+            nt = r.tests.len()
+        );
+    }
+    let _ = writeln!(o, "\n## Requirements\n");
+    for r in &m.requirements {
+        let _ = writeln!(o, "### {}\n", r.id);
+        let _ = writeln!(o, "**{}** — {}\n", cell(&r.title), badge(r.status));
+        let _ = writeln!(o, "> {}\n", r.text);
+        let _ = writeln!(o, "- Source: {}", r.source);
+        let _ = writeln!(
+            o,
+            "- Quantity: {}",
+            format!(
+                "{} [{}]",
+                r.quantity,
+                if r.unit.is_empty() { "-" } else { &r.unit }
+            )
+        );
+        let _ = writeln!(
+            o,
+            "- Limit: `{}`{}",
+            r.limit_text,
+            r.probability
+                .as_ref()
+                .map_or(String::new(), |p| format!(" at {p}"))
+        );
+        let _ = writeln!(o, "- Method: {} — activity: {}", r.method, r.activity);
+        if let Some(p) = &r.parent {
+            let _ = writeln!(
+                o,
+                "- Parent: [{p}](#{}) (margin factor {})",
+                p.to_lowercase(),
+                r.parent_margin.unwrap_or(1.0)
+            );
+        }
+        if !r.children.is_empty() {
+            let c: Vec<String> = r
+                .children
+                .iter()
+                .map(|c| format!("[{c}](#{})", c.to_lowercase()))
+                .collect();
+            let _ = writeln!(o, "- Children: {}", c.join(", "));
+        }
+        let _ = writeln!(o, "- Defined at: `{}`", r.defined_at);
+        match r.status {
+            Status::NotVerified => {
+                let _ = writeln!(
+                    o,
+                    "- Status: not verified — {}",
+                    r.reason.as_deref().unwrap_or("no evidence")
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    o,
+                    "- Status: {} — value {} {} against `{}`, margin {}",
+                    r.status.as_str(),
+                    fmt_opt(r.value),
+                    r.unit,
+                    r.limit_text,
+                    fmt_margin(r.margin)
+                );
+            }
+        }
+        if !r.evidence.is_empty() {
+            let _ = writeln!(o, "\nEvidence:\n");
+            for e in &r.evidence {
+                let what = match (e.value, &e.reason) {
+                    (Some(v), _) => format!("{} {}", fmt_num(v), r.unit),
+                    (None, Some(why)) => format!("not verified: {why}"),
+                    (None, None) => "—".into(),
+                };
+                let inputs: Vec<String> =
+                    e.inputs.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+                let _ = writeln!(o, "- `{}`: {} — {}", e.check, e.activity, what);
+                if !inputs.is_empty() {
+                    let _ = writeln!(o, "  - inputs: {}", inputs.join(", "));
+                }
+                for a in &e.artifacts {
+                    let _ = writeln!(o, "  - artifact: [{a}]({a})");
+                }
+            }
+        }
+        if !r.tests.is_empty() {
+            let _ = writeln!(o, "\nTests that verify it:\n");
+            for t in &r.tests {
+                let _ = writeln!(o, "- `{}` ({}, `{}`)", t.test, t.kind, t.location);
+            }
+        }
+        let _ = writeln!(o);
+    }
+    let _ = writeln!(o, "## Trace views\n");
+    let _ = writeln!(o, "### Checks to requirements\n");
+    let _ = writeln!(o, "| Check | Verifies | Wall time [s] |");
+    let _ = writeln!(o, "|---|---|---|");
+    for c in &rep.run.checks {
+        let _ = writeln!(
+            o,
+            "| `{}` | {} | {:.2} |",
+            c.name,
+            c.verifies.join(", "),
+            c.seconds
+        );
+    }
+    let _ = writeln!(o, "\n### Orphan checks\n");
+    if m.orphan_checks.is_empty() {
+        let _ = writeln!(o, "None: every requirement a check names is loaded.");
+    } else {
+        for x in &m.orphan_checks {
+            let _ = writeln!(
+                o,
+                "- `{}` names {}, which is not in the loaded requirements",
+                x.check, x.requirement
+            );
+        }
+    }
+    let _ = writeln!(o, "\n### Requirements without evidence\n");
+    let bare: Vec<&str> = m
+        .requirements
+        .iter()
+        .filter(|r| r.value.is_none())
+        .map(|r| r.id.as_str())
+        .collect();
+    if bare.is_empty() {
+        let _ = writeln!(o, "None.");
+    } else {
+        let _ = writeln!(o, "{}", bare.join(", "));
+    }
+    let _ = writeln!(o, "\n### Requirements without a traced test\n");
+    let untested: Vec<&str> = m
+        .requirements
+        .iter()
+        .filter(|r| r.tests.is_empty())
+        .map(|r| r.id.as_str())
+        .collect();
+    let _ = writeln!(
+        o,
+        "{}",
+        if untested.is_empty() {
+            "None.".to_string()
+        } else {
+            untested.join(", ")
+        }
+    );
+    o
+}

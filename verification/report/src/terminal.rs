@@ -1,0 +1,69 @@
+//! The short compliance table printed on a terminal by `geodesic verify`.
+
+use crate::{fmt_margin, fmt_opt};
+use geodesic_core::matrix::{Matrix, Status};
+
+/// Renders the matrix as an aligned text table with a summary line.
+pub fn table(m: &Matrix, color: bool) -> String {
+    let head = ["ID", "status", "value", "limit", "margin", "tests"];
+    let rows: Vec<[String; 6]> = m
+        .requirements
+        .iter()
+        .map(|r| {
+            [
+                r.id.clone(),
+                r.status.as_str().to_string(),
+                match r.value {
+                    Some(_) => format!("{} {}", fmt_opt(r.value), r.unit),
+                    None => "—".into(),
+                },
+                format!(
+                    "{} {} {}",
+                    r.op,
+                    geodesic_core::units::fmt_num(r.limit),
+                    r.unit
+                ),
+                fmt_margin(r.margin),
+                r.tests.len().to_string(),
+            ]
+        })
+        .collect();
+    let mut w = head.map(|h| h.chars().count());
+    for r in &rows {
+        for (i, c) in r.iter().enumerate() {
+            w[i] = w[i].max(c.chars().count());
+        }
+    }
+    let pad = |s: &str, n: usize| format!("{s}{}", " ".repeat(n.saturating_sub(s.chars().count())));
+    let mut out = String::new();
+    let line: Vec<String> = head.iter().enumerate().map(|(i, h)| pad(h, w[i])).collect();
+    out.push_str(line.join("  ").trim_end());
+    out.push('\n');
+    for (r, row) in rows.iter().zip(&m.requirements) {
+        let cells: Vec<String> = r
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let p = pad(c, w[i]);
+                if i == 1 && color {
+                    let code = match row.status {
+                        Status::Compliant => "32",
+                        Status::NonCompliant => "31",
+                        Status::NotVerified => "33",
+                    };
+                    format!("\x1b[{code}m{p}\x1b[0m")
+                } else {
+                    p
+                }
+            })
+            .collect();
+        out.push_str(cells.join("  ").trim_end());
+        out.push('\n');
+    }
+    let s = &m.summary;
+    out.push_str(&format!(
+        "{} requirements: {} compliant, {} non-compliant, {} not verified\n",
+        s.total, s.compliant, s.non_compliant, s.not_verified
+    ));
+    out
+}
