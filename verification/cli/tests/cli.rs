@@ -5,11 +5,18 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn geodesic(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geodesic")).args(args).current_dir(cwd).output().expect("run geodesic")
+    Command::new(env!("CARGO_BIN_EXE_geodesic"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run geodesic")
 }
 
 fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -24,9 +31,16 @@ fn broken_requirements(name: &str, file: &str, edit: impl Fn(&str) -> String) ->
     let d = scratch(name);
     let req = d.join("requirements");
     std::fs::create_dir_all(&req).unwrap();
-    for e in std::fs::read_dir(workspace().join("requirements")).unwrap().flatten() {
+    for e in std::fs::read_dir(workspace().join("requirements"))
+        .unwrap()
+        .flatten()
+    {
         let text = std::fs::read_to_string(e.path()).unwrap();
-        let text = if e.file_name() == file { edit(&text) } else { text };
+        let text = if e.file_name() == file {
+            edit(&text)
+        } else {
+            text
+        };
         std::fs::write(req.join(e.file_name()), text).unwrap();
     }
     d
@@ -38,22 +52,45 @@ fn assert_bad(out: &Output, file_line: &str, cause: &str) {
     assert!(out.stdout.is_empty(), "nothing on stdout on bad input");
     assert_eq!(err.trim().lines().count(), 1, "one-line cause: {err}");
     assert!(err.contains(file_line), "expected {file_line} in: {err}");
-    assert!(err.to_lowercase().contains(cause), "expected `{cause}` in: {err}");
+    assert!(
+        err.to_lowercase().contains(cause),
+        "expected `{cause}` in: {err}"
+    );
 }
 
 #[test]
 fn malformed_yaml_names_file_and_line() {
-    let d = broken_requirements("malformed", "charge.yaml", |t| t.replacen("requirements:", "requirements: [", 1));
-    let out = geodesic(&["verify", "--json", "--mc-n", "200", "--reports", "out"], &d);
+    let d = broken_requirements("malformed", "charge.yaml", |t| {
+        t.replacen("requirements:", "requirements: [", 1)
+    });
+    let out = geodesic(
+        &["verify", "--json", "--mc-n", "200", "--reports", "out"],
+        &d,
+    );
     assert_bad(&out, "charge.yaml:", "");
-    assert!(!d.join("out/compliance.json").exists(), "no partial report on bad input");
+    assert!(
+        !d.join("out/compliance.json").exists(),
+        "no partial report on bad input"
+    );
 }
 
 #[test]
 fn duplicate_id_unknown_unit_unknown_field_missing_parent() {
     let cases: [(&str, &str, Box<dyn Fn(&str) -> String>, &str, &str); 5] = [
-        ("dup", "charge.yaml", Box::new(|t: &str| t.replace("id: CHG-V", "id: CHG-Q")), "charge.yaml:", "duplicate"),
-        ("unit", "charge.yaml", Box::new(|t: &str| t.replace("<= 1.1 V", "<= 1.1 furlong")), "charge.yaml:", "furlong"),
+        (
+            "dup",
+            "charge.yaml",
+            Box::new(|t: &str| t.replace("id: CHG-V", "id: CHG-Q")),
+            "charge.yaml:",
+            "duplicate",
+        ),
+        (
+            "unit",
+            "charge.yaml",
+            Box::new(|t: &str| t.replace("<= 1.1 V", "<= 1.1 furlong")),
+            "charge.yaml:",
+            "furlong",
+        ),
         (
             "dim",
             "charge.yaml",
@@ -64,14 +101,25 @@ fn duplicate_id_unknown_unit_unknown_field_missing_parent() {
         (
             "field",
             "charge.yaml",
-            Box::new(|t: &str| t.replacen("    method: analysis\n", "    method: analysis\n    colour: red\n", 1)),
+            Box::new(|t: &str| {
+                t.replacen(
+                    "    method: analysis\n",
+                    "    method: analysis\n    colour: red\n",
+                    1,
+                )
+            }),
             "charge.yaml:",
             "unknown field",
         ),
         (
             "parent",
             "release.yaml",
-            Box::new(|t: &str| t.replace("{id: REL-GPRM-VEL, margin: 1.5}", "{id: REL-NOPE, margin: 1.5}")),
+            Box::new(|t: &str| {
+                t.replace(
+                    "{id: REL-GPRM-VEL, margin: 1.5}",
+                    "{id: REL-NOPE, margin: 1.5}",
+                )
+            }),
             "release.yaml:",
             "does not exist",
         ),
@@ -85,7 +133,9 @@ fn duplicate_id_unknown_unit_unknown_field_missing_parent() {
 
 #[test]
 fn unknown_check_name_is_refused_with_its_line() {
-    let d = broken_requirements("check", "charge.yaml", |t| t.replacen("check: charge-analysis", "check: crystal-ball", 1));
+    let d = broken_requirements("check", "charge.yaml", |t| {
+        t.replacen("check: charge-analysis", "check: crystal-ball", 1)
+    });
     let out = geodesic(&["verify", "--json", "--mc-n", "200"], &d);
     assert_bad(&out, "charge.yaml:", "unknown check");
 }
@@ -101,15 +151,35 @@ fn missing_requirements_dir_is_bad_input() {
 fn verify_json_lists_every_requirement_with_a_status() {
     let d = scratch("json");
     let req = workspace().join("requirements");
-    let out = geodesic(&["verify", "--json", "--mc-n", "2000", "--requirements", req.to_str().unwrap()], &d);
+    let out = geodesic(
+        &[
+            "verify",
+            "--json",
+            "--mc-n",
+            "2000",
+            "--requirements",
+            req.to_str().unwrap(),
+        ],
+        &d,
+    );
     let code = out.status.code().unwrap();
-    assert!(code == 0 || code == 1, "stderr: {}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON document on stdout");
+    assert!(
+        code == 0 || code == 1,
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("one JSON document on stdout");
     let rows = doc["requirements"].as_array().unwrap();
     let n_yaml: usize = std::fs::read_dir(&req)
         .unwrap()
         .flatten()
-        .map(|e| std::fs::read_to_string(e.path()).unwrap().matches("\n  - id: ").count())
+        .map(|e| {
+            std::fs::read_to_string(e.path())
+                .unwrap()
+                .matches("\n  - id: ")
+                .count()
+        })
         .sum();
     assert_eq!(rows.len(), n_yaml);
     let mut non_compliant = false;
@@ -121,7 +191,10 @@ fn verify_json_lists_every_requirement_with_a_status() {
             assert!(r.get(k).is_some(), "row lacks {k}");
         }
         if s == "not-verified" {
-            assert!(r["reason"].as_str().is_some_and(|x| !x.is_empty()), "not-verified without a reason: {r}");
+            assert!(
+                r["reason"].as_str().is_some_and(|x| !x.is_empty()),
+                "not-verified without a reason: {r}"
+            );
         }
     }
     assert_eq!(code == 1, non_compliant, "exit status matches the verdict");

@@ -3,12 +3,20 @@
 //! - [`markdown`]: the compliance report `compliance.md` (matrix, one section per requirement,
 //!   trace views).
 //! - [`terminal`]: the short table printed on a terminal.
+//! - [`vcd`]: the Verification Control Document (Markdown, CSV; also inside the HTML page).
+//! - [`html`]: `index.html`, self-contained, with the plots inlined.
+//! - [`junit`]: JUnit XML for CI dashboards.
+//! - [`baseline`]: change impact against a baseline `compliance.json`.
 //! - [`write`]: writing a set of report files whole or not at all (staged, then renamed).
 //!
 //! The JSON form is the [`geodesic_core::matrix::Matrix`] itself, wrapped in [`Report`].
 
+pub mod baseline;
+pub mod html;
+pub mod junit;
 pub mod markdown;
 pub mod terminal;
+pub mod vcd;
 pub mod write;
 
 use geodesic_core::matrix::Matrix;

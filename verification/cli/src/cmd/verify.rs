@@ -28,6 +28,20 @@ pub struct Args {
     /// Monte Carlo seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Also write the compliance checks as JUnit XML to FILE (for CI dashboards).
+    #[arg(long, value_name = "FILE")]
+    pub junit: Option<PathBuf>,
+    /// Compare with a baseline compliance.json: list status flips, margins moved beyond
+    /// --margin-tolerance and suspect evidence; exit 1 on any regression.
+    #[arg(long, value_name = "OLD.json")]
+    pub baseline: Option<PathBuf>,
+    /// Margin change (absolute, as a fraction of the limit) that counts as moved.
+    #[arg(
+        long = "margin-tolerance",
+        value_name = "FRACTION",
+        default_value_t = 0.01
+    )]
+    pub margin_tolerance: f64,
     /// Print only the JSON compliance matrix on standard output.
     #[arg(long)]
     pub json: bool,
@@ -120,14 +134,49 @@ pub fn run(args: Args) -> CmdResult {
             checks: runs,
         },
     };
-    let json = serde_json::to_string_pretty(&report).map_err(|e| CliError::Io(e.to_string()))?;
-    let md = geodesic_report::markdown::render(&report);
+    if !(args.margin_tolerance.is_finite() && args.margin_tolerance >= 0.0) {
+        return Err(CliError::bad(
+            "--margin-tolerance must be a non-negative number",
+        ));
+    }
+    let diff = match &args.baseline {
+        Some(b) => Some(
+            geodesic_report::baseline::diff(&report, b, args.margin_tolerance)
+                .map_err(|e| CliError::bad(e.to_string()))?,
+        ),
+        None => None,
+    };
+    let mut doc = serde_json::to_value(&report).map_err(|e| CliError::Io(e.to_string()))?;
+    if let Some(d) = &diff {
+        doc["baseline_diff"] = serde_json::to_value(d).map_err(|e| CliError::Io(e.to_string()))?;
+    }
+    let json = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
     let io = |e: geodesic_report::write::WriteError| CliError::Io(e.to_string());
+    let md = geodesic_report::markdown::render(&report);
     staging
         .write("compliance.json", json.as_bytes())
         .map_err(io)?;
     staging.write("compliance.md", md.as_bytes()).map_err(io)?;
+    let vcd = geodesic_report::vcd::markdown(&report);
+    staging.write("vcd.md", vcd.as_bytes()).map_err(io)?;
+    staging
+        .write("vcd.csv", geodesic_report::vcd::csv(&report).as_bytes())
+        .map_err(io)?;
+    let vcd_html = geodesic_report::html::render_vcd(&report);
+    staging.write("vcd.html", vcd_html.as_bytes()).map_err(io)?;
+    let page = geodesic_report::html::render(&report, &[staging.path(), args.reports.as_path()]);
+    staging.write("index.html", page.as_bytes()).map_err(io)?;
+    if let Some(d) = &diff {
+        let md = geodesic_report::baseline::markdown(d);
+        staging
+            .write("baseline-diff.md", md.as_bytes())
+            .map_err(io)?;
+    }
+    let junit = geodesic_report::junit::render(&report);
     let written = staging.commit().map_err(io)?;
+    if let Some(j) = &args.junit {
+        write_whole(j, junit.as_bytes())?;
+    }
     if args.json {
         println!("{json}");
     } else {
@@ -136,12 +185,23 @@ pub fn run(args: Args) -> CmdResult {
             "{}",
             geodesic_report::terminal::table(&report.matrix, color)
         );
-        for w in written
-            .iter()
-            .filter(|p| p.extension().is_some_and(|e| e == "md" || e == "json"))
-        {
-            println!("wrote {}", w.display());
+        if let Some(d) = &diff {
+            print!("{}", geodesic_report::baseline::markdown(d));
         }
+        let names: Vec<String> = written
+            .iter()
+            .filter(|p| p.parent() == Some(args.reports.as_path()))
+            .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .collect();
+        println!("wrote {}/{{{}}}", args.reports.display(), names.join(","));
     }
-    Ok(report.matrix.exit_code())
+    let regressions = diff.as_ref().map_or(0, |d| d.regressions);
+    Ok(report.matrix.exit_code().max(u8::from(regressions > 0)))
+}
+
+/// Writes a file whole or not at all (temporary file, then rename).
+fn write_whole(path: &std::path::Path, bytes: &[u8]) -> Result<(), CliError> {
+    let tmp = path.with_extension("tmp-geodesic");
+    std::fs::write(&tmp, bytes).map_err(|e| CliError::Io(format!("{}: {e}", tmp.display())))?;
+    std::fs::rename(&tmp, path).map_err(|e| CliError::Io(format!("{}: {e}", path.display())))
 }

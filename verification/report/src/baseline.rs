@@ -1,0 +1,300 @@
+//! Change impact: compares a compliance report with a baseline `compliance.json` from an
+//! earlier run and lists every requirement whose status flipped or whose margin moved beyond a
+//! stated tolerance, the requirements added or removed, and the checks whose evidence changed
+//! (suspect evidence). A regression (a status that got worse, a margin that fell by more than
+//! the tolerance, a requirement that disappeared) makes `geodesic verify --baseline` exit 1.
+
+use crate::Report;
+use geodesic_core::matrix::Status;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+#[derive(Deserialize)]
+struct OldReport {
+    requirements: Vec<OldRow>,
+}
+
+#[derive(Deserialize)]
+struct OldRow {
+    id: String,
+    status: String,
+    value: Option<f64>,
+    margin: Option<f64>,
+    #[serde(default)]
+    unit: String,
+    #[serde(default)]
+    evidence: Vec<OldEvidence>,
+}
+
+#[derive(Deserialize)]
+struct OldEvidence {
+    check: String,
+    value: Option<f64>,
+    #[serde(default)]
+    inputs: BTreeMap<String, serde_json::Value>,
+}
+
+/// A baseline file that cannot be read: one line with file:line:column.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct BaselineError(pub String);
+
+/// A requirement whose status changed.
+#[derive(Clone, Debug, Serialize)]
+pub struct Flip {
+    /// Requirement ID.
+    pub id: String,
+    /// Status in the baseline.
+    pub from: String,
+    /// Status now.
+    pub to: String,
+    /// Whether it got worse.
+    pub regression: bool,
+}
+
+/// A requirement whose margin moved by more than the tolerance.
+#[derive(Clone, Debug, Serialize)]
+pub struct Move {
+    /// Requirement ID.
+    pub id: String,
+    /// Margin in the baseline (fraction).
+    pub from: f64,
+    /// Margin now (fraction).
+    pub to: f64,
+    /// Value in the baseline (requirement unit).
+    pub value_from: Option<f64>,
+    /// Value now (requirement unit).
+    pub value_to: Option<f64>,
+    /// Unit of the values.
+    pub unit: String,
+    /// Whether the margin fell.
+    pub regression: bool,
+}
+
+/// Evidence of a check for a requirement whose value or inputs changed.
+#[derive(Clone, Debug, Serialize)]
+pub struct Suspect {
+    /// Requirement ID.
+    pub id: String,
+    /// Check name.
+    pub check: String,
+    /// What changed.
+    pub what: String,
+}
+
+/// The change impact of a run against a baseline.
+#[derive(Clone, Debug, Serialize)]
+pub struct Diff {
+    /// Baseline file.
+    pub baseline: String,
+    /// Margin tolerance (absolute, as a fraction of the limit).
+    pub tolerance: f64,
+    /// Status flips.
+    pub flipped: Vec<Flip>,
+    /// Margins moved beyond the tolerance.
+    pub margin_moved: Vec<Move>,
+    /// Requirements new in this run.
+    pub added: Vec<String>,
+    /// Requirements of the baseline missing now.
+    pub removed: Vec<String>,
+    /// Checks whose evidence changed.
+    pub suspect_evidence: Vec<Suspect>,
+    /// Number of regressions.
+    pub regressions: usize,
+}
+
+fn rank(s: &str) -> u8 {
+    match s {
+        "compliant" => 0,
+        "not-verified" => 1,
+        _ => 2,
+    }
+}
+
+/// Reads a baseline file.
+fn load(path: &Path) -> Result<OldReport, BaselineError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| BaselineError(format!("{}: {e}", path.display())))?;
+    serde_json::from_str(&text).map_err(|e| {
+        BaselineError(format!(
+            "{}:{}:{}: not a geodesic compliance.json: {e}",
+            path.display(),
+            e.line(),
+            e.column()
+        ))
+    })
+}
+
+/// Compares `now` with the baseline file.
+pub fn diff(now: &Report, baseline: &Path, tolerance: f64) -> Result<Diff, BaselineError> {
+    let old = load(baseline)?;
+    let old_by: BTreeMap<&str, &OldRow> = old
+        .requirements
+        .iter()
+        .map(|r| (r.id.as_str(), r))
+        .collect();
+    let mut d = Diff {
+        baseline: baseline.display().to_string(),
+        tolerance,
+        flipped: vec![],
+        margin_moved: vec![],
+        added: vec![],
+        removed: vec![],
+        suspect_evidence: vec![],
+        regressions: 0,
+    };
+    for r in &now.matrix.requirements {
+        let Some(o) = old_by.get(r.id.as_str()) else {
+            d.added.push(r.id.clone());
+            continue;
+        };
+        let to = r.status.as_str();
+        if o.status != to {
+            let regression = rank(to) > rank(&o.status);
+            d.flipped.push(Flip {
+                id: r.id.clone(),
+                from: o.status.clone(),
+                to: to.into(),
+                regression,
+            });
+        }
+        if let (Some(a), Some(b)) = (o.margin, r.margin) {
+            if (b - a).abs() > tolerance {
+                d.margin_moved.push(Move {
+                    id: r.id.clone(),
+                    from: a,
+                    to: b,
+                    value_from: o.value,
+                    value_to: r.value,
+                    unit: if o.unit.is_empty() {
+                        r.unit.clone()
+                    } else {
+                        o.unit.clone()
+                    },
+                    regression: b < a,
+                });
+            }
+        }
+        for e in &r.evidence {
+            match o.evidence.iter().find(|x| x.check == e.check) {
+                None => d.suspect_evidence.push(Suspect {
+                    id: r.id.clone(),
+                    check: e.check.clone(),
+                    what: "new evidence".into(),
+                }),
+                Some(x) => {
+                    let mut what = Vec::new();
+                    if x.value != e.value {
+                        what.push(format!("value {:?} -> {:?}", x.value, e.value));
+                    }
+                    let keys: std::collections::BTreeSet<&String> =
+                        x.inputs.keys().chain(e.inputs.keys()).collect();
+                    for k in keys {
+                        if x.inputs.get(k) != e.inputs.get(k) {
+                            what.push(format!("input {k} changed"));
+                        }
+                    }
+                    if !what.is_empty() {
+                        d.suspect_evidence.push(Suspect {
+                            id: r.id.clone(),
+                            check: e.check.clone(),
+                            what: what.join(", "),
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let now_ids: Vec<&str> = now
+        .matrix
+        .requirements
+        .iter()
+        .map(|r| r.id.as_str())
+        .collect();
+    d.removed = old
+        .requirements
+        .iter()
+        .filter(|o| !now_ids.contains(&o.id.as_str()))
+        .map(|o| o.id.clone())
+        .collect();
+    d.regressions = d.flipped.iter().filter(|f| f.regression).count()
+        + d.margin_moved.iter().filter(|m| m.regression).count()
+        + d.removed.len();
+    Ok(d)
+}
+
+/// Markdown summary fit for a pull-request comment.
+pub fn markdown(d: &Diff) -> String {
+    let mut o = String::from("## geodesic: change impact against the baseline\n\n");
+    o.push_str(&format!(
+        "Baseline `{}` · margin tolerance {:.2} % of the limit · **{} regression(s)**\n\n",
+        d.baseline,
+        100.0 * d.tolerance,
+        d.regressions
+    ));
+    if d.flipped.is_empty()
+        && d.margin_moved.is_empty()
+        && d.added.is_empty()
+        && d.removed.is_empty()
+    {
+        o.push_str("No requirement changed status or moved its margin beyond the tolerance.\n");
+    }
+    if !d.flipped.is_empty() {
+        o.push_str("| Requirement | Status before | Status now | |\n|---|---|---|---|\n");
+        for f in &d.flipped {
+            let tag = if f.regression {
+                "⬇️ regression"
+            } else {
+                "⬆️ improvement"
+            };
+            o.push_str(&format!("| {} | {} | {} | {tag} |\n", f.id, f.from, f.to));
+        }
+        o.push('\n');
+    }
+    if !d.margin_moved.is_empty() {
+        o.push_str("| Requirement | Margin before | Margin now | Value before | Value now | |\n|---|---|---|---|---|---|\n");
+        for m in &d.margin_moved {
+            let tag = if m.regression {
+                "⬇️ regression"
+            } else {
+                "⬆️"
+            };
+            let v = |x: Option<f64>| {
+                x.map_or("—".into(), |x| {
+                    format!("{} {}", geodesic_core::units::fmt_num(x), m.unit)
+                })
+            };
+            o.push_str(&format!(
+                "| {} | {:.2} % | {:.2} % | {} | {} | {tag} |\n",
+                m.id,
+                100.0 * m.from,
+                100.0 * m.to,
+                v(m.value_from),
+                v(m.value_to)
+            ));
+        }
+        o.push('\n');
+    }
+    if !d.added.is_empty() {
+        o.push_str(&format!("Added: {}\n\n", d.added.join(", ")));
+    }
+    if !d.removed.is_empty() {
+        o.push_str(&format!(
+            "Removed (regression): {}\n\n",
+            d.removed.join(", ")
+        ));
+    }
+    if !d.suspect_evidence.is_empty() {
+        o.push_str("Suspect evidence (changed since the baseline):\n\n");
+        for s in &d.suspect_evidence {
+            o.push_str(&format!("- {} via `{}`: {}\n", s.id, s.check, s.what));
+        }
+    }
+    o
+}
+
+/// Whether a status is a regression from another (used in tests and by callers).
+pub fn worse(from: Status, to: Status) -> bool {
+    rank(from.as_str()) < rank(to.as_str())
+}

@@ -1,0 +1,186 @@
+//! The Verification Control Document (ECSS-E-ST-10-02C, annex on the VCD): for every
+//! requirement, its ID and text, parent and children, verification method, the activity and its
+//! evidence (check, Monte Carlo N and seed, dataset, test names, snapshots), value, limit,
+//! margin, compliance (yes / no / partial) and close-out status with its reason. Exported as
+//! Markdown and CSV here, and as a section of the HTML report.
+
+use crate::{Report, fmt_margin, fmt_opt};
+use geodesic_core::matrix::{Row, Status};
+use serde::Serialize;
+
+/// One VCD line.
+#[derive(Clone, Debug, Serialize)]
+pub struct VcdLine {
+    /// Requirement ID.
+    pub id: String,
+    /// Shall statement.
+    pub text: String,
+    /// Parent ID.
+    pub parent: String,
+    /// Children IDs, `;`-separated.
+    pub children: String,
+    /// Verification method.
+    pub method: String,
+    /// Verification activity.
+    pub activity: String,
+    /// Evidence: checks with their inputs, then tests.
+    pub evidence: String,
+    /// Value in the requirement's unit.
+    pub value: String,
+    /// Limit as written.
+    pub limit: String,
+    /// Margin.
+    pub margin: String,
+    /// yes / no / partial.
+    pub compliance: &'static str,
+    /// closed / open.
+    pub close_out: &'static str,
+    /// Why.
+    pub reason: String,
+}
+
+/// Compliance as the VCD states it: `yes` (compliant), `no` (non-compliant), `partial`
+/// (not verified but some evidence or a traced test exists), `no evidence` otherwise.
+pub fn compliance(r: &Row) -> &'static str {
+    match r.status {
+        Status::Compliant => "yes",
+        Status::NonCompliant => "no",
+        Status::NotVerified if !r.evidence.is_empty() || !r.tests.is_empty() => "partial",
+        Status::NotVerified => "no evidence",
+    }
+}
+
+/// Builds the VCD lines from a report.
+pub fn lines(rep: &Report) -> Vec<VcdLine> {
+    rep.matrix
+        .requirements
+        .iter()
+        .map(|r| {
+            let mut ev: Vec<String> = r
+                .evidence
+                .iter()
+                .map(|e| {
+                    let inputs: Vec<String> =
+                        e.inputs.iter().map(|(k, v)| format!("{k}={v}")).collect();
+                    if inputs.is_empty() {
+                        format!("check {}", e.check)
+                    } else {
+                        format!("check {} ({})", e.check, inputs.join(", "))
+                    }
+                })
+                .collect();
+            ev.extend(
+                r.tests
+                    .iter()
+                    .map(|t| format!("{} test {}", t.kind, t.test)),
+            );
+            let (close_out, reason) = match r.status {
+                Status::Compliant if r.tests.is_empty() => (
+                    "closed",
+                    "value within limit (no traced test yet)".to_string(),
+                ),
+                Status::Compliant => (
+                    "closed",
+                    format!("value within limit; {} traced test(s)", r.tests.len()),
+                ),
+                Status::NonCompliant => (
+                    "open",
+                    format!(
+                        "value {} {} violates `{}`",
+                        fmt_opt(r.value),
+                        r.unit,
+                        r.limit_text
+                    ),
+                ),
+                Status::NotVerified => (
+                    "open",
+                    r.reason.clone().unwrap_or_else(|| "no evidence".into()),
+                ),
+            };
+            VcdLine {
+                id: r.id.clone(),
+                text: r.text.clone(),
+                parent: r.parent.clone().unwrap_or_default(),
+                children: r.children.join(";"),
+                method: r.method.clone(),
+                activity: r.activity.clone(),
+                evidence: ev.join("; "),
+                value: r.value.map_or(String::new(), |_| {
+                    format!("{} {}", fmt_opt(r.value), r.unit)
+                }),
+                limit: r.limit_text.clone(),
+                margin: fmt_margin(r.margin),
+                compliance: compliance(r),
+                close_out,
+                reason,
+            }
+        })
+        .collect()
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// The VCD as CSV (RFC 4180 quoting), one header row.
+pub fn csv(rep: &Report) -> String {
+    let mut o = String::from(
+        "id,text,parent,children,method,activity,evidence,value,limit,margin,compliance,close_out,reason\n",
+    );
+    for l in lines(rep) {
+        let f = [
+            &l.id,
+            &l.text,
+            &l.parent,
+            &l.children,
+            &l.method,
+            &l.activity,
+            &l.evidence,
+            &l.value,
+            &l.limit,
+            &l.margin,
+            l.compliance,
+            l.close_out,
+            &l.reason,
+        ];
+        let row: Vec<String> = f.iter().map(|s| csv_field(s)).collect();
+        o.push_str(&row.join(","));
+        o.push('\n');
+    }
+    o
+}
+
+/// The VCD as Markdown.
+pub fn markdown(rep: &Report) -> String {
+    let mut o = String::from("# Verification Control Document\n\n");
+    o.push_str(&format!(
+        "geodesic {} · requirements `{}` · Monte Carlo N = {}, seed = {}\n\n",
+        rep.run.geodesic_version, rep.run.requirements, rep.run.mc_n, rep.run.seed
+    ));
+    o.push_str("| ID | Requirement | Parent | Children | Method | Activity / evidence | Value | Limit | Margin | Compliance | Close-out |\n");
+    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
+    let c = |s: &str| s.replace('|', "\\|");
+    for l in lines(rep) {
+        o.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {}<br>{} | {} | `{}` | {} | {} | {}: {} |\n",
+            l.id,
+            c(&l.text),
+            l.parent,
+            l.children.replace(';', ", "),
+            l.method,
+            c(&l.activity),
+            c(&l.evidence),
+            l.value,
+            l.limit,
+            l.margin,
+            l.compliance,
+            l.close_out,
+            c(&l.reason)
+        ));
+    }
+    o
+}
