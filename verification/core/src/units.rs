@@ -476,4 +476,23 @@ mod tests {
         assert_eq!(fmt_num(0.0), "0");
         assert_eq!(fmt_num(3.1e8), "3.100e8");
     }
+
+    proptest::proptest! {
+        /// Any finite value with any prefix parses back to value x prefix, in any micro spelling.
+        #[test]
+        fn prefixed_values_round_trip(v in -1e6f64..1e6, p in 0usize..6, micro in 0usize..3) {
+            let (pre, scale) = [("", 1.0), ("k", 1e3), ("m", 1e-3), ("u", 1e-6), ("n", 1e-9), ("p", 1e-12)][p];
+            let pre = if pre == "u" { ["u", "µ", "\u{03BC}"][micro] } else { pre };
+            let (q, _) = parse_quantity(&format!("{v:e} {pre}m/s")).unwrap();
+            proptest::prop_assert_eq!(q.dim, Dim::VELOCITY);
+            proptest::prop_assert!((q.value - v * scale).abs() <= 1e-12 * (v * scale).abs().max(1e-300));
+        }
+
+        /// Arbitrary text never panics the parser.
+        #[test]
+        fn never_panics(t in "\\PC{0,12}") {
+            let _ = parse_quantity(&t);
+            let _ = parse_unit(&t);
+        }
+    }
 }

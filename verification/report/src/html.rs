@@ -42,6 +42,7 @@ const SCRIPT: &str = r#"
   }
   buttons.forEach(function(b){ b.addEventListener('click', function(){ show(b.getAttribute('data-filter')); }); });
   show('all');
+  document.body.setAttribute('data-js', 'ready');
 })();
 "#;
 
