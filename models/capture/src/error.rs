@@ -68,13 +68,21 @@ impl CaptureError {
             .location()
             .map(|l| (l.line(), l.column()))
             .unwrap_or((0, 0));
-        let cause = e
-            .to_string()
+        let text = e.to_string();
+        let cause = text
             .lines()
             .map(str::trim)
             .find(|l| !l.is_empty())
-            .unwrap_or("invalid YAML")
-            .to_owned();
+            .unwrap_or("invalid YAML");
+        // serde-saphyr repeats the position in its message: keep only the cause.
+        let cause = match cause.strip_prefix("error: ") {
+            Some(rest) if rest.starts_with("line ") => rest
+                .split_once(": ")
+                .map_or(rest, |(_, c)| c)
+                .to_owned(),
+            Some(rest) => rest.to_owned(),
+            None => cause.to_owned(),
+        };
         CaptureError::Yaml {
             file: file.to_owned(),
             line,

@@ -1,16 +1,256 @@
-//! `geodesic capture`: not yet implemented.
+//! `geodesic capture`: evaluates the DFACS quartic capture criterion (thesis ch. 7; physics.md
+//! section 6) for one TM state after release, and optionally the capture probability of a set
+//! of release z velocities. Thin: the physics is in `geodesic-capture`.
+
+use std::path::PathBuf;
+
+use geodesic_capture::{
+    CaptureProbability, Evaluation, StateDistribution, StateName, TmState, Xlim,
+    capture_probability, consistency_sum, evaluate, max_box_scale, single_state_limits,
+};
+use serde_json::{Map, Value, json};
 
 use crate::error::{CliError, CmdResult};
 
-/// Flags of `geodesic capture`.
+/// Flags of `geodesic capture`. State values are SI (m, m/s, rad, rad/s); unset states are 0.
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// TM state as YAML (`vz: -3.0e-6`, ...); the flags below override its values.
+    #[arg(long, value_name = "FILE.yaml")]
+    pub state: Option<PathBuf>,
+    /// Capture limits x_LIM and requirement box (default: the embedded models/capture/xlim.yaml).
+    #[arg(long, value_name = "FILE.yaml")]
+    pub xlim: Option<PathBuf>,
+    /// Offset along x [m].
+    #[arg(long, allow_hyphen_values = true)]
+    pub x: Option<f64>,
+    /// Offset along y [m].
+    #[arg(long, allow_hyphen_values = true)]
+    pub y: Option<f64>,
+    /// Offset along z [m].
+    #[arg(long, allow_hyphen_values = true)]
+    pub z: Option<f64>,
+    /// Velocity along x [m/s].
+    #[arg(long, allow_hyphen_values = true)]
+    pub vx: Option<f64>,
+    /// Velocity along y [m/s].
+    #[arg(long, allow_hyphen_values = true)]
+    pub vy: Option<f64>,
+    /// Velocity along z (release axis) [m/s].
+    #[arg(long, allow_hyphen_values = true)]
+    pub vz: Option<f64>,
+    /// Angle around x [rad].
+    #[arg(long, allow_hyphen_values = true)]
+    pub thx: Option<f64>,
+    /// Angle around y [rad].
+    #[arg(long, allow_hyphen_values = true)]
+    pub thy: Option<f64>,
+    /// Angle around z [rad].
+    #[arg(long, allow_hyphen_values = true)]
+    pub thz: Option<f64>,
+    /// Angular rate around x [rad/s].
+    #[arg(long, allow_hyphen_values = true)]
+    pub wx: Option<f64>,
+    /// Angular rate around y [rad/s].
+    #[arg(long, allow_hyphen_values = true)]
+    pub wy: Option<f64>,
+    /// Angular rate around z [rad/s].
+    #[arg(long, allow_hyphen_values = true)]
+    pub wz: Option<f64>,
+    /// Release z velocities [m/s], one per line (`#` comments allowed): also print the capture
+    /// probability with the other states drawn from --dist.
+    #[arg(long, value_name = "FILE")]
+    pub vz_samples: Option<PathBuf>,
+    /// Distributions of the other 11 states for the capture probability (default: the embedded
+    /// models/capture/state-distribution.yaml, Normal(0, req/3)).
+    #[arg(long, value_name = "FILE.yaml")]
+    pub dist: Option<PathBuf>,
+    /// Seed of the other states' draws for the capture probability.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
 }
 
+impl Args {
+    fn flag_values(&self) -> [(StateName, Option<f64>); 12] {
+        [
+            (StateName::X, self.x),
+            (StateName::Y, self.y),
+            (StateName::Z, self.z),
+            (StateName::Vx, self.vx),
+            (StateName::Vy, self.vy),
+            (StateName::Vz, self.vz),
+            (StateName::Thx, self.thx),
+            (StateName::Thy, self.thy),
+            (StateName::Thz, self.thz),
+            (StateName::Wx, self.wx),
+            (StateName::Wy, self.wy),
+            (StateName::Wz, self.wz),
+        ]
+    }
+}
+
 /// Runs the command.
-pub fn run(_args: Args) -> CmdResult {
-    Err(CliError::bad("geodesic capture is not implemented yet"))
+pub fn run(args: Args) -> CmdResult {
+    let xlim = match &args.xlim {
+        Some(p) => Xlim::load(p),
+        None => Ok(Xlim::default_set()),
+    }
+    .map_err(|e| CliError::bad(e.to_string()))?;
+    let mut state = match &args.state {
+        Some(p) => TmState::load(p).map_err(|e| CliError::bad(e.to_string()))?,
+        None => TmState::zero(),
+    };
+    for (name, v) in args.flag_values() {
+        if let Some(v) = v {
+            if !v.is_finite() {
+                return Err(CliError::bad(format!("--{name} {v}: must be finite")));
+            }
+            state.set(name, v);
+        }
+    }
+    let eval = evaluate(&xlim, &state);
+    let prob = match &args.vz_samples {
+        Some(p) => {
+            let vz = read_samples(p)?;
+            let dist = match &args.dist {
+                Some(d) => StateDistribution::load(d),
+                None => Ok(StateDistribution::default_set()),
+            }
+            .map_err(|e| CliError::bad(e.to_string()))?;
+            Some((
+                capture_probability(&vz, &dist, &xlim, args.seed),
+                dist.source,
+            ))
+        }
+        None => None,
+    };
+    if args.json {
+        let doc = to_json(&xlim, &state, &eval, prob.as_ref());
+        println!("{doc}");
+    } else {
+        print_text(&xlim, &eval, prob.as_ref());
+    }
+    Ok(0)
+}
+
+/// Reads one velocity per line [m/s]; blank lines and `#` comments are skipped.
+fn read_samples(path: &std::path::Path) -> Result<Vec<f64>, CliError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| CliError::bad(format!("{file}: {e}")))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let t = line.split('#').next().unwrap_or("").trim();
+        if t.is_empty() {
+            continue;
+        }
+        let v: f64 = t.parse().map_err(|_| {
+            CliError::bad(format!("{file}:{}: `{t}` is not a velocity in m/s", i + 1))
+        })?;
+        if !v.is_finite() {
+            return Err(CliError::bad(format!(
+                "{file}:{}: `{t}` is not finite",
+                i + 1
+            )));
+        }
+        out.push(v);
+    }
+    if out.is_empty() {
+        return Err(CliError::bad(format!("{file}: no velocity samples")));
+    }
+    Ok(out)
+}
+
+fn per_state(values: &[f64; 12]) -> Value {
+    let mut m = Map::new();
+    for s in StateName::ALL {
+        m.insert(s.as_str().into(), json!(values[s.index()]));
+    }
+    Value::Object(m)
+}
+
+fn to_json(
+    xlim: &Xlim,
+    state: &TmState,
+    eval: &Evaluation,
+    prob: Option<&(CaptureProbability, String)>,
+) -> Value {
+    let terms: [f64; 12] = std::array::from_fn(|i| eval.terms[i].term);
+    let dominant: Vec<Value> = eval
+        .dominant
+        .iter()
+        .map(|t| {
+            json!({"state": t.state.as_str(), "value": t.value, "xlim": t.xlim,
+                   "term": t.term, "share": t.share})
+        })
+        .collect();
+    let mut doc = json!({
+        "quartic_sum": eval.quartic_sum,
+        "captured": eval.captured,
+        "state": per_state(&state.0),
+        "terms": per_state(&terms),
+        "dominant": dominant,
+        "xlim": per_state(&xlim.xlim),
+        "xlim_source": xlim.source,
+        "requirement": per_state(&xlim.req),
+        "box_scale": xlim.box_scale,
+        "consistency_sum": consistency_sum(xlim),
+        "single_state_limits": per_state(&single_state_limits(xlim)),
+        "max_box_scale": max_box_scale(xlim),
+        "units": {"x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "vz": "m/s",
+                  "thx": "rad", "thy": "rad", "thz": "rad",
+                  "wx": "rad/s", "wy": "rad/s", "wz": "rad/s"},
+    });
+    if let Some((p, source)) = prob {
+        doc["capture_probability"] = json!({
+            "n": p.n, "captured": p.captured, "probability": p.probability,
+            "lower_95": p.lower_95, "sum_p9973": p.sum_p9973, "sum_max": p.sum_max,
+            "seed": p.seed, "distribution_source": source,
+        });
+    }
+    doc
+}
+
+fn print_text(xlim: &Xlim, eval: &Evaluation, prob: Option<&(CaptureProbability, String)>) {
+    println!(
+        "quartic sum {:.6} -> {}",
+        eval.quartic_sum,
+        if eval.captured {
+            "captured"
+        } else {
+            "NOT captured"
+        }
+    );
+    println!("xlim: {}", xlim.source);
+    println!(
+        "{:<5} {:>11} {:<5} {:>11} {:>12} {:>7}",
+        "state", "value", "unit", "xlim", "term", "share"
+    );
+    for t in &eval.dominant {
+        println!(
+            "{:<5} {:>11.4e} {:<5} {:>11.4e} {:>12.4e} {:>6.1}%",
+            t.state.as_str(),
+            t.value,
+            t.state.unit(),
+            t.xlim,
+            t.term,
+            100.0 * t.share
+        );
+    }
+    if eval.dominant.is_empty() {
+        println!("(all states zero)");
+    }
+    println!(
+        "largest capturable box scale {:.6} (consistency sum {:.6})",
+        max_box_scale(xlim),
+        consistency_sum(xlim)
+    );
+    if let Some((p, source)) = prob {
+        println!(
+            "capture probability {:.6} ({} of {}; 95 % lower bound {:.6}); other states: {}",
+            p.probability, p.captured, p.n, p.lower_95, source
+        );
+    }
 }

@@ -1,16 +1,180 @@
-//! `geodesic charge`: not yet implemented.
+//! `geodesic charge`: the TM charge and voltage left by contact electrification at release
+//! (thesis ch. 7; physics.md section 7): `C_RT` from the cap integral, the 2-sigma bounds of
+//! `Q` and `V_TM` analytically and by Monte Carlo, and the time cosmic-ray charging takes to
+//! neutralise a negative charge. Thin: the physics is in `geodesic-charge`.
+
+use geodesic_charge::{
+    ChargeInputs, DAY_S, ELEMENTARY_CHARGE_C, THESIS_RATE_E_S, TipGeometry, c_rt_exact_f,
+    c_rt_quadrature_f, c_rt_small_angle_f, monte_carlo, time_to_neutralise_s,
+};
+use serde_json::{Value, json};
 
 use crate::error::{CliError, CmdResult};
 
-/// Flags of `geodesic charge`.
+/// Relative tolerance of the `C_RT` quadrature [-].
+const QUAD_REL_TOL: f64 = 1e-12;
+
+/// Flags of `geodesic charge` (defaults: the thesis's values).
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// TM - electrode housing capacitance C_EH [pF].
+    #[arg(long, default_value_t = 34.4)]
+    pub c_eh_pf: f64,
+    /// TM - pyramidal plunger capacitance C_Pyr [pF].
+    #[arg(long, default_value_t = 35.0)]
+    pub c_pyr_pf: f64,
+    /// TM - cylindrical plunger capacitance C_Cyl [pF].
+    #[arg(long, default_value_t = 10.0)]
+    pub c_cyl_pf: f64,
+    /// Use this C_RT [pF] instead of the cap integral (e.g. the thesis's rounded 2.5).
+    #[arg(long)]
+    pub c_rt_pf: Option<f64>,
+    /// Release-tip radius of curvature R [m].
+    #[arg(long, default_value_t = 10e-3)]
+    pub r_m: f64,
+    /// Release-tip cap radius [m]: theta_f = atan(cap / R).
+    #[arg(long, default_value_t = 0.4e-3)]
+    pub cap_radius_m: f64,
+    /// Tip - TM gap d [m].
+    #[arg(long, default_value_t = 100e-9)]
+    pub d_m: f64,
+    /// 2-sigma contact voltage difference of each contact [V].
+    #[arg(long, default_value_t = 1.0)]
+    pub dv_2sigma_v: f64,
+    /// Cosmic-ray charging rate [e/s] (default 3e8 e / 50 days = 69.4 e/s, back-derived from
+    /// the thesis's "about 50 days to neutralise -3e8 e").
+    #[arg(long, default_value_t = THESIS_RATE_E_S)]
+    pub rate_e_s: f64,
+    /// Charge whose neutralisation time is reported [e] (negative: cosmic rays charge positively).
+    #[arg(long, default_value_t = -3e8, allow_hyphen_values = true)]
+    pub neutralise_e: f64,
+    /// Monte Carlo draws.
+    #[arg(long, default_value_t = 100_000)]
+    pub n: usize,
+    /// Monte Carlo seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
 }
 
+fn positive(flag: &str, v: f64) -> Result<f64, CliError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(CliError::bad(format!(
+            "--{flag} {v}: must be finite and positive"
+        )))
+    }
+}
+
 /// Runs the command.
-pub fn run(_args: Args) -> CmdResult {
-    Err(CliError::bad("geodesic charge is not implemented yet"))
+pub fn run(args: Args) -> CmdResult {
+    let geometry = TipGeometry {
+        radius_m: positive("r-m", args.r_m)?,
+        cap_radius_m: positive("cap-radius-m", args.cap_radius_m)?,
+        gap_m: positive("d-m", args.d_m)?,
+    };
+    let c_rt_quad = c_rt_quadrature_f(&geometry, QUAD_REL_TOL);
+    let c_rt_exact = c_rt_exact_f(&geometry);
+    let c_rt_small = c_rt_small_angle_f(&geometry);
+    let c_rt_used = match args.c_rt_pf {
+        Some(v) => positive("c-rt-pf", v)? * 1e-12,
+        None => c_rt_quad,
+    };
+    let inputs = ChargeInputs {
+        c_eh_f: positive("c-eh-pf", args.c_eh_pf)? * 1e-12,
+        c_pyr_f: positive("c-pyr-pf", args.c_pyr_pf)? * 1e-12,
+        c_cyl_f: positive("c-cyl-pf", args.c_cyl_pf)? * 1e-12,
+        c_rt_f: c_rt_used,
+        dv_2sigma_v: positive("dv-2sigma-v", args.dv_2sigma_v)?,
+    };
+    let rate = positive("rate-e-s", args.rate_e_s)?;
+    if args.n < 2 {
+        return Err(CliError::bad(format!(
+            "--n {}: needs at least 2 draws",
+            args.n
+        )));
+    }
+    let mc = monte_carlo(&inputs, args.n, args.seed);
+    let q2 = inputs.q_2sigma_e();
+    let t_given = time_to_neutralise_s(args.neutralise_e, rate);
+    let t_q2 = time_to_neutralise_s(-q2, rate);
+    let days = |t: Option<f64>| t.map(|s| s / DAY_S);
+
+    let doc: Value = json!({
+        "c_rt_pf": c_rt_used * 1e12,
+        "c_rt_quadrature_pf": c_rt_quad * 1e12,
+        "c_rt_exact_pf": c_rt_exact * 1e12,
+        "c_rt_small_angle_pf": c_rt_small * 1e12,
+        "c_rt_quadrature_vs_exact_rel": (c_rt_quad - c_rt_exact).abs() / c_rt_exact,
+        "c_rt_small_angle_vs_exact_rel": (c_rt_small - c_rt_exact).abs() / c_rt_exact,
+        "c_rt_source": if args.c_rt_pf.is_some() { "--c-rt-pf" } else { "cap integral (quadrature)" },
+        "q_2sigma_e": q2,
+        "q_2sigma_c": inputs.q_2sigma_c(),
+        "v_2sigma_v": inputs.v_2sigma_v(),
+        "monte_carlo": {
+            "n": mc.n, "seed": mc.seed,
+            "q_2sd_e": mc.q_2sd_e, "q_p9545_e": mc.q_p9545_e,
+            "v_2sd_v": mc.v_2sd_v, "v_p9545_v": mc.v_p9545_v,
+        },
+        "neutralise": {
+            "rate_e_s": rate,
+            "rate_source": if (rate - THESIS_RATE_E_S).abs() < 1e-12 * THESIS_RATE_E_S {
+                "default: 3e8 e / 50 days, back-derived from the thesis (ch. 7)"
+            } else { "--rate-e-s" },
+            "q_e": args.neutralise_e,
+            "seconds": t_given,
+            "days": days(t_given),
+            "q_2sigma_negative_days": days(t_q2),
+        },
+        "inputs": {
+            "c_eh_pf": inputs.c_eh_f * 1e12,
+            "c_pyr_pf": inputs.c_pyr_f * 1e12,
+            "c_cyl_pf": inputs.c_cyl_f * 1e12,
+            "c_rt_pf": inputs.c_rt_f * 1e12,
+            "d_m": geometry.gap_m,
+            "r_m": geometry.radius_m,
+            "cap_radius_m": geometry.cap_radius_m,
+            "theta_f_rad": geometry.theta_f_rad(),
+            "dv_2sigma_v": inputs.dv_2sigma_v,
+            "elementary_charge_c": ELEMENTARY_CHARGE_C,
+        },
+        "thesis": {"c_rt_pf": 2.5, "q_2sigma_e": 3e8, "v_2sigma_v": 1.1, "neutralise_days": 50.0},
+    });
+    if args.json {
+        println!("{doc}");
+        return Ok(0);
+    }
+    println!(
+        "C_RT = {:.4} pF (quadrature; exact {:.4} pF, small-angle {:.4} pF; thesis 2.5 pF)",
+        c_rt_quad * 1e12,
+        c_rt_exact * 1e12,
+        c_rt_small * 1e12
+    );
+    if args.c_rt_pf.is_some() {
+        println!("using C_RT = {:.4} pF (--c-rt-pf)", c_rt_used * 1e12);
+    }
+    println!(
+        "|Q| at 2 sigma: {:.4e} e analytic, {:.4e} e Monte Carlo 95.45 % (2 sd {:.4e} e; N = {}, seed {}); thesis ~3e8 e",
+        q2, mc.q_p9545_e, mc.q_2sd_e, mc.n, mc.seed
+    );
+    println!(
+        "|V_TM| at 2 sigma: {:.4} V analytic, {:.4} V Monte Carlo 95.45 % (2 sd {:.4} V); thesis ~1.1 V",
+        inputs.v_2sigma_v(),
+        mc.v_p9545_v,
+        mc.v_2sd_v
+    );
+    match days(t_given) {
+        Some(d) => println!(
+            "time to neutralise {:.3e} e at {:.2} e/s: {:.1} days",
+            args.neutralise_e, rate, d
+        ),
+        None => println!(
+            "{:.3e} e is not neutralised by positive charging at {:.2} e/s",
+            args.neutralise_e, rate
+        ),
+    }
+    Ok(0)
 }
