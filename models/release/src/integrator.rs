@@ -151,8 +151,8 @@ impl DormandPrince {
     /// The fast Monte Carlo setting (checked against [`DormandPrince::reference`] in the tests).
     pub fn fast() -> Self {
         Self {
-            rtol: 1e-6,
-            atol: 1e-6,
+            rtol: 1e-5,
+            atol: 1e-5,
             h0: 1e-8,
             h_max: 2e-5,
             locate_events: true,

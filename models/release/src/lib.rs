@@ -17,6 +17,10 @@
 //! assert!((out.v_tm_m_s * 1e6 - 1.4327).abs() < 0.01);
 //! ```
 
+pub mod budget;
+pub mod histogram;
 pub mod inputs;
 pub mod integrator;
 pub mod model;
+pub mod montecarlo;
+pub mod stats;

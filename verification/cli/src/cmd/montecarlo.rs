@@ -1,16 +1,215 @@
-//! `geodesic montecarlo`: not yet implemented.
+//! `geodesic montecarlo`: the in-flight release Monte Carlo (physics.md §3, interface.md).
+//!
+//! Thin: parses flags, loads the budget (embedded default or `--budget FILE`), calls
+//! `geodesic_release::montecarlo::run`, prints the summary (one JSON document with `--json`) or
+//! writes a partial result with `--shard I/K --out PART.json` for `geodesic merge`.
 
 use crate::error::{CliError, CmdResult};
+use geodesic_release::budget::Budget;
+use geodesic_release::montecarlo::{self, Case, McResult, Summary};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// Flags of `geodesic montecarlo`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// Number of releases of the whole run.
+    #[arg(long, default_value_t = montecarlo::DEFAULT_N)]
+    pub n: usize,
+    /// Seed of the run (draw i uses stream i of ChaCha8 seeded with it).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Uncertainties sampled: all | adhesion | mechanisms.
+    #[arg(long, default_value = "all")]
+    pub case: String,
+    /// Uncertainty budget YAML (default: the embedded models/release/budget.yaml).
+    #[arg(long, value_name = "FILE")]
+    pub budget: Option<PathBuf>,
+    /// Run only shard I of K (1-based) and write it with --out.
+    #[arg(long, value_name = "I/K", requires = "out")]
+    pub shard: Option<String>,
+    /// Write the (partial) result to this JSON file for `geodesic merge`.
+    #[arg(long, value_name = "PART.json")]
+    pub out: Option<PathBuf>,
+    /// Write an SVG histogram of |X'| to this file.
+    #[arg(long, value_name = "FILE.svg")]
+    pub histogram: Option<PathBuf>,
+    /// Worker threads (default: all cores); results do not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
 }
 
+/// Parses `I/K`.
+fn parse_shard(s: &str) -> Result<(usize, usize), CliError> {
+    let bad = || {
+        CliError::bad(format!(
+            "--shard {s}: expected I/K with 1 <= I <= K, e.g. 3/8"
+        ))
+    };
+    let (i, k) = s.split_once('/').ok_or_else(bad)?;
+    let (i, k): (usize, usize) = (
+        i.trim().parse().map_err(|_| bad())?,
+        k.trim().parse().map_err(|_| bad())?,
+    );
+    if i == 0 || k == 0 || i > k {
+        return Err(bad());
+    }
+    Ok((i, k))
+}
+
+/// Loads the budget named by `--budget`, or the embedded default.
+pub fn load_budget(path: Option<&Path>) -> Result<Budget, CliError> {
+    match path {
+        None => Ok(Budget::default_budget()),
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| CliError::bad(format!("{}:0: {e}", p.display())))?;
+            Budget::from_yaml(&text, &p.display().to_string())
+                .map_err(|e| CliError::bad(e.to_string()))
+        }
+    }
+}
+
+/// Writes `bytes` to `path` whole or not at all (temporary file, then rename).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+    std::fs::write(&tmp, bytes).map_err(|e| CliError::Io(format!("{}: {e}", tmp.display())))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        CliError::Io(format!("{}: {e}", path.display()))
+    })
+}
+
+/// The JSON document of a summary plus wall time (interface.md keys first).
+pub fn summary_json(s: &Summary, seconds: f64) -> serde_json::Value {
+    let mut v = serde_json::to_value(s).expect("summary serialises");
+    v["seconds"] = serde_json::json!(seconds);
+    v
+}
+
+/// Prints a summary as text.
+pub fn print_text(s: &Summary, seconds: f64) {
+    println!(
+        "in-flight release Monte Carlo: case {}, N = {}, seed {}",
+        s.case, s.n, s.seed
+    );
+    println!("  |X'| 99.73 %  {:.4} um/s", s.p9973_um_s);
+    println!("  |X'| 99 %     {:.4} um/s", s.p99_um_s);
+    println!("  |X'| median   {:.4} um/s", s.p50_um_s);
+    println!("  |X'| mean     {:.4} um/s", s.mean_um_s);
+    println!("  |X'| max      {:.4} um/s", s.max_um_s);
+    println!(
+        "  X' mean, sd   {:+.4}, {:.4} um/s",
+        s.signed_mean_um_s, s.sd_um_s
+    );
+    println!("  fallback stops {}", s.fallback_stops);
+    println!("  budget {} ({})", s.budget_hash, s.budget);
+    println!("  {seconds:.2} s");
+}
+
+/// Writes the histogram SVG if asked.
+pub fn write_histogram(r: &McResult, path: Option<&Path>) -> Result<(), CliError> {
+    if let Some(p) = path {
+        write_atomic(p, r.histogram_svg(Some(5.0)).as_bytes())?;
+    }
+    Ok(())
+}
+
 /// Runs the command.
-pub fn run(_args: Args) -> CmdResult {
-    Err(CliError::bad("geodesic montecarlo is not implemented yet"))
+pub fn run(args: Args) -> CmdResult {
+    let case: Case = args
+        .case
+        .parse()
+        .map_err(|e: montecarlo::McError| CliError::bad(format!("--case: {e}")))?;
+    if args.n == 0 {
+        return Err(CliError::bad("--n: must be at least 1"));
+    }
+    let shard = args.shard.as_deref().map(parse_shard).transpose()?;
+    let budget = load_budget(args.budget.as_deref())?;
+    let draws = match shard {
+        Some((i, k)) => montecarlo::shard_range(args.n, i, k)
+            .map_err(|e| CliError::bad(e.to_string()))?
+            .len(),
+        None => args.n,
+    };
+    let show = !args.json && std::io::stderr().is_terminal();
+    let bar = if show {
+        let b = indicatif::ProgressBar::new(draws as u64);
+        if let Ok(style) = indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} releases, {per_sec}, eta {eta}",
+        ) {
+            b.set_style(style);
+        }
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let t0 = Instant::now();
+    let go = || montecarlo::run(&budget, case, args.n, args.seed, shard, &|k| bar.inc(k));
+    let result = match args.threads {
+        Some(t) => rayon::ThreadPoolBuilder::new()
+            .num_threads(t.max(1))
+            .build()
+            .map_err(|e| CliError::bad(format!("--threads: {e}")))?
+            .install(go),
+        None => go(),
+    }
+    .map_err(|e| CliError::bad(format!("montecarlo: {e}")))?;
+    bar.finish_and_clear();
+    let seconds = t0.elapsed().as_secs_f64();
+    if let Some(out) = &args.out {
+        let text = serde_json::to_vec(&result).map_err(|e| CliError::Io(e.to_string()))?;
+        write_atomic(out, &text)?;
+    }
+    write_histogram(&result, args.histogram.as_deref())?;
+    let summary = result.summary();
+    if args.json {
+        let mut v = summary_json(&summary, seconds);
+        if let Some((i, k)) = shard {
+            v["shard"] = serde_json::json!(format!("{i}/{k}"));
+            v["draws"] = serde_json::json!(result.v_m_s.len());
+        }
+        if let Some(out) = &args.out {
+            v["out"] = serde_json::json!(out.display().to_string());
+        }
+        println!("{v}");
+    } else {
+        if let Some((i, k)) = shard {
+            println!(
+                "shard {i}/{k}: {} of {} draws (statistics below are of this shard only)",
+                result.v_m_s.len(),
+                args.n
+            );
+        }
+        print_text(&summary, seconds);
+        if let Some(out) = &args.out {
+            println!("  partial result written to {}", out.display());
+        }
+    }
+    Ok(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shard_syntax() {
+        assert_eq!(parse_shard("2/5").unwrap(), (2, 5));
+        assert!(parse_shard("0/5").is_err());
+        assert!(parse_shard("6/5").is_err());
+        assert!(parse_shard("x").is_err());
+    }
 }

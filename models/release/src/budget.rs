@@ -1,0 +1,487 @@
+//! The Monte Carlo uncertainty budget: one YAML file (default `models/release/budget.yaml`,
+//! embedded in the crate) giving a distribution for every input of a release (physics.md §3).
+//!
+//! Loading is two-step: the raw YAML (with source spans) is parsed by `serde-saphyr`, then each
+//! distribution is checked (finite numbers, `sd >= 0`, `min < max`, a truncation window the
+//! distribution can actually reach) and errors name the file and line.
+
+use crate::stats::normal_cdf;
+use geodesic_mechanism::PiezoParams;
+use rand::{Rng, RngExt};
+use rand_distr::{Distribution, StandardNormal};
+use serde::{Deserialize, Serialize};
+use serde_saphyr::Spanned;
+use std::fmt;
+use thiserror::Error;
+
+/// The default budget (physics.md §3), embedded from `models/release/budget.yaml`.
+pub const DEFAULT_BUDGET_YAML: &str = include_str!("../budget.yaml");
+
+/// Errors loading a budget.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum BudgetError {
+    /// Malformed YAML or an unknown/missing field.
+    #[error("{file}:{line}: {cause}")]
+    Parse {
+        /// File name.
+        file: String,
+        /// 1-based line (0 if unknown).
+        line: u64,
+        /// One-line cause.
+        cause: String,
+    },
+    /// A distribution that cannot be sampled.
+    #[error("{file}:{line}: {field}: {cause}")]
+    Invalid {
+        /// File name.
+        file: String,
+        /// 1-based line.
+        line: u64,
+        /// Field path, e.g. `adhesion.lambda_m`.
+        field: String,
+        /// One-line cause.
+        cause: String,
+    },
+}
+
+/// A probability distribution of one scalar input.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Dist {
+    /// Always the same value.
+    Fixed(f64),
+    /// Uniform on `[min, max]`.
+    Uniform {
+        /// Lower bound.
+        min: f64,
+        /// Upper bound.
+        max: f64,
+    },
+    /// Normal, given `sd` or `rel_sd` (`sd = rel_sd * |mean|`), optionally truncated to
+    /// `[min, max]` by rejection.
+    Normal {
+        /// Mean (before truncation).
+        mean: f64,
+        /// Standard deviation.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        sd: Option<f64>,
+        /// Standard deviation relative to `|mean|`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rel_sd: Option<f64>,
+        /// Lower truncation bound.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        min: Option<f64>,
+        /// Upper truncation bound.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        max: Option<f64>,
+    },
+}
+
+/// Smallest acceptance probability of a truncated normal (rejection sampling stays cheap).
+const MIN_ACCEPTANCE: f64 = 1e-3;
+
+impl Dist {
+    fn sd(&self) -> f64 {
+        match *self {
+            Dist::Normal {
+                mean, sd, rel_sd, ..
+            } => sd.unwrap_or_else(|| rel_sd.unwrap_or(0.0) * mean.abs()),
+            _ => 0.0,
+        }
+    }
+
+    fn bounds(&self) -> (f64, f64) {
+        match *self {
+            Dist::Fixed(v) => (v, v),
+            Dist::Uniform { min, max } => (min, max),
+            Dist::Normal { min, max, .. } => (
+                min.unwrap_or(f64::NEG_INFINITY),
+                max.unwrap_or(f64::INFINITY),
+            ),
+        }
+    }
+
+    /// Checks that the distribution can be sampled; returns a one-line cause if not.
+    pub fn validate(&self) -> Result<(), String> {
+        match *self {
+            Dist::Fixed(v) if !v.is_finite() => Err(format!("fixed value {v} is not finite")),
+            Dist::Fixed(_) => Ok(()),
+            Dist::Uniform { min, max } => {
+                if !(min.is_finite() && max.is_finite()) || min > max {
+                    Err(format!(
+                        "uniform needs finite min <= max, got [{min}, {max}]"
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+            Dist::Normal {
+                mean,
+                sd,
+                rel_sd,
+                min,
+                max,
+            } => {
+                if !mean.is_finite() {
+                    return Err(format!("mean {mean} is not finite"));
+                }
+                match (sd, rel_sd) {
+                    (Some(_), Some(_)) => return Err("give sd or rel_sd, not both".into()),
+                    (None, None) => return Err("normal needs sd or rel_sd".into()),
+                    _ => {}
+                }
+                let s = self.sd();
+                if !s.is_finite() || s < 0.0 {
+                    return Err(format!("standard deviation {s} must be finite and >= 0"));
+                }
+                let (lo, hi) = (
+                    min.unwrap_or(f64::NEG_INFINITY),
+                    max.unwrap_or(f64::INFINITY),
+                );
+                if lo.is_nan() || hi.is_nan() || lo >= hi {
+                    return Err(format!("truncation window [{lo}, {hi}] is empty"));
+                }
+                let p = if s == 0.0 {
+                    if (lo..=hi).contains(&mean) { 1.0 } else { 0.0 }
+                } else {
+                    normal_cdf((hi - mean) / s) - normal_cdf((lo - mean) / s)
+                };
+                if p < MIN_ACCEPTANCE {
+                    return Err(format!(
+                        "truncation window [{lo}, {hi}] holds only {p:.1e} of the normal"
+                    ));
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Draws one value.
+    pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> f64 {
+        match *self {
+            Dist::Fixed(v) => v,
+            Dist::Uniform { min, max } => {
+                let u: f64 = rng.random();
+                min + (max - min) * u
+            }
+            Dist::Normal { mean, .. } => {
+                let s = self.sd();
+                let (lo, hi) = self.bounds();
+                // acceptance >= 1e-3 was checked at load; the cap only guards against misuse
+                for _ in 0..1_000_000 {
+                    let z: f64 = StandardNormal.sample(rng);
+                    let v = mean + s * z;
+                    if v >= lo && v <= hi {
+                        return v;
+                    }
+                }
+                mean.clamp(lo, hi)
+            }
+        }
+    }
+
+    /// Mean of the (truncated) distribution.
+    pub fn mean(&self) -> f64 {
+        match *self {
+            Dist::Fixed(v) => v,
+            Dist::Uniform { min, max } => 0.5 * (min + max),
+            Dist::Normal { mean, .. } => {
+                let s = self.sd();
+                let (lo, hi) = self.bounds();
+                if s == 0.0 {
+                    return mean;
+                }
+                let (a, b) = ((lo - mean) / s, (hi - mean) / s);
+                let phi = |x: f64| {
+                    if x.is_finite() {
+                        (-0.5 * x * x).exp() / (2.0 * std::f64::consts::PI).sqrt()
+                    } else {
+                        0.0
+                    }
+                };
+                mean + s * (phi(a) - phi(b)) / (normal_cdf(b) - normal_cdf(a))
+            }
+        }
+    }
+}
+
+impl fmt::Display for Dist {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Dist::Fixed(v) => write!(f, "{v:e}"),
+            Dist::Uniform { min, max } => write!(f, "U({min:e}, {max:e})"),
+            Dist::Normal { mean, min, max, .. } => {
+                write!(f, "N({mean:e}, {:e})", self.sd())?;
+                if min.is_some() || max.is_some() {
+                    let (lo, hi) = self.bounds();
+                    write!(f, " in [{lo:e}, {hi:e}]")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// Mechanism parameter distributions (per mechanism).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct MechanismBudget {
+    /// `R` [ohm].
+    pub R_ohm: Dist,
+    /// `m` [kg].
+    pub m_kg: Dist,
+    /// `Ca` [F].
+    pub Ca_f: Dist,
+    /// `k` [N/m].
+    pub k_n_m: Dist,
+    /// `Kg` [N/m].
+    pub Kg_n_m: Dist,
+    /// `b` [N s/m].
+    pub b_ns_m: Dist,
+    /// `Mg` [kg].
+    pub Mg_kg: Dist,
+    /// `T` [C/m].
+    pub T_c_m: Dist,
+}
+
+impl MechanismBudget {
+    fn dists(&self) -> [Dist; 8] {
+        [
+            self.R_ohm,
+            self.m_kg,
+            self.Ca_f,
+            self.k_n_m,
+            self.Kg_n_m,
+            self.b_ns_m,
+            self.Mg_kg,
+            self.T_c_m,
+        ]
+    }
+
+    /// Draws one mechanism.
+    pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> PiezoParams {
+        let d = self.dists();
+        let mut a = [0.0; 8];
+        for (v, dist) in a.iter_mut().zip(d.iter()) {
+            *v = dist.sample(rng);
+        }
+        PiezoParams::from_array(a)
+    }
+
+    /// The mechanism at the distribution means.
+    pub fn mean(&self) -> PiezoParams {
+        PiezoParams::from_array(self.dists().map(|d| d.mean()))
+    }
+}
+
+/// Adhesion distributions (per contact).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct AdhesionBudget {
+    /// `A1` [N/m].
+    pub A1_n_m: Dist,
+    /// `lambda` [m].
+    pub lambda_m: Dist,
+}
+
+/// A checked uncertainty budget.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Budget {
+    /// Free text naming the assumptions.
+    pub description: String,
+    /// Per mechanism.
+    pub mechanism: MechanismBudget,
+    /// Voltage slope `em` [V/s], per channel.
+    pub em_v_s: Dist,
+    /// Tip radius [m], per mechanism.
+    pub tip_radius_m: Dist,
+    /// Preload `F0` [N], one per release.
+    pub preload_n: Dist,
+    /// Adhesion, per contact.
+    pub adhesion: AdhesionBudget,
+    /// Effective modulus [Pa].
+    pub e_star_pa: Dist,
+    /// TM mass [kg].
+    pub tm_mass_kg: Dist,
+    /// Initial command voltage [V].
+    pub e0_v: Dist,
+}
+
+type S = Spanned<Dist>;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+struct RawMechanism {
+    R_ohm: S,
+    m_kg: S,
+    Ca_f: S,
+    k_n_m: S,
+    Kg_n_m: S,
+    b_ns_m: S,
+    Mg_kg: S,
+    T_c_m: S,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+struct RawAdhesion {
+    A1_n_m: S,
+    lambda_m: S,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBudget {
+    #[serde(default)]
+    description: String,
+    mechanism: RawMechanism,
+    em_v_s: S,
+    tip_radius_m: S,
+    preload_n: S,
+    adhesion: RawAdhesion,
+    e_star_pa: S,
+    tm_mass_kg: S,
+    e0_v: S,
+}
+
+impl Budget {
+    /// The embedded default budget.
+    pub fn default_budget() -> Self {
+        Self::from_yaml(DEFAULT_BUDGET_YAML, "models/release/budget.yaml")
+            .expect("embedded budget is valid")
+    }
+
+    /// Parses and checks a budget; `file` names the source in errors.
+    pub fn from_yaml(text: &str, file: &str) -> Result<Self, BudgetError> {
+        let raw: RawBudget = serde_saphyr::from_str(text).map_err(|e| BudgetError::Parse {
+            file: file.to_string(),
+            line: e.location().map(|l| l.line()).unwrap_or(0),
+            cause: e
+                .to_string()
+                .lines()
+                .next()
+                .unwrap_or("invalid YAML")
+                .to_string(),
+        })?;
+        let check = |field: &str, s: &S| -> Result<Dist, BudgetError> {
+            s.value.validate().map_err(|cause| BudgetError::Invalid {
+                file: file.to_string(),
+                line: s.referenced.line(),
+                field: field.to_string(),
+                cause,
+            })?;
+            Ok(s.value)
+        };
+        let m = &raw.mechanism;
+        let non_negative = |field: &str, s: &S| -> Result<Dist, BudgetError> {
+            let d = check(field, s)?;
+            let (lo, _) = d.bounds();
+            if lo < 0.0 {
+                return Err(BudgetError::Invalid {
+                    file: file.to_string(),
+                    line: s.referenced.line(),
+                    field: field.to_string(),
+                    cause: format!("must be non-negative (lower bound {lo:e}); add min: 0.0"),
+                });
+            }
+            Ok(d)
+        };
+        Ok(Budget {
+            description: raw.description.trim().to_string(),
+            mechanism: MechanismBudget {
+                R_ohm: non_negative("mechanism.R_ohm", &m.R_ohm)?,
+                m_kg: non_negative("mechanism.m_kg", &m.m_kg)?,
+                Ca_f: non_negative("mechanism.Ca_f", &m.Ca_f)?,
+                k_n_m: non_negative("mechanism.k_n_m", &m.k_n_m)?,
+                Kg_n_m: non_negative("mechanism.Kg_n_m", &m.Kg_n_m)?,
+                b_ns_m: non_negative("mechanism.b_ns_m", &m.b_ns_m)?,
+                Mg_kg: non_negative("mechanism.Mg_kg", &m.Mg_kg)?,
+                T_c_m: non_negative("mechanism.T_c_m", &m.T_c_m)?,
+            },
+            em_v_s: non_negative("em_v_s", &raw.em_v_s)?,
+            tip_radius_m: non_negative("tip_radius_m", &raw.tip_radius_m)?,
+            preload_n: non_negative("preload_n", &raw.preload_n)?,
+            adhesion: AdhesionBudget {
+                A1_n_m: non_negative("adhesion.A1_n_m", &raw.adhesion.A1_n_m)?,
+                lambda_m: non_negative("adhesion.lambda_m", &raw.adhesion.lambda_m)?,
+            },
+            e_star_pa: non_negative("e_star_pa", &raw.e_star_pa)?,
+            tm_mass_kg: non_negative("tm_mass_kg", &raw.tm_mass_kg)?,
+            e0_v: non_negative("e0_v", &raw.e0_v)?,
+        })
+    }
+
+    /// A stable 64-bit FNV-1a hash (hex) of the checked budget, to match Monte Carlo partials.
+    pub fn hash_hex(&self) -> String {
+        let text = serde_json::to_string(self).expect("budget serialises");
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in text.bytes() {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        format!("{h:016x}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn default_budget_loads_with_physics_md_values() {
+        let b = Budget::default_budget();
+        assert_eq!(b.preload_n.mean(), 0.300 + 0.0); // truncation at 0 is 18 sd away
+        assert_eq!(b.mechanism.mean(), PiezoParams::nominal());
+        assert!((b.em_v_s.sd() - 1.02e7).abs() < 1.0);
+        assert_eq!(b.hash_hex().len(), 16);
+    }
+
+    #[test]
+    fn truncated_normal_mean() {
+        let d = Dist::Normal {
+            mean: 0.0,
+            sd: Some(1.0),
+            rel_sd: None,
+            min: Some(0.0),
+            max: None,
+        };
+        assert!((d.mean() - (2.0 / std::f64::consts::PI).sqrt()).abs() < 1e-6);
+        let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let n = 200_000;
+        let m: f64 = (0..n).map(|_| d.sample(&mut r)).sum::<f64>() / n as f64;
+        assert!((m - d.mean()).abs() < 0.01, "{m}");
+    }
+
+    #[test]
+    fn bad_distribution_names_file_and_line() {
+        let text = DEFAULT_BUDGET_YAML.replace("sd: 0.0166", "sd: -0.0166");
+        let e = Budget::from_yaml(&text, "b.yaml").unwrap_err().to_string();
+        let line = DEFAULT_BUDGET_YAML
+            .lines()
+            .position(|l| l.starts_with("preload_n"))
+            .unwrap()
+            + 1;
+        assert!(e.starts_with(&format!("b.yaml:{line}: preload_n")), "{e}");
+    }
+
+    #[test]
+    fn unknown_field_is_a_parse_error_with_line() {
+        let text = DEFAULT_BUDGET_YAML.replace("preload_n:", "preload:");
+        let e = Budget::from_yaml(&text, "b.yaml").unwrap_err();
+        assert!(matches!(e, BudgetError::Parse { .. }), "{e}");
+    }
+
+    #[test]
+    fn empty_window_is_rejected() {
+        let text = DEFAULT_BUDGET_YAML.replace(
+            "mean: 7.0e-7, sd: 1.0e-7, min: 0.0",
+            "mean: 7.0e-5, sd: 1.0e-7, min: 0.0",
+        );
+        let e = Budget::from_yaml(&text, "b.yaml").unwrap_err().to_string();
+        assert!(e.contains("adhesion.lambda_m"), "{e}");
+    }
+}

@@ -1,0 +1,521 @@
+//! The in-flight release Monte Carlo (thesis ch. 6, physics.md §3, interface.md).
+//!
+//! Draw `i` of a run with seed `s` uses its own random stream (`ChaCha8Rng` seeded with `s`,
+//! stream `i`), so a draw's inputs depend only on `(budget, case, s, i)`: results are the same
+//! whatever the thread count or sharding. Shard `I/K` runs the contiguous draws
+//! `[(I-1) N / K, I N / K)`. A [`McResult`] keeps the signed `X'` of its draws in draw order
+//! (8 bytes a draw: 8 MB for 10^6), and [`merge`] concatenates shards, so a merged run has
+//! exactly the values, hence the summary, of a single run.
+
+use crate::budget::Budget;
+use crate::inputs::ReleaseInputs;
+use crate::integrator::{DormandPrince, IntegrateError};
+use crate::stats::quantile_sorted;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::ops::Range;
+use std::str::FromStr;
+use thiserror::Error;
+
+/// Default number of releases of `geodesic montecarlo`.
+pub const DEFAULT_N: usize = 100_000;
+
+/// Which uncertainties a run samples (interface.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Case {
+    /// Every effect of the budget.
+    All,
+    /// Random adhesion on equal nominal mechanisms (nominal slope, radii and preload).
+    Adhesion,
+    /// Random mechanisms, slopes, tip radii and preload; equal adhesion on both sides at the mean
+    /// `A1` and mean `lambda` of the adhesion distribution.
+    Mechanisms,
+}
+
+impl Case {
+    /// The case name used on the command line and in JSON.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Case::All => "all",
+            Case::Adhesion => "adhesion",
+            Case::Mechanisms => "mechanisms",
+        }
+    }
+}
+
+impl fmt::Display for Case {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl FromStr for Case {
+    type Err = McError;
+    fn from_str(s: &str) -> Result<Self, McError> {
+        match s {
+            "all" => Ok(Case::All),
+            "adhesion" => Ok(Case::Adhesion),
+            "mechanisms" => Ok(Case::Mechanisms),
+            other => Err(McError::UnknownCase(other.to_string())),
+        }
+    }
+}
+
+/// Errors of a Monte Carlo run or merge.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum McError {
+    /// A case name other than all, adhesion, mechanisms.
+    #[error("unknown case '{0}' (expected all, adhesion or mechanisms)")]
+    UnknownCase(String),
+    /// Shard numbers out of range.
+    #[error("bad shard {index}/{count}: need 1 <= I <= K")]
+    BadShard {
+        /// I.
+        index: usize,
+        /// K.
+        count: usize,
+    },
+    /// N = 0.
+    #[error("n must be at least 1")]
+    EmptyRun,
+    /// One release failed to integrate.
+    #[error("draw {index}: {source}")]
+    Release {
+        /// Draw index.
+        index: usize,
+        /// Integrator failure.
+        source: IntegrateError,
+    },
+    /// Partials that cannot be merged (different run, missing or duplicate shards).
+    #[error("{0}")]
+    Merge(String),
+}
+
+/// Draws the inputs of draw `index` of a run.
+pub fn draw_inputs(budget: &Budget, case: Case, seed: u64, index: u64) -> ReleaseInputs {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(index);
+    // Always draw everything in the same order, then apply the case: the cases share their
+    // random numbers (common random numbers), which makes them directly comparable.
+    let mech = [
+        budget.mechanism.sample(&mut rng),
+        budget.mechanism.sample(&mut rng),
+    ];
+    let em = [
+        budget.em_v_s.sample(&mut rng),
+        budget.em_v_s.sample(&mut rng),
+    ];
+    let rt = [
+        budget.tip_radius_m.sample(&mut rng),
+        budget.tip_radius_m.sample(&mut rng),
+    ];
+    let f0 = budget.preload_n.sample(&mut rng);
+    let a = &budget.adhesion;
+    let (a1_1, lam_1) = (a.A1_n_m.sample(&mut rng), a.lambda_m.sample(&mut rng));
+    let (a1_2, lam_2) = (a.A1_n_m.sample(&mut rng), a.lambda_m.sample(&mut rng));
+    let mut r = ReleaseInputs {
+        mech,
+        em_v_s: em,
+        e0_v: budget.e0_v.sample(&mut rng),
+        tip_radius_m: rt,
+        e_star_pa: budget.e_star_pa.sample(&mut rng),
+        preload_n: f0,
+        a1_n_m: [a1_1, a1_2],
+        lambda_m: [lam_1, lam_2],
+        tm_mass_kg: budget.tm_mass_kg.sample(&mut rng),
+    };
+    match case {
+        Case::All => {}
+        Case::Adhesion => {
+            r.mech = [budget.mechanism.mean(); 2];
+            r.em_v_s = [budget.em_v_s.mean(); 2];
+            r.tip_radius_m = [budget.tip_radius_m.mean(); 2];
+            r.preload_n = budget.preload_n.mean();
+        }
+        Case::Mechanisms => {
+            r.a1_n_m = [a.A1_n_m.mean(); 2];
+            r.lambda_m = [a.lambda_m.mean(); 2];
+        }
+    }
+    r
+}
+
+/// Contiguous draw range of shard `index` (1-based) of `count` over `n` draws.
+pub fn shard_range(n: usize, index: usize, count: usize) -> Result<Range<usize>, McError> {
+    if count == 0 || index == 0 || index > count {
+        return Err(McError::BadShard { index, count });
+    }
+    let lo = (n as u128 * (index as u128 - 1) / count as u128) as usize;
+    let hi = (n as u128 * index as u128 / count as u128) as usize;
+    Ok(lo..hi)
+}
+
+/// The values of a run (or of one shard of it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct McResult {
+    /// Draws of the whole run.
+    pub n: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Case.
+    pub case: Case,
+    /// [`Budget::hash_hex`] of the budget used.
+    pub budget_hash: String,
+    /// The budget's description.
+    pub budget_description: String,
+    /// Shard `(I, K)`, `None` for a whole run.
+    pub shard: Option<(usize, usize)>,
+    /// First draw index held.
+    pub start: usize,
+    /// Signed final TM velocities `X'` [m/s] of draws `start..start + len`, in draw order.
+    #[serde(with = "f64_bits")]
+    pub v_m_s: Vec<f64>,
+    /// Draws ended by the fallback stopping rule (see [`crate::model`]).
+    pub fallback_stops: u64,
+    /// Right-hand side evaluations over all draws (cost).
+    pub rhs_evals: u64,
+}
+
+/// Exact JSON round trip of f64 vectors: stored as their IEEE-754 bit patterns (u64).
+mod f64_bits {
+    use serde::{Deserialize, Deserializer, Serializer};
+    pub fn serialize<S: Serializer>(v: &[f64], s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(v.iter().map(|x| x.to_bits()))
+    }
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+        Ok(Vec::<u64>::deserialize(d)?
+            .into_iter()
+            .map(f64::from_bits)
+            .collect())
+    }
+}
+
+/// Summary statistics of a run (interface.md `geodesic montecarlo --json`, without `seconds`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Draws.
+    pub n: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Case.
+    pub case: Case,
+    /// 99.73 % (nearest-rank) quantile of |X'| [um/s].
+    pub p9973_um_s: f64,
+    /// Mean |X'| [um/s].
+    pub mean_um_s: f64,
+    /// Largest |X'| [um/s].
+    pub max_um_s: f64,
+    /// Median |X'| [um/s].
+    pub p50_um_s: f64,
+    /// 99 % quantile of |X'| [um/s].
+    pub p99_um_s: f64,
+    /// Mean signed X' [um/s].
+    pub signed_mean_um_s: f64,
+    /// Standard deviation of signed X' [um/s].
+    pub sd_um_s: f64,
+    /// Draws ended by the fallback stopping rule.
+    pub fallback_stops: u64,
+    /// Budget hash.
+    pub budget_hash: String,
+    /// Budget description.
+    pub budget: String,
+}
+
+impl McResult {
+    /// |X'| [um/s] of the held draws, in draw order.
+    pub fn abs_um_s(&self) -> Vec<f64> {
+        self.v_m_s.iter().map(|v| v.abs() * 1e6).collect()
+    }
+
+    /// Whether this result holds every draw of its run.
+    pub fn is_complete(&self) -> bool {
+        self.start == 0 && self.v_m_s.len() == self.n
+    }
+
+    /// Summary statistics of the held draws (sums in draw order: bit-identical for equal data).
+    pub fn summary(&self) -> Summary {
+        let n = self.v_m_s.len();
+        let mut abs = self.abs_um_s();
+        let mean = abs.iter().sum::<f64>() / n as f64;
+        let smean = self.v_m_s.iter().map(|v| v * 1e6).sum::<f64>() / n as f64;
+        let var = self
+            .v_m_s
+            .iter()
+            .map(|v| (v * 1e6 - smean).powi(2))
+            .sum::<f64>()
+            / (n.max(2) - 1) as f64;
+        abs.sort_by(f64::total_cmp);
+        Summary {
+            n: self.n,
+            seed: self.seed,
+            case: self.case,
+            p9973_um_s: quantile_sorted(&abs, 0.9973),
+            mean_um_s: mean,
+            max_um_s: abs.last().copied().unwrap_or(f64::NAN),
+            p50_um_s: quantile_sorted(&abs, 0.5),
+            p99_um_s: quantile_sorted(&abs, 0.99),
+            signed_mean_um_s: smean,
+            sd_um_s: var.sqrt(),
+            fallback_stops: self.fallback_stops,
+            budget_hash: self.budget_hash.clone(),
+            budget: self.budget_description.clone(),
+        }
+    }
+
+    /// SVG histogram of |X'| with the 99.73 % line and, if given, the requirement limit [um/s].
+    pub fn histogram_svg(&self, limit_um_s: Option<f64>) -> String {
+        crate::histogram::histogram_svg(
+            &self.abs_um_s(),
+            self.summary().p9973_um_s,
+            limit_um_s,
+            &self.title(),
+        )
+    }
+
+    fn title(&self) -> String {
+        format!(
+            "|X'| after release: case {}, N = {}, seed {}",
+            self.case, self.n, self.seed
+        )
+    }
+}
+
+/// Draws per parallel work item (also the progress granularity).
+const CHUNK: usize = 256;
+
+/// Runs the Monte Carlo with the fast integrator ([`DormandPrince::fast`]): `n` draws of `case`
+/// from `budget` with `seed`, or only shard `(I, K)` of them. `progress` is called with the
+/// number of draws just finished (from worker threads).
+pub fn run(
+    budget: &Budget,
+    case: Case,
+    n: usize,
+    seed: u64,
+    shard: Option<(usize, usize)>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<McResult, McError> {
+    if n == 0 {
+        return Err(McError::EmptyRun);
+    }
+    let range = match shard {
+        Some((i, k)) => shard_range(n, i, k)?,
+        None => 0..n,
+    };
+    let integ = DormandPrince::fast();
+    let chunks: Vec<Range<usize>> = range
+        .clone()
+        .step_by(CHUNK)
+        .map(|s| s..(s + CHUNK).min(range.end))
+        .collect();
+    let parts: Vec<Result<(Vec<f64>, u64, u64), McError>> = chunks
+        .into_par_iter()
+        .map(|c| {
+            let mut v = Vec::with_capacity(c.len());
+            let (mut fb, mut evals) = (0u64, 0u64);
+            for i in c.clone() {
+                let r = draw_inputs(budget, case, seed, i as u64);
+                let out = r
+                    .simulate(&integ)
+                    .map_err(|source| McError::Release { index: i, source })?;
+                v.push(out.v_tm_m_s);
+                fb += u64::from(out.fallback_stop);
+                evals += out.stats.rhs_evals;
+            }
+            progress(c.len() as u64);
+            Ok((v, fb, evals))
+        })
+        .collect();
+    let mut v_m_s = Vec::with_capacity(range.len());
+    let (mut fallback_stops, mut rhs_evals) = (0, 0);
+    for p in parts {
+        let (v, fb, ev) = p?;
+        v_m_s.extend(v);
+        fallback_stops += fb;
+        rhs_evals += ev;
+    }
+    Ok(McResult {
+        n,
+        seed,
+        case,
+        budget_hash: budget.hash_hex(),
+        budget_description: budget.description.clone(),
+        shard,
+        start: range.start,
+        v_m_s,
+        fallback_stops,
+        rhs_evals,
+    })
+}
+
+/// Merges partial results of one run into the whole run. Checks that N, seed, case, budget hash
+/// and K agree, and that the shards cover every draw exactly once.
+pub fn merge(mut parts: Vec<McResult>) -> Result<McResult, McError> {
+    let first = parts
+        .first()
+        .ok_or_else(|| McError::Merge("no partial results given".into()))?
+        .clone();
+    let k = match first.shard {
+        Some((_, k)) => k,
+        None => 1,
+    };
+    for p in &parts {
+        let same = p.n == first.n
+            && p.seed == first.seed
+            && p.case == first.case
+            && p.budget_hash == first.budget_hash;
+        if !same {
+            return Err(McError::Merge(format!(
+                "partial of shard {:?} is from another run (n {}, seed {}, case {}, budget {}) than shard {:?} (n {}, seed {}, case {}, budget {})",
+                p.shard,
+                p.n,
+                p.seed,
+                p.case,
+                p.budget_hash,
+                first.shard,
+                first.n,
+                first.seed,
+                first.case,
+                first.budget_hash
+            )));
+        }
+        let pk = p.shard.map(|s| s.1).unwrap_or(1);
+        if pk != k {
+            return Err(McError::Merge(format!(
+                "partials split the run into different shard counts ({k} and {pk})"
+            )));
+        }
+        let idx = p.shard.map(|s| s.0).unwrap_or(1);
+        let expect = shard_range(p.n, idx, k)?;
+        if p.start != expect.start || p.v_m_s.len() != expect.len() {
+            return Err(McError::Merge(format!(
+                "shard {idx}/{k} holds draws {}..{}, expected {}..{}",
+                p.start,
+                p.start + p.v_m_s.len(),
+                expect.start,
+                expect.end
+            )));
+        }
+    }
+    parts.sort_by_key(|p| p.shard.map(|s| s.0).unwrap_or(1));
+    let mut seen = vec![false; k];
+    for p in &parts {
+        let idx = p.shard.map(|s| s.0).unwrap_or(1);
+        if seen[idx - 1] {
+            return Err(McError::Merge(format!("shard {idx}/{k} given twice")));
+        }
+        seen[idx - 1] = true;
+    }
+    let missing: Vec<String> = (0..k)
+        .filter(|i| !seen[*i])
+        .map(|i| format!("{}/{k}", i + 1))
+        .collect();
+    if !missing.is_empty() {
+        return Err(McError::Merge(format!(
+            "missing shard(s) {}",
+            missing.join(", ")
+        )));
+    }
+    let mut v_m_s = Vec::with_capacity(first.n);
+    let (mut fallback_stops, mut rhs_evals) = (0, 0);
+    for p in parts {
+        v_m_s.extend(p.v_m_s);
+        fallback_stops += p.fallback_stops;
+        rhs_evals += p.rhs_evals;
+    }
+    Ok(McResult {
+        shard: None,
+        start: 0,
+        v_m_s,
+        fallback_stops,
+        rhs_evals,
+        ..first
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_cover_the_run_contiguously() {
+        for (n, k) in [(10, 3), (100_000, 7), (5, 8)] {
+            let mut next = 0;
+            for i in 1..=k {
+                let r = shard_range(n, i, k).unwrap();
+                assert_eq!(r.start, next);
+                next = r.end;
+            }
+            assert_eq!(next, n);
+        }
+        assert!(shard_range(10, 0, 3).is_err());
+        assert!(shard_range(10, 4, 3).is_err());
+    }
+
+    #[test]
+    fn case_parsing() {
+        assert_eq!("adhesion".parse::<Case>().unwrap(), Case::Adhesion);
+        assert!("everything".parse::<Case>().is_err());
+    }
+
+    #[test]
+    fn draws_depend_only_on_seed_and_index() {
+        let b = Budget::default_budget();
+        assert_eq!(
+            draw_inputs(&b, Case::All, 7, 42),
+            draw_inputs(&b, Case::All, 7, 42)
+        );
+        assert_ne!(
+            draw_inputs(&b, Case::All, 7, 42),
+            draw_inputs(&b, Case::All, 7, 43)
+        );
+        assert_ne!(
+            draw_inputs(&b, Case::All, 7, 42),
+            draw_inputs(&b, Case::All, 8, 42)
+        );
+        let a = draw_inputs(&b, Case::Adhesion, 7, 42);
+        assert_eq!(a.mech[0], a.mech[1]);
+        assert_eq!(a.a1_n_m, draw_inputs(&b, Case::All, 7, 42).a1_n_m);
+        let m = draw_inputs(&b, Case::Mechanisms, 7, 42);
+        assert_eq!(m.a1_n_m[0], m.a1_n_m[1]);
+        assert_eq!(m.lambda_m[0], m.lambda_m[1]);
+    }
+
+    #[test]
+    fn sharded_run_merges_to_the_single_run_exactly() {
+        let b = Budget::default_budget();
+        let whole = run(&b, Case::All, 50, 3, None, &|_| {}).unwrap();
+        let parts: Vec<McResult> = (1..=3)
+            .rev()
+            .map(|i| run(&b, Case::All, 50, 3, Some((i, 3)), &|_| {}).unwrap())
+            .collect();
+        // JSON round trip is exact
+        let parts: Vec<McResult> = parts
+            .iter()
+            .map(|p| serde_json::from_str(&serde_json::to_string(p).unwrap()).unwrap())
+            .collect();
+        let merged = merge(parts.clone()).unwrap();
+        assert_eq!(merged.v_m_s, whole.v_m_s);
+        assert_eq!(merged.summary(), whole.summary());
+        assert!(
+            merge(parts[..2].to_vec())
+                .unwrap_err()
+                .to_string()
+                .contains("missing shard(s) 1/3")
+        );
+        let dup = vec![parts[0].clone(), parts[0].clone(), parts[1].clone()];
+        assert!(merge(dup).unwrap_err().to_string().contains("given twice"));
+        let mut other = parts.clone();
+        other[1].seed = 4;
+        assert!(
+            merge(other)
+                .unwrap_err()
+                .to_string()
+                .contains("another run")
+        );
+    }
+}

@@ -1,0 +1,50 @@
+//! The fast Monte Carlo integrator against the tight-tolerance reference (rtol 1e-12) over random
+//! draws of the default budget: |X'| within 0.5 % or 0.001 um/s, whichever is larger.
+
+use geodesic_release::budget::Budget;
+use geodesic_release::integrator::{DormandPrince, Integrator};
+use geodesic_release::montecarlo::{Case, draw_inputs};
+
+fn worst<I: Integrator>(fast: &I, n: u64) -> (f64, f64) {
+    let b = Budget::default_budget();
+    let reference = DormandPrince::reference();
+    let (mut worst_ratio, mut evals) = (0.0f64, 0.0);
+    for i in 0..n {
+        for case in [Case::All, Case::Mechanisms] {
+            let r = draw_inputs(&b, case, 11, i);
+            let f = r.simulate(fast).unwrap();
+            let x = r.simulate(&reference).unwrap();
+            let (vf, vr) = (f.v_tm_m_s.abs() * 1e6, x.v_tm_m_s.abs() * 1e6);
+            let tol = (0.005 * vr).max(0.001);
+            worst_ratio = worst_ratio.max((vf - vr).abs() / tol);
+            evals += f.stats.rhs_evals as f64;
+        }
+    }
+    (worst_ratio, evals / (2 * n) as f64)
+}
+
+#[test]
+fn fast_mode_matches_reference_over_random_draws() {
+    let (ratio, evals) = worst(&DormandPrince::fast(), 60);
+    eprintln!("fast: worst error / tolerance = {ratio:.3}, mean rhs evals {evals:.0}");
+    assert!(
+        ratio <= 1.0,
+        "fast integrator off by {ratio} x the tolerance"
+    );
+}
+
+#[test]
+#[ignore = "exploration of tolerances; run with --ignored --nocapture"]
+fn tolerance_sweep() {
+    for rtol in [1e-7, 1e-6, 3e-6, 1e-5, 3e-5, 1e-4] {
+        let (ratio, evals) = worst(
+            &DormandPrince {
+                rtol,
+                atol: rtol,
+                ..DormandPrince::fast()
+            },
+            60,
+        );
+        eprintln!("rtol {rtol:e}: worst error / tolerance = {ratio:.3}, mean rhs evals {evals:.0}");
+    }
+}
