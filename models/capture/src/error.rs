@@ -50,10 +50,12 @@ pub enum CaptureError {
         cause: String,
     },
     /// A required state is absent from a table that must list all 12.
-    #[error("{file}: `{section}` lacks state `{name}` (all of {expected} are required)", expected = crate::StateName::list())]
+    #[error("{file}:{line}: `{section}` lacks state `{name}` (all of {expected} are required)", expected = crate::StateName::list())]
     Missing {
         /// File path.
         file: String,
+        /// 1-based line of the table (its first entry when the position of the key is unknown).
+        line: u64,
         /// Section of the file (`xlim`, `requirement`).
         section: String,
         /// Missing state.
@@ -76,10 +78,9 @@ impl CaptureError {
             .unwrap_or("invalid YAML");
         // serde-saphyr repeats the position in its message: keep only the cause.
         let cause = match cause.strip_prefix("error: ") {
-            Some(rest) if rest.starts_with("line ") => rest
-                .split_once(": ")
-                .map_or(rest, |(_, c)| c)
-                .to_owned(),
+            Some(rest) if rest.starts_with("line ") => {
+                rest.split_once(": ").map_or(rest, |(_, c)| c).to_owned()
+            }
             Some(rest) => rest.to_owned(),
             None => cause.to_owned(),
         };

@@ -38,8 +38,8 @@ pub struct Xlim {
 #[serde(deny_unknown_fields)]
 struct RawXlim {
     box_scale: Spanned<f64>,
-    requirement: NamedMap<f64>,
-    xlim: NamedMap<f64>,
+    requirement: Spanned<NamedMap<f64>>,
+    xlim: Spanned<NamedMap<f64>>,
 }
 
 impl Xlim {
@@ -118,17 +118,19 @@ fn positive(file: &str, line: u64, name: &str, v: f64) -> Result<f64, CaptureErr
 }
 
 fn full_table(
-    raw: NamedMap<f64>,
+    raw: Spanned<NamedMap<f64>>,
     file: &str,
     section: &str,
 ) -> Result<[f64; N_STATES], CaptureError> {
+    let section_line = raw.referenced.line();
     let mut out = [f64::NAN; N_STATES];
-    for (name, v, line) in named_entries(raw, file)? {
+    for (name, v, line) in named_entries(raw.value, file)? {
         out[name.index()] = positive(file, line, &format!("{section}.{name}"), v)?;
     }
     if let Some(s) = StateName::ALL.iter().find(|s| out[s.index()].is_nan()) {
         return Err(CaptureError::Missing {
             file: file.to_owned(),
+            line: section_line,
             section: section.to_owned(),
             name: s.to_string(),
         });

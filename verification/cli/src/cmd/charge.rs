@@ -18,32 +18,32 @@ const QUAD_REL_TOL: f64 = 1e-12;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// TM - electrode housing capacitance C_EH [pF].
-    #[arg(long, default_value_t = 34.4)]
+    #[arg(long, default_value_t = 34.4, allow_hyphen_values = true)]
     pub c_eh_pf: f64,
     /// TM - pyramidal plunger capacitance C_Pyr [pF].
-    #[arg(long, default_value_t = 35.0)]
+    #[arg(long, default_value_t = 35.0, allow_hyphen_values = true)]
     pub c_pyr_pf: f64,
     /// TM - cylindrical plunger capacitance C_Cyl [pF].
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, allow_hyphen_values = true)]
     pub c_cyl_pf: f64,
     /// Use this C_RT [pF] instead of the cap integral (e.g. the thesis's rounded 2.5).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub c_rt_pf: Option<f64>,
     /// Release-tip radius of curvature R [m].
-    #[arg(long, default_value_t = 10e-3)]
+    #[arg(long, default_value_t = 10e-3, allow_hyphen_values = true)]
     pub r_m: f64,
     /// Release-tip cap radius [m]: theta_f = atan(cap / R).
-    #[arg(long, default_value_t = 0.4e-3)]
+    #[arg(long, default_value_t = 0.4e-3, allow_hyphen_values = true)]
     pub cap_radius_m: f64,
     /// Tip - TM gap d [m].
-    #[arg(long, default_value_t = 100e-9)]
+    #[arg(long, default_value_t = 100e-9, allow_hyphen_values = true)]
     pub d_m: f64,
     /// 2-sigma contact voltage difference of each contact [V].
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub dv_2sigma_v: f64,
     /// Cosmic-ray charging rate [e/s] (default 3e8 e / 50 days = 69.4 e/s, back-derived from
     /// the thesis's "about 50 days to neutralise -3e8 e").
-    #[arg(long, default_value_t = THESIS_RATE_E_S)]
+    #[arg(long, default_value_t = THESIS_RATE_E_S, allow_hyphen_values = true)]
     pub rate_e_s: f64,
     /// Charge whose neutralisation time is reported [e] (negative: cosmic rays charge positively).
     #[arg(long, default_value_t = -3e8, allow_hyphen_values = true)]
