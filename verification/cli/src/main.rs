@@ -46,7 +46,18 @@ enum Command {
     Capture(cmd::capture::Args),
 }
 
+/// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
+/// tools do, instead of panicking on a closed standard output (Rust ignores SIGPIPE by default).
+fn reset_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called once at start-up, before any thread exists; SIG_DFL is a valid handler.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
+    reset_sigpipe();
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
