@@ -170,6 +170,17 @@ impl DormandPrince {
         }
     }
 
+    /// A tighter setting (rtol 1e-9) for figures computed from a few hundred releases.
+    pub fn reference_fast() -> Self {
+        Self {
+            rtol: 1e-9,
+            atol: 1e-9,
+            h0: 1e-9,
+            h_max: 2e-5,
+            locate_events: true,
+        }
+    }
+
     /// A setting with the given tolerances.
     pub fn with_tolerance(rtol: f64, atol: f64) -> Self {
         Self {

@@ -18,6 +18,8 @@
 //! ```
 
 pub mod budget;
+pub mod calibration;
+pub mod figures;
 pub mod histogram;
 pub mod inputs;
 pub mod integrator;

@@ -48,3 +48,52 @@ fn tolerance_sweep() {
         eprintln!("rtol {rtol:e}: worst error / tolerance = {ratio:.3}, mean rhs evals {evals:.0}");
     }
 }
+
+#[test]
+#[ignore = "prints the figures; run with --ignored --nocapture"]
+fn print_figures() {
+    use geodesic_mechanism::VoltageCommand;
+    use geodesic_release::calibration::simulate_tmmf_statistics;
+    use geodesic_release::figures::{mechanism_figures, v_rt_spread};
+    let f = mechanism_figures(10).unwrap();
+    eprintln!("{:#?}", f.retraction);
+    eprintln!(
+        "energy fit v_RT {:.3} mm/s, max residual {:.4} of max, pointwise {:.4}",
+        f.energy.v_rt_mm_s, f.energy.max_residual_rel, f.energy.max_pointwise_rel
+    );
+    let b = Budget::default_budget();
+    eprintln!(
+        "v_RT spread {:?}",
+        v_rt_spread(&b.mechanism, VoltageCommand::nominal(), 400, 1)
+    );
+    eprintln!("{:#?}", simulate_tmmf_statistics(&b.adhesion, 200_000, 1));
+}
+
+#[test]
+#[ignore = "mechanism sd sweep; run with --ignored --nocapture"]
+fn mechanism_sd_sweep() {
+    use geodesic_mechanism::VoltageCommand;
+    use geodesic_release::budget::Dist;
+    use geodesic_release::figures::v_rt_spread;
+    for s in [0.11, 0.12, 0.13] {
+        let mut b = Budget::default_budget().mechanism;
+        for d in [
+            &mut b.R_ohm,
+            &mut b.m_kg,
+            &mut b.Ca_f,
+            &mut b.k_n_m,
+            &mut b.Kg_n_m,
+            &mut b.b_ns_m,
+            &mut b.Mg_kg,
+            &mut b.T_c_m,
+        ] {
+            if let Dist::Normal { rel_sd, .. } = d {
+                *rel_sd = Some(s);
+            }
+        }
+        eprintln!(
+            "s = {s}: {:?}",
+            v_rt_spread(&b, VoltageCommand::nominal(), 1500, 2)
+        );
+    }
+}
