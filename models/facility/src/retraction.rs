@@ -8,14 +8,77 @@
 //! `E = 0` (ideal step) or `max(0, E0 - em*t)` (`voltage_ramp`). Output `y(t) - y(0)`.
 //!
 //! This is the identification model of the facility (effects `piezo`, `plunger_compliance`,
-//! `voltage_ramp`); it does not depend on `geodesic-mechanism`. Integrated with fixed-step RK4
-//! (step at most [`H_MAX_S`], depending only on the sampling).
+//! `voltage_ramp`); it does not depend on `geodesic-mechanism`. Propagated exactly between samples
+//! with the matrix exponential of the (scaled, augmented) linear system; the ramp's end is a
+//! breakpoint.
 
 use crate::model::Model;
-use crate::tmmf::{Rk4Work, rk4_step};
 
-/// Largest RK4 step [s]: 0.03 rad per step at the 73 kHz tip resonance.
-pub const H_MAX_S: f64 = 6.25e-8;
+/// Size of the augmented state: `q, y, y', l, l'`, `E/E0`, ramp switch.
+const N_AUG: usize = 7;
+type Mat = [[f64; N_AUG]; N_AUG];
+
+fn matmul(a: &Mat, b: &Mat) -> Mat {
+    let mut c = [[0.0; N_AUG]; N_AUG];
+    for i in 0..N_AUG {
+        for k in 0..N_AUG {
+            let aik = a[i][k];
+            if aik != 0.0 {
+                for j in 0..N_AUG {
+                    c[i][j] += aik * b[k][j];
+                }
+            }
+        }
+    }
+    c
+}
+
+fn apply(m: &Mat, z: &[f64; N_AUG]) -> [f64; N_AUG] {
+    let mut o = [0.0; N_AUG];
+    for i in 0..N_AUG {
+        o[i] = (0..N_AUG).map(|j| m[i][j] * z[j]).sum();
+    }
+    o
+}
+
+/// `exp(a*dt)` by scaling and squaring with a degree-16 Taylor series (the scaled matrix has
+/// norm below 1/8 before squaring, so the series error is far below rounding).
+pub(crate) fn propagator(a: &Mat, dt: f64) -> Mat {
+    let norm = a
+        .iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+        * dt;
+    let mut s = 0;
+    while norm / f64::from(1u32 << s.min(30)) > 0.125 && s < 60 {
+        s += 1;
+    }
+    let h = dt / 2f64.powi(s);
+    let mut term = [[0.0; N_AUG]; N_AUG];
+    let mut sum = [[0.0; N_AUG]; N_AUG];
+    for i in 0..N_AUG {
+        term[i][i] = 1.0;
+        sum[i][i] = 1.0;
+    }
+    let mut ah = *a;
+    ah.iter_mut()
+        .for_each(|r| r.iter_mut().for_each(|v| *v *= h));
+    for k in 1..=16 {
+        term = matmul(&term, &ah);
+        let inv = 1.0 / k as f64;
+        term.iter_mut()
+            .for_each(|r| r.iter_mut().for_each(|v| *v *= inv));
+        for i in 0..N_AUG {
+            for j in 0..N_AUG {
+                sum[i][j] += term[i][j];
+            }
+        }
+    }
+    for _ in 0..s {
+        sum = matmul(&sum, &sum);
+    }
+    sum
+}
 
 /// Mechanism parameters (physics.md section 1), written by the effects' `configure_rt`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,27 +158,99 @@ impl RtConfig {
         }
     }
 
-    /// Tip displacement from its position at `t = 0`, `y(t) - y(0)` [m], at `times` [s].
+    /// Tip displacement from its position at `t = 0`, `y(t) - y(0)` [m], at `times` [s], by
+    /// exact propagation of the linear ODE (matrix exponential, see [`propagator`]).
     pub fn retraction(&self, times: &[f64]) -> Vec<f64> {
         let d0 = self.d0_m();
-        let mut s = [self.ca_f * self.e0_v + self.t_c_m * d0, d0, 0.0, 0.0, 0.0];
-        let f = |t: f64, s: &[f64], ds: &mut [f64]| self.deriv(t, s, ds);
-        let mut w = Rk4Work::new(5);
+        let kk = self.k_n_m + self.t_c_m * self.t_c_m / self.ca_f;
+        let omega = (kk / self.m_kg).sqrt();
+        // state scales: charge, length, velocity, length, velocity
+        let sc = [
+            self.ca_f * self.e0_v.max(1e-30),
+            d0.abs().max(1e-30),
+            d0.abs().max(1e-30) * omega,
+        ];
+        let scale = [sc[0], sc[1], sc[2], sc[1], sc[2]];
+        let a = self.scaled_matrix(&scale);
+        let s0 = [self.ca_f * self.e0_v + self.t_c_m * d0, d0, 0.0, 0.0, 0.0];
+        let mut z = [0.0; N_AUG];
+        for k in 0..5 {
+            z[k] = s0[k] / scale[k];
+        }
+        let t_off = match self.em_v_s {
+            Some(em) if em > 0.0 => self.e0_v / em,
+            _ => 0.0,
+        };
+        if t_off > 0.0 {
+            z[5] = 1.0; // E/E0
+            z[6] = 1.0; // the ramp is running
+        }
+        let mut cache: Option<(f64, Mat)> = None;
+        let mut phi = |dt: f64| -> Mat {
+            if let Some((h, m)) = &cache {
+                if (h - dt).abs() <= 1e-12 * dt {
+                    return *m;
+                }
+            }
+            let m = propagator(&a, dt);
+            cache = Some((dt, m));
+            m
+        };
         let mut t = 0.0;
         let mut out = Vec::with_capacity(times.len());
         for &ti in times {
             if ti > t {
-                let steps = ((ti - t) / H_MAX_S - 1e-9).ceil().max(1.0) as usize;
-                let h = (ti - t) / steps as f64;
-                for _ in 0..steps {
-                    rk4_step(&f, t, h, &mut s, &mut w);
-                    t += h;
+                if t < t_off && ti > t_off {
+                    z = apply(&propagator(&a, t_off - t), &z);
+                    z[5] = 0.0;
+                    z[6] = 0.0;
+                    z = apply(&propagator(&a, ti - t_off), &z);
+                } else {
+                    z = apply(&phi(ti - t), &z);
                 }
                 t = ti;
             }
-            out.push(if ti < 0.0 { 0.0 } else { s[1] - d0 });
+            out.push(if ti < 0.0 { 0.0 } else { z[1] * scale[1] - d0 });
         }
         out
+    }
+
+    /// The augmented system matrix in scaled variables: states `[q, y, y', l, l']/scale`, then
+    /// `E/E0` and the ramp switch (1 while the voltage ramps down).
+    fn scaled_matrix(&self, scale: &[f64; 5]) -> Mat {
+        let mut a = [[0.0; N_AUG]; N_AUG];
+        let kk = self.k_n_m + self.t_c_m * self.t_c_m / self.ca_f;
+        let tc = self.t_c_m / self.ca_f;
+        let rc = self.r_ohm * self.ca_f;
+        // physical A (rows: q, y, y', l, l') and input column for E
+        let mut ap = [[0.0; 5]; 5];
+        let mut bp = [0.0; 5];
+        ap[0][0] = -1.0 / rc;
+        ap[0][1] = self.t_c_m / rc;
+        ap[0][3] = -self.t_c_m / rc;
+        bp[0] = 1.0 / self.r_ohm;
+        ap[1][2] = 1.0;
+        ap[2][0] = tc / self.m_kg;
+        ap[2][1] = -kk / self.m_kg;
+        ap[2][2] = -self.b_ns_m / self.m_kg;
+        ap[2][3] = kk / self.m_kg;
+        ap[2][4] = self.b_ns_m / self.m_kg;
+        if let Some((mg, kg)) = self.plunger {
+            ap[3][4] = 1.0;
+            ap[4][0] = -tc / mg;
+            ap[4][1] = kk / mg;
+            ap[4][2] = self.b_ns_m / mg;
+            ap[4][3] = -(kg + kk) / mg;
+            ap[4][4] = -self.b_ns_m / mg;
+        }
+        for i in 0..5 {
+            for j in 0..5 {
+                a[i][j] = ap[i][j] * scale[j] / scale[i];
+            }
+            a[i][5] = bp[i] * self.e0_v / scale[i];
+        }
+        a[5][6] = -self.em_v_s.unwrap_or(0.0) / self.e0_v.max(1e-30);
+        a
     }
 }
 
@@ -153,6 +288,42 @@ mod tests {
             y[3000]
         );
         assert!(y[1] < 0.0);
+    }
+
+    #[test]
+    fn exponential_agrees_with_fine_rk4() {
+        for cfg in [
+            RtConfig::default(),
+            RtConfig {
+                plunger: Some((0.019, 2.15e6)),
+                em_v_s: Some(5e7),
+                ..RtConfig::default()
+            },
+        ] {
+            let times: Vec<f64> = (0..=300).map(|i| i as f64 * 1e-6 - 2e-5).collect();
+            let y = cfg.retraction(&times);
+            // reference: RK4 at 5 ns
+            let d0 = cfg.d0_m();
+            let mut s = [cfg.ca_f * cfg.e0_v + cfg.t_c_m * d0, d0, 0.0, 0.0, 0.0];
+            let mut w = crate::tmmf::Rk4Work::new(5);
+            let f = |t: f64, s: &[f64], ds: &mut [f64]| cfg.deriv(t, s, ds);
+            let mut t = 0.0;
+            for (ti, yi) in times.iter().zip(&y) {
+                if *ti < 0.0 {
+                    continue;
+                }
+                while t < *ti - 1e-15 {
+                    let h = (ti - t).min(5e-9);
+                    crate::tmmf::rk4_step(&f, t, h, &mut s, &mut w);
+                    t += h;
+                }
+                assert!(
+                    (s[1] - d0 - yi).abs() < 1e-12,
+                    "t {ti}: {} vs {yi}",
+                    s[1] - d0
+                );
+            }
+        }
     }
 
     #[test]

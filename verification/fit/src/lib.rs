@@ -1,1 +1,24 @@
-//! placeholder
+//! geodesic-fit: confront the facility models with measurements.
+//!
+//! - [`dataset`]: YAML + CSV datasets (interface.md), bad input refused with file and line.
+//! - [`lm`]: bounded Levenberg-Marquardt with finite-difference Jacobians.
+//! - [`fit`]: noise, tip profile, data-driven multi-start fits, covariance, the fit report.
+//! - [`residual`]: reduced chi-square, whiteness test, failure windows.
+//! - [`diagnose`]: fits every candidate effect a model lacks and ranks them by delta BIC.
+//! - [`synth`]: synthetic datasets from a truth model built from the same effect code.
+//! - [`history`]: per-dataset fit history (JSON lines) and its table.
+//! - [`plot`]: SVGs of data, model and residual, and of the history.
+
+pub mod dataset;
+pub mod diagnose;
+pub mod error;
+pub mod fit;
+pub mod history;
+pub mod lm;
+pub mod plot;
+pub mod residual;
+pub mod synth;
+
+pub use dataset::Dataset;
+pub use error::FitError;
+pub use fit::{FitOptions, FitOutcome, FitReport, Prepared, fit};

@@ -37,25 +37,22 @@ impl Effect for NeedleContact {
             -p[0] * s.needle_gap
         }
     }
-    /// Needle stiffness from the catapult duration `dt = (pi/2) sqrt(m/k_nd)` and a grid around
-    /// the thesis range; preload from the late TM velocity, `F_pre = v sqrt(m k_nd)` (impulse
-    /// `I = F_pre sqrt(m/k_nd) = m v`).
+    /// A grid over the thesis range of needle stiffness and over preloads from 2 mN to 300 mN
+    /// (stiff blades to high load), plus the stiffness from the catapult duration
+    /// `dt = (pi/2) sqrt(m/k_nd)` measured on the data.
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
-        let mut ks = vec![2e5, 6.5e5, 2e6];
+        let mut ks = vec![1e5, 3e5, 1e6, 3e6];
         if g.catapult_s > 0.0 && g.m_kg > 0.0 {
             let k = g.m_kg * (std::f64::consts::FRAC_PI_2 / g.catapult_s).powi(2);
             ks.push(k.clamp(PARAMS[0].lower, PARAMS[0].upper));
         }
-        ks.into_iter()
-            .map(|k| {
-                let f = if g.late_velocity_m_s.abs() > 0.0 && g.m_kg > 0.0 {
-                    g.late_velocity_m_s.abs() * (g.m_kg * k).sqrt()
-                } else {
-                    PARAMS[1].nominal
-                };
-                vec![k, f.clamp(PARAMS[1].lower, PARAMS[1].upper)]
-            })
-            .collect()
+        let mut out = Vec::new();
+        for k in ks {
+            for f in [2e-3, 6e-3, 2e-2, 0.1, 0.3] {
+                out.push(vec![k, f]);
+            }
+        }
+        out
     }
 }
 

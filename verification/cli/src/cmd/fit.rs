@@ -1,16 +1,165 @@
-//! `geodesic fit`: not yet implemented.
+//! `geodesic fit DATASET.yaml --effects a,b,c`: fits a model to a dataset (interface.md).
+//!
+//! Writes `<stem>.<effects>.svg` (data, model, residual, failure windows) and appends the fit to
+//! `<stem>.history.jsonl` under `--out` (default `reports/fits`).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use geodesic_fit::{Dataset, FitOptions, FitReport, Prepared, history, plot};
 
 use crate::error::{CliError, CmdResult};
 
 /// Flags of `geodesic fit`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// Dataset YAML (interface.md).
+    pub dataset: PathBuf,
+    /// Effects of the model, comma separated (e.g. needle_contact,tip_contact).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub effects: Vec<String>,
+    /// Hold a parameter fixed: effect.param=VALUE (SI), repeatable.
+    #[arg(long = "fix", value_name = "NAME=VALUE")]
+    pub fix: Vec<String>,
+    /// Bound a parameter: effect.param=LO:HI (SI), repeatable.
+    #[arg(long = "bound", value_name = "NAME=LO:HI")]
+    pub bound: Vec<String>,
+    /// Output directory for the SVG and the history.
+    #[arg(long, default_value = "reports/fits")]
+    pub out: PathBuf,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
 }
 
+/// Parses `--fix` and `--bound` into fit options.
+pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError> {
+    let mut fixed = BTreeMap::new();
+    for f in fix {
+        let (k, v) = f
+            .split_once('=')
+            .ok_or_else(|| CliError::bad(format!("--fix `{f}`: expected NAME=VALUE")))?;
+        let v: f64 = v
+            .trim()
+            .parse()
+            .map_err(|_| CliError::bad(format!("--fix `{f}`: `{v}` is not a number")))?;
+        fixed.insert(k.trim().to_string(), v);
+    }
+    let mut bounds = BTreeMap::new();
+    for b in bound {
+        let (k, r) = b
+            .split_once('=')
+            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected NAME=LO:HI")))?;
+        let (lo, hi) = r
+            .split_once(':')
+            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected LO:HI")))?;
+        let lo: f64 = lo
+            .trim()
+            .parse()
+            .map_err(|_| CliError::bad(format!("--bound `{b}`: bad lower bound")))?;
+        let hi: f64 = hi
+            .trim()
+            .parse()
+            .map_err(|_| CliError::bad(format!("--bound `{b}`: bad upper bound")))?;
+        if !(lo < hi) {
+            return Err(CliError::bad(format!(
+                "--bound `{b}`: lower bound not below upper bound"
+            )));
+        }
+        bounds.insert(k.trim().to_string(), (lo, hi));
+    }
+    Ok(FitOptions {
+        fixed,
+        bounds,
+        max_starts: None,
+    })
+}
+
+/// Loads and prepares a dataset, mapping errors to exit 2.
+pub fn load(path: &Path) -> Result<Prepared, CliError> {
+    let ds = Dataset::load(path).map_err(|e| CliError::bad(e.to_string()))?;
+    Ok(Prepared::new(ds))
+}
+
+/// Writes the SVG of a fit and appends it to the history; returns the SVG path.
+pub fn outputs(
+    prep: &Prepared,
+    pred: &[f64],
+    report: &mut FitReport,
+    out: &Path,
+) -> Result<(), CliError> {
+    let svg = plot::fit_svg(prep, pred, report).map_err(|e| CliError::Io(e.to_string()))?;
+    let path = out.join(format!(
+        "{}.{}.svg",
+        prep.dataset.stem(),
+        report.effects.join("+")
+    ));
+    plot::write_svg(&path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
+    report.svg = Some(path.display().to_string());
+    history::append(out, &prep.dataset.stem(), report).map_err(|e| CliError::Io(e.to_string()))?;
+    Ok(())
+}
+
+/// Human-readable summary of a fit.
+pub fn summary(r: &FitReport) -> String {
+    let mut s = format!(
+        "{} [{}]: {}\n",
+        r.dataset,
+        r.scenario,
+        r.effects.join(" + ")
+    );
+    for (ch, v) in &r.rms {
+        s += &format!(
+            "  rms {ch} = {v:.4e}  (noise {:.3e}, {})\n",
+            r.noise[ch], r.noise_source[ch]
+        );
+    }
+    s += &format!(
+        "  chi2_red = {:.4}  (N = {}, k = {})  residual white: {}  BIC = {:.1}\n",
+        r.chi2_red, r.n_samples, r.n_free, r.residual_white, r.bic
+    );
+    for (k, p) in &r.params {
+        let fixed = if p.fixed { "  (fixed)" } else { "" };
+        s += &format!(
+            "  {k:<30} = {:>12.5e} +- {:<10.3e} {}{fixed}\n",
+            p.value, p.sigma, p.unit
+        );
+    }
+    for c in &r.correlated {
+        s += &format!("  correlated: {} ~ {} (rho {:.3})\n", c.a, c.b, c.rho);
+    }
+    for f in &r.failures {
+        s += &format!(
+            "  fails on {}: {:.4e} s .. {:.4e} s, peak {:.3e} ({:.1} sigma)\n",
+            f.channel, f.t_start, f.t_end, f.peak, f.peak_sigma
+        );
+    }
+    if let Some(svg) = &r.svg {
+        s += &format!("  plot: {svg}\n");
+    }
+    s
+}
+
 /// Runs the command.
-pub fn run(_args: Args) -> CmdResult {
-    Err(CliError::bad("geodesic fit is not implemented yet"))
+pub fn run(args: Args) -> CmdResult {
+    let opts = options(&args.fix, &args.bound)?;
+    let prep = load(&args.dataset)?;
+    let effects: Vec<&str> = args
+        .effects
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty())
+        .collect();
+    let o = geodesic_fit::fit(&prep, &effects, &opts).map_err(|e| CliError::bad(e.to_string()))?;
+    let mut report = FitReport::new(&prep, &o);
+    outputs(&prep, &o.pred, &mut report, &args.out)?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&report).map_err(|e| CliError::Io(e.to_string()))?
+        );
+    } else {
+        print!("{}", summary(&report));
+    }
+    Ok(0)
 }

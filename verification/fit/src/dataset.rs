@@ -1,0 +1,401 @@
+//! Measurement datasets (interface.md): a YAML metadata file beside a CSV file.
+//!
+//! Every refusal names the file and line: malformed YAML, missing file or column, unknown or
+//! wrong-dimension unit, NaN or empty cells, time not strictly increasing, a channel or known
+//! constant the scenario needs but lacks. Values are converted to SI with
+//! `geodesic_core::units::parse_unit`.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use geodesic_core::units::{Dim, parse_unit};
+use geodesic_facility::Scenario;
+use serde::Deserialize;
+use serde_saphyr::Spanned;
+
+use crate::error::FitError;
+
+/// A loaded dataset, values in SI.
+#[derive(Debug, Clone)]
+pub struct Dataset {
+    /// Path of the YAML file.
+    pub yaml_path: PathBuf,
+    /// The YAML file name as given on the command line (for JSON and reports).
+    pub name: String,
+    /// Scenario.
+    pub scenario: Scenario,
+    /// Free text.
+    pub description: String,
+    /// Sample times [s] from the trigger, strictly increasing.
+    pub t: Vec<f64>,
+    /// Channels, values in SI.
+    pub channels: BTreeMap<String, Vec<f64>>,
+    /// Channel units as written in the YAML.
+    pub units: BTreeMap<String, String>,
+    /// Known constants (`m` [kg], `E0` [V], ...).
+    pub known: BTreeMap<String, f64>,
+    /// 1-sigma white noise per channel from the YAML, in SI.
+    pub noise: BTreeMap<String, f64>,
+}
+
+#[derive(Deserialize)]
+struct Meta {
+    scenario: Spanned<String>,
+    #[serde(default)]
+    description: Option<String>,
+    data: Spanned<String>,
+    #[serde(default)]
+    time_column: Option<Spanned<String>>,
+    channels: Spanned<BTreeMap<String, Spanned<String>>>,
+    #[serde(default)]
+    known: Option<BTreeMap<String, Spanned<f64>>>,
+    #[serde(default)]
+    noise: Option<BTreeMap<String, Spanned<f64>>>,
+}
+
+fn line_of<T>(s: &Spanned<T>) -> usize {
+    s.referenced.line() as usize
+}
+
+/// Dimension a channel of a scenario must have, if the scenario fixes it.
+fn channel_dim(name: &str) -> Option<Dim> {
+    match name {
+        "x" | "y" => Some(Dim::LENGTH),
+        "E" => Some(Dim::VOLTAGE),
+        _ => None,
+    }
+}
+
+impl Dataset {
+    /// Loads the YAML at `path` and its CSV.
+    pub fn load(path: &Path) -> Result<Dataset, FitError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| FitError::input(&file, 0, format!("cannot read: {e}")))?;
+        let meta: Meta = serde_saphyr::from_str(&text).map_err(|e| {
+            let line = e.location().map_or(0, |l| l.line() as usize);
+            let msg = e.to_string();
+            let first = msg.lines().next().unwrap_or("malformed YAML").to_string();
+            FitError::input(&file, line, format!("malformed YAML: {first}"))
+        })?;
+        let scenario = Scenario::from_name(&meta.scenario.value).ok_or_else(|| {
+            FitError::input(
+                &file,
+                line_of(&meta.scenario),
+                format!(
+                    "unknown scenario `{}` (known: tmmf-release, rt-retraction)",
+                    meta.scenario.value
+                ),
+            )
+        })?;
+        // units
+        let mut scales = BTreeMap::new();
+        let mut units = BTreeMap::new();
+        for (ch, u) in &meta.channels.value {
+            let unit = parse_unit(u.value.trim())
+                .map_err(|e| FitError::input(&file, line_of(u), format!("channel `{ch}`: {e}")))?;
+            if let Some(d) = channel_dim(ch) {
+                if unit.dim != d {
+                    return Err(FitError::input(
+                        &file,
+                        line_of(u),
+                        format!(
+                            "channel `{ch}` has unit `{}` of dimension {}, expected {d}",
+                            u.value, unit.dim
+                        ),
+                    ));
+                }
+            }
+            scales.insert(ch.clone(), unit.scale);
+            units.insert(ch.clone(), u.value.clone());
+        }
+        for need in scenario.required_channels() {
+            if !scales.contains_key(*need) {
+                return Err(FitError::input(
+                    &file,
+                    line_of(&meta.channels),
+                    format!(
+                        "scenario {} needs channel `{need}`, not declared under channels",
+                        scenario.name()
+                    ),
+                ));
+            }
+        }
+        let mut known = BTreeMap::new();
+        for (k, v) in meta.known.iter().flatten() {
+            if !v.value.is_finite() {
+                return Err(FitError::input(
+                    &file,
+                    line_of(v),
+                    format!("known `{k}` is not a finite number"),
+                ));
+            }
+            known.insert(k.clone(), v.value);
+        }
+        for need in scenario.required_known() {
+            if !known.contains_key(*need) {
+                return Err(FitError::input(
+                    &file,
+                    0,
+                    format!(
+                        "scenario {} needs the known constant `{need}` (under known:)",
+                        scenario.name()
+                    ),
+                ));
+            }
+        }
+        if scenario == Scenario::TmmfRelease && known["m"] <= 0.0 {
+            return Err(FitError::input(
+                &file,
+                0,
+                "known `m` (TM mass, kg) must be positive",
+            ));
+        }
+        let mut noise = BTreeMap::new();
+        for (ch, v) in meta.noise.iter().flatten() {
+            let Some(s) = scales.get(ch) else {
+                return Err(FitError::input(
+                    &file,
+                    line_of(v),
+                    format!("noise given for undeclared channel `{ch}`"),
+                ));
+            };
+            if !(v.value.is_finite() && v.value > 0.0) {
+                return Err(FitError::input(
+                    &file,
+                    line_of(v),
+                    format!("noise of `{ch}` must be a positive number"),
+                ));
+            }
+            noise.insert(ch.clone(), v.value * s);
+        }
+        let time_col = meta
+            .time_column
+            .as_ref()
+            .map_or("t".to_string(), |s| s.value.clone());
+        let csv_path = path
+            .parent()
+            .unwrap_or(Path::new("."))
+            .join(&meta.data.value);
+        let (t, mut channels) = read_csv(&csv_path, &time_col, &scales)?;
+        if t.len() < 10 {
+            return Err(FitError::input(
+                csv_path.display().to_string(),
+                0,
+                format!("only {} samples", t.len()),
+            ));
+        }
+        if !t.iter().any(|&v| v >= 0.0) {
+            return Err(FitError::input(
+                csv_path.display().to_string(),
+                0,
+                "no sample at or after the trigger t = 0",
+            ));
+        }
+        for (ch, s) in &scales {
+            if let Some(v) = channels.get_mut(ch) {
+                v.iter_mut().for_each(|x| *x *= s);
+            }
+        }
+        let name = path
+            .file_name()
+            .map_or(file.clone(), |n| n.to_string_lossy().to_string());
+        Ok(Dataset {
+            yaml_path: path.to_path_buf(),
+            name,
+            scenario,
+            description: meta.description.unwrap_or_default(),
+            t,
+            channels,
+            units,
+            known,
+            noise,
+        })
+    }
+
+    /// The values of a channel [SI].
+    pub fn channel(&self, name: &str) -> &[f64] {
+        &self.channels[name]
+    }
+
+    /// Stem of the YAML file name (`run-017` for `run-017.yaml`).
+    pub fn stem(&self) -> String {
+        self.yaml_path
+            .file_stem()
+            .map_or("dataset".into(), |s| s.to_string_lossy().to_string())
+    }
+}
+
+type Columns = (Vec<f64>, BTreeMap<String, Vec<f64>>);
+
+fn read_csv(
+    path: &Path,
+    time_col: &str,
+    channels: &BTreeMap<String, f64>,
+) -> Result<Columns, FitError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| FitError::input(&file, 0, format!("cannot read data file: {e}")))?;
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let headers = rdr
+        .headers()
+        .map_err(|e| FitError::input(&file, 1, format!("bad header: {e}")))?
+        .clone();
+    let col = |name: &str| -> Result<usize, FitError> {
+        headers.iter().position(|h| h == name).ok_or_else(|| {
+            FitError::input(
+                &file,
+                1,
+                format!(
+                    "no column `{name}` in the header ({})",
+                    headers.iter().collect::<Vec<_>>().join(",")
+                ),
+            )
+        })
+    };
+    let it = col(time_col)?;
+    let idx: Vec<(String, usize)> = channels
+        .keys()
+        .map(|c| col(c).map(|i| (c.clone(), i)))
+        .collect::<Result<_, _>>()?;
+    let mut t = Vec::new();
+    let mut out: BTreeMap<String, Vec<f64>> =
+        channels.keys().map(|c| (c.clone(), Vec::new())).collect();
+    for rec in rdr.records() {
+        let rec = rec.map_err(|e| {
+            let line = e.position().map_or(0, |p| p.line() as usize);
+            FitError::input(&file, line, format!("malformed CSV row: {e}"))
+        })?;
+        let line = rec.position().map_or(0, |p| p.line() as usize);
+        let cell = |i: usize, name: &str| -> Result<f64, FitError> {
+            let s = rec.get(i).unwrap_or("");
+            if s.is_empty() {
+                return Err(FitError::input(
+                    &file,
+                    line,
+                    format!("empty cell in column `{name}`"),
+                ));
+            }
+            let v: f64 = s.parse().map_err(|_| {
+                FitError::input(
+                    &file,
+                    line,
+                    format!("`{s}` in column `{name}` is not a number"),
+                )
+            })?;
+            if !v.is_finite() {
+                return Err(FitError::input(
+                    &file,
+                    line,
+                    format!("`{s}` in column `{name}` is not a finite number"),
+                ));
+            }
+            Ok(v)
+        };
+        let tv = cell(it, time_col)?;
+        if let Some(&prev) = t.last() {
+            if tv <= prev {
+                return Err(FitError::input(
+                    &file,
+                    line,
+                    format!("time not strictly increasing ({tv} after {prev})"),
+                ));
+            }
+        }
+        t.push(tv);
+        for (c, i) in &idx {
+            let v = cell(*i, c)?;
+            out.get_mut(c).expect("channel").push(v);
+        }
+    }
+    Ok((t, out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(dir: &Path, yaml: &str, csv: &str) -> PathBuf {
+        std::fs::create_dir_all(dir).unwrap();
+        std::fs::write(dir.join("d.csv"), csv).unwrap();
+        let p = dir.join("d.yaml");
+        std::fs::write(&p, yaml).unwrap();
+        p
+    }
+
+    const YAML: &str = "scenario: rt-retraction\ndata: d.csv\ntime_column: t\nchannels:\n  y: nm\nknown:\n  E0: 120\n";
+
+    fn csv_rows(n: usize) -> String {
+        let mut s = String::from("t,y\n");
+        for i in 0..n {
+            s += &format!("{},{}\n", i as f64 * 1e-6 - 2e-6, i as f64);
+        }
+        s
+    }
+
+    fn err_of(yaml: &str, csv: &str, tag: &str) -> String {
+        let dir =
+            std::env::temp_dir().join(format!("geodesic-fit-ds-{tag}-{}", std::process::id()));
+        let p = write(&dir, yaml, csv);
+        let e = Dataset::load(&p).unwrap_err().to_string();
+        let _ = std::fs::remove_dir_all(&dir);
+        e
+    }
+
+    #[test]
+    fn loads_and_converts_units() {
+        let dir = std::env::temp_dir().join(format!("geodesic-fit-ds-ok-{}", std::process::id()));
+        let p = write(&dir, YAML, &csv_rows(20));
+        let d = Dataset::load(&p).unwrap();
+        assert_eq!(d.t.len(), 20);
+        assert!((d.channel("y")[3] - 3e-9).abs() < 1e-20);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn refuses_bad_input_with_file_and_line() {
+        let e = err_of(&YAML.replace("y: nm", "y: furlong"), &csv_rows(20), "unit");
+        assert!(e.contains("d.yaml:5:") && e.contains("furlong"), "{e}");
+        let mut rows = csv_rows(20);
+        rows = rows.replacen("3,3\n", "3,NaN\n", 1);
+        let nan = csv_rows(20).replace("0.000001,3\n", "0.000001,NaN\n");
+        let e = err_of(YAML, &nan, "nan");
+        assert!(e.contains("d.csv:5:") && e.contains("NaN"), "{e}");
+        let _ = rows;
+        let e = err_of(
+            YAML,
+            &csv_rows(20).replace("0.000001,3\n", "0.000001,\n"),
+            "empty",
+        );
+        assert!(e.contains("d.csv:5:") && e.contains("empty"), "{e}");
+        let e = err_of(
+            YAML,
+            &csv_rows(20).replace("0.000001,3\n", "-0.000005,3\n"),
+            "time",
+        );
+        assert!(e.contains("d.csv:5:") && e.contains("increasing"), "{e}");
+        let e = err_of(&YAML.replace("d.csv", "none.csv"), "", "missing");
+        assert!(e.contains("none.csv") && e.contains("cannot read"), "{e}");
+        let e = err_of(&YAML.replace("  y: nm", "  E: V"), &csv_rows(20), "chan");
+        assert!(e.contains("needs channel `y`"), "{e}");
+        let e = err_of(&YAML.replace("y: nm", "y: V"), &csv_rows(20), "dim");
+        assert!(e.contains("dimension"), "{e}");
+        let e = err_of(
+            &YAML.replace("channels:", "channels: ["),
+            &csv_rows(20),
+            "yaml",
+        );
+        assert!(e.contains("d.yaml:") && e.contains("malformed YAML"), "{e}");
+        let e = err_of(YAML, &csv_rows(20).replace("t,y", "t,z"), "col");
+        assert!(e.contains("d.csv:1:") && e.contains("no column `y`"), "{e}");
+        let e = err_of(
+            &YAML.replace("  E0: 120\n", "  Q: 1\n"),
+            &csv_rows(20),
+            "known",
+        );
+        assert!(e.contains("`E0`"), "{e}");
+    }
+}

@@ -1,0 +1,63 @@
+//! Errors of dataset loading, fitting and report writing, each naming file and line.
+
+/// A failure of the fit crate, with the data a user needs to fix the input.
+#[derive(Debug, thiserror::Error)]
+pub enum FitError {
+    /// Bad input at a known place: `file:line: cause` (line 0: the whole file).
+    #[error("{}", fmt_at(.file, *.line, .cause))]
+    Input {
+        /// The file.
+        file: String,
+        /// 1-based line, 0 when unknown.
+        line: usize,
+        /// What is wrong.
+        cause: String,
+    },
+    /// Writing an output failed.
+    #[error("{path}: cannot write: {cause}")]
+    Write {
+        /// The output path.
+        path: String,
+        /// The I/O error.
+        cause: String,
+    },
+}
+
+fn fmt_at(file: &str, line: usize, cause: &str) -> String {
+    if line > 0 {
+        format!("{file}:{line}: {cause}")
+    } else {
+        format!("{file}: {cause}")
+    }
+}
+
+impl FitError {
+    /// Bad input at `file:line`.
+    pub fn input(file: impl Into<String>, line: usize, cause: impl Into<String>) -> Self {
+        FitError::Input {
+            file: file.into(),
+            line,
+            cause: cause.into(),
+        }
+    }
+}
+
+/// Writes `bytes` to `path` whole or not at all (temporary file, then rename).
+pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> Result<(), FitError> {
+    let werr = |e: std::io::Error| FitError::Write {
+        path: path.display().to_string(),
+        cause: e.to_string(),
+    };
+    if let Some(dir) = path.parent() {
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(dir).map_err(werr)?;
+        }
+    }
+    let tmp = path.with_extension(format!(
+        "{}.tmp{}",
+        path.extension().and_then(|e| e.to_str()).unwrap_or(""),
+        std::process::id()
+    ));
+    std::fs::write(&tmp, bytes).map_err(werr)?;
+    std::fs::rename(&tmp, path).map_err(werr)
+}

@@ -1,0 +1,704 @@
+//! Fitting a model to a dataset: noise, tip profile, data-driven starts, multi-start
+//! Levenberg-Marquardt, covariance and the JSON report of interface.md.
+//!
+//! Parameters are fitted in internal coordinates: `ln(p)` for positive parameters spanning
+//! decades, `p/scale` for signed ones. The residual is `(model - data)/sigma` over every sample
+//! of the fitted channel. Covariance `C = (J^T Sigma^-1 J)^-1` (physics.md section 5) with
+//! `Sigma = sigma^2 I`, inflated by `chi2_red` when that exceeds 1 (an incomplete model must not
+//! report optimistic errors); 1-sigma per parameter is `sqrt(C_kk)`, mapped to physical units.
+
+use std::collections::BTreeMap;
+
+use geodesic_facility::effects::{GuessContext, of_scenario};
+use geodesic_facility::model::Inputs;
+use geodesic_facility::{Model, ParamSpec, Scenario, TipProfile};
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::dataset::Dataset;
+use crate::error::FitError;
+use crate::lm::{LmOptions, jacobian, minimize};
+use crate::residual::{Failure, Whiteness, failures, ljung_box, noise_from_differences};
+
+/// A dataset made ready for fitting: fitted channel, noise, inputs and data-driven guesses.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The dataset.
+    pub dataset: Dataset,
+    /// Name of the fitted channel.
+    pub channel: &'static str,
+    /// Its 1-sigma noise [SI].
+    pub sigma: f64,
+    /// Noise per channel [SI].
+    pub noise: BTreeMap<String, f64>,
+    /// Where each noise figure came from (`yaml`, `pre-trigger`, `differences`).
+    pub noise_source: BTreeMap<String, String>,
+    /// Inputs of the prediction (mass, tip profile, initial voltage).
+    pub inputs: Inputs,
+    /// Quantities the effects use for their starting points.
+    pub guess: GuessContext,
+    /// The smooth tip profile fitted to `y` (`tmmf-release`).
+    pub profile: Option<ProfileFit>,
+}
+
+/// The tip retraction profile fitted to the measured `y` (constant jerk, then constant speed).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+pub struct ProfileFit {
+    /// Jerk [m/s^3].
+    pub jerk_m_s3: f64,
+    /// Final speed [m/s].
+    pub v_m_s: f64,
+    /// Reduced chi-square of the profile against `y`.
+    pub chi2_red: f64,
+}
+
+/// Estimates the noise of a channel: from the samples before the trigger when there are at
+/// least 5, else from third differences of the whole record.
+fn estimate_noise(t: &[f64], v: &[f64]) -> (f64, &'static str) {
+    let pre: Vec<f64> = t
+        .iter()
+        .zip(v)
+        .filter(|(t, _)| **t < 0.0)
+        .map(|(_, v)| *v)
+        .collect();
+    if let Some(s) = noise_from_differences(&pre) {
+        if s > 0.0 {
+            return (s, "pre-trigger");
+        }
+    }
+    // third differences: var = 20 sigma^2 for white noise
+    let d3: Vec<f64> = v
+        .windows(4)
+        .map(|w| w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0])
+        .collect();
+    let var = d3.iter().map(|x| x * x).sum::<f64>() / d3.len().max(1) as f64;
+    ((var / 20.0).sqrt().max(1e-30), "differences")
+}
+
+/// Least-squares slope of `v` against `t`.
+fn slope(t: &[f64], v: &[f64]) -> f64 {
+    let n = t.len() as f64;
+    let (mt, mv) = (t.iter().sum::<f64>() / n, v.iter().sum::<f64>() / n);
+    let num: f64 = t.iter().zip(v).map(|(a, b)| (a - mt) * (b - mv)).sum();
+    let den: f64 = t.iter().map(|a| (a - mt).powi(2)).sum();
+    if den > 0.0 { num / den } else { 0.0 }
+}
+
+/// Fits the constant-jerk-then-constant-speed profile to the tip signal `y` after the trigger.
+fn fit_profile(t: &[f64], y: &[f64], sigma: f64) -> ProfileFit {
+    let post: Vec<(f64, f64)> = t
+        .iter()
+        .zip(y)
+        .filter(|(t, _)| **t >= 0.0)
+        .map(|(a, b)| (*a, *b))
+        .collect();
+    let (tp, yp): (Vec<f64>, Vec<f64>) = post.iter().copied().unzip();
+    let k = tp.len() * 2 / 3;
+    let v0 = slope(&tp[k..], &yp[k..]).abs().max(1e-6);
+    let mt = tp[k..].iter().sum::<f64>() / (tp.len() - k) as f64;
+    let my = yp[k..].iter().sum::<f64>() / (tp.len() - k) as f64;
+    let t_int = (mt - my / v0).max(tp[tp.len() - 1] * 1e-3);
+    let t1 = 1.5 * t_int;
+    let j0 = 2.0 * v0 / (t1 * t1);
+    let f = |u: &[f64]| {
+        let p = TipProfile {
+            jerk_m_s3: u[0].exp(),
+            v_m_s: u[1].exp(),
+        };
+        tp.iter()
+            .zip(&yp)
+            .map(|(t, y)| (p.y(*t) - y) / sigma)
+            .collect::<Vec<f64>>()
+    };
+    let mut best = None::<crate::lm::LmResult>;
+    for s in [1.0, 0.3, 3.0] {
+        let r = minimize(
+            &f,
+            &[(j0 * s).ln(), v0.ln()],
+            &[-30.0, -30.0],
+            &[60.0, 10.0],
+            &LmOptions::default(),
+        );
+        if best.as_ref().is_none_or(|b| r.cost < b.cost) {
+            best = Some(r);
+        }
+    }
+    let b = best.expect("one start");
+    ProfileFit {
+        jerk_m_s3: b.u[0].exp(),
+        v_m_s: b.u[1].exp(),
+        chi2_red: b.cost / (tp.len().saturating_sub(2)).max(1) as f64,
+    }
+}
+
+impl Prepared {
+    /// Prepares a dataset: noise per channel, tip profile (`tmmf-release`), guesses.
+    pub fn new(dataset: Dataset) -> Prepared {
+        let scenario = dataset.scenario;
+        let channel = scenario.fitted_channel();
+        let mut noise = BTreeMap::new();
+        let mut noise_source = BTreeMap::new();
+        for (ch, v) in &dataset.channels {
+            if let Some(s) = dataset.noise.get(ch) {
+                noise.insert(ch.clone(), *s);
+                noise_source.insert(ch.clone(), "yaml".to_string());
+            } else {
+                let (s, src) = estimate_noise(&dataset.t, v);
+                noise.insert(ch.clone(), s);
+                noise_source.insert(ch.clone(), src.to_string());
+            }
+        }
+        let sigma = noise[channel];
+        let m_kg = dataset.known.get("m").copied().unwrap_or(0.0);
+        let e0_v = dataset.known.get("E0").copied().unwrap_or(120.0);
+        let profile = (scenario == Scenario::TmmfRelease)
+            .then(|| fit_profile(&dataset.t, dataset.channel("y"), noise["y"]));
+        let inputs = Inputs {
+            m_kg,
+            profile: profile.map_or(
+                TipProfile {
+                    jerk_m_s3: 6000.0,
+                    v_m_s: 3e-3,
+                },
+                |p| TipProfile {
+                    jerk_m_s3: p.jerk_m_s3,
+                    v_m_s: p.v_m_s,
+                },
+            ),
+            e0_v,
+        };
+        // data-driven guesses from the fitted channel
+        let (t, x) = (&dataset.t, dataset.channel(channel));
+        let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(0);
+        let n = t.len();
+        let k = i0 + (n - i0) * 2 / 3;
+        let late = slope(&t[k..], &x[k..]);
+        let (mt, mx) = (
+            t[k..].iter().sum::<f64>() / (n - k) as f64,
+            x[k..].iter().sum::<f64>() / (n - k) as f64,
+        );
+        // the late line crosses zero at t0; a quarter-period spring catapult ends at 2.75 t0
+        let t0 = if late.abs() > 0.0 {
+            mt - mx / late
+        } else {
+            0.0
+        };
+        let catapult_s = if t0 > 0.0 {
+            t0 / (1.0 - 2.0 / std::f64::consts::PI)
+        } else {
+            0.0
+        };
+        let span = x.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - x.iter().cloned().fold(f64::INFINITY, f64::min);
+        let guess = GuessContext {
+            m_kg,
+            late_velocity_m_s: late,
+            catapult_s,
+            span_m: span,
+            duration_s: t[n - 1].max(0.0),
+            e0_v,
+        };
+        Prepared {
+            dataset,
+            channel,
+            sigma,
+            noise,
+            noise_source,
+            inputs,
+            guess,
+            profile,
+        }
+    }
+
+    /// The fitted channel's data [SI].
+    pub fn data(&self) -> &[f64] {
+        self.dataset.channel(self.channel)
+    }
+}
+
+/// User constraints of a fit.
+#[derive(Debug, Clone, Default)]
+pub struct FitOptions {
+    /// Parameters held at a value (`effect.param` -> value, SI).
+    pub fixed: BTreeMap<String, f64>,
+    /// Bounds overriding the physical ones (`effect.param` -> (lower, upper), SI).
+    pub bounds: BTreeMap<String, (f64, f64)>,
+    /// Upper limit on the number of starting points.
+    pub max_starts: Option<usize>,
+}
+
+/// The raw outcome of a fit.
+#[derive(Debug, Clone)]
+pub struct FitOutcome {
+    /// The model.
+    pub model: Model,
+    /// Best parameters [SI].
+    pub p: Vec<f64>,
+    /// Which parameters were free.
+    pub free: Vec<bool>,
+    /// 1-sigma per parameter [SI] (0 for fixed ones).
+    pub sigma_p: Vec<f64>,
+    /// Correlation matrix of the free parameters (in free order).
+    pub corr: DMatrix<f64>,
+    /// Model prediction of the fitted channel.
+    pub pred: Vec<f64>,
+    /// `sum ((model - data)/sigma)^2`.
+    pub chi2: f64,
+    /// Number of samples.
+    pub n: usize,
+    /// Number of free parameters.
+    pub n_free: usize,
+    /// Number of starting points tried.
+    pub starts: usize,
+}
+
+impl FitOutcome {
+    /// Reduced chi-square `chi2/(N - k)`.
+    pub fn chi2_red(&self) -> f64 {
+        self.chi2 / (self.n.saturating_sub(self.n_free)).max(1) as f64
+    }
+    /// Bayesian information criterion `chi2 + k ln N` (Gaussian noise of known sigma).
+    pub fn bic(&self) -> f64 {
+        self.chi2 + self.n_free as f64 * (self.n as f64).ln()
+    }
+}
+
+fn to_u(s: &ParamSpec, p: f64) -> f64 {
+    if s.log {
+        p.max(1e-300).ln()
+    } else {
+        p / s.scale
+    }
+}
+
+fn from_u(s: &ParamSpec, u: f64) -> f64 {
+    if s.log { u.exp() } else { u * s.scale }
+}
+
+/// Every combination of the effects' own starting points (at most `cap`, evenly strided).
+pub fn default_starts(model: &Model, g: &GuessContext, cap: usize) -> Vec<Vec<f64>> {
+    let lists: Vec<Vec<Vec<f64>>> = model.effects.iter().map(|e| e.starts(g)).collect();
+    let total: usize = lists.iter().map(|l| l.len()).product();
+    let cap = cap.clamp(1, total.max(1));
+    let mut out = Vec::with_capacity(cap);
+    for k in 0..cap {
+        // evenly spread over the combinations (not a fixed stride, which would alias with the
+        // mixed-radix counter and skip whole rows of a list)
+        let mut rem = k * total / cap;
+        let mut p = Vec::with_capacity(model.n_params());
+        for l in &lists {
+            p.extend_from_slice(&l[rem % l.len()]);
+            rem /= l.len();
+        }
+        out.push(p);
+    }
+    out
+}
+
+/// Fits `model` to `prep` from the given starting points (full parameter vectors, SI): a short
+/// run from every start, then the best three refined; returns the best.
+pub fn fit_model(
+    prep: &Prepared,
+    model: &Model,
+    opts: &FitOptions,
+    starts: &[Vec<f64>],
+) -> Result<FitOutcome, FitError> {
+    let specs = model.specs();
+    let names = model.param_names();
+    let np = specs.len();
+    for k in opts.fixed.keys().chain(opts.bounds.keys()) {
+        if !names.contains(k) {
+            return Err(FitError::input(
+                &prep.dataset.name,
+                0,
+                format!(
+                    "parameter `{k}` is not in the model (parameters: {})",
+                    names.join(", ")
+                ),
+            ));
+        }
+    }
+    let superseded = model.superseded();
+    let mut free = vec![true; np];
+    for i in superseded {
+        free[i] = false;
+    }
+    let mut base = model.nominal();
+    for (k, v) in &opts.fixed {
+        let i = model.index(k).expect("checked");
+        free[i] = false;
+        base[i] = *v;
+    }
+    let fidx: Vec<usize> = (0..np).filter(|i| free[*i]).collect();
+    let mut lo = Vec::new();
+    let mut hi = Vec::new();
+    for &i in &fidx {
+        let (mut l, mut h) = (specs[i].lower, specs[i].upper);
+        if let Some((bl, bh)) = opts.bounds.get(&names[i]) {
+            l = l.max(*bl);
+            h = h.min(*bh);
+        }
+        let (ul, uh) = if specs[i].log {
+            (l.max(1e-300).ln(), h.ln())
+        } else {
+            (l / specs[i].scale, h / specs[i].scale)
+        };
+        lo.push(ul);
+        hi.push(uh);
+    }
+    let data = prep.data();
+    let t = &prep.dataset.t;
+    let sigma = prep.sigma;
+    let full = |u: &[f64], start: &[f64]| -> Vec<f64> {
+        let mut p = start.to_vec();
+        for (k, &i) in fidx.iter().enumerate() {
+            p[i] = from_u(&specs[i], u[k]);
+        }
+        p
+    };
+    let resid = |u: &[f64], start: &[f64]| -> Vec<f64> {
+        let p = full(u, start);
+        let pred = model.predict(&p, t, &prep.inputs);
+        pred.iter()
+            .zip(data)
+            .map(|(m, d)| (m - d) / sigma)
+            .collect()
+    };
+    let mut starts: Vec<Vec<f64>> = starts.iter().filter(|s| s.len() == np).cloned().collect();
+    if starts.is_empty() {
+        starts.push(base.clone());
+    }
+    if let Some(cap) = opts.max_starts {
+        starts.truncate(cap.max(1));
+    }
+    // fixed values override every start
+    for s in &mut starts {
+        for (k, v) in &opts.fixed {
+            s[model.index(k).expect("checked")] = *v;
+        }
+    }
+    // screen every start by its cost, run a short LM from the best few distinct ones
+    let screened: Vec<(usize, f64)> = starts
+        .par_iter()
+        .enumerate()
+        .map(|(si, s)| {
+            let u0: Vec<f64> = fidx
+                .iter()
+                .map(|&i| to_u(&specs[i], s[i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx)))
+                .collect();
+            let c: f64 = resid(&u0, s).iter().map(|v| v * v).sum();
+            (si, if c.is_finite() { c } else { f64::INFINITY })
+        })
+        .collect();
+    let mut sorted = screened;
+    sorted.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    // keep the best start for each distinct starting value of the first effect's parameters
+    // (the base of the model, whose basins differ most), best first, so that one basin cannot
+    // fill every slot
+    let first_len = model.range(0).len();
+    let mut order: Vec<(usize, f64)> = Vec::new();
+    for &(si, c) in &sorted {
+        if order.len() >= SCREEN_KEEP {
+            break;
+        }
+        let key = &starts[si][..first_len];
+        if !order.iter().any(|&(sj, _)| &starts[sj][..first_len] == key) {
+            order.push((si, c));
+        }
+    }
+    // then fill up with the next best overall
+    for &(si, c) in &sorted {
+        if order.len() >= SCREEN_KEEP {
+            break;
+        }
+        if !order.iter().any(|&(sj, _)| sj == si) {
+            order.push((si, c));
+        }
+    }
+    let short = LmOptions {
+        max_iter: SHORT_ITER,
+        ..LmOptions::default()
+    };
+    let mut first: Vec<(usize, f64, Vec<f64>)> = order
+        .par_iter()
+        .map(|&(si, _)| {
+            let s = &starts[si];
+            let u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], s[i])).collect();
+            let r = minimize(&|u: &[f64]| resid(u, s), &u0, &lo, &hi, &short);
+            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+                eprintln!("short {si}: {} iterations", r.iterations);
+            }
+            (si, r.cost, r.u)
+        })
+        .collect();
+    first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+        for (si, c, u) in &first {
+            let p = full(u, &starts[*si]);
+            eprintln!("start {si} {:?} -> cost {c:.2} at {:?}", &starts[*si], p);
+        }
+    }
+    first.truncate(3);
+    let long = LmOptions {
+        max_iter: LONG_ITER,
+        ftol: 1e-9,
+        ..LmOptions::default()
+    };
+    let refined: Vec<(usize, f64, Vec<f64>)> = first
+        .par_iter()
+        .map(|(si, _, u)| {
+            let r = minimize(&|v: &[f64]| resid(v, &starts[*si]), u, &lo, &hi, &long);
+            (*si, r.cost, r.u)
+        })
+        .collect();
+    let (si, chi2, u) = refined
+        .into_iter()
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+        .expect("at least one start");
+    let start = &starts[si];
+    let p = full(&u, start);
+    let pred = model.predict(&p, t, &prep.inputs);
+    let n = data.len();
+    let n_free = fidx.len();
+    let r0 = resid(&u, start);
+    let j = jacobian(
+        &|v: &[f64]| resid(v, start),
+        &u,
+        &r0,
+        &lo,
+        &hi,
+        LmOptions::default().fd_step,
+    );
+    let a = j.transpose() * &j;
+    let cov = invert_spd(&a);
+    let chi2_red = chi2 / (n.saturating_sub(n_free)).max(1) as f64;
+    let inflate = chi2_red.max(1.0);
+    let mut sigma_p = vec![0.0; np];
+    let mut corr = DMatrix::zeros(n_free, n_free);
+    for (k, &i) in fidx.iter().enumerate() {
+        let su = (cov[(k, k)].max(0.0) * inflate).sqrt();
+        sigma_p[i] = if specs[i].log {
+            p[i] * su
+        } else {
+            specs[i].scale * su
+        };
+        for l in 0..n_free {
+            let d = (cov[(k, k)] * cov[(l, l)]).sqrt();
+            corr[(k, l)] = if d > 0.0 { cov[(k, l)] / d } else { 0.0 };
+        }
+    }
+    Ok(FitOutcome {
+        model: model.clone(),
+        p,
+        free,
+        sigma_p,
+        corr,
+        pred,
+        chi2,
+        n,
+        n_free,
+        starts: starts.len(),
+    })
+}
+
+/// Iterations of the short runs from the screened starts.
+const SHORT_ITER: usize = 40;
+/// Iterations of the refinement of the best three.
+const LONG_ITER: usize = 200;
+
+/// Number of screened starts that get a short Levenberg-Marquardt run.
+const SCREEN_KEEP: usize = 10;
+
+fn lo_of(lo: &[f64], i: usize, fidx: &[usize]) -> f64 {
+    fidx.iter()
+        .position(|&f| f == i)
+        .map_or(f64::NEG_INFINITY, |k| lo[k])
+}
+
+fn hi_of(hi: &[f64], i: usize, fidx: &[usize]) -> f64 {
+    fidx.iter()
+        .position(|&f| f == i)
+        .map_or(f64::INFINITY, |k| hi[k])
+}
+
+/// Inverse of a symmetric positive semi-definite matrix; a singular direction gets an infinite
+/// variance rather than the pseudo-inverse's optimistic zero.
+fn invert_spd(a: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = a.nrows();
+    if n == 0 {
+        return DMatrix::zeros(0, 0);
+    }
+    // scale to unit diagonal for conditioning
+    let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
+    let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
+    let eig = s.clone().symmetric_eigen();
+    let max = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
+    let mut inv = DMatrix::zeros(n, n);
+    for k in 0..n {
+        let lam = eig.eigenvalues[k];
+        let li = if lam > max * 1e-15 && lam > 0.0 {
+            1.0 / lam
+        } else {
+            1e30
+        };
+        let v = eig.eigenvectors.column(k);
+        inv += v * v.transpose() * li;
+    }
+    DMatrix::from_fn(n, n, |i, j| inv[(i, j)] / (d[i] * d[j]))
+}
+
+/// One fitted parameter in the JSON report.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ParamOut {
+    /// Value [SI].
+    pub value: f64,
+    /// 1-sigma [SI] (0 when fixed).
+    pub sigma: f64,
+    /// SI unit.
+    pub unit: String,
+    /// Held fixed (by the user, or superseded by another effect).
+    pub fixed: bool,
+}
+
+/// A strongly correlated pair of parameters.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Correlation {
+    /// First parameter.
+    pub a: String,
+    /// Second parameter.
+    pub b: String,
+    /// Correlation coefficient.
+    pub rho: f64,
+}
+
+/// The fit object of interface.md (`geodesic fit --json`), extended.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct FitReport {
+    /// Dataset YAML file name.
+    pub dataset: String,
+    /// Scenario.
+    pub scenario: String,
+    /// Effects of the model.
+    pub effects: Vec<String>,
+    /// RMS of the residual per fitted channel [SI].
+    pub rms: BTreeMap<String, f64>,
+    /// 1-sigma noise per channel [SI].
+    pub noise: BTreeMap<String, f64>,
+    /// Where the noise figures came from.
+    pub noise_source: BTreeMap<String, String>,
+    /// Chi-square.
+    pub chi2: f64,
+    /// Reduced chi-square.
+    pub chi2_red: f64,
+    /// Samples in the fit.
+    pub n_samples: usize,
+    /// Free parameters.
+    pub n_free: usize,
+    /// `chi2 + k ln N`.
+    pub bic: f64,
+    /// Whether the residual passes the whiteness test.
+    pub residual_white: bool,
+    /// The whiteness test.
+    pub whiteness: Whiteness,
+    /// Parameters with 1-sigma.
+    pub params: BTreeMap<String, ParamOut>,
+    /// Pairs of free parameters with |correlation| > 0.9.
+    pub correlated: Vec<Correlation>,
+    /// Windows where the residual leaves the noise band.
+    pub failures: Vec<Failure>,
+    /// Tip profile fitted to `y` and driving the model (`tmmf-release`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tip_profile: Option<ProfileFit>,
+    /// Starting points tried.
+    pub starts: usize,
+    /// SVG of data, model and residual, when written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub svg: Option<String>,
+}
+
+impl FitReport {
+    /// Builds the report of a fit outcome.
+    pub fn new(prep: &Prepared, o: &FitOutcome) -> FitReport {
+        let data = prep.data();
+        let resid: Vec<f64> = data.iter().zip(&o.pred).map(|(d, m)| d - m).collect();
+        let rms = (resid.iter().map(|r| r * r).sum::<f64>() / resid.len() as f64).sqrt();
+        let norm: Vec<f64> = resid.iter().map(|r| r / prep.sigma).collect();
+        let whiteness = ljung_box(&norm);
+        let names = o.model.param_names();
+        let specs = o.model.specs();
+        let mut params = BTreeMap::new();
+        for (i, n) in names.iter().enumerate() {
+            params.insert(
+                n.clone(),
+                ParamOut {
+                    value: o.p[i],
+                    sigma: o.sigma_p[i],
+                    unit: specs[i].unit.to_string(),
+                    fixed: !o.free[i],
+                },
+            );
+        }
+        let fidx: Vec<usize> = (0..names.len()).filter(|i| o.free[*i]).collect();
+        let mut correlated = Vec::new();
+        for a in 0..fidx.len() {
+            for b in a + 1..fidx.len() {
+                let rho = o.corr[(a, b)];
+                if rho.abs() > 0.9 {
+                    correlated.push(Correlation {
+                        a: names[fidx[a]].clone(),
+                        b: names[fidx[b]].clone(),
+                        rho,
+                    });
+                }
+            }
+        }
+        FitReport {
+            dataset: prep.dataset.name.clone(),
+            scenario: prep.dataset.scenario.name().to_string(),
+            effects: o
+                .model
+                .effect_names()
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
+            rms: BTreeMap::from([(prep.channel.to_string(), rms)]),
+            noise: prep.noise.clone(),
+            noise_source: prep.noise_source.clone(),
+            chi2: o.chi2,
+            chi2_red: o.chi2_red(),
+            n_samples: o.n,
+            n_free: o.n_free,
+            bic: o.bic(),
+            residual_white: whiteness.white,
+            whiteness,
+            params,
+            correlated,
+            failures: failures(prep.channel, &prep.dataset.t, &resid, prep.sigma),
+            tip_profile: prep.profile,
+            starts: o.starts,
+            svg: None,
+        }
+    }
+}
+
+/// Builds the model of `effects` for the dataset's scenario.
+pub fn model_for(prep: &Prepared, effects: &[&str]) -> Result<Model, FitError> {
+    Model::new(prep.dataset.scenario, effects)
+        .map_err(|e| FitError::input(&prep.dataset.name, 0, e.to_string()))
+}
+
+/// Largest number of starting points screened by default.
+pub const MAX_STARTS: usize = 512;
+
+/// Fits `effects` to the prepared dataset from data-driven starts (at most [`MAX_STARTS`]).
+pub fn fit(prep: &Prepared, effects: &[&str], opts: &FitOptions) -> Result<FitOutcome, FitError> {
+    let model = model_for(prep, effects)?;
+    let starts = default_starts(&model, &prep.guess, opts.max_starts.unwrap_or(MAX_STARTS));
+    fit_model(prep, &model, opts, &starts)
+}
+
+/// The effect names of a scenario, for messages.
+pub fn scenario_effects(s: Scenario) -> Vec<&'static str> {
+    of_scenario(s).iter().map(|e| e.name()).collect()
+}

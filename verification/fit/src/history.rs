@@ -1,0 +1,106 @@
+//! Fit history per dataset: every fit appends one JSON line (`<stem>.history.jsonl` under the
+//! output directory), so the error can be watched falling as the model grows.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::FitError;
+use crate::fit::FitReport;
+
+/// One fit of a dataset.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Entry {
+    /// 1-based version number (order of the fits).
+    pub version: usize,
+    /// Dataset YAML file name.
+    pub dataset: String,
+    /// The model's effects.
+    pub effects: Vec<String>,
+    /// Free parameters.
+    pub n_free: usize,
+    /// Total RMS over the fitted channels [SI].
+    pub rms: f64,
+    /// Reduced chi-square.
+    pub chi2_red: f64,
+    /// BIC.
+    pub bic: f64,
+}
+
+/// Path of the history file of a dataset stem.
+pub fn path_for(out_dir: &Path, stem: &str) -> PathBuf {
+    out_dir.join(format!("{stem}.history.jsonl"))
+}
+
+/// Reads a history (empty when the file does not exist).
+pub fn read(path: &Path) -> Result<Vec<Entry>, FitError> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(Vec::new());
+    };
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| {
+            serde_json::from_str(l).map_err(|e| {
+                FitError::input(
+                    path.display().to_string(),
+                    i + 1,
+                    format!("bad history line: {e}"),
+                )
+            })
+        })
+        .collect()
+}
+
+/// Appends the fit to the history of its dataset; returns the entry.
+pub fn append(out_dir: &Path, stem: &str, r: &FitReport) -> Result<Entry, FitError> {
+    let path = path_for(out_dir, stem);
+    let prev = read(&path)?;
+    let vals: Vec<f64> = r.rms.values().copied().collect();
+    let rms = (vals.iter().map(|v| v * v).sum::<f64>() / vals.len().max(1) as f64).sqrt();
+    let e = Entry {
+        version: prev.len() + 1,
+        dataset: r.dataset.clone(),
+        effects: r.effects.clone(),
+        n_free: r.n_free,
+        rms,
+        chi2_red: r.chi2_red,
+        bic: r.bic,
+    };
+    let werr = |x: std::io::Error| FitError::Write {
+        path: path.display().to_string(),
+        cause: x.to_string(),
+    };
+    std::fs::create_dir_all(out_dir).map_err(werr)?;
+    let line =
+        serde_json::to_string(&e).map_err(|x| FitError::input("history", 0, x.to_string()))? + "\n";
+    // one write of one line in append mode: a line is added whole
+    let mut f = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&path)
+        .map_err(werr)?;
+    f.write_all(line.as_bytes()).map_err(werr)?;
+    Ok(e)
+}
+
+/// Plain-text table of a history.
+pub fn table(entries: &[Entry]) -> String {
+    let mut s = format!(
+        "{:>3}  {:>12}  {:>10}  {:>12}  {:>3}  effects\n",
+        "ver", "rms", "chi2_red", "bic", "k"
+    );
+    for e in entries {
+        s += &format!(
+            "{:>3}  {:>12.4e}  {:>10.4}  {:>12.1}  {:>3}  {}\n",
+            e.version,
+            e.rms,
+            e.chi2_red,
+            e.bic,
+            e.n_free,
+            e.effects.join(",")
+        );
+    }
+    s
+}

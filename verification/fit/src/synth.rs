@@ -1,0 +1,204 @@
+//! `synth`: synthetic datasets from a truth model built from the same effect code as the fit,
+//! with seeded white noise. Used by the tests that hide each effect in turn.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use geodesic_facility::model::Inputs;
+use geodesic_facility::{Model, Scenario, TipProfile};
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+use serde::{Deserialize, Serialize};
+
+use crate::dataset::Dataset;
+use crate::error::{FitError, write_atomic};
+
+/// What to synthesise.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SynthSpec {
+    /// Scenario.
+    pub scenario: String,
+    /// Truth effects.
+    pub effects: Vec<String>,
+    /// Parameter values overriding the nominal ones (`effect.param` -> SI).
+    pub params: BTreeMap<String, f64>,
+    /// Known constants (`m` [kg] for tmmf-release, `E0` [V] for rt-retraction).
+    pub known: BTreeMap<String, f64>,
+    /// 1-sigma white noise per channel [SI].
+    pub noise: BTreeMap<String, f64>,
+    /// Write the noise figures into the YAML.
+    pub noise_in_yaml: bool,
+    /// Sampling frequency [Hz].
+    pub fs_hz: f64,
+    /// Record before the trigger [s].
+    pub pre_s: f64,
+    /// Record after the trigger [s].
+    pub post_s: f64,
+    /// Tip profile (`tmmf-release`).
+    pub profile: TipProfile,
+    /// Noise seed.
+    pub seed: u64,
+}
+
+impl SynthSpec {
+    /// Defaults of a scenario: the public examples' sampling and noise, nominal parameters.
+    pub fn defaults(scenario: Scenario, effects: &[&str]) -> SynthSpec {
+        let (known, noise, fs, pre, post) = match scenario {
+            Scenario::TmmfRelease => (
+                BTreeMap::from([("m".to_string(), 0.089)]),
+                BTreeMap::from([("x".to_string(), 8e-10), ("y".to_string(), 3e-9)]),
+                2e5,
+                1e-3,
+                8e-3,
+            ),
+            Scenario::RtRetraction => (
+                BTreeMap::from([("E0".to_string(), 120.0)]),
+                BTreeMap::from([("y".to_string(), 1e-9)]),
+                1e6,
+                2e-5,
+                1e-3,
+            ),
+        };
+        SynthSpec {
+            scenario: scenario.name().to_string(),
+            effects: effects.iter().map(|s| s.to_string()).collect(),
+            params: BTreeMap::new(),
+            known,
+            noise,
+            noise_in_yaml: true,
+            fs_hz: fs,
+            pre_s: pre,
+            post_s: post,
+            profile: TipProfile {
+                jerk_m_s3: 6000.0,
+                v_m_s: 3e-3,
+            },
+            seed: 1,
+        }
+    }
+}
+
+/// The truth parameter vector of a spec: nominal values overridden by `spec.params`.
+pub fn truth_params(model: &Model, spec: &SynthSpec) -> Result<Vec<f64>, FitError> {
+    let mut p = model.nominal();
+    for (k, v) in &spec.params {
+        let i = model.index(k).ok_or_else(|| {
+            FitError::input(
+                "synth",
+                0,
+                format!("parameter `{k}` is not in the truth model"),
+            )
+        })?;
+        p[i] = *v;
+    }
+    Ok(p)
+}
+
+/// Generates the dataset in memory (its `yaml_path` is `name`).
+pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
+    let scenario = Scenario::from_name(&spec.scenario).ok_or_else(|| {
+        FitError::input("synth", 0, format!("unknown scenario `{}`", spec.scenario))
+    })?;
+    let effects: Vec<&str> = spec.effects.iter().map(String::as_str).collect();
+    let model =
+        Model::new(scenario, &effects).map_err(|e| FitError::input("synth", 0, e.to_string()))?;
+    let p = truth_params(&model, spec)?;
+    if !(spec.fs_hz > 0.0 && spec.pre_s >= 0.0 && spec.post_s > 0.0) {
+        return Err(FitError::input("synth", 0, "sampling must be positive"));
+    }
+    let n_pre = (spec.pre_s * spec.fs_hz).round() as i64;
+    let n_post = (spec.post_s * spec.fs_hz).round() as i64;
+    let t: Vec<f64> = (-n_pre..=n_post).map(|i| i as f64 / spec.fs_hz).collect();
+    let inputs = Inputs {
+        m_kg: spec.known.get("m").copied().unwrap_or(0.089),
+        profile: spec.profile,
+        e0_v: spec.known.get("E0").copied().unwrap_or(120.0),
+    };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
+    let unit = Normal::new(0.0, 1.0).expect("unit normal");
+    let mut channels = BTreeMap::new();
+    let truth = model.predict(&p, &t, &inputs);
+    let fitted = scenario.fitted_channel();
+    let mut add = |ch: &str, clean: Vec<f64>| {
+        let s = spec.noise.get(ch).copied().unwrap_or(0.0);
+        channels.insert(
+            ch.to_string(),
+            clean
+                .into_iter()
+                .map(|v| v + s * unit.sample(&mut rng))
+                .collect::<Vec<f64>>(),
+        );
+    };
+    add(fitted, truth);
+    if scenario == Scenario::TmmfRelease {
+        add("y", t.iter().map(|&ti| spec.profile.y(ti)).collect());
+    }
+    let units = channels
+        .keys()
+        .map(|c| (c.clone(), "m".to_string()))
+        .collect();
+    let noise = if spec.noise_in_yaml {
+        spec.noise.clone()
+    } else {
+        BTreeMap::new()
+    };
+    Ok(Dataset {
+        yaml_path: PathBuf::from(name),
+        name: name.to_string(),
+        scenario,
+        description: format!("synthetic: {} (seed {})", spec.effects.join(","), spec.seed),
+        t,
+        channels,
+        units,
+        known: spec.known.clone(),
+        noise,
+    })
+}
+
+/// Writes `ds` as `yaml_path` + CSV beside it (+ `.truth.json` with the spec), each atomically.
+pub fn write(ds: &Dataset, spec: &SynthSpec, yaml_path: &Path) -> Result<Vec<PathBuf>, FitError> {
+    let stem = yaml_path
+        .file_stem()
+        .map_or("synth".into(), |s| s.to_string_lossy().to_string());
+    let dir = yaml_path.parent().unwrap_or(Path::new(""));
+    let csv_name = format!("{stem}.csv");
+    let chans: Vec<&String> = ds.channels.keys().collect();
+    let mut csv = String::from("t");
+    for c in &chans {
+        csv += &format!(",{c}");
+    }
+    csv.push('\n');
+    for (i, t) in ds.t.iter().enumerate() {
+        csv += &format!("{t:.9e}");
+        for c in &chans {
+            csv += &format!(",{:.9e}", ds.channels[*c][i]);
+        }
+        csv.push('\n');
+    }
+    let mut y = format!(
+        "scenario: {}\ndescription: {}\ndata: {csv_name}\ntime_column: t\nchannels:\n",
+        ds.scenario.name(),
+        ds.description
+    );
+    for c in &chans {
+        y += &format!("  {c}: {}\n", ds.units[*c]);
+    }
+    y += "known:\n";
+    for (k, v) in &ds.known {
+        y += &format!("  {k}: {v:e}\n");
+    }
+    if !ds.noise.is_empty() {
+        y += "noise:\n";
+        for (k, v) in &ds.noise {
+            y += &format!("  {k}: {v:e}\n");
+        }
+    }
+    let csv_path = dir.join(&csv_name);
+    let truth_path = dir.join(format!("{stem}.truth.json"));
+    write_atomic(&csv_path, csv.as_bytes())?;
+    write_atomic(yaml_path, y.as_bytes())?;
+    let truth = serde_json::to_string_pretty(spec)
+        .map_err(|e| FitError::input("synth", 0, e.to_string()))?;
+    write_atomic(&truth_path, truth.as_bytes())?;
+    Ok(vec![yaml_path.to_path_buf(), csv_path, truth_path])
+}
