@@ -6,11 +6,15 @@ use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
 /// `x_n0 = F_pre/k_nd`, so the needles push with `F_pre` before release (catapult effect,
 /// `I = F_pre*sqrt(m/k_nd)`, `dt = (pi/2)*sqrt(m/k_nd)`, thesis ch. 5 table of catapult
 /// contributions). With `needle_mass` present it contributes only `F_pre`.
+///
+/// Bounds: `k_nd` in [3e5, 1e8] N/m. The thesis gives 5e5-8e5 N/m (stiff blades) and 1.12e6 N/m
+/// (high-load campaign); ASSUMPTION: the lower bound keeps out the soft-needle fits that mimic
+/// adhesion from `x` alone (examples README pitfall). Override with `--bound`.
 #[derive(Debug, Clone, Copy)]
 pub struct NeedleContact;
 
 static PARAMS: [ParamSpec; 2] = [
-    ParamSpec::log("k_nd", "N/m", 6.5e5, 1e4, 1e9),
+    ParamSpec::log("k_nd", "N/m", 6.5e5, 3e5, 1e8),
     ParamSpec::log("F_pre", "N", 7e-3, 1e-5, 5.0),
 ];
 
@@ -41,7 +45,7 @@ impl Effect for NeedleContact {
     /// (stiff blades to high load), plus the stiffness from the catapult duration
     /// `dt = (pi/2) sqrt(m/k_nd)` measured on the data.
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
-        let mut ks = vec![1e5, 3e5, 1e6, 3e6];
+        let mut ks = vec![3e5, 6.5e5, 1.5e6, 4e6];
         if g.catapult_s > 0.0 && g.m_kg > 0.0 {
             let k = g.m_kg * (std::f64::consts::FRAC_PI_2 / g.catapult_s).powi(2);
             ks.push(k.clamp(PARAMS[0].lower, PARAMS[0].upper));

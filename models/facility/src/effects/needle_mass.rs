@@ -16,8 +16,8 @@ pub struct NeedleMass;
 
 static PARAMS: [ParamSpec; 5] = [
     ParamSpec::log("m_nd", "kg", 1.74, 1e-4, 100.0),
-    ParamSpec::log("k_nd", "N/m", 1.12e6, 1e3, 1e9),
-    ParamSpec::log("k_tm", "N/m", 2.03e6, 1e4, 1e9),
+    ParamSpec::log("k_nd", "N/m", 1.12e6, 1e5, 1e9),
+    ParamSpec::log("k_tm", "N/m", 2.03e6, 3e5, 1e9),
     ParamSpec::log("c_nd", "N s/m", 1.0, 1e-4, 1e5),
     ParamSpec::log("c_tm", "N s/m", 1.0, 1e-4, 1e5),
 ];

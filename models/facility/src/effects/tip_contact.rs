@@ -4,10 +4,14 @@ use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
 
 /// Linear compressive contact `F = k_c*e` for `e <= 0`, 0 for `e > 0`, with
 /// `e = (y - x) - F_pre/k_c`, so `F = -F_pre` before release (physics.md section 4).
+///
+/// Bounds: `k_c` in [2e5, 1e8] N/m. ASSUMPTION: the Hertz stiffness `2*Es*a` of the 10 mm tip
+/// (physics.md section 2, Es = 59 GPa) is 7e5 N/m at 2 mN preload and 4e6 N/m at 300 mN; the
+/// bounds leave a factor 3 below and 25 above. Override with `--bound`.
 #[derive(Debug, Clone, Copy)]
 pub struct TipContact;
 
-static PARAMS: [ParamSpec; 1] = [ParamSpec::log("k_c", "N/m", 1e6, 1e4, 1e9)];
+static PARAMS: [ParamSpec; 1] = [ParamSpec::log("k_c", "N/m", 1e6, 2e5, 1e8)];
 
 impl Effect for TipContact {
     fn name(&self) -> &'static str {
@@ -29,7 +33,7 @@ impl Effect for TipContact {
         if s.e_tip <= 0.0 { p[0] * s.e_tip } else { 0.0 }
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
-        vec![vec![3e5], vec![1e6], vec![3e6]]
+        vec![vec![4e5], vec![1e6], vec![3e6]]
     }
 }
 
