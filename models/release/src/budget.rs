@@ -75,6 +75,9 @@ pub enum Dist {
         /// Upper truncation bound.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         max: Option<f64>,
+        /// Truncation at `mean +- clip_sd * sd` (intersected with `min`/`max`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        clip_sd: Option<f64>,
     },
 }
 
@@ -95,10 +98,20 @@ impl Dist {
         match *self {
             Dist::Fixed(v) => (v, v),
             Dist::Uniform { min, max } => (min, max),
-            Dist::Normal { min, max, .. } => (
-                min.unwrap_or(f64::NEG_INFINITY),
-                max.unwrap_or(f64::INFINITY),
-            ),
+            Dist::Normal {
+                mean,
+                min,
+                max,
+                clip_sd,
+                ..
+            } => {
+                let (mut lo, mut hi) = (min.unwrap_or(f64::NEG_INFINITY), max.unwrap_or(f64::INFINITY));
+                if let Some(c) = clip_sd {
+                    lo = lo.max(mean - c * self.sd());
+                    hi = hi.min(mean + c * self.sd());
+                }
+                (lo, hi)
+            }
         }
     }
 
@@ -120,8 +133,8 @@ impl Dist {
                 mean,
                 sd,
                 rel_sd,
-                min,
-                max,
+                clip_sd,
+                ..
             } => {
                 if !mean.is_finite() {
                     return Err(format!("mean {mean} is not finite"));
@@ -135,10 +148,10 @@ impl Dist {
                 if !s.is_finite() || s < 0.0 {
                     return Err(format!("standard deviation {s} must be finite and >= 0"));
                 }
-                let (lo, hi) = (
-                    min.unwrap_or(f64::NEG_INFINITY),
-                    max.unwrap_or(f64::INFINITY),
-                );
+                if clip_sd.is_some_and(|c| c.is_nan() || c <= 0.0) {
+                    return Err("clip_sd must be > 0".into());
+                }
+                let (lo, hi) = self.bounds();
                 if lo.is_nan() || hi.is_nan() || lo >= hi {
                     return Err(format!("truncation window [{lo}, {hi}] is empty"));
                 }
@@ -211,9 +224,9 @@ impl fmt::Display for Dist {
         match *self {
             Dist::Fixed(v) => write!(f, "{v:e}"),
             Dist::Uniform { min, max } => write!(f, "U({min:e}, {max:e})"),
-            Dist::Normal { mean, min, max, .. } => {
+            Dist::Normal { mean, min, max, clip_sd, .. } => {
                 write!(f, "N({mean:e}, {:e})", self.sd())?;
-                if min.is_some() || max.is_some() {
+                if min.is_some() || max.is_some() || clip_sd.is_some() {
                     let (lo, hi) = self.bounds();
                     write!(f, " in [{lo:e}, {hi:e}]")?;
                 }
@@ -448,12 +461,24 @@ mod tests {
             rel_sd: None,
             min: Some(0.0),
             max: None,
+            clip_sd: None,
         };
         assert!((d.mean() - (2.0 / std::f64::consts::PI).sqrt()).abs() < 1e-6);
         let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(3);
         let n = 200_000;
         let m: f64 = (0..n).map(|_| d.sample(&mut r)).sum::<f64>() / n as f64;
         assert!((m - d.mean()).abs() < 0.01, "{m}");
+    }
+
+    #[test]
+    fn clip_sd_truncates_symmetrically() {
+        let d = Dist::Normal { mean: 10.0, sd: None, rel_sd: Some(0.1), min: Some(0.0), max: None, clip_sd: Some(3.0) };
+        assert_eq!(d.bounds(), (7.0, 13.0));
+        assert!((d.mean() - 10.0).abs() < 1e-9);
+        let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        assert!((0..100_000).map(|_| d.sample(&mut r)).all(|v| (7.0..=13.0).contains(&v)));
+        let bad = Dist::Normal { mean: 10.0, sd: None, rel_sd: Some(0.1), min: None, max: None, clip_sd: Some(0.0) };
+        assert!(bad.validate().is_err());
     }
 
     #[test]

@@ -151,8 +151,8 @@ impl DormandPrince {
     /// The fast Monte Carlo setting (checked against [`DormandPrince::reference`] in the tests).
     pub fn fast() -> Self {
         Self {
-            rtol: 1e-5,
-            atol: 1e-5,
+            rtol: 3e-5,
+            atol: 3e-5,
             h0: 1e-8,
             h_max: 2e-5,
             locate_events: true,
@@ -193,7 +193,7 @@ impl DormandPrince {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn axpy<const N: usize>(out: &mut [f64; N], y: &[f64; N], h: f64, terms: &[(f64, &[f64; N])]) {
     for i in 0..N {
         let mut acc = 0.0;
@@ -203,6 +203,21 @@ fn axpy<const N: usize>(out: &mut [f64; N], y: &[f64; N], h: f64, terms: &[(f64,
         out[i] = y[i] + h * acc;
     }
 }
+
+/// `x^p` for the step-size controller, in single precision (the factor is clamped and
+/// safety-scaled; full precision buys nothing and `pow` was 8 % of the Monte Carlo time).
+#[inline(always)]
+fn powf32(x: f64, p: f32) -> f64 {
+    f64::from((x as f32).powf(p))
+}
+
+// Step-size control: the PI controller of Hairer's DOPRI5 (beta = 0.04), which rejects fewer
+// steps than the plain err^(-1/5) rule on this ringing problem.
+const SAFE: f64 = 0.9;
+const BETA: f32 = 0.04;
+const EXPO1: f32 = 0.2 - 0.75 * BETA;
+const FAC_MIN: f64 = 0.2;
+const FAC_MAX: f64 = 10.0;
 
 /// Cubic Hermite interpolation of a scalar over a step: values `g0`, `g1`, derivatives times
 /// the step `d0`, `d1`, at fraction `th`.
@@ -281,6 +296,7 @@ impl Integrator for DormandPrince {
         let mut h = self.h0;
         // event index whose crossing the current step was shortened to land on
         let mut landing: Option<usize> = None;
+        let mut err_old = 1e-4f64;
         let min_h = 1e-18;
         while t < t_max {
             while next_bp < bps.len() && bps[next_bp] <= t * (1.0 + 1e-14) {
@@ -337,7 +353,7 @@ impl Integrator for DormandPrince {
             }
             if err > 1.0 {
                 stats.rejected += 1;
-                h *= (0.9 * err.powf(-0.2)).max(0.2);
+                h /= (powf32(err, EXPO1) / SAFE).min(1.0 / FAC_MIN);
                 landing = None;
                 continue;
             }
@@ -383,12 +399,10 @@ impl Integrator for DormandPrince {
             if sys.stop(t, &y, &k1) {
                 return Ok(Solution { t, y, stats });
             }
-            let fac = if err == 0.0 {
-                5.0
-            } else {
-                (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
-            };
-            h = (h * fac).min(self.h_max);
+            // h_new = h / fac, fac = err^expo1 / err_old^beta / safe within [1/FAC_MAX, 1/FAC_MIN]
+            let fac = (powf32(err, EXPO1) / powf32(err_old, BETA) / SAFE).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+            err_old = err.max(1e-4);
+            h = (h / fac).min(self.h_max);
         }
         Err(IntegrateError::NoStop {
             t_max_s: t_max,

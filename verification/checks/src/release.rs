@@ -75,7 +75,7 @@ pub fn mc_inputs(r: &McResult) -> BTreeMap<String, Value> {
     m.insert("budget_hash".into(), json!(r.budget_hash));
     m.insert(
         "integrator".into(),
-        json!("dopri5 rtol 1e-5 with e = 0 event location"),
+        json!("dopri5 rtol 3e-5 with e = 0 event location"),
     );
     m.insert("fallback_stops".into(), json!(r.fallback_stops));
     m
