@@ -105,7 +105,10 @@ impl Dist {
                 clip_sd,
                 ..
             } => {
-                let (mut lo, mut hi) = (min.unwrap_or(f64::NEG_INFINITY), max.unwrap_or(f64::INFINITY));
+                let (mut lo, mut hi) = (
+                    min.unwrap_or(f64::NEG_INFINITY),
+                    max.unwrap_or(f64::INFINITY),
+                );
                 if let Some(c) = clip_sd {
                     lo = lo.max(mean - c * self.sd());
                     hi = hi.min(mean + c * self.sd());
@@ -224,7 +227,13 @@ impl fmt::Display for Dist {
         match *self {
             Dist::Fixed(v) => write!(f, "{v:e}"),
             Dist::Uniform { min, max } => write!(f, "U({min:e}, {max:e})"),
-            Dist::Normal { mean, min, max, clip_sd, .. } => {
+            Dist::Normal {
+                mean,
+                min,
+                max,
+                clip_sd,
+                ..
+            } => {
                 write!(f, "N({mean:e}, {:e})", self.sd())?;
                 if min.is_some() || max.is_some() || clip_sd.is_some() {
                     let (lo, hi) = self.bounds();
@@ -472,12 +481,30 @@ mod tests {
 
     #[test]
     fn clip_sd_truncates_symmetrically() {
-        let d = Dist::Normal { mean: 10.0, sd: None, rel_sd: Some(0.1), min: Some(0.0), max: None, clip_sd: Some(3.0) };
+        let d = Dist::Normal {
+            mean: 10.0,
+            sd: None,
+            rel_sd: Some(0.1),
+            min: Some(0.0),
+            max: None,
+            clip_sd: Some(3.0),
+        };
         assert_eq!(d.bounds(), (7.0, 13.0));
         assert!((d.mean() - 10.0).abs() < 1e-9);
         let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(1);
-        assert!((0..100_000).map(|_| d.sample(&mut r)).all(|v| (7.0..=13.0).contains(&v)));
-        let bad = Dist::Normal { mean: 10.0, sd: None, rel_sd: Some(0.1), min: None, max: None, clip_sd: Some(0.0) };
+        assert!(
+            (0..100_000)
+                .map(|_| d.sample(&mut r))
+                .all(|v| (7.0..=13.0).contains(&v))
+        );
+        let bad = Dist::Normal {
+            mean: 10.0,
+            sd: None,
+            rel_sd: Some(0.1),
+            min: None,
+            max: None,
+            clip_sd: Some(0.0),
+        };
         assert!(bad.validate().is_err());
     }
 

@@ -400,7 +400,8 @@ impl Integrator for DormandPrince {
                 return Ok(Solution { t, y, stats });
             }
             // h_new = h / fac, fac = err^expo1 / err_old^beta / safe within [1/FAC_MAX, 1/FAC_MIN]
-            let fac = (powf32(err, EXPO1) / powf32(err_old, BETA) / SAFE).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+            let fac = (powf32(err, EXPO1) / powf32(err_old, BETA) / SAFE)
+                .clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
             err_old = err.max(1e-4);
             h = (h / fac).min(self.h_max);
         }

@@ -285,6 +285,9 @@ impl McResult {
     }
 }
 
+/// Values, fallback stops and right-hand side evaluations of one chunk of draws.
+type ChunkResult = (Vec<f64>, u64, u64);
+
 /// Draws per parallel work item (also the progress granularity).
 const CHUNK: usize = 256;
 
@@ -312,7 +315,7 @@ pub fn run(
         .step_by(CHUNK)
         .map(|s| s..(s + CHUNK).min(range.end))
         .collect();
-    let parts: Vec<Result<(Vec<f64>, u64, u64), McError>> = chunks
+    let parts: Vec<Result<ChunkResult, McError>> = chunks
         .into_par_iter()
         .map(|c| {
             let mut v = Vec::with_capacity(c.len());

@@ -64,7 +64,7 @@ fn print_figures() {
     let b = Budget::default_budget();
     eprintln!(
         "v_RT spread {:?}",
-        v_rt_spread(&b.mechanism, VoltageCommand::nominal(), 400, 1)
+        v_rt_spread(&b.mechanism, VoltageCommand::nominal(), 1000, 1)
     );
     eprintln!("{:#?}", simulate_tmmf_statistics(&b.adhesion, 200_000, 1));
 }
