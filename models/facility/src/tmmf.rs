@@ -8,8 +8,15 @@
 use crate::effects::{EffectKind, TmState};
 use crate::model::{Inputs, Model};
 
-/// Largest RK4 step [s].
+/// RK4 step for the lightest TM mock-up (0.0096 kg) [s]; the step grows as `sqrt(m)` (the
+/// contact periods do), between 0.5 and 5 us. The error against a 10 ns reference stays below
+/// 2e-11 m (tested), 40 times under the smallest noise of the examples.
 pub const H_MAX_S: f64 = 1.25e-6;
+
+/// The RK4 step [s] for a TM mass `m_kg` [kg].
+pub fn step_for_mass(m_kg: f64) -> f64 {
+    (H_MAX_S * (m_kg / 0.0096).sqrt()).clamp(0.5e-6, 5e-6)
+}
 
 struct Shared {
     f_pre: f64,
@@ -21,7 +28,7 @@ struct Shared {
 /// Predicted interferometer reading `x` [m] at `times` [s] (0 before the trigger, plus the
 /// distortions over the whole record).
 pub fn simulate(model: &Model, p: &[f64], times: &[f64], inputs: &Inputs) -> Vec<f64> {
-    simulate_with_step(model, p, times, inputs, H_MAX_S)
+    simulate_with_step(model, p, times, inputs, step_for_mass(inputs.m_kg))
 }
 
 /// [`simulate`] with the largest RK4 step `h_max` [s].
@@ -45,22 +52,22 @@ pub fn simulate_with_step(
         x_n0: k_needle.map_or(0.0, |k| f_pre / k),
         body,
     };
-    // state layout: x, v, then each effect's own states
-    let mut offs = Vec::new();
+    // state layout: x, v, then each effect's own states; the force effects are listed once
+    // with their parameter slice and state range, out of the inner loop
+    let mut forces = Vec::new();
     let mut n = 2;
-    for e in &model.effects {
-        offs.push(n);
-        n += e.n_states();
+    for (i, e) in model.effects.iter().enumerate() {
+        let k = e.n_states();
+        if e.kind() == EffectKind::Force {
+            forces.push((*e, &p[model.range(i)], n, k));
+        }
+        n += k;
     }
     let deriv = |t: f64, s: &[f64], ds: &mut [f64]| {
         let y = inputs.profile.y(t);
         let (x, v) = (s[0], s[1]);
         let mut f = 0.0;
-        for (i, e) in model.effects.iter().enumerate() {
-            if e.kind() != EffectKind::Force {
-                continue;
-            }
-            let k = e.n_states();
+        for &(e, pe, off, k) in &forces {
             let st = TmState {
                 t,
                 x,
@@ -70,9 +77,9 @@ pub fn simulate_with_step(
                 needle_gap: x - sh.x_n0,
                 f_pre: sh.f_pre,
                 needle_body: sh.body,
-                own: &s[offs[i]..offs[i] + k],
+                own: &s[off..off + k],
             };
-            f += e.force(&p[model.range(i)], &st, &mut ds[offs[i]..offs[i] + k]);
+            f += e.force(pe, &st, &mut ds[off..off + k]);
         }
         ds[0] = v;
         ds[1] = f / inputs.m_kg;
@@ -198,13 +205,13 @@ mod tests {
         let times: Vec<f64> = (0..1601).map(|i| i as f64 * 5e-6).collect();
         for m in [0.0096, 0.089, 0.844] {
             let a = simulate(&model, &p, &times, &inputs(m));
-            let b = simulate_with_step(&model, &p, &times, &inputs(m), H_MAX_S / 16.0);
+            let b = simulate_with_step(&model, &p, &times, &inputs(m), 1e-8);
             let err = a
                 .iter()
                 .zip(&b)
                 .map(|(x, y)| (x - y).abs())
                 .fold(0.0, f64::max);
-            assert!(err < 1e-10, "m {m}: {err}");
+            assert!(err < 2e-11, "m {m}: {err}");
         }
     }
 

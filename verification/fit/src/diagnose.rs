@@ -67,10 +67,9 @@ pub fn diagnose(
         &prep.guess,
         opts.max_starts.unwrap_or(crate::fit::MAX_STARTS),
     );
-    let base = fit_model(prep, &model, opts, &starts)?;
-    let base_report = FitReport::new(prep, &base);
+    let mut base = fit_model(prep, &model, opts, &starts)?;
     let names = model.effect_names();
-    let mut candidates = Vec::new();
+    let mut fits: Vec<(&str, FitOutcome)> = Vec::new();
     for cand in of_scenario(prep.dataset.scenario) {
         if names.contains(&cand.name()) {
             continue;
@@ -80,7 +79,11 @@ pub fn diagnose(
         let cm = model_for(prep, &list)?;
         // warm starts: baseline values + the candidate's own starts
         let mut starts = Vec::new();
-        for cs in cand.starts(&prep.guess) {
+        for cs in cand
+            .null_params()
+            .into_iter()
+            .chain(cand.starts(&prep.guess))
+        {
             let mut p = cm.nominal();
             for (i, n) in cm.param_names().iter().enumerate() {
                 if let Some(j) = model.index(n) {
@@ -97,7 +100,29 @@ pub fn diagnose(
         }
         starts.extend(default_starts(&cm, &prep.guess, crate::fit::MAX_STARTS));
         let o = fit_model(prep, &cm, opts, &starts)?;
-        let r = FitReport::new(prep, &o);
+        fits.push((cand.name(), o));
+    }
+    // one noise figure for every model, so that their BICs compare: the YAML's, or the estimate
+    // made on the residual of the best-fitting model (the one closest to pure noise)
+    if opts.sigma.is_none() && base.sigma_source != "yaml" {
+        let best = fits
+            .iter()
+            .map(|(_, o)| o)
+            .chain(std::iter::once(&base))
+            .min_by(|a, b| a.rss().total_cmp(&b.rss()));
+        let (s, src) = best
+            .map(|o| (o.sigma, o.sigma_source.clone()))
+            .expect("baseline");
+        base.rescale(s, &src);
+        for (_, o) in &mut fits {
+            o.rescale(s, &src);
+        }
+    }
+    let base_report = FitReport::new(prep, &base);
+    let mut candidates = Vec::new();
+    for (name, o) in &fits {
+        let cand = geodesic_facility::by_name(name).expect("catalogue effect");
+        let r = FitReport::new(prep, o);
         let prefix = format!("{}.", cand.name());
         candidates.push(Candidate {
             effect: cand.name().to_string(),

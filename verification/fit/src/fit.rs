@@ -226,6 +226,9 @@ pub struct FitOptions {
     pub bounds: BTreeMap<String, (f64, f64)>,
     /// Upper limit on the number of starting points.
     pub max_starts: Option<usize>,
+    /// Noise of the fitted channel to use [SI], overriding the dataset's (diagnose passes the
+    /// baseline's estimate to every candidate so that their BICs compare).
+    pub sigma: Option<f64>,
 }
 
 /// The raw outcome of a fit.
@@ -237,8 +240,10 @@ pub struct FitOutcome {
     pub p: Vec<f64>,
     /// Which parameters were free.
     pub free: Vec<bool>,
-    /// 1-sigma per parameter [SI] (0 for fixed ones).
+    /// 1-sigma per parameter [SI] (0 for fixed ones), inflated by `chi2_red` when above 1.
     pub sigma_p: Vec<f64>,
+    /// 1-sigma per parameter from the covariance alone, before inflation [SI].
+    pub sigma_cov: Vec<f64>,
     /// Correlation matrix of the free parameters (in free order).
     pub corr: DMatrix<f64>,
     /// Model prediction of the fitted channel.
@@ -251,9 +256,32 @@ pub struct FitOutcome {
     pub n_free: usize,
     /// Number of starting points tried.
     pub starts: usize,
+    /// 1-sigma noise of the fitted channel used for chi-square and covariance [SI].
+    pub sigma: f64,
+    /// Where `sigma` came from.
+    pub sigma_source: String,
 }
 
 impl FitOutcome {
+    /// Re-expresses chi-square and parameter errors for another noise figure `sigma` [SI] (the
+    /// best-fit parameters do not depend on a constant noise figure).
+    pub fn rescale(&mut self, sigma: f64, source: &str) {
+        let r = self.sigma / sigma;
+        self.chi2 *= r * r;
+        self.sigma = sigma;
+        self.sigma_source = source.to_string();
+        let inflate = self.chi2_red().max(1.0).sqrt();
+        for (sp, sc) in self.sigma_p.iter_mut().zip(self.sigma_cov.iter_mut()) {
+            *sc /= r;
+            *sp = *sc * inflate;
+        }
+    }
+
+    /// Residual sum of squares `sum (data - model)^2` [SI^2].
+    pub fn rss(&self) -> f64 {
+        self.chi2 * self.sigma * self.sigma
+    }
+
     /// Reduced chi-square `chi2/(N - k)`.
     pub fn chi2_red(&self) -> f64 {
         self.chi2 / (self.n.saturating_sub(self.n_free)).max(1) as f64
@@ -470,19 +498,29 @@ pub fn fit_model(
         &hi,
         LmOptions::default().fd_step,
     );
-    let a = j.transpose() * &j;
+    let raw: Vec<f64> = data.iter().zip(&pred).map(|(d, m)| d - m).collect();
+    let (sig, sigma_source) = match opts.sigma {
+        Some(s) => (s, "given".to_string()),
+        None => effective_sigma(prep, &raw),
+    };
+    // the residuals were normalised by prep.sigma: rescale chi-square and covariance
+    let ratio = prep.sigma / sig;
+    let chi2 = chi2 * ratio * ratio;
+    let a = j.transpose() * &j * (ratio * ratio);
     let cov = invert_spd(&a);
     let chi2_red = chi2 / (n.saturating_sub(n_free)).max(1) as f64;
     let inflate = chi2_red.max(1.0);
     let mut sigma_p = vec![0.0; np];
+    let mut sigma_cov = vec![0.0; np];
     let mut corr = DMatrix::zeros(n_free, n_free);
     for (k, &i) in fidx.iter().enumerate() {
-        let su = (cov[(k, k)].max(0.0) * inflate).sqrt();
-        sigma_p[i] = if specs[i].log {
+        let su = cov[(k, k)].max(0.0).sqrt();
+        sigma_cov[i] = if specs[i].log {
             p[i] * su
         } else {
             specs[i].scale * su
         };
+        sigma_p[i] = sigma_cov[i] * inflate.sqrt();
         for l in 0..n_free {
             let d = (cov[(k, k)] * cov[(l, l)]).sqrt();
             corr[(k, l)] = if d > 0.0 { cov[(k, l)] / d } else { 0.0 };
@@ -493,12 +531,15 @@ pub fn fit_model(
         p,
         free,
         sigma_p,
+        sigma_cov,
         corr,
         pred,
         chi2,
         n,
         n_free,
         starts: starts.len(),
+        sigma: sig,
+        sigma_source,
     })
 }
 
@@ -506,6 +547,43 @@ pub fn fit_model(
 const SHORT_ITER: usize = 40;
 /// Iterations of the refinement of the best three.
 const LONG_ITER: usize = 200;
+
+/// Noise of the fitted channel for a fit whose residual (data - model) is `raw`.
+///
+/// From the YAML when given. Otherwise the pre-trigger estimate is pooled with the noise seen in
+/// the first differences of the residual after the trigger (`var(diff)/2`, which a smooth misfit
+/// hardly reaches), weighted by sample counts: a short pre-trigger record (20 samples in the
+/// retraction tests) alone would leave chi-square uncertain by +-30 %.
+pub fn effective_sigma(prep: &Prepared, raw: &[f64]) -> (f64, String) {
+    let src = prep
+        .noise_source
+        .get(prep.channel)
+        .map_or("yaml", String::as_str);
+    if src == "yaml" {
+        return (prep.sigma, "yaml".to_string());
+    }
+    let t = &prep.dataset.t;
+    let post: Vec<f64> = t
+        .iter()
+        .zip(raw)
+        .filter(|(t, _)| **t >= 0.0)
+        .map(|(_, r)| *r)
+        .collect();
+    let n_pre = t.iter().filter(|t| **t < 0.0).count();
+    let Some(sd) = noise_from_differences(&post) else {
+        return (prep.sigma, src.to_string());
+    };
+    if src == "pre-trigger" {
+        let (a, b) = (
+            n_pre.saturating_sub(1) as f64,
+            post.len().saturating_sub(1) as f64,
+        );
+        let pooled = ((a * prep.sigma * prep.sigma + b * sd * sd) / (a + b)).sqrt();
+        (pooled, "pre-trigger+residual-differences".to_string())
+    } else {
+        (sd, "residual-differences".to_string())
+    }
+}
 
 /// Number of screened starts that get a short Levenberg-Marquardt run.
 const SCREEN_KEEP: usize = 10;
@@ -623,7 +701,7 @@ impl FitReport {
         let data = prep.data();
         let resid: Vec<f64> = data.iter().zip(&o.pred).map(|(d, m)| d - m).collect();
         let rms = (resid.iter().map(|r| r * r).sum::<f64>() / resid.len() as f64).sqrt();
-        let norm: Vec<f64> = resid.iter().map(|r| r / prep.sigma).collect();
+        let norm: Vec<f64> = resid.iter().map(|r| r / o.sigma).collect();
         let whiteness = ljung_box(&norm);
         let names = o.model.param_names();
         let specs = o.model.specs();
@@ -663,8 +741,16 @@ impl FitReport {
                 .map(|s| s.to_string())
                 .collect(),
             rms: BTreeMap::from([(prep.channel.to_string(), rms)]),
-            noise: prep.noise.clone(),
-            noise_source: prep.noise_source.clone(),
+            noise: {
+                let mut m = prep.noise.clone();
+                m.insert(prep.channel.to_string(), o.sigma);
+                m
+            },
+            noise_source: {
+                let mut m = prep.noise_source.clone();
+                m.insert(prep.channel.to_string(), o.sigma_source.clone());
+                m
+            },
             chi2: o.chi2,
             chi2_red: o.chi2_red(),
             n_samples: o.n,
@@ -674,7 +760,7 @@ impl FitReport {
             whiteness,
             params,
             correlated,
-            failures: failures(prep.channel, &prep.dataset.t, &resid, prep.sigma),
+            failures: failures(prep.channel, &prep.dataset.t, &resid, o.sigma),
             tip_profile: prep.profile,
             starts: o.starts,
             svg: None,

@@ -178,7 +178,7 @@ pub fn write(ds: &Dataset, spec: &SynthSpec, yaml_path: &Path) -> Result<Vec<Pat
     let mut y = format!(
         "scenario: {}\ndescription: {}\ndata: {csv_name}\ntime_column: t\nchannels:\n",
         ds.scenario.name(),
-        ds.description
+        serde_json::to_string(&ds.description).unwrap_or_default()
     );
     for c in &chans {
         y += &format!("  {c}: {}\n", ds.units[*c]);

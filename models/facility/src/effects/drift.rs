@@ -26,6 +26,9 @@ impl Effect for Drift {
     fn summary(&self) -> &'static str {
         "measurement drift p0 + p1*t + p2*t^2 added to x (physics.md s.4)"
     }
+    fn null_params(&self) -> Option<Vec<f64>> {
+        Some(vec![0.0; 3])
+    }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }

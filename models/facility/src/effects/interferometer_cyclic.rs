@@ -32,6 +32,9 @@ impl Effect for InterferometerCyclic {
     fn summary(&self) -> &'static str {
         "cyclic error sum b_n cos(2 pi n x/L) + c_n sin(2 pi n x/L), n = 1, 2 (thesis app.)"
     }
+    fn null_params(&self) -> Option<Vec<f64>> {
+        Some(vec![PARAMS[0].nominal, 0.0, 0.0, 0.0, 0.0])
+    }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }

@@ -227,6 +227,11 @@ pub trait Effect: Send + Sync {
     }
     /// Writes the effect's parameters into the mechanism configuration (`rt-retraction`).
     fn configure_rt(&self, _p: &[f64], _rt: &mut RtConfig) {}
+    /// Parameters at which the effect (nearly) vanishes, if any: a candidate fit started there
+    /// from the baseline's values can only improve on the baseline.
+    fn null_params(&self) -> Option<Vec<f64>> {
+        None
+    }
     /// Starting points for the fit (each a full parameter vector of this effect), from the data.
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         vec![self.params().iter().map(|p| p.nominal).collect()]

@@ -26,6 +26,9 @@ impl Effect for NeedleAdhesion {
     fn summary(&self) -> &'static str {
         "needle adhesion: F = -A1*e*exp(-e/lambda), e = x - x_n0 > 0 (physics.md s.4)"
     }
+    fn null_params(&self) -> Option<Vec<f64>> {
+        Some(vec![PARAMS[0].lower, PARAMS[1].lower])
+    }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }

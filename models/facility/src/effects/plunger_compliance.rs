@@ -27,6 +27,10 @@ impl Effect for PlungerCompliance {
     fn summary(&self) -> &'static str {
         "plunger mass Mg on stiffness Kg under the piezo stack (physics.md s.1)"
     }
+    fn null_params(&self) -> Option<Vec<f64>> {
+        // a light, stiff plunger: l = 0
+        Some(vec![PARAMS[0].lower, PARAMS[1].upper])
+    }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }

@@ -37,6 +37,9 @@ impl Effect for TipAdhesion {
     fn summary(&self) -> &'static str {
         "tip adhesion: F = A1*e*exp(-e/lambda) for e > 0 (thesis eq. adh, physics.md s.2)"
     }
+    fn null_params(&self) -> Option<Vec<f64>> {
+        Some(vec![PARAMS[0].lower, PARAMS[1].lower])
+    }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }

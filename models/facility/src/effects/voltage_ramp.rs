@@ -23,6 +23,10 @@ impl Effect for VoltageRamp {
     fn summary(&self) -> &'static str {
         "command voltage E(t) = max(0, E0 - em*t) instead of the ideal step (physics.md s.1)"
     }
+    fn null_params(&self) -> Option<Vec<f64>> {
+        // a ramp of 1.2 ns from 120 V: the ideal step
+        Some(vec![PARAMS[0].upper])
+    }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }

@@ -72,6 +72,7 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
         fixed,
         bounds,
         max_starts: None,
+        sigma: None,
     })
 }
 
