@@ -23,11 +23,13 @@ pub fn histogram_svg(
     let pw = w - ml - mr;
     let ph = h - mt - mb;
     let vmax = values_um_s.iter().copied().fold(0.0f64, f64::max);
-    let xmax = (vmax.max(p9973_um_s).max(limit_um_s.unwrap_or(0.0)) * 1.05).max(1e-6);
+    // 80 bins over the data; the axis extends to the limit if it lies beyond
+    let xdata = (vmax.max(p9973_um_s) * 1.02).max(1e-6);
+    let xmax = xdata.max(limit_um_s.unwrap_or(0.0) * 1.05);
     let nb = 80usize;
     let mut counts = vec![0u64; nb];
     for &v in values_um_s {
-        let b = ((v / xmax) * nb as f64).floor() as usize;
+        let b = ((v / xdata) * nb as f64).floor() as usize;
         counts[b.min(nb - 1)] += 1;
     }
     let cmax = counts.iter().copied().max().unwrap_or(1).max(1) as f64;
@@ -49,8 +51,8 @@ pub fn histogram_svg(
         if c == 0 {
             continue;
         }
-        let x0 = x(i as f64 * xmax / nb as f64);
-        let bw = pw / nb as f64;
+        let x0 = x(i as f64 * xdata / nb as f64);
+        let bw = pw * xdata / xmax / nb as f64;
         let _ = writeln!(
             s,
             r##"<rect x="{x0:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="#4878a8"><title>{c}</title></rect>"##,
