@@ -97,3 +97,11 @@ fn mechanism_sd_sweep() {
         );
     }
 }
+
+#[test]
+#[ignore = "large sample (1000 draws x 2 cases); run with --release --ignored --nocapture"]
+fn fast_mode_matches_reference_large_sample() {
+    let (ratio, evals) = worst(&DormandPrince::fast(), 1000);
+    eprintln!("fast, 2000 draws: worst error / tolerance = {ratio:.3}, mean rhs evals {evals:.0}");
+    assert!(ratio <= 1.0);
+}
