@@ -17,11 +17,21 @@ fn one_release(c: &mut Criterion) {
     bound.lambda_m[1] = 8e-7;
     let random = draw_inputs(&Budget::default_budget(), Case::All, 1, 0);
     let fast = DormandPrince::fast();
-    g.bench_function("no_adhesion/fast", |b| b.iter(|| black_box(&nominal).simulate(&fast).unwrap()));
-    g.bench_function("adhesion_bound/fast", |b| b.iter(|| black_box(&bound).simulate(&fast).unwrap()));
-    g.bench_function("random_draw/fast", |b| b.iter(|| black_box(&random).simulate(&fast).unwrap()));
+    g.bench_function("no_adhesion/fast", |b| {
+        b.iter(|| black_box(&nominal).simulate(&fast).unwrap())
+    });
+    g.bench_function("adhesion_bound/fast", |b| {
+        b.iter(|| black_box(&bound).simulate(&fast).unwrap())
+    });
+    g.bench_function("random_draw/fast", |b| {
+        b.iter(|| black_box(&random).simulate(&fast).unwrap())
+    });
     g.bench_function("adhesion_bound/reference", |b| {
-        b.iter(|| black_box(&bound).simulate(&DormandPrince::reference()).unwrap())
+        b.iter(|| {
+            black_box(&bound)
+                .simulate(&DormandPrince::reference())
+                .unwrap()
+        })
     });
     g.finish();
 }
