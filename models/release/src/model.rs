@@ -198,3 +198,75 @@ impl<M: Mechanism, C: ContactLaw> SwitchedSystem<RELEASE_STATES> for ReleaseMode
         s
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::inputs::ReleaseInputs;
+    use crate::integrator::DormandPrince;
+    use geodesic_mechanism::PiezoMechanism;
+
+    #[test]
+    fn initial_state_is_a_balanced_equilibrium() {
+        let mut r = ReleaseInputs::nominal();
+        r.tip_radius_m = [0.0095, 0.0105];
+        r.preload_n = 0.32;
+        let m = r.model();
+        let y0 = m.initial_state();
+        let mut dy = [0.0; RELEASE_STATES];
+        m.rhs(0.0, &y0, &mut dy);
+        // TM balanced, tips and plungers at rest (accelerations relative to F0/m)
+        assert!(dy[IV].abs() < 1e-12, "{dy:?}");
+        assert!(
+            dy[4].abs() < 1e-6 * 0.32 / 9e-4 && dy[9].abs() < 1e-6 * 0.32 / 9e-4,
+            "{dy:?}"
+        );
+        let f = m.contact_forces_n(&y0);
+        assert!(
+            (f[0] + 0.32).abs() < 1e-12 && (f[1] + 0.32).abs() < 1e-12,
+            "{f:?}"
+        );
+        let e = m.elongations_m(&y0);
+        assert!(e[0] < e[1], "the sharper tip indents deeper: {e:?}");
+    }
+
+    /// A contact law other than Hertz + adhesion: a linear unilateral spring. The simulator runs
+    /// it unchanged (the seam is the trait).
+    struct LinearSpring(f64);
+    impl ContactLaw for LinearSpring {
+        fn force_n(&self, e_m: f64) -> f64 {
+            if e_m < 0.0 { self.0 * e_m } else { 0.0 }
+        }
+        fn preload_elongation_m(&self, load_n: f64) -> f64 {
+            -load_n / self.0
+        }
+        fn open_elongation_m(&self) -> f64 {
+            5e-9
+        }
+        fn remaining_bond_fraction(&self, _e_m: f64) -> f64 {
+            0.0
+        }
+    }
+
+    #[test]
+    fn contact_law_is_swappable() {
+        let mech = PiezoMechanism::nominal();
+        let sym = ReleaseModel::new(
+            [mech, mech],
+            [LinearSpring(4e6), LinearSpring(4e6)],
+            1.96,
+            0.3,
+        );
+        let out = sym.simulate(&DormandPrince::fast()).unwrap();
+        assert!(out.v_tm_m_s.abs() < 1e-15, "{out:?}");
+        // a stiffer spring on side 2 gives a different push history, hence a net velocity
+        let asym = ReleaseModel::new(
+            [mech, mech],
+            [LinearSpring(4e6), LinearSpring(8e6)],
+            1.96,
+            0.3,
+        );
+        let out = asym.simulate(&DormandPrince::fast()).unwrap();
+        assert!(out.v_tm_m_s.abs() > 1e-10 && !out.fallback_stop, "{out:?}");
+    }
+}
