@@ -332,6 +332,17 @@ pub struct Budget {
 
 type S = Spanned<Dist>;
 
+/// The first line of a `serde-saphyr` message without its own `error: line L column C: ` prefix
+/// (the file and line are printed in front of it already).
+fn one_line_cause(msg: &str) -> String {
+    let first = msg.lines().next().unwrap_or("invalid YAML").trim();
+    let rest = first.strip_prefix("error: ").unwrap_or(first);
+    match rest.strip_prefix("line ").and_then(|r| r.split_once(": ")) {
+        Some((pos, cause)) if pos.contains("column") => cause.to_string(),
+        _ => rest.to_string(),
+    }
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
@@ -381,12 +392,7 @@ impl Budget {
         let raw: RawBudget = serde_saphyr::from_str(text).map_err(|e| BudgetError::Parse {
             file: file.to_string(),
             line: e.location().map(|l| l.line()).unwrap_or(0),
-            cause: e
-                .to_string()
-                .lines()
-                .next()
-                .unwrap_or("invalid YAML")
-                .to_string(),
+            cause: one_line_cause(&e.to_string()),
         })?;
         let check = |field: &str, s: &S| -> Result<Dist, BudgetError> {
             s.value.validate().map_err(|cause| BudgetError::Invalid {
@@ -524,7 +530,11 @@ mod tests {
     fn unknown_field_is_a_parse_error_with_line() {
         let text = DEFAULT_BUDGET_YAML.replace("preload_n:", "preload:");
         let e = Budget::from_yaml(&text, "b.yaml").unwrap_err();
-        assert!(matches!(e, BudgetError::Parse { .. }), "{e}");
+        assert!(
+            matches!(e, BudgetError::Parse { line, .. } if line > 0),
+            "{e}"
+        );
+        assert!(!e.to_string().contains("error: line"), "{e}");
     }
 
     #[test]
