@@ -328,12 +328,22 @@ mod tests {
 
     const YAML: &str = "scenario: rt-retraction\ndata: d.csv\ntime_column: t\nchannels:\n  y: nm\nknown:\n  E0: 120\n";
 
-    fn csv_rows(n: usize) -> String {
+    /// `n` data rows `t,y` with t in us from -2 us; row `k` (0-based, CSV line `k + 2`)
+    /// replaced by `bad` when given.
+    fn csv_rows_with(n: usize, bad: Option<(usize, &str)>) -> String {
         let mut s = String::from("t,y\n");
         for i in 0..n {
-            s += &format!("{},{}\n", i as f64 * 1e-6 - 2e-6, i as f64);
+            match bad {
+                Some((k, row)) if k == i => s += row,
+                _ => s += &format!("{}e-6,{}", i as i64 - 2, i),
+            }
+            s.push('\n');
         }
         s
+    }
+
+    fn csv_rows(n: usize) -> String {
+        csv_rows_with(n, None)
     }
 
     fn err_of(yaml: &str, csv: &str, tag: &str) -> String {
@@ -359,23 +369,11 @@ mod tests {
     fn refuses_bad_input_with_file_and_line() {
         let e = err_of(&YAML.replace("y: nm", "y: furlong"), &csv_rows(20), "unit");
         assert!(e.contains("d.yaml:5:") && e.contains("furlong"), "{e}");
-        let mut rows = csv_rows(20);
-        rows = rows.replacen("3,3\n", "3,NaN\n", 1);
-        let nan = csv_rows(20).replace("0.000001,3\n", "0.000001,NaN\n");
-        let e = err_of(YAML, &nan, "nan");
+        let e = err_of(YAML, &csv_rows_with(20, Some((3, "1e-6,NaN"))), "nan");
         assert!(e.contains("d.csv:5:") && e.contains("NaN"), "{e}");
-        let _ = rows;
-        let e = err_of(
-            YAML,
-            &csv_rows(20).replace("0.000001,3\n", "0.000001,\n"),
-            "empty",
-        );
+        let e = err_of(YAML, &csv_rows_with(20, Some((3, "1e-6,"))), "empty");
         assert!(e.contains("d.csv:5:") && e.contains("empty"), "{e}");
-        let e = err_of(
-            YAML,
-            &csv_rows(20).replace("0.000001,3\n", "-0.000005,3\n"),
-            "time",
-        );
+        let e = err_of(YAML, &csv_rows_with(20, Some((3, "-5e-6,3"))), "time");
         assert!(e.contains("d.csv:5:") && e.contains("increasing"), "{e}");
         let e = err_of(&YAML.replace("d.csv", "none.csv"), "", "missing");
         assert!(e.contains("none.csv") && e.contains("cannot read"), "{e}");

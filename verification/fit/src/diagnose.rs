@@ -79,11 +79,9 @@ pub fn diagnose(
         let cm = model_for(prep, &list)?;
         // warm starts: baseline values + the candidate's own starts
         let mut starts = Vec::new();
-        for cs in cand
-            .null_params()
-            .into_iter()
-            .chain(cand.starts(&prep.guess))
-        {
+        let mut guess = prep.guess;
+        guess.k_needle_n_m = model.get(&base.p, "needle_contact.k_nd").unwrap_or(0.0);
+        for cs in cand.null_params().into_iter().chain(cand.starts(&guess)) {
             let mut p = cm.nominal();
             for (i, n) in cm.param_names().iter().enumerate() {
                 if let Some(j) = model.index(n) {
@@ -98,7 +96,7 @@ pub fn diagnose(
             p[cm.range(ci)].copy_from_slice(&cs);
             starts.push(p);
         }
-        starts.extend(default_starts(&cm, &prep.guess, crate::fit::MAX_STARTS));
+        starts.extend(default_starts(&cm, &guess, crate::fit::MAX_STARTS));
         let o = fit_model(prep, &cm, opts, &starts)?;
         fits.push((cand.name(), o));
     }

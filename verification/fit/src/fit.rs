@@ -198,6 +198,7 @@ impl Prepared {
             span_m: span,
             duration_s: t[n - 1].max(0.0),
             e0_v,
+            k_needle_n_m: 0.0,
         };
         Prepared {
             dataset,
@@ -400,12 +401,28 @@ pub fn fit_model(
     if let Some(cap) = opts.max_starts {
         starts.truncate(cap.max(1));
     }
-    // fixed values override every start
+    // fixed values override every start; superseded parameters take their nominal value;
+    // starts that no longer differ are dropped
     for s in &mut starts {
         for (k, v) in &opts.fixed {
             s[model.index(k).expect("checked")] = *v;
         }
+        for &i in &model.superseded() {
+            if !opts.fixed.contains_key(&names[i]) {
+                s[i] = specs[i].nominal;
+            }
+        }
     }
+    let mut seen: Vec<Vec<u64>> = Vec::new();
+    starts.retain(|s| {
+        let key: Vec<u64> = s.iter().map(|v| v.to_bits()).collect();
+        if seen.contains(&key) {
+            false
+        } else {
+            seen.push(key);
+            true
+        }
+    });
     // screen every start by its cost, run a short LM from the best few distinct ones
     let screened: Vec<(usize, f64)> = starts
         .par_iter()

@@ -194,6 +194,9 @@ pub struct GuessContext {
     pub duration_s: f64,
     /// Initial voltage [V] (`rt-retraction`).
     pub e0_v: f64,
+    /// Needle stiffness of an already fitted rigid-needle model [N/m] (0 if none): diagnose
+    /// sets it so that `needle_mass` can start from what the baseline saw.
+    pub k_needle_n_m: f64,
 }
 
 /// A named effect: a force on the TM, a distortion of the measurement or a mechanism component.

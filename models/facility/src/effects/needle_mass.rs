@@ -57,12 +57,30 @@ impl Effect for NeedleMass {
         ds[1] = (s.f_pre - k_nd * u - c_nd * du - fc) / m_nd;
         fc
     }
-    fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
-        vec![
-            vec![1.74, 1.12e6, 2.03e6, 1.0, 1.0],
-            vec![0.1, 6.5e5, 2e6, 1.0, 1.0],
-            vec![0.01, 6.5e5, 1e6, 0.1, 0.1],
-        ]
+    /// Body masses from 0.1 to 3 times the TM's, with spring pairs whose series stiffness is
+    /// the rigid-needle stiffness fitted by the baseline (when known), and the thesis pair.
+    fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
+        let m = if g.m_kg > 0.0 { g.m_kg } else { 0.089 };
+        let mut pairs = vec![(1.12e6, 2.03e6)];
+        if g.k_needle_n_m > 0.0 {
+            let k = g.k_needle_n_m;
+            pairs.push((2.0 * k, 2.0 * k));
+            pairs.push((1.25 * k, 5.0 * k));
+        }
+        let mut v = Vec::new();
+        for f in [0.1, 0.3, 1.0, 3.0] {
+            for &(knd, ktm) in &pairs {
+                let clamp = |x: f64, i: usize| x.clamp(PARAMS[i].lower, PARAMS[i].upper);
+                v.push(vec![
+                    clamp(f * m, 0),
+                    clamp(knd, 1),
+                    clamp(ktm, 2),
+                    1.0,
+                    1.0,
+                ]);
+            }
+        }
+        v
     }
 }
 

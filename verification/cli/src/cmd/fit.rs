@@ -61,7 +61,7 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
             .trim()
             .parse()
             .map_err(|_| CliError::bad(format!("--bound `{b}`: bad upper bound")))?;
-        if !(lo < hi) {
+        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
             return Err(CliError::bad(format!(
                 "--bound `{b}`: lower bound not below upper bound"
             )));
