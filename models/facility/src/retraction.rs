@@ -200,11 +200,14 @@ impl RtConfig {
         let mut out = Vec::with_capacity(times.len());
         for &ti in times {
             if ti > t {
-                if t < t_off && ti > t_off {
+                if t < t_off && ti >= t_off {
+                    // the ramp ends inside (or at the end of) this interval: E stays at 0 after
                     z = apply(&propagator(&a, t_off - t), &z);
                     z[5] = 0.0;
                     z[6] = 0.0;
-                    z = apply(&propagator(&a, ti - t_off), &z);
+                    if ti > t_off {
+                        z = apply(&phi(ti - t_off), &z);
+                    }
                 } else {
                     z = apply(&phi(ti - t), &z);
                 }
@@ -324,6 +327,15 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn ramp_ending_on_a_sample_time_stops_at_zero_volt() {
+        // em = 4e7 V/s ends the ramp at exactly 3 us, a sample time
+        let cfg = RtConfig { em_v_s: Some(4e7), ..RtConfig::default() };
+        let times: Vec<f64> = (0..=2000).map(|i| i as f64 * 1e-6).collect();
+        let y = cfg.retraction(&times);
+        assert!((y[2000] + cfg.d0_m()).abs() < 0.02 * cfg.d0_m(), "{}", y[2000]);
     }
 
     #[test]
