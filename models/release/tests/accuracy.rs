@@ -75,7 +75,7 @@ fn mechanism_sd_sweep() {
     use geodesic_mechanism::VoltageCommand;
     use geodesic_release::budget::Dist;
     use geodesic_release::figures::v_rt_spread;
-    for s in [0.11, 0.12, 0.13] {
+    for s in [0.11, 0.115, 0.12, 0.125] {
         let mut b = Budget::default_budget().mechanism;
         for d in [
             &mut b.R_ohm,
@@ -93,7 +93,7 @@ fn mechanism_sd_sweep() {
         }
         eprintln!(
             "s = {s}: {:?}",
-            v_rt_spread(&b, VoltageCommand::nominal(), 1500, 2)
+            v_rt_spread(&b, VoltageCommand::nominal(), 3000, 2)
         );
     }
 }
