@@ -20,10 +20,12 @@ use geodesic_core::trace::TestTrace;
 /// Every registered check, in a stable order.
 pub fn registry() -> Vec<Box<dyn Check>> {
     let mut all: Vec<Box<dyn Check>> = Vec::new();
-    all.extend(release::checks());
-    all.extend(capture::checks());
+    // One release Monte Carlo run, shared by the checks that need its velocities.
+    let mc = release::SharedMonteCarlo::new();
+    all.extend(release::checks_with(mc.clone()));
+    all.extend(capture::checks_with(Some(release::vz_source(mc.clone()))));
     all.extend(charge::checks());
-    all.extend(tm_state::checks());
+    all.extend(tm_state::checks_with(Some(release::vz_source(mc))));
     all.extend(facility::checks());
     all
 }

@@ -410,7 +410,7 @@ impl Requirements {
                     method,
                     activity: r.activity,
                     check: r.check.as_ref().map(|c| c.value.clone()),
-                    check_origin: r.check.as_ref().map(|c| at(c)),
+                    check_origin: r.check.as_ref().map(&at),
                     parent: None,
                     note: r.note,
                     origin: at(&r.id),
