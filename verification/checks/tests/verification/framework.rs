@@ -1,1 +1,96 @@
-//! Traced tests of the framework family.
+//! The framework end to end: every registered check run on the built-in requirements, the
+//! compliance matrix snapshotted with rounded floats (a change of any value, status or traced
+//! test shows in review), and the invariants the matrix must keep.
+
+use geodesic_core::matrix::{Matrix, Status};
+use geodesic_core::{CheckContext, Requirements};
+use std::path::Path;
+
+fn requirements() -> Requirements {
+    Requirements::load_dir(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../requirements"))
+        .unwrap()
+}
+
+/// The matrix of the built-in requirements with a small, fixed-seed Monte Carlo.
+fn matrix() -> Matrix {
+    let reqs = requirements();
+    let dir = std::env::temp_dir().join(format!("geodesic-framework-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let ctx = CheckContext {
+        reports_dir: dir.clone(),
+        mc_n: 2000,
+        seed: 7,
+        quiet: true,
+    };
+    let mut evidence = Vec::new();
+    for c in geodesic_checks::registry() {
+        if c.verifies().iter().any(|id| reqs.get(id).is_some()) {
+            evidence.push((c.name().to_string(), c.run(&ctx).unwrap()));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    Matrix::build(&reqs, &evidence, geodesic_checks::TEST_TRACES)
+}
+
+/// 4 significant digits, so that the snapshot pins values without floating-point noise.
+fn round(v: Option<f64>) -> String {
+    v.map_or("—".into(), |v| format!("{v:.3e}"))
+}
+
+#[test]
+fn compliance_matrix_snapshot() {
+    let m = matrix();
+    let rows: Vec<String> = m
+        .requirements
+        .iter()
+        .map(|r| {
+            format!(
+                "{:<22} {:<14} value {:>10} {:<7} margin {:>10} checks [{}] tests {}",
+                r.id,
+                r.status.as_str(),
+                round(r.value),
+                r.unit,
+                round(r.margin),
+                r.evidence
+                    .iter()
+                    .map(|e| e.check.as_str())
+                    .collect::<Vec<_>>()
+                    .join(","),
+                r.tests.len()
+            )
+        })
+        .collect();
+    insta::assert_snapshot!(rows.join("\n"));
+}
+
+#[test]
+fn every_requirement_has_a_check_and_no_check_is_orphan() {
+    let reqs = requirements();
+    let names = geodesic_checks::check_names();
+    reqs.validate_checks(&names).unwrap();
+    for r in &reqs.items {
+        assert!(r.check.is_some(), "{} names no check", r.id);
+    }
+    let loaded: Vec<&str> = reqs.items.iter().map(|r| r.id.as_str()).collect();
+    for c in geodesic_checks::registry() {
+        for id in c.verifies() {
+            assert!(
+                loaded.contains(id),
+                "check {} names {id}, which is not a requirement",
+                c.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn not_verified_rows_state_a_reason_and_compliant_rows_a_value() {
+    for r in matrix().requirements {
+        match r.status {
+            Status::NotVerified => {
+                assert!(r.reason.as_ref().is_some_and(|s| !s.is_empty()), "{}", r.id)
+            }
+            _ => assert!(r.value.is_some() && r.margin.is_some(), "{}", r.id),
+        }
+    }
+}
