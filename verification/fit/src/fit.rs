@@ -461,30 +461,32 @@ pub fn fit_model(
             order.push((si, c));
         }
     }
-    let short = LmOptions {
-        max_iter: SHORT_ITER,
-        ..LmOptions::default()
-    };
+    // successive halving: a few iterations from every kept start, more from the best ones
     let mut first: Vec<(usize, f64, Vec<f64>)> = order
-        .par_iter()
-        .map(|&(si, _)| {
-            let s = &starts[si];
-            let u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], s[i])).collect();
-            let r = minimize(&|u: &[f64]| resid(u, s), &u0, &lo, &hi, &short);
-            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                eprintln!("short {si}: {} iterations", r.iterations);
-            }
-            (si, r.cost, r.u)
+        .iter()
+        .map(|&(si, c)| {
+            let u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], starts[si][i])).collect();
+            (si, c, u0)
         })
         .collect();
-    first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-    if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-        for (si, c, u) in &first {
-            let p = full(u, &starts[*si]);
-            eprintln!("start {si} {:?} -> cost {c:.2} at {:?}", &starts[*si], p);
+    for (iters, keep) in STAGES {
+        let opts_stage = LmOptions { max_iter: iters, ..LmOptions::default() };
+        first = first
+            .par_iter()
+            .map(|(si, _, u)| {
+                let r = minimize(&|v: &[f64]| resid(v, &starts[*si]), u, &lo, &hi, &opts_stage);
+                (*si, r.cost, r.u)
+            })
+            .collect();
+        first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+            for (si, c, u) in &first {
+                let p = full(u, &starts[*si]);
+                eprintln!("stage {iters}: start {si} {:?} -> cost {c:.2} at {p:?}", &starts[*si]);
+            }
         }
+        first.truncate(keep);
     }
-    first.truncate(3);
     let long = LmOptions {
         max_iter: LONG_ITER,
         ftol: 1e-9,
@@ -560,8 +562,8 @@ pub fn fit_model(
     })
 }
 
-/// Iterations of the short runs from the screened starts.
-const SHORT_ITER: usize = 40;
+/// Successive-halving stages after screening: (iterations, starts kept for the next stage).
+const STAGES: [(usize, usize); 2] = [(10, 8), (40, 3)];
 /// Iterations of the refinement of the best three.
 const LONG_ITER: usize = 200;
 
@@ -603,7 +605,7 @@ pub fn effective_sigma(prep: &Prepared, raw: &[f64]) -> (f64, String) {
 }
 
 /// Number of screened starts that get a short Levenberg-Marquardt run.
-const SCREEN_KEEP: usize = 10;
+const SCREEN_KEEP: usize = 32;
 
 fn lo_of(lo: &[f64], i: usize, fidx: &[usize]) -> f64 {
     fidx.iter()

@@ -24,7 +24,7 @@ impl Default for LmOptions {
         LmOptions {
             max_iter: 200,
             ftol: 1e-10,
-            fd_step: 1e-4,
+            fd_step: 1e-3,
         }
     }
 }
