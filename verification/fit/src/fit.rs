@@ -227,6 +227,8 @@ pub struct FitOptions {
     pub bounds: BTreeMap<String, (f64, f64)>,
     /// Upper limit on the number of starting points.
     pub max_starts: Option<usize>,
+    /// Widen each parameter's 1-sigma by profiling chi-square along it (slower; `fit` does).
+    pub profile: bool,
     /// Noise of the fitted channel to use [SI], overriding the dataset's (diagnose passes the
     /// baseline's estimate to every candidate so that their BICs compare).
     pub sigma: Option<f64>,
@@ -465,16 +467,28 @@ pub fn fit_model(
     let mut first: Vec<(usize, f64, Vec<f64>)> = order
         .iter()
         .map(|&(si, c)| {
-            let u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], starts[si][i])).collect();
+            let u0: Vec<f64> = fidx
+                .iter()
+                .map(|&i| to_u(&specs[i], starts[si][i]))
+                .collect();
             (si, c, u0)
         })
         .collect();
     for (iters, keep) in STAGES {
-        let opts_stage = LmOptions { max_iter: iters, ..LmOptions::default() };
+        let opts_stage = LmOptions {
+            max_iter: iters,
+            ..LmOptions::default()
+        };
         first = first
             .par_iter()
             .map(|(si, _, u)| {
-                let r = minimize(&|v: &[f64]| resid(v, &starts[*si]), u, &lo, &hi, &opts_stage);
+                let r = minimize(
+                    &|v: &[f64]| resid(v, &starts[*si]),
+                    u,
+                    &lo,
+                    &hi,
+                    &opts_stage,
+                );
                 (*si, r.cost, r.u)
             })
             .collect();
@@ -482,7 +496,10 @@ pub fn fit_model(
         if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
             for (si, c, u) in &first {
                 let p = full(u, &starts[*si]);
-                eprintln!("stage {iters}: start {si} {:?} -> cost {c:.2} at {p:?}", &starts[*si]);
+                eprintln!(
+                    "stage {iters}: start {si} {:?} -> cost {c:.2} at {p:?}",
+                    &starts[*si]
+                );
             }
         }
         first.truncate(keep);
@@ -545,6 +562,66 @@ pub fn fit_model(
             corr[(k, l)] = if d > 0.0 { cov[(k, l)] / d } else { 0.0 };
         }
     }
+    if opts.profile && n_free > 0 {
+        // profile likelihood: move each free parameter away from the best fit, refit the others
+        // and widen its 1-sigma to where chi-square has risen by max(1, chi2_red); only ever
+        // widens the covariance figure (banana-shaped valleys, examples README pitfall)
+        let target = inflate;
+        let r2 = ratio * ratio;
+        let cost_best = chi2 / r2;
+        let widths: Vec<[f64; 2]> = (0..n_free)
+            .into_par_iter()
+            .map(|k| {
+                let su = (cov[(k, k)].max(0.0) * inflate).sqrt();
+                let mut out = [su, su];
+                if !(su.is_finite() && su > 0.0) {
+                    return out;
+                }
+                let others: Vec<usize> = (0..n_free).filter(|&j| j != k).collect();
+                let lo2: Vec<f64> = others.iter().map(|&j| lo[j]).collect();
+                let hi2: Vec<f64> = others.iter().map(|&j| hi[j]).collect();
+                for (side, sgn) in [1.0f64, -1.0].into_iter().enumerate() {
+                    let mut step = su;
+                    let mut v0: Vec<f64> = others.iter().map(|&j| u[j]).collect();
+                    for _ in 0..PROFILE_DOUBLINGS {
+                        let uk = (u[k] + sgn * step).clamp(lo[k], hi[k]);
+                        let at_bound = uk != u[k] + sgn * step;
+                        let f = |v: &[f64]| {
+                            let mut w = v.to_vec();
+                            w.insert(k, uk);
+                            resid(&w, start)
+                        };
+                        let opts_p = LmOptions {
+                            max_iter: 60,
+                            ..LmOptions::default()
+                        };
+                        let r = minimize(&f, &v0, &lo2, &hi2, &opts_p);
+                        let dchi = ((r.cost - cost_best) * r2).max(0.0);
+                        let reach = (uk - u[k]).abs();
+                        if dchi >= target {
+                            out[side] = out[side].max(reach * (target / dchi).sqrt());
+                            break;
+                        }
+                        out[side] = out[side].max(reach);
+                        if at_bound {
+                            break;
+                        }
+                        v0 = r.u;
+                        step *= 2.0;
+                    }
+                }
+                out
+            })
+            .collect();
+        for (k, &i) in fidx.iter().enumerate() {
+            let up = (from_u(&specs[i], u[k] + widths[k][0]) - p[i]).abs();
+            let down = (p[i] - from_u(&specs[i], u[k] - widths[k][1])).abs();
+            let prof = up.max(down);
+            if prof.is_finite() && prof > sigma_p[i] {
+                sigma_p[i] = prof;
+            }
+        }
+    }
     Ok(FitOutcome {
         model: model.clone(),
         p,
@@ -603,6 +680,9 @@ pub fn effective_sigma(prep: &Prepared, raw: &[f64]) -> (f64, String) {
         (sd, "residual-differences".to_string())
     }
 }
+
+/// Doublings of the profile step (up to 16 covariance sigmas).
+const PROFILE_DOUBLINGS: usize = 5;
 
 /// Number of screened starts that get a short Levenberg-Marquardt run.
 const SCREEN_KEEP: usize = 32;

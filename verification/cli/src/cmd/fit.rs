@@ -72,6 +72,7 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
         fixed,
         bounds,
         max_starts: None,
+        profile: false,
         sigma: None,
     })
 }
@@ -151,6 +152,10 @@ pub fn run(args: Args) -> CmdResult {
         .map(|s| s.trim())
         .filter(|s| !s.is_empty())
         .collect();
+    let opts = FitOptions {
+        profile: true,
+        ..opts
+    };
     let o = geodesic_fit::fit(&prep, &effects, &opts).map_err(|e| CliError::bad(e.to_string()))?;
     let mut report = FitReport::new(&prep, &o);
     outputs(&prep, &o.pred, &mut report, &args.out)?;
