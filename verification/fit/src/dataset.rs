@@ -396,4 +396,23 @@ mod tests {
         );
         assert!(e.contains("`E0`"), "{e}");
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config::with_cases(24))]
+        /// Whatever row is bad and however, the refusal names the CSV file and that row's line.
+        #[test]
+        fn a_bad_row_is_reported_at_its_line(row in 0usize..30, kind in 0usize..4) {
+            let bad = match kind {
+                0 => format!("{}e-6,NaN", row as i64 - 2),
+                1 => format!("{}e-6,", row as i64 - 2),
+                2 => format!("{}e-6,inf", row as i64 - 2),
+                _ => "-1e-3,0".to_string(),
+            };
+            // a time going back is only detectable after the first row
+            let row = if kind == 3 { row.max(1) } else { row };
+            let e = err_of(YAML, &csv_rows_with(30, Some((row, &bad))), &format!("prop{row}-{kind}"));
+            let at = format!("d.csv:{}:", row + 2);
+            proptest::prop_assert!(e.contains(&at), "{} does not name {}", e, at);
+        }
+    }
 }

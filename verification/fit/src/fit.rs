@@ -887,3 +887,91 @@ pub fn fit(prep: &Prepared, effects: &[&str], opts: &FitOptions) -> Result<FitOu
 pub fn scenario_effects(s: Scenario) -> Vec<&'static str> {
     of_scenario(s).iter().map(|e| e.name()).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synth::{SynthSpec, generate};
+
+    fn retraction() -> Prepared {
+        let mut spec = SynthSpec::defaults(Scenario::RtRetraction, &["piezo", "voltage_ramp"]);
+        spec.post_s = 3e-4;
+        spec.seed = 71;
+        spec.noise_in_yaml = false;
+        Prepared::new(generate(&spec, "t.yaml").expect("synth"))
+    }
+
+    #[test]
+    fn estimates_the_noise_and_fits_to_it() {
+        let prep = retraction();
+        assert_eq!(prep.noise_source["y"], "pre-trigger");
+        let o = fit(&prep, &["piezo", "voltage_ramp"], &FitOptions::default()).unwrap();
+        assert!((o.sigma / 1e-9 - 1.0).abs() < 0.1, "sigma {}", o.sigma);
+        assert!(
+            (o.chi2_red() - 1.0).abs() < 0.2,
+            "chi2_red {}",
+            o.chi2_red()
+        );
+        let i = o.model.index("voltage_ramp.em").unwrap();
+        assert!(
+            (o.p[i] - 5e7).abs() < 3.0 * o.sigma_p[i],
+            "em {} +- {}",
+            o.p[i],
+            o.sigma_p[i]
+        );
+    }
+
+    #[test]
+    fn profiling_only_widens_the_errors_and_fixing_holds() {
+        let prep = retraction();
+        let effects = ["piezo", "voltage_ramp"];
+        let plain = fit(&prep, &effects, &FitOptions::default()).unwrap();
+        let prof = fit(
+            &prep,
+            &effects,
+            &FitOptions {
+                profile: true,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        for (a, b) in plain.sigma_p.iter().zip(&prof.sigma_p) {
+            assert!(b >= a, "{b} < {a}");
+        }
+        let fixed = FitOptions {
+            fixed: [("piezo.R".to_string(), 380.0)].into(),
+            ..Default::default()
+        };
+        let f = fit(&prep, &effects, &fixed).unwrap();
+        assert_eq!(f.p[f.model.index("piezo.R").unwrap()], 380.0);
+        assert_eq!(f.n_free, 6);
+        let bad = FitOptions {
+            fixed: [("piezo.Q".to_string(), 1.0)].into(),
+            ..Default::default()
+        };
+        assert!(
+            fit(&prep, &effects, &bad)
+                .unwrap_err()
+                .to_string()
+                .contains("piezo.Q")
+        );
+    }
+
+    #[test]
+    fn default_starts_cover_every_list_entry() {
+        let m = Model::new(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]).unwrap();
+        let g = GuessContext {
+            m_kg: 0.089,
+            ..Default::default()
+        };
+        let all = default_starts(&m, &g, 10_000);
+        let few = default_starts(&m, &g, 7);
+        assert_eq!(few.len(), 7);
+        // every needle stiffness of the grid appears even in a capped list of 20
+        let capped = default_starts(&m, &g, 20);
+        for k in [3e5, 6.5e5, 1.5e6, 4e6] {
+            assert!(capped.iter().any(|s| s[0] == k), "k_nd {k} missing");
+        }
+        assert!(all.len() >= capped.len());
+    }
+}

@@ -104,3 +104,38 @@ pub fn table(entries: &[Entry]) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::{FitOptions, FitReport, Prepared, fit};
+    use crate::synth::{SynthSpec, generate};
+    use geodesic_facility::Scenario;
+
+    #[test]
+    fn appends_versions_and_plots_them() {
+        let mut spec = SynthSpec::defaults(Scenario::RtRetraction, &["piezo", "voltage_ramp"]);
+        spec.post_s = 2e-4;
+        let prep = Prepared::new(generate(&spec, "h.yaml").unwrap());
+        let dir = std::env::temp_dir().join(format!("geodesic-history-{}", std::process::id()));
+        for effects in [vec!["piezo"], vec!["piezo", "voltage_ramp"]] {
+            let o = fit(&prep, &effects, &FitOptions::default()).unwrap();
+            append(&dir, "h", &FitReport::new(&prep, &o)).unwrap();
+        }
+        let h = read(&path_for(&dir, "h")).unwrap();
+        assert_eq!(h.iter().map(|e| e.version).collect::<Vec<_>>(), vec![1, 2]);
+        assert!(h[1].rms < h[0].rms / 3.0, "{} vs {}", h[1].rms, h[0].rms);
+        assert!(table(&h).contains("piezo,voltage_ramp"));
+        let svg = crate::plot::history_svg(&h).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("</svg>"));
+        let o = fit(&prep, &["piezo"], &FitOptions::default()).unwrap();
+        let r = FitReport::new(&prep, &o);
+        let fsvg = crate::plot::fit_svg(&prep, &o.pred, &r).unwrap();
+        assert!(!r.failures.is_empty());
+        assert!(
+            fsvg.to_uppercase().contains("#FFD2D2"),
+            "failure windows are shaded"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
