@@ -810,7 +810,12 @@ impl FitReport {
                 n.clone(),
                 ParamOut {
                     value: o.p[i],
-                    sigma: o.sigma_p[i],
+                    // JSON has no infinity: an unconstrained parameter reports the largest float
+                    sigma: if o.sigma_p[i].is_finite() {
+                        o.sigma_p[i]
+                    } else {
+                        f64::MAX
+                    },
                     unit: specs[i].unit.to_string(),
                     fixed: !o.free[i],
                 },
