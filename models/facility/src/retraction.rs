@@ -332,10 +332,17 @@ mod tests {
     #[test]
     fn ramp_ending_on_a_sample_time_stops_at_zero_volt() {
         // em = 4e7 V/s ends the ramp at exactly 3 us, a sample time
-        let cfg = RtConfig { em_v_s: Some(4e7), ..RtConfig::default() };
+        let cfg = RtConfig {
+            em_v_s: Some(4e7),
+            ..RtConfig::default()
+        };
         let times: Vec<f64> = (0..=2000).map(|i| i as f64 * 1e-6).collect();
         let y = cfg.retraction(&times);
-        assert!((y[2000] + cfg.d0_m()).abs() < 0.02 * cfg.d0_m(), "{}", y[2000]);
+        assert!(
+            (y[2000] + cfg.d0_m()).abs() < 0.02 * cfg.d0_m(),
+            "{}",
+            y[2000]
+        );
     }
 
     #[test]

@@ -567,6 +567,43 @@ pub fn fit_model(
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
         .expect("at least one start");
     let start = &starts[si];
+    // canonical forms: an effect may re-express its fitted values equivalently (same number of
+    // parameters); the alternative is refitted and kept when it fits as well (within 1 in chi2)
+    let (mut chi2, mut u) = (chi2, u);
+    for _ in 0..3 {
+        let p = full(&u, start);
+        let mut changed = false;
+        for (ei, e) in model.effects.iter().enumerate() {
+            for alt in e.alternatives(&p[model.range(ei)]) {
+                let mut pa = p.clone();
+                pa[model.range(ei)].copy_from_slice(&alt);
+                let ua: Vec<f64> = fidx
+                    .iter()
+                    .map(|&i| {
+                        to_u(&specs[i], pa[i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
+                    })
+                    .collect();
+                let long = LmOptions {
+                    max_iter: long_iter,
+                    ftol: 1e-9,
+                    ..LmOptions::default()
+                };
+                let r = minimize(&|v: &[f64]| resid(v, start), &ua, &lo, &hi, &long);
+                if r.cost <= chi2 + 1.0 {
+                    chi2 = r.cost.min(chi2);
+                    u = r.u;
+                    changed = true;
+                    break;
+                }
+            }
+            if changed {
+                break;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
     let p = full(&u, start);
     let pred = model.predict(&p, t, &prep.inputs);
     let n = data.len();

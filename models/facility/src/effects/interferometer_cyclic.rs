@@ -42,6 +42,18 @@ impl Effect for InterferometerCyclic {
         let ph = std::f64::consts::TAU * x / p[0];
         p[1] * ph.cos() + p[2] * ph.sin() + p[3] * (2.0 * ph).cos() + p[4] * (2.0 * ph).sin()
     }
+    /// A fit that carries the error on the second harmonic (first harmonic below half of it) is
+    /// the same function with period `L/2` on the first: prefer that form (the period is then
+    /// the true cyclic period, the one compared with the laser sub-multiples).
+    fn alternatives(&self, p: &[f64]) -> Vec<Vec<f64>> {
+        let a1 = p[1].hypot(p[2]);
+        let a2 = p[3].hypot(p[4]);
+        if a2 > 2.0 * a1 && p[0] / 2.0 >= PARAMS[0].lower {
+            vec![vec![p[0] / 2.0, p[3], p[4], 0.0, 0.0]]
+        } else {
+            Vec::new()
+        }
+    }
     /// The period has many local minima: scan the sub-multiples `632.8 nm / n`, n = 1..8, with
     /// small in-phase and quadrature amplitudes, before refining.
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
@@ -55,6 +67,23 @@ impl Effect for InterferometerCyclic {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn second_harmonic_form_is_re_expressed_with_half_the_period() {
+        let p = [316.4e-9, 1e-12, 0.0, 2e-9, -1e-9];
+        let alt = &InterferometerCyclic.alternatives(&p)[0];
+        for x in [0.0, 3e-8, 1.7e-7, 4.4e-7] {
+            let a = InterferometerCyclic.distortion(&p, 0.0, x)
+                - 1e-12 * (std::f64::consts::TAU * x / p[0]).cos();
+            let b = InterferometerCyclic.distortion(alt, 0.0, x);
+            assert!((a - b).abs() < 1e-21, "{a} {b}");
+        }
+        assert!(
+            InterferometerCyclic
+                .alternatives(&[316.4e-9, 2e-9, 0.0, 1e-10, 0.0])
+                .is_empty()
+        );
+    }
 
     #[test]
     fn periodic_in_l() {

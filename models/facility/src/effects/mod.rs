@@ -235,6 +235,12 @@ pub trait Effect: Send + Sync {
     fn null_params(&self) -> Option<Vec<f64>> {
         None
     }
+    /// Equivalent parameter vectors in a preferred (canonical) form, tried after a fit: one that
+    /// fits as well replaces the fitted values (e.g. a cyclic error fitted on its second
+    /// harmonic is re-expressed with half the period).
+    fn alternatives(&self, _p: &[f64]) -> Vec<Vec<f64>> {
+        Vec::new()
+    }
     /// Starting points for the fit (each a full parameter vector of this effect), from the data.
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         vec![self.params().iter().map(|p| p.nominal).collect()]
