@@ -2,7 +2,9 @@
 //!
 //! - [`dataset`]: YAML + CSV datasets (interface.md), bad input refused with file and line.
 //! - [`lm`]: bounded Levenberg-Marquardt with finite-difference Jacobians.
-//! - [`fit`]: noise, tip profile, data-driven multi-start fits, covariance, the fit report.
+//! - [`prepare`]: noise per channel, the smooth tip profile, data-driven guesses.
+//! - [`fit`]: data-driven multi-start fits, covariance, profile likelihood.
+//! - [`report`]: the fit object of interface.md.
 //! - [`residual`]: reduced chi-square, whiteness test, failure windows.
 //! - [`diagnose`]: fits every candidate effect a model lacks and ranks them by delta BIC.
 //! - [`synth`]: synthetic datasets from a truth model built from the same effect code.
@@ -16,6 +18,8 @@ pub mod fit;
 pub mod history;
 pub mod lm;
 pub mod plot;
+pub mod prepare;
+pub mod report;
 pub mod residual;
 pub mod synth;
 

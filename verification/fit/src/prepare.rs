@@ -1,0 +1,210 @@
+//! Making a dataset ready for fitting: noise per channel, the smooth tip profile that drives
+//! the TMMF model (examples README: never the raw noisy `y`), and data-driven guesses.
+
+use std::collections::BTreeMap;
+
+use geodesic_facility::effects::GuessContext;
+use geodesic_facility::model::Inputs;
+use geodesic_facility::{Scenario, TipProfile};
+use serde::{Deserialize, Serialize};
+
+use crate::dataset::Dataset;
+use crate::lm::{LmOptions, minimize};
+use crate::residual::noise_from_differences;
+
+/// A dataset made ready for fitting: fitted channel, noise, inputs and data-driven guesses.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The dataset.
+    pub dataset: Dataset,
+    /// Name of the fitted channel.
+    pub channel: &'static str,
+    /// Its 1-sigma noise [SI].
+    pub sigma: f64,
+    /// Noise per channel [SI].
+    pub noise: BTreeMap<String, f64>,
+    /// Where each noise figure came from (`yaml`, `pre-trigger`, `differences`).
+    pub noise_source: BTreeMap<String, String>,
+    /// Inputs of the prediction (mass, tip profile, initial voltage).
+    pub inputs: Inputs,
+    /// Quantities the effects use for their starting points.
+    pub guess: GuessContext,
+    /// The smooth tip profile fitted to `y` (`tmmf-release`).
+    pub profile: Option<ProfileFit>,
+}
+
+/// The tip retraction profile fitted to the measured `y` (constant jerk, then constant speed).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+pub struct ProfileFit {
+    /// Jerk [m/s^3].
+    pub jerk_m_s3: f64,
+    /// Final speed [m/s].
+    pub v_m_s: f64,
+    /// Reduced chi-square of the profile against `y`.
+    pub chi2_red: f64,
+}
+
+/// Estimates the noise of a channel: from the samples before the trigger when there are at
+/// least 5, else from third differences of the whole record.
+fn estimate_noise(t: &[f64], v: &[f64]) -> (f64, &'static str) {
+    let pre: Vec<f64> = t
+        .iter()
+        .zip(v)
+        .filter(|(t, _)| **t < 0.0)
+        .map(|(_, v)| *v)
+        .collect();
+    if let Some(s) = noise_from_differences(&pre) {
+        if s > 0.0 {
+            return (s, "pre-trigger");
+        }
+    }
+    // third differences: var = 20 sigma^2 for white noise
+    let d3: Vec<f64> = v
+        .windows(4)
+        .map(|w| w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0])
+        .collect();
+    let var = d3.iter().map(|x| x * x).sum::<f64>() / d3.len().max(1) as f64;
+    ((var / 20.0).sqrt().max(1e-30), "differences")
+}
+
+/// Least-squares slope of `v` against `t`.
+fn slope(t: &[f64], v: &[f64]) -> f64 {
+    let n = t.len() as f64;
+    let (mt, mv) = (t.iter().sum::<f64>() / n, v.iter().sum::<f64>() / n);
+    let num: f64 = t.iter().zip(v).map(|(a, b)| (a - mt) * (b - mv)).sum();
+    let den: f64 = t.iter().map(|a| (a - mt).powi(2)).sum();
+    if den > 0.0 { num / den } else { 0.0 }
+}
+
+/// Fits the constant-jerk-then-constant-speed profile to the tip signal `y` after the trigger.
+fn fit_profile(t: &[f64], y: &[f64], sigma: f64) -> ProfileFit {
+    let post: Vec<(f64, f64)> = t
+        .iter()
+        .zip(y)
+        .filter(|(t, _)| **t >= 0.0)
+        .map(|(a, b)| (*a, *b))
+        .collect();
+    let (tp, yp): (Vec<f64>, Vec<f64>) = post.iter().copied().unzip();
+    let k = tp.len() * 2 / 3;
+    let v0 = slope(&tp[k..], &yp[k..]).abs().max(1e-6);
+    let mt = tp[k..].iter().sum::<f64>() / (tp.len() - k) as f64;
+    let my = yp[k..].iter().sum::<f64>() / (tp.len() - k) as f64;
+    let t_int = (mt - my / v0).max(tp[tp.len() - 1] * 1e-3);
+    let t1 = 1.5 * t_int;
+    let j0 = 2.0 * v0 / (t1 * t1);
+    let f = |u: &[f64]| {
+        let p = TipProfile {
+            jerk_m_s3: u[0].exp(),
+            v_m_s: u[1].exp(),
+        };
+        tp.iter()
+            .zip(&yp)
+            .map(|(t, y)| (p.y(*t) - y) / sigma)
+            .collect::<Vec<f64>>()
+    };
+    let mut best = None::<crate::lm::LmResult>;
+    for s in [1.0, 0.3, 3.0] {
+        let r = minimize(
+            &f,
+            &[(j0 * s).ln(), v0.ln()],
+            &[-30.0, -30.0],
+            &[60.0, 10.0],
+            &LmOptions::default(),
+        );
+        if best.as_ref().is_none_or(|b| r.cost < b.cost) {
+            best = Some(r);
+        }
+    }
+    let b = best.expect("one start");
+    ProfileFit {
+        jerk_m_s3: b.u[0].exp(),
+        v_m_s: b.u[1].exp(),
+        chi2_red: b.cost / (tp.len().saturating_sub(2)).max(1) as f64,
+    }
+}
+
+impl Prepared {
+    /// Prepares a dataset: noise per channel, tip profile (`tmmf-release`), guesses.
+    pub fn new(dataset: Dataset) -> Prepared {
+        let scenario = dataset.scenario;
+        let channel = scenario.fitted_channel();
+        let mut noise = BTreeMap::new();
+        let mut noise_source = BTreeMap::new();
+        for (ch, v) in &dataset.channels {
+            if let Some(s) = dataset.noise.get(ch) {
+                noise.insert(ch.clone(), *s);
+                noise_source.insert(ch.clone(), "yaml".to_string());
+            } else {
+                let (s, src) = estimate_noise(&dataset.t, v);
+                noise.insert(ch.clone(), s);
+                noise_source.insert(ch.clone(), src.to_string());
+            }
+        }
+        let sigma = noise[channel];
+        let m_kg = dataset.known.get("m").copied().unwrap_or(0.0);
+        let e0_v = dataset.known.get("E0").copied().unwrap_or(120.0);
+        let profile = (scenario == Scenario::TmmfRelease)
+            .then(|| fit_profile(&dataset.t, dataset.channel("y"), noise["y"]));
+        let inputs = Inputs {
+            m_kg,
+            profile: profile.map_or(
+                TipProfile {
+                    jerk_m_s3: 6000.0,
+                    v_m_s: 3e-3,
+                },
+                |p| TipProfile {
+                    jerk_m_s3: p.jerk_m_s3,
+                    v_m_s: p.v_m_s,
+                },
+            ),
+            e0_v,
+        };
+        // data-driven guesses from the fitted channel
+        let (t, x) = (&dataset.t, dataset.channel(channel));
+        let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(0);
+        let n = t.len();
+        let k = i0 + (n - i0) * 2 / 3;
+        let late = slope(&t[k..], &x[k..]);
+        let (mt, mx) = (
+            t[k..].iter().sum::<f64>() / (n - k) as f64,
+            x[k..].iter().sum::<f64>() / (n - k) as f64,
+        );
+        // the late line crosses zero at t0; a quarter-period spring catapult ends at 2.75 t0
+        let t0 = if late.abs() > 0.0 {
+            mt - mx / late
+        } else {
+            0.0
+        };
+        let catapult_s = if t0 > 0.0 {
+            t0 / (1.0 - 2.0 / std::f64::consts::PI)
+        } else {
+            0.0
+        };
+        let span = x.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - x.iter().cloned().fold(f64::INFINITY, f64::min);
+        let guess = GuessContext {
+            m_kg,
+            late_velocity_m_s: late,
+            catapult_s,
+            span_m: span,
+            duration_s: t[n - 1].max(0.0),
+            e0_v,
+            k_needle_n_m: 0.0,
+        };
+        Prepared {
+            dataset,
+            channel,
+            sigma,
+            noise,
+            noise_source,
+            inputs,
+            guess,
+            profile,
+        }
+    }
+
+    /// The fitted channel's data [SI].
+    pub fn data(&self) -> &[f64] {
+        self.dataset.channel(self.channel)
+    }
+}

@@ -1,0 +1,157 @@
+//! The fit object of interface.md (`geodesic fit --json`): RMS, noise, chi-square, whiteness,
+//! parameters with 1-sigma, strong correlations and failure windows.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::fit::FitOutcome;
+use crate::prepare::{Prepared, ProfileFit};
+use crate::residual::{Failure, Whiteness, failures, ljung_box};
+
+/// One fitted parameter in the JSON report.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ParamOut {
+    /// Value [SI].
+    pub value: f64,
+    /// 1-sigma [SI] (0 when fixed).
+    pub sigma: f64,
+    /// SI unit.
+    pub unit: String,
+    /// Held fixed (by the user, or superseded by another effect).
+    pub fixed: bool,
+}
+
+/// A strongly correlated pair of parameters.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Correlation {
+    /// First parameter.
+    pub a: String,
+    /// Second parameter.
+    pub b: String,
+    /// Correlation coefficient.
+    pub rho: f64,
+}
+
+/// The fit object of interface.md (`geodesic fit --json`), extended.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct FitReport {
+    /// Dataset YAML file name.
+    pub dataset: String,
+    /// Scenario.
+    pub scenario: String,
+    /// Effects of the model.
+    pub effects: Vec<String>,
+    /// RMS of the residual per fitted channel [SI].
+    pub rms: BTreeMap<String, f64>,
+    /// 1-sigma noise per channel [SI].
+    pub noise: BTreeMap<String, f64>,
+    /// Where the noise figures came from.
+    pub noise_source: BTreeMap<String, String>,
+    /// Chi-square.
+    pub chi2: f64,
+    /// Reduced chi-square.
+    pub chi2_red: f64,
+    /// Samples in the fit.
+    pub n_samples: usize,
+    /// Free parameters.
+    pub n_free: usize,
+    /// `chi2 + k ln N`.
+    pub bic: f64,
+    /// Whether the residual passes the whiteness test.
+    pub residual_white: bool,
+    /// The whiteness test.
+    pub whiteness: Whiteness,
+    /// Parameters with 1-sigma.
+    pub params: BTreeMap<String, ParamOut>,
+    /// Pairs of free parameters with |correlation| > 0.9.
+    pub correlated: Vec<Correlation>,
+    /// Windows where the residual leaves the noise band.
+    pub failures: Vec<Failure>,
+    /// Tip profile fitted to `y` and driving the model (`tmmf-release`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tip_profile: Option<ProfileFit>,
+    /// Starting points tried.
+    pub starts: usize,
+    /// SVG of data, model and residual, when written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub svg: Option<String>,
+}
+
+impl FitReport {
+    /// Builds the report of a fit outcome.
+    pub fn new(prep: &Prepared, o: &FitOutcome) -> FitReport {
+        let data = prep.data();
+        let resid: Vec<f64> = data.iter().zip(&o.pred).map(|(d, m)| d - m).collect();
+        let rms = (resid.iter().map(|r| r * r).sum::<f64>() / resid.len() as f64).sqrt();
+        let norm: Vec<f64> = resid.iter().map(|r| r / o.sigma).collect();
+        let whiteness = ljung_box(&norm);
+        let names = o.model.param_names();
+        let specs = o.model.specs();
+        let mut params = BTreeMap::new();
+        for (i, n) in names.iter().enumerate() {
+            params.insert(
+                n.clone(),
+                ParamOut {
+                    value: o.p[i],
+                    // JSON has no infinity: an unconstrained parameter reports the largest float
+                    sigma: if o.sigma_p[i].is_finite() {
+                        o.sigma_p[i]
+                    } else {
+                        f64::MAX
+                    },
+                    unit: specs[i].unit.to_string(),
+                    fixed: !o.free[i],
+                },
+            );
+        }
+        let fidx: Vec<usize> = (0..names.len()).filter(|i| o.free[*i]).collect();
+        let mut correlated = Vec::new();
+        for a in 0..fidx.len() {
+            for b in a + 1..fidx.len() {
+                let rho = o.corr[(a, b)];
+                if rho.abs() > 0.9 {
+                    correlated.push(Correlation {
+                        a: names[fidx[a]].clone(),
+                        b: names[fidx[b]].clone(),
+                        rho,
+                    });
+                }
+            }
+        }
+        FitReport {
+            dataset: prep.dataset.name.clone(),
+            scenario: prep.dataset.scenario.name().to_string(),
+            effects: o
+                .model
+                .effect_names()
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
+            rms: BTreeMap::from([(prep.channel.to_string(), rms)]),
+            noise: {
+                let mut m = prep.noise.clone();
+                m.insert(prep.channel.to_string(), o.sigma);
+                m
+            },
+            noise_source: {
+                let mut m = prep.noise_source.clone();
+                m.insert(prep.channel.to_string(), o.sigma_source.clone());
+                m
+            },
+            chi2: o.chi2,
+            chi2_red: o.chi2_red(),
+            n_samples: o.n,
+            n_free: o.n_free,
+            bic: o.bic(),
+            residual_white: whiteness.white,
+            whiteness,
+            params,
+            correlated,
+            failures: failures(prep.channel, &prep.dataset.t, &resid, o.sigma),
+            tip_profile: prep.profile,
+            starts: o.starts,
+            svg: None,
+        }
+    }
+}
