@@ -74,9 +74,18 @@ fn malformed_yaml_names_file_and_line() {
     );
 }
 
+/// A broken-requirements case: name, file edited, the edit, expected `file:` and cause.
+type BrokenCase = (
+    &'static str,
+    &'static str,
+    Box<dyn Fn(&str) -> String>,
+    &'static str,
+    &'static str,
+);
+
 #[test]
 fn duplicate_id_unknown_unit_unknown_field_missing_parent() {
-    let cases: [(&str, &str, Box<dyn Fn(&str) -> String>, &str, &str); 5] = [
+    let cases: [BrokenCase; 5] = [
         (
             "dup",
             "charge.yaml",

@@ -330,7 +330,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
             }
         }
     }
-    let _ = write!(o, "</main><script>{SCRIPT}</script></body></html>\n");
+    let _ = writeln!(o, "</main><script>{SCRIPT}</script></body></html>");
     o
 }
 

@@ -77,15 +77,8 @@ pub fn render(rep: &Report) -> String {
         let _ = writeln!(o, "**{}** — {}\n", cell(&r.title), badge(r.status));
         let _ = writeln!(o, "> {}\n", r.text);
         let _ = writeln!(o, "- Source: {}", r.source);
-        let _ = writeln!(
-            o,
-            "- Quantity: {}",
-            format!(
-                "{} [{}]",
-                r.quantity,
-                if r.unit.is_empty() { "-" } else { &r.unit }
-            )
-        );
+        let unit = if r.unit.is_empty() { "-" } else { &r.unit };
+        let _ = writeln!(o, "- Quantity: {} [{unit}]", r.quantity);
         let _ = writeln!(
             o,
             "- Limit: `{}`{}",

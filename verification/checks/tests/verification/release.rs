@@ -170,10 +170,13 @@ fn contact_laws_reproduce_thesis_pull_off_figures() {
 
 /// The eight reference releases of the spec (independent DOP853 at rtol 1e-12) within 0.5 % or
 /// 0.001 um/s, with the fast Monte Carlo integrator.
+/// A reference case: how it changes the nominal inputs, and the reference X' [um/s].
+type ReferenceCase = (fn(&mut ReleaseInputs), f64);
+
 #[test]
 fn reference_releases_are_reproduced() {
     geodesic_core::verifies!("REL-GPRM-VEL");
-    let cases: [(fn(&mut ReleaseInputs), f64); 4] = [
+    let cases: [ReferenceCase; 4] = [
         (|_r| {}, 0.0),
         (
             |r| (r.a1_n_m[1], r.lambda_m[1]) = (1.5e5, 8e-7),
