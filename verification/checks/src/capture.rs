@@ -106,8 +106,15 @@ impl Check for CaptureCriterion {
         &["CAP-QUARTIC", "CAP-XLIM-CONSISTENCY", "CAP-VZ-SINGLE"]
     }
 
-    fn run(&self, _ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
-        Ok(CaptureCriterion::evidence(&Xlim::default_set()))
+    fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
+        let x = Xlim::default_set();
+        let mut ev = CaptureCriterion::evidence(&x);
+        let svg = crate::plots::capture_criterion_svg(&x)?;
+        let file = crate::plots::write(&ctx.reports_dir, "capture-criterion.svg", &svg)?;
+        if let Some(q) = ev.iter_mut().find(|e| e.requirement == "CAP-QUARTIC") {
+            q.artifacts.push(file);
+        }
+        Ok(ev)
     }
 }
 

@@ -11,6 +11,7 @@
 pub mod capture;
 pub mod charge;
 pub mod facility;
+pub mod plots;
 pub mod release;
 pub mod tm_state;
 

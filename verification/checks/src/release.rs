@@ -186,6 +186,12 @@ impl Check for AdhesionCalibration {
         .with_input("pull_off_sd_mn", s.pull_off_sd_mn)
         .with_input("pull_off_campaign_max_mn", s.pull_off_campaign_max_mn)
         .with_input("momentum_mean_uns", s.momentum_mean_uns);
+        let svg = crate::plots::adhesion_curves_svg(&b, 40, ctx.seed)?;
+        let e = e.with_artifact(crate::plots::write(
+            &ctx.reports_dir,
+            "adhesion-curves.svg",
+            &svg,
+        )?);
         Ok(vec![e])
     }
 }
