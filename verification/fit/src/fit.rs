@@ -201,7 +201,7 @@ pub fn fit_model(
             .collect()
     };
     let resid = |u: &[f64], start: &[f64]| -> Vec<f64> { resid_n(u, start, t.len()) };
-    let (stages, long_iter, windows) = effort(model.scenario);
+    let (stages, long_iter, windows, also_full) = effort(model.scenario);
     // sample count of a window: the pre-trigger samples plus a fraction of the record after
     let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(0);
     let n_window = |frac: f64| -> usize {
@@ -278,57 +278,9 @@ pub fn fit_model(
             order.push((si, c));
         }
     }
-    // successive halving: a few iterations from every kept start, more from the best ones
-    let mut first: Vec<(usize, f64, Vec<f64>)> = order
-        .iter()
-        .map(|&(si, c)| {
-            let u0: Vec<f64> = fidx
-                .iter()
-                .map(|&i| to_u(&specs[i], starts[si][i]))
-                .collect();
-            (si, c, u0)
-        })
-        .collect();
-    for (&(iters, keep), &frac) in stages.iter().zip(&windows) {
-        let n_use = n_window(frac);
-        let opts_stage = LmOptions {
-            max_iter: iters,
-            ..LmOptions::default()
-        };
-        first = first
-            .par_iter()
-            .map(|(si, _, u)| {
-                let r = minimize(
-                    &|v: &[f64]| resid_n(v, &starts[*si], n_use),
-                    u,
-                    &lo,
-                    &hi,
-                    &opts_stage,
-                );
-                (*si, r.cost, r.u)
-            })
-            .collect();
-        first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-            for (si, c, u) in &first {
-                let p = full(u, &starts[*si]);
-                eprintln!(
-                    "stage {iters}: start {si} {:?} -> cost {c:.2} at {p:?}",
-                    &starts[*si]
-                );
-            }
-        }
-        first.truncate(keep);
-    }
-    let long = LmOptions {
-        max_iter: long_iter,
-        ftol: 1e-9,
-        ..LmOptions::default()
-    };
-    // the start that fits the whole record best also gets a full run (with a windowed screen
-    // it may have been dropped; e.g. a candidate at its null values, i.e. the baseline)
-    if windows[0] < 1.0 {
-        let full_costs: Vec<(usize, f64)> = starts
+    // the cost of every start on the whole record (only needed when the stages are windowed)
+    let full_costs: Vec<(usize, f64)> = if windows[0] < 1.0 {
+        starts
             .par_iter()
             .enumerate()
             .map(|(si, s)| {
@@ -341,21 +293,100 @@ pub fn fit_model(
                 let c: f64 = resid(&u0, s).iter().map(|v| v * v).sum();
                 (si, if c.is_finite() { c } else { f64::INFINITY })
             })
-            .collect();
+            .collect()
+    } else {
+        Vec::new()
+    };
+    // a windowed screen judges starts on the early record only: the best few on the whole
+    // record join them
+    let mut by_full = full_costs.clone();
+    by_full.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    for &(si, c) in by_full.iter().take(SCREEN_FULL) {
+        if !order.iter().any(|&(sj, _)| sj == si) {
+            order.push((si, c));
+        }
+    }
+    // successive halving: a few iterations from every kept start, more from the best ones
+    let initial = |list: &[(usize, f64)]| -> Vec<(usize, f64, Vec<f64>)> {
+        list.iter()
+            .map(|&(si, c)| {
+                let u0: Vec<f64> = fidx
+                    .iter()
+                    .map(|&i| to_u(&specs[i], starts[si][i]))
+                    .collect();
+                (si, c, u0)
+            })
+            .collect()
+    };
+    let run_stages = |mut first: Vec<(usize, f64, Vec<f64>)>, windows: [f64; 2]| {
+        for (&(iters, keep), &frac) in stages.iter().zip(&windows) {
+            let n_use = n_window(frac);
+            let opts_stage = LmOptions {
+                max_iter: iters,
+                ..LmOptions::default()
+            };
+            first = first
+                .par_iter()
+                .map(|(si, _, u)| {
+                    let r = minimize(
+                        &|v: &[f64]| resid_n(v, &starts[*si], n_use),
+                        u,
+                        &lo,
+                        &hi,
+                        &opts_stage,
+                    );
+                    (*si, r.cost, r.u)
+                })
+                .collect();
+            first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+                for (si, c, u) in &first {
+                    let p = full(u, &starts[*si]);
+                    eprintln!(
+                        "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
+                        &starts[*si]
+                    );
+                }
+            }
+            first.truncate(keep);
+        }
+        first
+    };
+    let mut first = run_stages(initial(&order), windows);
+    if windows[0] < 1.0 && also_full {
+        // and the same stages on the whole record from the starts that fit it best
+        let mut top: Vec<(usize, f64)> = Vec::new();
+        for &(si, c) in &by_full {
+            if top.len() >= SCREEN_KEEP {
+                break;
+            }
+            top.push((si, c));
+        }
+        first.extend(run_stages(initial(&top), [1.0, 1.0]));
+    }
+    let long = LmOptions {
+        max_iter: long_iter,
+        ftol: 1e-9,
+        ..LmOptions::default()
+    };
+    // the start that fits the whole record best also gets a full run (with a windowed screen
+    // it may have been dropped; e.g. a candidate at its null values, i.e. the baseline)
+    if windows[0] < 1.0 {
         if let Some(&(si, c)) = full_costs
             .iter()
             .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
         {
-            if !first.iter().any(|f| f.0 == si) {
-                let u0: Vec<f64> = fidx
-                    .iter()
-                    .map(|&i| {
-                        to_u(&specs[i], starts[si][i])
-                            .clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
-                    })
-                    .collect();
-                first.push((si, c, u0));
+            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+                eprintln!("best full-record start {si} {:?}: cost {c:.2}", &starts[si]);
             }
+            // from its own values, not from where the windowed stages moved it
+            let u0: Vec<f64> = fidx
+                .iter()
+                .map(|&i| {
+                    to_u(&specs[i], starts[si][i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
+                })
+                .collect();
+            first.push((si, c, u0));
         }
     }
     let refined: Vec<(usize, f64, Vec<f64>)> = first
@@ -544,11 +575,12 @@ const STAGES_RT: [(usize, usize); 2] = [(40, 12), (200, 4)];
 /// and first refined on the first quarter, then half, of the record. The retraction rings at about 73 kHz for a millisecond:
 /// a 10 % error on a frequency slips seven cycles by the end of the record, a forest of local
 /// minima; fitting the first fifth of the record, then half, then all (continuation) follows
-/// the phase. Fixed per scenario: deterministic.
-fn effort(s: Scenario) -> ([(usize, usize); 2], usize, [f64; 2]) {
+/// the phase. The last flag also runs the stages on the whole record from the starts that fit
+/// it best, and refines the survivors of both. Fixed per scenario: deterministic.
+fn effort(s: Scenario) -> ([(usize, usize); 2], usize, [f64; 2], bool) {
     match s {
-        Scenario::TmmfRelease => (STAGES, LONG_ITER, [0.25, 0.5]),
-        Scenario::RtRetraction => (STAGES_RT, 4 * LONG_ITER, [0.2, 0.5]),
+        Scenario::TmmfRelease => (STAGES, LONG_ITER, [0.25, 0.5], true),
+        Scenario::RtRetraction => (STAGES_RT, 4 * LONG_ITER, [0.2, 0.5], false),
     }
 }
 /// Iterations of the refinement of the best three.
@@ -597,6 +629,9 @@ const CANONICAL_TOLERANCE: f64 = 4.0;
 
 /// Doublings of the profile step (up to 16 covariance sigmas).
 const PROFILE_DOUBLINGS: usize = 5;
+
+/// Starts added to the screened ones for their cost on the whole record (windowed stages).
+const SCREEN_FULL: usize = 8;
 
 /// Number of screened starts that get a short Levenberg-Marquardt run.
 const SCREEN_KEEP: usize = 32;
