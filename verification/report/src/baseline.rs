@@ -185,13 +185,13 @@ pub fn diff(now: &Report, baseline: &Path, tolerance: f64) -> Result<Diff, Basel
                 }),
                 Some(x) => {
                     let mut what = Vec::new();
-                    if x.value != e.value {
+                    if !opt_close(x.value, e.value) {
                         what.push(format!("value {:?} -> {:?}", x.value, e.value));
                     }
                     let keys: std::collections::BTreeSet<&String> =
                         x.inputs.keys().chain(e.inputs.keys()).collect();
                     for k in keys {
-                        if x.inputs.get(k) != e.inputs.get(k) {
+                        if !json_close(x.inputs.get(k), e.inputs.get(k)) {
                             what.push(format!("input {k} changed"));
                         }
                     }
@@ -222,6 +222,39 @@ pub fn diff(now: &Report, baseline: &Path, tolerance: f64) -> Result<Diff, Basel
         + d.margin_moved.iter().filter(|m| m.regression).count()
         + d.removed.len();
     Ok(d)
+}
+
+/// Numbers equal to 1e-12 relative: a value re-read from JSON is the same evidence.
+fn close(a: f64, b: f64) -> bool {
+    a == b || (a - b).abs() <= 1e-12 * a.abs().max(b.abs())
+}
+
+fn opt_close(a: Option<f64>, b: Option<f64>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => close(a, b),
+        (None, None) => true,
+        _ => false,
+    }
+}
+
+/// JSON values equal, numbers compared with [`close`].
+fn json_close(a: Option<&serde_json::Value>, b: Option<&serde_json::Value>) -> bool {
+    use serde_json::Value;
+    match (a, b) {
+        (None, None) => true,
+        (Some(Value::Number(x)), Some(Value::Number(y))) => match (x.as_f64(), y.as_f64()) {
+            (Some(x), Some(y)) => close(x, y),
+            _ => x == y,
+        },
+        (Some(Value::Array(x)), Some(Value::Array(y))) => {
+            x.len() == y.len() && x.iter().zip(y).all(|(p, q)| json_close(Some(p), Some(q)))
+        }
+        (Some(Value::Object(x)), Some(Value::Object(y))) => {
+            x.len() == y.len() && x.iter().all(|(k, v)| json_close(Some(v), y.get(k)))
+        }
+        (Some(x), Some(y)) => x == y,
+        _ => false,
+    }
 }
 
 /// Markdown summary fit for a pull-request comment.
@@ -297,4 +330,60 @@ pub fn markdown(d: &Diff) -> String {
 /// Whether a status is a regression from another (used in tests and by callers).
 pub fn worse(from: Status, to: Status) -> bool {
     rank(from.as_str()) < rank(to.as_str())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::report;
+
+    fn diff_of(old: &Report, new: &Report, tol: f64) -> Diff {
+        let p = std::env::temp_dir().join(format!(
+            "geodesic-baseline-{}-{tol}.json",
+            std::process::id()
+        ));
+        std::fs::write(&p, serde_json::to_string(old).unwrap()).unwrap();
+        let d = diff(new, &p, tol).unwrap();
+        std::fs::remove_file(&p).unwrap();
+        d
+    }
+
+    #[test]
+    fn identical_runs_have_no_change() {
+        let d = diff_of(&report(1.3, 2.0), &report(1.3, 2.0), 0.01);
+        assert!(d.flipped.is_empty() && d.margin_moved.is_empty() && d.suspect_evidence.is_empty());
+        assert_eq!(d.regressions, 0);
+    }
+
+    #[test]
+    fn names_exactly_the_requirements_that_moved() {
+        // F-A moves by 2 % of the limit (beyond 1 %), F-B by 0.2 % (within)
+        let d = diff_of(&report(1.3, 2.0), &report(1.4, 2.01), 0.01);
+        let moved: Vec<&str> = d.margin_moved.iter().map(|m| m.id.as_str()).collect();
+        assert_eq!(moved, ["F-A"]);
+        assert_eq!(d.regressions, 1);
+        // both values changed: both are suspect evidence
+        assert_eq!(d.suspect_evidence.len(), 2);
+        assert!(markdown(&d).contains("F-A"));
+    }
+
+    #[test]
+    fn a_flip_to_non_compliant_is_a_regression_and_back_is_not() {
+        let d = diff_of(&report(1.3, 2.0), &report(6.0, 2.0), 0.01);
+        assert_eq!(d.flipped.len(), 1);
+        assert!(d.flipped[0].regression);
+        let d = diff_of(&report(6.0, 2.0), &report(1.3, 2.0), 0.01);
+        assert!(!d.flipped[0].regression);
+        assert_eq!(d.regressions, 0);
+    }
+
+    #[test]
+    fn a_malformed_baseline_names_file_and_line() {
+        let p =
+            std::env::temp_dir().join(format!("geodesic-baseline-bad-{}.json", std::process::id()));
+        std::fs::write(&p, "{\"requirements\": [\n  {\"id\": 3}\n]}").unwrap();
+        let e = diff(&report(1.0, 1.0), &p, 0.01).unwrap_err().to_string();
+        std::fs::remove_file(&p).unwrap();
+        assert!(e.contains(":2:"), "{e}");
+    }
 }

@@ -68,3 +68,96 @@ pub fn fmt_opt(v: Option<f64>) -> String {
 pub fn fmt_margin(m: Option<f64>) -> String {
     m.map_or_else(|| "—".to_string(), |m| format!("{:.1} %", 100.0 * m))
 }
+
+#[cfg(test)]
+pub(crate) mod testutil {
+    //! A two-requirement report for the writers' tests.
+    use crate::{Report, RunInfo};
+    use geodesic_core::matrix::Matrix;
+    use geodesic_core::{Dim, Evidence, Quantity, Requirements};
+    use std::path::PathBuf;
+
+    const REQS: &str = "family: f
+requirements:
+  - id: F-A
+    title: a
+    text: shall
+    source: s
+    quantity: q
+    dimension: velocity
+    limit: <= 5 um/s
+    method: analysis
+    activity: mc
+  - id: F-B
+    title: b
+    text: shall
+    source: s
+    quantity: q
+    dimension: velocity
+    limit: <= 5 um/s
+    method: analysis
+    activity: mc
+";
+
+    pub(crate) fn report(a_um_s: f64, b_um_s: f64) -> Report {
+        let reqs = Requirements::from_sources(&[(PathBuf::from("f.yaml"), REQS.into())]).unwrap();
+        let ev = vec![(
+            "mc".to_string(),
+            vec![
+                Evidence::measured("F-A", Quantity::new(a_um_s * 1e-6, Dim::VELOCITY), "mc")
+                    .with_input("seed", 1),
+                Evidence::measured("F-B", Quantity::new(b_um_s * 1e-6, Dim::VELOCITY), "mc")
+                    .with_input("seed", 1),
+            ],
+        )];
+        Report {
+            matrix: Matrix::build(&reqs, &ev, &[]),
+            run: RunInfo {
+                geodesic_version: "t".into(),
+                requirements: "f".into(),
+                mc_n: 1,
+                seed: 1,
+                checks: vec![],
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::testutil::report;
+
+    #[test]
+    fn every_writer_lists_every_requirement() {
+        let r = report(1.3, 6.0); // F-A compliant, F-B non-compliant
+        let junit = crate::junit::render(&r);
+        assert_eq!(junit.matches("<testcase ").count(), 2);
+        assert_eq!(junit.matches("<failure ").count(), 1);
+        assert!(junit.starts_with("<?xml") && junit.trim_end().ends_with("</testsuites>"));
+        let csv = crate::vcd::csv(&r);
+        assert_eq!(csv.lines().count(), 3);
+        assert!(csv.contains("F-B") && csv.contains(",no,open,"));
+        let html = crate::html::render(&r, &[]);
+        assert!(
+            html.contains("id=\"F-A\"")
+                && html.contains("id=\"F-B\"")
+                && html.contains("non-compliant")
+        );
+        assert!(
+            !html.contains("http://") && !html.contains("https://"),
+            "self-contained: no external resource"
+        );
+        let md = crate::markdown::render(&r);
+        assert!(md.contains("### F-A") && md.contains("### F-B"));
+        let table = crate::terminal::table(&r.matrix, false);
+        assert!(table.contains("2 requirements: 1 compliant, 1 non-compliant, 0 not verified"));
+    }
+
+    #[test]
+    fn html_escapes_requirement_text() {
+        let mut r = report(1.0, 1.0);
+        r.matrix.requirements[0].title = "<script>alert(1)</script>".into();
+        let html = crate::html::render(&r, &[]);
+        assert!(!html.contains("<script>alert(1)"));
+    }
+}
