@@ -11,6 +11,7 @@
 pub mod capture;
 pub mod charge;
 pub mod facility;
+pub mod fidelity;
 pub mod plots;
 pub mod release;
 pub mod tm_state;
@@ -20,9 +21,13 @@ use geodesic_core::trace::TestTrace;
 
 /// Every registered check, in a stable order.
 pub fn registry() -> Vec<Box<dyn Check>> {
+    registry_with(release::SharedMonteCarlo::new())
+}
+
+/// The registry with a given release Monte Carlo cache (shared by the checks that need its
+/// velocities, and by [`fidelity::table`], so that `geodesic verify` runs it once).
+pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<dyn Check>> {
     let mut all: Vec<Box<dyn Check>> = Vec::new();
-    // One release Monte Carlo run, shared by the checks that need its velocities.
-    let mc = release::SharedMonteCarlo::new();
     all.extend(release::checks_with(mc.clone()));
     all.extend(capture::checks_with(Some(release::vz_source(mc.clone()))));
     all.extend(charge::checks());

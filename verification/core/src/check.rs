@@ -103,3 +103,19 @@ pub trait Check: Send + Sync {
     /// Runs the activity.
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError>;
 }
+
+/// One row of a comparison with a reference (the thesis's figures): stated in the reports next to
+/// the compliance matrix, with the assumptions that produced it.
+#[derive(Clone, Debug, Serialize)]
+pub struct ReferenceRow {
+    /// What is compared (with its definition).
+    pub figure: String,
+    /// geodesic's value, with unit.
+    pub value: String,
+    /// The reference value, with unit and source.
+    pub reference: String,
+    /// Relative difference (`-11 %`), or `-` where it does not apply.
+    pub difference: String,
+    /// Assumptions or why it differs.
+    pub note: String,
+}

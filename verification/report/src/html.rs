@@ -162,6 +162,25 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         );
     }
     let _ = write!(o, "</tbody></table>");
+    if !rep.run.fidelity.is_empty() {
+        let _ = write!(
+            o,
+            "<h2 id=\"fidelity\">Fidelity against the thesis</h2><table><thead><tr><th>Figure</th><th>geodesic</th>\
+             <th>Thesis</th><th>Difference</th><th>Assumptions</th></tr></thead><tbody>"
+        );
+        for f in &rep.run.fidelity {
+            let _ = write!(
+                o,
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+                esc(&f.figure),
+                esc(&f.value),
+                esc(&f.reference),
+                esc(&f.difference),
+                esc(&f.note)
+            );
+        }
+        let _ = write!(o, "</tbody></table>");
+    }
     // sections
     let _ = write!(o, "<h2 id=\"requirements\">Requirements</h2>");
     for r in &m.requirements {

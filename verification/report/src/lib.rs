@@ -35,6 +35,8 @@ pub struct RunInfo {
     pub seed: u64,
     /// Checks that ran, with the requirements they verify and their wall time [s].
     pub checks: Vec<CheckRun>,
+    /// geodesic's figures against the thesis's (the fidelity table).
+    pub fidelity: Vec<geodesic_core::check::ReferenceRow>,
 }
 
 /// One check that ran.
@@ -118,6 +120,7 @@ requirements:
                 mc_n: 1,
                 seed: 1,
                 checks: vec![],
+                fidelity: vec![],
             },
         }
     }

@@ -71,6 +71,25 @@ pub fn render(rep: &Report) -> String {
             nt = r.tests.len()
         );
     }
+    if !rep.run.fidelity.is_empty() {
+        let _ = writeln!(o, "\n## Fidelity against the thesis\n");
+        let _ = writeln!(
+            o,
+            "| Figure | geodesic | Thesis | Difference | Assumptions |"
+        );
+        let _ = writeln!(o, "|---|---|---|---|---|");
+        for f in &rep.run.fidelity {
+            let _ = writeln!(
+                o,
+                "| {} | {} | {} | {} | {} |",
+                cell(&f.figure),
+                cell(&f.value),
+                cell(&f.reference),
+                f.difference,
+                cell(&f.note)
+            );
+        }
+    }
     let _ = writeln!(o, "\n## Requirements\n");
     for r in &m.requirements {
         let _ = writeln!(o, "### {}\n", r.id);

@@ -42,6 +42,9 @@ pub struct Args {
         default_value_t = 0.01
     )]
     pub margin_tolerance: f64,
+    /// Skip the fidelity table (figures against the thesis; runs two more Monte Carlo cases).
+    #[arg(long = "no-fidelity")]
+    pub no_fidelity: bool,
     /// Print only the JSON compliance matrix on standard output.
     #[arg(long)]
     pub json: bool,
@@ -80,7 +83,8 @@ pub fn run(args: Args) -> CmdResult {
         return Err(CliError::bad("--mc-n must be at least 1"));
     }
     let (reqs, source) = load_requirements(args.requirements.as_ref())?;
-    let registry = geodesic_checks::registry();
+    let mc = geodesic_checks::release::SharedMonteCarlo::new();
+    let registry = geodesic_checks::registry_with(mc.clone());
     let names: Vec<&str> = registry.iter().map(|c| c.name()).collect();
     reqs.validate_checks(&names)
         .map_err(|e| CliError::bad(e.to_string()))?;
@@ -124,6 +128,17 @@ pub fn run(args: Args) -> CmdResult {
             }
         }
     }
+    let fidelity = if args.no_fidelity {
+        Vec::new()
+    } else {
+        if !ctx.quiet {
+            eprintln!(
+                "geodesic: computing the fidelity table (Monte Carlo cases adhesion and mechanisms) ..."
+            );
+        }
+        geodesic_checks::fidelity::table(&mc, &ctx)
+            .map_err(|e| CliError::bad(format!("fidelity table: {e}")))?
+    };
     let report = Report {
         matrix,
         run: RunInfo {
@@ -132,6 +147,7 @@ pub fn run(args: Args) -> CmdResult {
             mc_n: args.mc_n,
             seed: args.seed,
             checks: runs,
+            fidelity,
         },
     };
     if !(args.margin_tolerance.is_finite() && args.margin_tolerance >= 0.0) {
