@@ -221,7 +221,7 @@ fn row(
     let mut reasons = Vec::new();
     for (check, e) in evs {
         let (value, reason) = match &e.outcome {
-            Outcome::Measured(q) if q.dim == r.dim && q.value.is_finite() => {
+            Outcome::Measured(q) if q.dim == r.dim && !q.value.is_nan() => {
                 let v = q.value / scale;
                 let m = r.op.margin(v, limit);
                 if best.is_none_or(|(_, bm)| m < bm) {
@@ -230,10 +230,10 @@ fn row(
                 (Some(v), None)
             }
             Outcome::Measured(q) => {
-                let why = if q.value.is_finite() {
-                    format!("check {check} gave a {} for a {} requirement", q.dim, r.dim)
+                let why = if q.value.is_nan() {
+                    format!("check {check} gave no number (NaN)")
                 } else {
-                    format!("check {check} gave a non-finite value")
+                    format!("check {check} gave a {} for a {} requirement", q.dim, r.dim)
                 };
                 reasons.push(why.clone());
                 (None, Some(why))

@@ -3,54 +3,16 @@
 //! Monte Carlo budget's adhesion are diagnosed and fitted like campaign data: the tool must name
 //! the adhesion and recover the peak pull-off `A1*lambda/e` within its reported uncertainty.
 
-use geodesic_facility::{Scenario, TipProfile};
+use geodesic_checks::facility::{peak_pull_off, synthetic_release};
+use geodesic_facility::Scenario;
 use geodesic_fit::diagnose::diagnose;
-use geodesic_fit::fit::{FitOptions, FitOutcome, Prepared, fit};
+use geodesic_fit::fit::{FitOptions, Prepared, fit};
 use geodesic_fit::synth::{SynthSpec, generate};
 use geodesic_release::budget::Budget;
 
-/// A short intermediate-TM release (m = 0.089 kg, thesis tab:0.1kg) with tip adhesion.
-fn release(a1_n_m: f64, lambda_m: f64, seed: u64) -> Prepared {
-    let mut spec = SynthSpec::defaults(
-        Scenario::TmmfRelease,
-        &["needle_contact", "tip_contact", "tip_adhesion"],
-    );
-    spec.params.insert("tip_adhesion.A1".into(), a1_n_m);
-    spec.params.insert("tip_adhesion.lambda".into(), lambda_m);
-    spec.fs_hz = 1e5;
-    spec.pre_s = 5e-4;
-    spec.post_s = 4e-3;
-    spec.noise_in_yaml = false;
-    spec.profile = TipProfile {
-        jerk_m_s3: 6000.0,
-        v_m_s: 3e-3,
-    };
-    spec.seed = seed;
-    Prepared::new(generate(&spec, "campaign.yaml").expect("synth"))
-}
-
-/// Peak pull-off `A1*lambda/e` [N] and its 1-sigma from the fit's covariance.
-fn peak_pull_off(o: &FitOutcome) -> (f64, f64) {
-    let ia = o.model.index("tip_adhesion.A1").expect("A1");
-    let il = o.model.index("tip_adhesion.lambda").expect("lambda");
-    let (a, l) = (o.p[ia], o.p[il]);
-    let (sa, sl) = (o.sigma_p[ia], o.sigma_p[il]);
-    // correlation between the two in the free-parameter order
-    let free: Vec<usize> = (0..o.p.len()).filter(|i| o.free[*i]).collect();
-    let (ka, kl) = (
-        free.iter().position(|&i| i == ia).expect("A1 free"),
-        free.iter().position(|&i| i == il).expect("lambda free"),
-    );
-    let rho = o.corr[(ka, kl)];
-    let e = std::f64::consts::E;
-    let (da, dl) = (l / e, a / e);
-    let var = da * da * sa * sa + dl * dl * sl * sl + 2.0 * da * dl * rho * sa * sl;
-    (a * l / e, var.max(0.0).sqrt())
-}
-
 #[test]
 fn campaign_fits_recover_the_peak_pull_off_of_the_monte_carlo_adhesion() {
-    geodesic_core::verifies!("FAC-ADH-CAL");
+    geodesic_core::verifies!("FAC-ADH-CAL", "FAC-FIT-QUAL");
     let budget = Budget::default_budget();
     // the budget's mean adhesion, and a strong bond near the experimental bounds (thesis:
     // A1 <= 1.5e5 N/m, lambda <= 8e-7 m)
@@ -63,7 +25,7 @@ fn campaign_fits_recover_the_peak_pull_off_of_the_monte_carlo_adhesion() {
         (1.35e5, 7.5e-7, 52),
     ];
     for (a1, lambda, seed) in cases {
-        let prep = release(a1, lambda, seed);
+        let prep = synthetic_release(a1, lambda, seed).expect("synth");
         let (d, _) = diagnose(
             &prep,
             &["needle_contact", "tip_contact"],
@@ -86,7 +48,7 @@ fn campaign_fits_recover_the_peak_pull_off_of_the_monte_carlo_adhesion() {
             "chi2_red {}",
             o.chi2_red()
         );
-        let (peak, sigma) = peak_pull_off(&o);
+        let (peak, sigma) = peak_pull_off(&o).expect("tip_adhesion fitted");
         let truth = a1 * lambda / std::f64::consts::E;
         assert!(sigma > 0.0 && sigma < 0.1 * truth, "peak {peak} +- {sigma}");
         assert!(

@@ -11,8 +11,14 @@ fn requirements() -> Requirements {
         .unwrap()
 }
 
-/// The matrix of the built-in requirements with a small, fixed-seed Monte Carlo.
-fn matrix() -> Matrix {
+/// The matrix of the built-in requirements with a small, fixed-seed Monte Carlo (computed once
+/// for the tests of this module).
+fn matrix() -> &'static Matrix {
+    static M: std::sync::OnceLock<Matrix> = std::sync::OnceLock::new();
+    M.get_or_init(compute_matrix)
+}
+
+fn compute_matrix() -> Matrix {
     let reqs = requirements();
     let dir = std::env::temp_dir().join(format!("geodesic-framework-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -85,7 +91,7 @@ fn every_requirement_has_a_check_and_no_check_is_orphan() {
 
 #[test]
 fn not_verified_rows_state_a_reason_and_compliant_rows_a_value() {
-    for r in matrix().requirements {
+    for r in &matrix().requirements {
         match r.status {
             Status::NotVerified => {
                 assert!(r.reason.as_ref().is_some_and(|s| !s.is_empty()), "{}", r.id)
