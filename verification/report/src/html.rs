@@ -20,6 +20,7 @@ header h1{margin:0 0 .3em 0;font-size:1.5em}
 main{padding:1em 2em;max-width:1400px}
 table{border-collapse:collapse;width:100%;margin:.6em 0 1.4em 0;font-size:.9em;background:#fff}
 th,td{border:1px solid #d8dde6;padding:.35em .5em;text-align:left;vertical-align:top}
+td.ev{overflow-wrap:anywhere;font-size:.85em}
 th{background:#eef1f6}
 .compliant{background:#d7f5dd}.non-compliant{background:#fbd5d5}.not-verified{background:#fff3cd}
 .badge{padding:.1em .5em;border-radius:.6em;font-weight:600;white-space:nowrap}
@@ -27,7 +28,7 @@ section.req{background:#fff;border:1px solid #d8dde6;border-radius:6px;padding:.
 .plot svg{max-width:100%;height:auto;border:1px solid #e3e6ec;background:#fff}
 .filters button{margin-right:.4em;padding:.3em .8em;border:1px solid #99a;border-radius:4px;background:#fff;cursor:pointer}
 .filters button.on{background:#14213d;color:#fff}
-code{background:#eef1f6;padding:0 .2em;border-radius:3px}
+code{background:#eef1f6;color:#1d2330;padding:0 .2em;border-radius:3px}
 .muted{color:#667}
 "#;
 
@@ -150,7 +151,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     for l in vcd::lines(rep) {
         let _ = write!(
             o,
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}: {}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"ev\">{}</td><td>{}</td><td>{}: {}</td></tr>",
             esc(&l.id),
             esc(&l.parent),
             esc(&l.children.replace(';', ", ")),
@@ -369,7 +370,7 @@ pub fn render_vcd(rep: &Report) -> String {
     for (l, r) in vcd::lines(rep).iter().zip(&rep.matrix.requirements) {
         let _ = write!(
             o,
-            "<tr class=\"{}\"><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}: {}</td></tr>",
+            "<tr class=\"{}\"><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"ev\">{}</td><td>{}</td><td><code>{}</code></td><td>{}</td><td>{}</td><td>{}: {}</td></tr>",
             r.status.as_str(),
             esc(&l.id),
             esc(&l.text),
