@@ -1,45 +1,19 @@
 //! `geodesic diagnose DATASET.yaml --effects a,b`: fits the model, then every candidate effect
 //! of the scenario it lacks, ranks them by delta BIC and names the missing one (interface.md).
 
-use std::path::PathBuf;
-
 use geodesic_fit::fit::FitReport;
 
-use crate::cmd::fit::{load, options, outputs, summary};
+use crate::cmd::fit::{effect_list, load, options, outputs, summary};
 use crate::error::{CliError, CmdResult};
 
-/// Flags of `geodesic diagnose`.
-#[derive(clap::Args, Debug)]
-pub struct Args {
-    /// Dataset YAML (interface.md).
-    pub dataset: PathBuf,
-    /// Effects of the model to start from, comma separated.
-    #[arg(long, value_delimiter = ',', required = true)]
-    pub effects: Vec<String>,
-    /// Hold a parameter fixed: effect.param=VALUE (SI), repeatable.
-    #[arg(long = "fix", value_name = "NAME=VALUE")]
-    pub fix: Vec<String>,
-    /// Bound a parameter: effect.param=LO:HI (SI), repeatable.
-    #[arg(long = "bound", value_name = "NAME=LO:HI")]
-    pub bound: Vec<String>,
-    /// Output directory for the SVG and the history.
-    #[arg(long, default_value = "reports/fits")]
-    pub out: PathBuf,
-    /// Print exactly one JSON document on standard output.
-    #[arg(long)]
-    pub json: bool,
-}
+/// Flags of `geodesic diagnose`: the same as `geodesic fit` (the model to start from).
+pub use crate::cmd::fit::Args;
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let opts = options(&args.fix, &args.bound)?;
     let prep = load(&args.dataset)?;
-    let effects: Vec<&str> = args
-        .effects
-        .iter()
-        .map(|s| s.trim())
-        .filter(|s| !s.is_empty())
-        .collect();
+    let effects = effect_list(&args.effects);
     let (mut report, base) = geodesic_fit::diagnose::diagnose(&prep, &effects, &opts)
         .map_err(|e| CliError::bad(e.to_string()))?;
     let mut fr: FitReport = report.fit.clone();

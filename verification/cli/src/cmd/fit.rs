@@ -142,16 +142,20 @@ pub fn summary(r: &FitReport) -> String {
     s
 }
 
+/// The effect names of `--effects`, trimmed, empty items dropped.
+pub fn effect_list(effects: &[String]) -> Vec<&str> {
+    effects
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty())
+        .collect()
+}
+
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let opts = options(&args.fix, &args.bound)?;
     let prep = load(&args.dataset)?;
-    let effects: Vec<&str> = args
-        .effects
-        .iter()
-        .map(|s| s.trim())
-        .filter(|s| !s.is_empty())
-        .collect();
+    let effects = effect_list(&args.effects);
     let opts = FitOptions {
         profile: true,
         ..opts
