@@ -202,6 +202,24 @@ impl Matrix {
         }
     }
 
+    /// IDs of the requirements no check gave a value for (trace view).
+    pub fn without_value(&self) -> Vec<&str> {
+        self.requirements
+            .iter()
+            .filter(|r| r.value.is_none())
+            .map(|r| r.id.as_str())
+            .collect()
+    }
+
+    /// IDs of the requirements no test declares it verifies (trace view).
+    pub fn without_tests(&self) -> Vec<&str> {
+        self.requirements
+            .iter()
+            .filter(|r| r.tests.is_empty())
+            .map(|r| r.id.as_str())
+            .collect()
+    }
+
     /// Exit status of `verify`: 1 if any requirement is non-compliant, else 0.
     pub fn exit_code(&self) -> u8 {
         u8::from(self.summary.non_compliant > 0)

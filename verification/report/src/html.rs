@@ -312,20 +312,11 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         }
         let _ = write!(o, "</ul>");
     }
-    let bare: Vec<&str> = m
-        .requirements
-        .iter()
-        .filter(|r| r.value.is_none())
-        .map(|r| r.id.as_str())
-        .collect();
     let _ = write!(
         o,
-        "<h3>Requirements without evidence</h3><p>{}</p>",
-        if bare.is_empty() {
-            "None.".into()
-        } else {
-            esc(&bare.join(", "))
-        }
+        "<h3>Requirements without a measured value</h3><p>{}</p><h3>Requirements without a traced test</h3><p>{}</p>",
+        esc(&crate::id_list(&m.without_value())),
+        esc(&crate::id_list(&m.without_tests()))
     );
     // gallery of the other plots
     let mut others = Vec::new();

@@ -66,6 +66,15 @@ pub fn fmt_opt(v: Option<f64>) -> String {
     v.map_or_else(|| "—".to_string(), geodesic_core::units::fmt_num)
 }
 
+/// A list of IDs for a trace view: `None.` when empty.
+pub fn id_list(ids: &[&str]) -> String {
+    if ids.is_empty() {
+        "None.".to_string()
+    } else {
+        ids.join(", ")
+    }
+}
+
 /// Formats a margin as a percentage (`70.0 %`), `—` when absent.
 pub fn fmt_margin(m: Option<f64>) -> String {
     m.map_or_else(|| "—".to_string(), |m| format!("{:.1} %", 100.0 * m))

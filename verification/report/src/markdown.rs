@@ -196,33 +196,9 @@ pub fn render(rep: &Report) -> String {
             );
         }
     }
-    let _ = writeln!(o, "\n### Requirements without evidence\n");
-    let bare: Vec<&str> = m
-        .requirements
-        .iter()
-        .filter(|r| r.value.is_none())
-        .map(|r| r.id.as_str())
-        .collect();
-    if bare.is_empty() {
-        let _ = writeln!(o, "None.");
-    } else {
-        let _ = writeln!(o, "{}", bare.join(", "));
-    }
+    let _ = writeln!(o, "\n### Requirements without a measured value\n");
+    let _ = writeln!(o, "{}", crate::id_list(&m.without_value()));
     let _ = writeln!(o, "\n### Requirements without a traced test\n");
-    let untested: Vec<&str> = m
-        .requirements
-        .iter()
-        .filter(|r| r.tests.is_empty())
-        .map(|r| r.id.as_str())
-        .collect();
-    let _ = writeln!(
-        o,
-        "{}",
-        if untested.is_empty() {
-            "None.".to_string()
-        } else {
-            untested.join(", ")
-        }
-    );
+    let _ = writeln!(o, "{}", crate::id_list(&m.without_tests()));
     o
 }
