@@ -26,6 +26,7 @@
 pub mod criterion;
 pub mod drift;
 pub mod error;
+pub mod inputs;
 pub mod limits;
 pub mod probability;
 pub mod shear;
@@ -37,6 +38,10 @@ pub use criterion::{
 };
 pub use drift::{DRIFT_TIME_S, drift_angle_rad, drift_offset_m};
 pub use error::CaptureError;
+pub use inputs::{
+    CaptureInputs, DEFAULT_CAPTURE_YAML, SourceKind, StateModel, StateSource, XlimDerivation,
+    Z_9973, drift_rate_of,
+};
 pub use limits::{
     DEFAULT_XLIM_LABEL, DEFAULT_XLIM_YAML, DeriveError, Xlim, derive_xlim, derived_factor,
 };

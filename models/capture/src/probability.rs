@@ -197,32 +197,37 @@ pub fn capture_probability(
     xlim: &Xlim,
     seed: u64,
 ) -> CaptureProbability {
-    let mut sums: Vec<f64> = vz_m_s
+    let sums: Vec<f64> = vz_m_s
         .iter()
         .enumerate()
         .map(|(k, &vz)| quartic_sum(xlim, &dist.draw(vz, seed, k as u64)))
         .collect();
-    let n = sums.len();
-    // NaN sums (NaN velocities) count as not captured.
-    let captured = sums.iter().filter(|&&s| s < 1.0).count();
-    sums.sort_by(f64::total_cmp);
-    let quantile = |p: f64| -> f64 {
-        if n == 0 {
-            f64::NAN
-        } else {
-            let idx = ((p * n as f64).ceil() as usize).clamp(1, n) - 1;
-            sums[idx]
+    CaptureProbability::from_sums(sums, seed)
+}
+
+impl CaptureProbability {
+    /// The statistics of a set of quartic sums (one per draw); NaN sums count as not captured.
+    pub fn from_sums(mut sums: Vec<f64>, seed: u64) -> CaptureProbability {
+        let n = sums.len();
+        let captured = sums.iter().filter(|&&s| s < 1.0).count();
+        sums.sort_by(f64::total_cmp);
+        let quantile = |p: f64| -> f64 {
+            if n == 0 {
+                f64::NAN
+            } else {
+                let idx = ((p * n as f64).ceil() as usize).clamp(1, n) - 1;
+                sums[idx]
+            }
+        };
+        CaptureProbability {
+            n,
+            captured,
+            probability: captured as f64 / n as f64,
+            lower_95: wilson_lower(captured, n, 1.644_853_626_951_472_2),
+            sum_p9973: quantile(0.9973),
+            sum_max: sums.last().copied().unwrap_or(f64::NAN),
+            seed,
         }
-    };
-    let probability = captured as f64 / n as f64;
-    CaptureProbability {
-        n,
-        captured,
-        probability,
-        lower_95: wilson_lower(captured, n, 1.644_853_626_951_472_2),
-        sum_p9973: quantile(0.9973),
-        sum_max: sums.last().copied().unwrap_or(f64::NAN),
-        seed,
     }
 }
 

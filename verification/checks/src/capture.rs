@@ -68,6 +68,7 @@ impl CaptureCriterion {
         let mut quartic = Evidence::measured(
             "CAP-QUARTIC",
             Quantity::new(corner, Dim::DIMENSIONLESS),
+            geodesic_core::Basis::Model,
             "Quartic capture criterion evaluated at the corner of the TM state requirement box \
              (every state at +req_i) with the xlim set.",
         )
@@ -77,6 +78,7 @@ impl CaptureCriterion {
         let mut consistency = Evidence::measured(
             "CAP-XLIM-CONSISTENCY",
             Quantity::new(consistency_residual(x), Dim::DIMENSIONLESS),
+            geodesic_core::Basis::Model,
             "Consistency constraint |sum_i (box_scale req_i/xlim_i)^4 - 1| evaluated on the xlim \
              set (default set derived to satisfy it exactly, stored to 7 significant digits).",
         )
@@ -87,6 +89,7 @@ impl CaptureCriterion {
         let mut single = Evidence::measured(
             "CAP-VZ-SINGLE",
             Quantity::new(vz, Dim::VELOCITY),
+            geodesic_core::Basis::Model,
             "Single-state limit of the quartic criterion for the z velocity (the supremum of \
              captured |v_z| with all other states zero, = xlim_vz). The default xlim set is \
              anchored on the thesis's 12 um/s E2E result, so this confirms the configured set \
@@ -146,6 +149,7 @@ pub fn capture_probability_evidence(
     let mut e = Evidence::measured(
         "CAP-RELEASE-PROB",
         Quantity::new(p.probability, Dim::DIMENSIONLESS),
+        geodesic_core::Basis::Model,
         "Fraction of release Monte Carlo draws captured by the quartic criterion: z velocity \
          from the release model, the other 11 states drawn from the capture state distribution.",
     )
@@ -197,12 +201,7 @@ mod tests {
     use geodesic_core::Outcome;
 
     fn ctx() -> CheckContext {
-        CheckContext {
-            reports_dir: std::env::temp_dir(),
-            mc_n: 1000,
-            seed: 3,
-            quiet: true,
-        }
+        crate::builtin_context(std::env::temp_dir(), 1000, 3)
     }
 
     fn value(e: &Evidence) -> f64 {

@@ -48,6 +48,7 @@ impl ChargeAnalysis {
         let q = common(Evidence::measured(
             "CHG-Q",
             Quantity::new(inputs.q_2sigma_c(), Dim::CHARGE),
+            geodesic_core::Basis::Model,
             "Analytic 2-sigma bound sqrt(C_EH^2+C_Pyr^2+C_Cyl^2+C_RT^2) dV with C_RT from the \
              spherical-cap integral (quadrature); confirmed by Monte Carlo (inputs).",
         ))
@@ -58,6 +59,7 @@ impl ChargeAnalysis {
         let v = common(Evidence::measured(
             "CHG-V",
             Quantity::new(inputs.v_2sigma_v(), Dim::VOLTAGE),
+            geodesic_core::Basis::Model,
             "Analytic 2-sigma bound sqrt(C_Pyr^2+C_Cyl^2+C_RT^2)/C_EH dV with C_RT from the \
              spherical-cap integral (quadrature); confirmed by Monte Carlo (inputs).",
         ))

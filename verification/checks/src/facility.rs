@@ -141,6 +141,7 @@ impl Check for AdhesionIdentification {
         let mut e = Evidence::measured(
             "FAC-FIT-QUAL",
             Quantity::new(value, Dim::DIMENSIONLESS),
+            geodesic_core::Basis::Model,
             activity,
         )
         .with_input("true_a1_n_m", a1)

@@ -16,8 +16,58 @@ pub mod plots;
 pub mod release;
 pub mod tm_state;
 
-use geodesic_core::Check;
+use geodesic_core::check::{InputFile, ModelInputs};
 use geodesic_core::trace::TestTrace;
+use geodesic_core::{Check, CheckContext, Requirements};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// The model input files embedded in the binary (the repository's defaults), labelled
+/// `<built-in>/...`.
+pub fn builtin_inputs() -> ModelInputs {
+    ModelInputs {
+        budget: InputFile::new(
+            "<built-in>/models/release/budget.yaml",
+            geodesic_release::budget::DEFAULT_BUDGET_YAML,
+        ),
+        capture: InputFile::new(
+            "<built-in>/models/capture/capture.yaml",
+            geodesic_capture::DEFAULT_CAPTURE_YAML,
+        ),
+    }
+}
+
+/// A check context on the repository's embedded requirements and built-in model inputs, for
+/// tests and examples.
+pub fn builtin_context(reports_dir: PathBuf, mc_n: usize, seed: u64) -> CheckContext {
+    CheckContext {
+        requirements: Arc::new(geodesic_core::trace::requirements().clone()),
+        inputs: Arc::new(builtin_inputs()),
+        reports_dir,
+        mc_n,
+        seed,
+        quiet: true,
+    }
+}
+
+/// A check context for a loaded requirement set and model inputs.
+pub fn context(
+    requirements: Requirements,
+    inputs: ModelInputs,
+    reports_dir: PathBuf,
+    mc_n: usize,
+    seed: u64,
+    quiet: bool,
+) -> CheckContext {
+    CheckContext {
+        requirements: Arc::new(requirements),
+        inputs: Arc::new(inputs),
+        reports_dir,
+        mc_n,
+        seed,
+        quiet,
+    }
+}
 
 /// Every registered check, in a stable order.
 pub fn registry() -> Vec<Box<dyn Check>> {

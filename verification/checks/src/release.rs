@@ -132,7 +132,8 @@ impl Check for ReleaseMonteCarlo {
         let mut out = Vec::new();
         for id in self.verifies() {
             let mut e =
-                Evidence::measured(id, value, activity.clone()).with_artifact(HISTOGRAM_FILE);
+                Evidence::measured(id, value, geodesic_core::Basis::Model, activity.clone())
+                    .with_artifact(HISTOGRAM_FILE);
             e.inputs = mc_inputs(&r);
             if *id == "TMS-Z-VEL" {
                 e = e.with_input("axis", "release axis X = z (DFACS frame)");
@@ -176,6 +177,7 @@ impl Check for AdhesionCalibration {
         let e = Evidence::measured(
             "FAC-ADH-CAL",
             Quantity::new(s.pull_off_mean_rel_error.abs(), Dim::DIMENSIONLESS),
+            geodesic_core::Basis::Model,
             activity,
         )
         .with_input("n", s.n)

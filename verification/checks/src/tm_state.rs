@@ -60,6 +60,7 @@ pub fn z_position_evidence(v9973_m_s: f64, release_inputs: &BTreeMap<String, Val
     let mut e = Evidence::measured(
         "TMS-Z-POS",
         Quantity::new(drift_offset_m(0.0, v9973_m_s, DRIFT_TIME_S), Dim::LENGTH),
+        geodesic_core::Basis::Model,
         "Offset after 15 s of free drift (release to start of control, thesis ch. 7) at the \
          99.73 % |v_z| of the release Monte Carlo, from the centred hold (no model of the hold \
          offset; plunger attraction, < 0.1 um/s per the thesis, neglected).",
@@ -110,6 +111,7 @@ pub fn model_evidence() -> Vec<Evidence> {
                     drift_offset_m(0.0, VEL_REQUIREMENT_M_S, DRIFT_TIME_S),
                     Dim::LENGTH,
                 ),
+                geodesic_core::Basis::Model,
                 "Offset after 15 s of free drift (release to start of control, thesis ch. 7) at \
                  the 5 um/s lateral velocity requirement, from the centred hold: a flow-down \
                  bound (no model of the hold offset).",
@@ -122,6 +124,7 @@ pub fn model_evidence() -> Vec<Evidence> {
         out.push(shear_inputs(Evidence::measured(
             id,
             Quantity::new(s.velocity_m_s(PulseShape::USED), Dim::VELOCITY),
+            geodesic_core::Basis::Model,
             "Shear illustration of thesis ch. 6: a hypothetical 50 mN tangential pull at the \
              contact for 100 us (rectangular pulse, dv = dt F / M); the nominal retraction is \
              along z and no model gives a lateral velocity otherwise.",
@@ -131,6 +134,7 @@ pub fn model_evidence() -> Vec<Evidence> {
         out.push(shear_inputs(Evidence::measured(
             id,
             Quantity::new(s.angular_rate_rad_s(PulseShape::USED), Dim::ANGULAR_RATE),
+            geodesic_core::Basis::Model,
             "Shear illustration of thesis ch. 6: a hypothetical 50 mN tangential pull at the \
              contact for 100 us (rectangular pulse, dw = dt F a / I, a = 0.046 m as in the \
              thesis); the nominal retraction is along z.",
@@ -209,12 +213,7 @@ mod tests {
     use std::sync::Arc;
 
     fn ctx() -> CheckContext {
-        CheckContext {
-            reports_dir: std::env::temp_dir(),
-            mc_n: 100,
-            seed: 1,
-            quiet: true,
-        }
+        crate::builtin_context(std::env::temp_dir(), 100, 1)
     }
 
     #[test]

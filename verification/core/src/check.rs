@@ -10,9 +10,63 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+/// A model input file read at run time: what it is, where it came from, its text and hash.
+///
+/// Model crates parse [`InputFile::text`] themselves (core depends on no model crate); the
+/// reports name [`InputFile::label`] and [`InputFile::sha256`] so that an auditor can tell which
+/// inputs produced a verdict.
+#[derive(Clone, Debug, Serialize)]
+pub struct InputFile {
+    /// Path as given (or `<built-in>/...` for the copy embedded in the binary).
+    pub label: String,
+    /// The file's text.
+    #[serde(skip)]
+    pub text: String,
+    /// SHA-256 of the file's bytes, lower-case hex.
+    pub sha256: String,
+}
+
+impl InputFile {
+    /// An input file from its label and text (hashes the text).
+    pub fn new(label: impl Into<String>, text: impl Into<String>) -> Self {
+        let text = text.into();
+        InputFile {
+            label: label.into(),
+            sha256: crate::hash::sha256_hex(text.as_bytes()),
+            text,
+        }
+    }
+
+    /// Reads a file whole; the error names the file.
+    pub fn read(path: &std::path::Path) -> Result<Self, String> {
+        let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let b = e.as_bytes();
+            let line = b[..at].iter().filter(|c| **c == b'\n').count() + 1;
+            format!("{}:{line}: not UTF-8 text", path.display())
+        })?;
+        Ok(InputFile::new(path.display().to_string(), text))
+    }
+}
+
+/// The model input files of a run (release budget, capture limits and state distribution).
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelInputs {
+    /// The release Monte Carlo uncertainty budget (`models/release/budget.yaml` format).
+    pub budget: InputFile,
+    /// The capture inputs: xlim and the state sources (`models/capture/capture.yaml` format).
+    pub capture: InputFile,
+}
+
 /// What a check is given to run.
 #[derive(Clone, Debug)]
 pub struct CheckContext {
+    /// The loaded requirement set: checks read limits from it (a flow-down is computed from
+    /// these, never from constants).
+    pub requirements: std::sync::Arc<crate::Requirements>,
+    /// The model input files.
+    pub inputs: std::sync::Arc<ModelInputs>,
     /// Directory where the check may write artifacts (plots); paths in [`Evidence::artifacts`]
     /// are relative to it.
     pub reports_dir: PathBuf,
@@ -34,6 +88,48 @@ pub enum Outcome {
     NotVerified(String),
 }
 
+/// What a measured value rests on: the first thing an auditor asks of a verdict.
+///
+/// Only [`Basis::Model`] and [`Basis::FlowDown`] evidence can make a requirement plainly
+/// compliant; [`Basis::Accepted`] gives a verdict that reads "accepted" everywhere, and
+/// [`Basis::Illustration`] is shown beside the row but never decides it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Basis {
+    /// Computed by a model from inputs that a model change can move.
+    Model,
+    /// Computed at run time from the loaded requirements and other rows' evidence (never from
+    /// constants).
+    FlowDown,
+    /// A result taken from a cited external source (e.g. the thesis's E2E simulation).
+    Accepted,
+    /// A what-if, shown beside the row, never a verdict.
+    Illustration,
+}
+
+impl Basis {
+    /// The basis as written in JSON (`model`, `flow-down`, `accepted`, `illustration`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Basis::Model => "model",
+            Basis::FlowDown => "flow-down",
+            Basis::Accepted => "accepted",
+            Basis::Illustration => "illustration",
+        }
+    }
+
+    /// Whether evidence on this basis may decide a verdict.
+    pub fn decides(self) -> bool {
+        self != Basis::Illustration
+    }
+}
+
+impl std::fmt::Display for Basis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// Evidence for one requirement.
 #[derive(Clone, Debug, Serialize)]
 pub struct Evidence {
@@ -41,6 +137,8 @@ pub struct Evidence {
     pub requirement: String,
     /// Value or reason.
     pub outcome: Outcome,
+    /// What a measured value rests on (`None` for [`Outcome::NotVerified`]).
+    pub basis: Option<Basis>,
     /// One sentence: what produced the value.
     pub activity: String,
     /// Inputs that produced it (N, seed, case, dataset, ...).
@@ -50,11 +148,17 @@ pub struct Evidence {
 }
 
 impl Evidence {
-    /// Evidence with a measured value.
-    pub fn measured(requirement: &str, value: Quantity, activity: impl Into<String>) -> Self {
+    /// Evidence with a measured value on a stated `basis`.
+    pub fn measured(
+        requirement: &str,
+        value: Quantity,
+        basis: Basis,
+        activity: impl Into<String>,
+    ) -> Self {
         Evidence {
             requirement: requirement.to_string(),
             outcome: Outcome::Measured(value),
+            basis: Some(basis),
             activity: activity.into(),
             inputs: BTreeMap::new(),
             artifacts: Vec::new(),
@@ -70,6 +174,7 @@ impl Evidence {
         Evidence {
             requirement: requirement.to_string(),
             outcome: Outcome::NotVerified(reason.into()),
+            basis: None,
             activity: activity.into(),
             inputs: BTreeMap::new(),
             artifacts: Vec::new(),

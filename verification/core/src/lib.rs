@@ -9,11 +9,14 @@
 //! This crate depends on no model crate: models <- framework <- CLI.
 
 pub mod check;
+pub mod disposition;
+pub mod hash;
 pub mod matrix;
 pub mod requirement;
+pub mod testrun;
 pub mod trace;
 pub mod units;
 
-pub use check::{Check, CheckContext, CheckError, Evidence, Outcome};
+pub use check::{Basis, Check, CheckContext, CheckError, Evidence, Outcome};
 pub use requirement::{ReqId, Requirement, Requirements};
 pub use units::{Dim, Quantity};

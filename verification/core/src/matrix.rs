@@ -6,9 +6,10 @@
 //! (no check at all, or a check that states why it cannot). It is never silently compliant.
 //! When several checks measure the same requirement, the one with the smallest margin decides.
 
-use crate::check::{Evidence, Outcome};
+use crate::check::{Basis, Evidence, Outcome};
+use crate::disposition::Disposition;
 use crate::requirement::{Requirement, Requirements};
-use crate::trace::TestTrace;
+use crate::testrun::{Assertion, TestResult, TestRun};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -40,6 +41,8 @@ impl Status {
 pub struct EvidenceEntry {
     /// Name of the check that produced it.
     pub check: String,
+    /// What the value rests on (`None` when no value).
+    pub basis: Option<Basis>,
     /// What produced the value.
     pub activity: String,
     /// Value in the requirement's unit (absent when not verified).
@@ -52,15 +55,60 @@ pub struct EvidenceEntry {
     pub artifacts: Vec<String>,
 }
 
-/// A test that covers a requirement.
+/// A test that traces to a requirement, with its recorded result.
 #[derive(Clone, Debug, Serialize)]
 pub struct TestRef {
-    /// Test name.
+    /// Test name (`crate::module::function`).
     pub test: String,
-    /// `file:line` of its `verifies!` call.
-    pub location: String,
     /// Kind (`proptest`, `snapshot`, `unit`).
     pub kind: String,
+    /// `file:line` of its `verifies!` call.
+    pub location: String,
+    /// Recorded result: `passed`, `failed`, `ignored` or `not-run`.
+    pub result: TestResult,
+    /// What it asserted: the requirement's `limit`, a `reference`, or `change-detection` only.
+    pub assertions: Vec<Assertion>,
+    /// Cases run (a property test runs many).
+    pub cases: u64,
+}
+
+impl TestRef {
+    /// Whether this test is evidence for its requirement: it passed and asserted the limit or an
+    /// independent reference (a snapshot alone is change detection).
+    pub fn is_evidence(&self) -> bool {
+        self.result == TestResult::Passed
+            && self
+                .assertions
+                .iter()
+                .any(|a| matches!(a, Assertion::Limit | Assertion::Reference))
+    }
+}
+
+/// The state of a requirement's traced tests in the recorded run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TestsStatus {
+    /// At least one traced test passed asserting the limit or a reference, and none failed,
+    /// was ignored or did not run.
+    Passed,
+    /// A traced test failed.
+    Failed,
+    /// Some traced tests were ignored or did not run (none failed).
+    Incomplete,
+    /// No traced test gives evidence (none, or only change detection).
+    None,
+}
+
+impl TestsStatus {
+    /// As written in JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TestsStatus::Passed => "passed",
+            TestsStatus::Failed => "failed",
+            TestsStatus::Incomplete => "incomplete",
+            TestsStatus::None => "none",
+        }
+    }
 }
 
 /// One row of the matrix.
@@ -70,6 +118,11 @@ pub struct Row {
     pub id: String,
     /// Status.
     pub status: Status,
+    /// What the deciding value rests on: `model`, `flow-down` or `accepted` (`None` when not
+    /// verified; illustrations never decide).
+    pub basis: Option<Basis>,
+    /// Known non-compliance: NCR, waiver or RFD.
+    pub disposition: Option<Disposition>,
     /// Deciding value, in `unit`.
     pub value: Option<f64>,
     /// Limit, in `unit`.
@@ -108,8 +161,10 @@ pub struct Row {
     pub reason: Option<String>,
     /// Evidence.
     pub evidence: Vec<EvidenceEntry>,
-    /// Tests that declare they verify this requirement.
+    /// Tests that trace to this requirement, with their recorded results.
     pub tests: Vec<TestRef>,
+    /// Summary of [`Row::tests`].
+    pub tests_status: TestsStatus,
     /// `file:line` of the requirement.
     pub defined_at: String,
 }
@@ -145,15 +200,33 @@ pub struct Matrix {
     pub summary: Summary,
     /// Evidence naming unknown requirements.
     pub orphan_checks: Vec<Orphan>,
+    /// The recorded test run the test results come from (`None`: no run recorded).
+    pub test_run: Option<TestRunInfo>,
+}
+
+/// Where the test results come from.
+#[derive(Clone, Debug, Serialize)]
+pub struct TestRunInfo {
+    /// File read.
+    pub file: String,
+    /// Commit the tests ran on.
+    pub commit: String,
+    /// Whether that tree was dirty.
+    pub dirty: bool,
+    /// When the run finished.
+    pub date: String,
+    /// The command.
+    pub command: String,
 }
 
 impl Matrix {
-    /// Builds the matrix from requirements, the evidence of each check (by check name) and the
-    /// test traces.
+    /// Builds the matrix from requirements, the evidence of each check (by check name), the
+    /// recorded test run (`run`: the file it came from and its content) and the dispositions.
     pub fn build(
         reqs: &Requirements,
         evidence: &[(String, Vec<Evidence>)],
-        traces: &[TestTrace],
+        run: Option<(&str, &TestRun)>,
+        dispositions: &[Disposition],
     ) -> Matrix {
         let mut orphans = Vec::new();
         let mut by_req: BTreeMap<&str, Vec<(&str, &Evidence)>> = BTreeMap::new();
@@ -180,7 +253,8 @@ impl Matrix {
                     r,
                     reqs,
                     by_req.get(r.id.as_str()).map(Vec::as_slice).unwrap_or(&[]),
-                    traces,
+                    run.map(|(_, t)| t),
+                    dispositions.iter().find(|d| d.requirement == r.id.as_str()),
                 )
             })
             .collect();
@@ -199,6 +273,13 @@ impl Matrix {
             requirements: rows,
             summary: s,
             orphan_checks: orphans,
+            test_run: run.map(|(file, t)| TestRunInfo {
+                file: file.to_string(),
+                commit: t.commit.clone(),
+                dirty: t.dirty,
+                date: t.date.clone(),
+                command: t.command.clone(),
+            }),
         }
     }
 
@@ -211,11 +292,26 @@ impl Matrix {
             .collect()
     }
 
-    /// IDs of the requirements no test declares it verifies (trace view).
+    /// IDs of the requirements without a passing traced test that asserts their limit or an
+    /// independent reference (trace view).
     pub fn without_tests(&self) -> Vec<&str> {
         self.requirements
             .iter()
-            .filter(|r| r.tests.is_empty())
+            .filter(|r| !r.tests.iter().any(TestRef::is_evidence))
+            .map(|r| r.id.as_str())
+            .collect()
+    }
+
+    /// IDs of the requirements whose traced tests failed, were ignored or did not run.
+    pub fn with_test_problems(&self) -> Vec<&str> {
+        self.requirements
+            .iter()
+            .filter(|r| {
+                matches!(
+                    r.tests_status,
+                    TestsStatus::Failed | TestsStatus::Incomplete
+                )
+            })
             .map(|r| r.id.as_str())
             .collect()
     }
@@ -230,20 +326,32 @@ fn row(
     r: &Requirement,
     reqs: &Requirements,
     evs: &[(&str, &Evidence)],
-    traces: &[TestTrace],
+    run: Option<&TestRun>,
+    disposition: Option<&Disposition>,
 ) -> Row {
     let scale = r.unit.scale;
     let limit = r.limit.value / scale;
     let mut entries = Vec::new();
-    let mut best: Option<(f64, f64)> = None; // (value in unit, margin)
+    let mut best: Option<(f64, f64, Basis)> = None; // (value in unit, margin, basis)
     let mut reasons = Vec::new();
+    let mut illustrations = Vec::new();
     for (check, e) in evs {
         let (value, reason) = match &e.outcome {
             Outcome::Measured(q) if q.dim == r.dim && !q.value.is_nan() => {
                 let v = q.value / scale;
                 let m = r.op.margin(v, limit);
-                if best.is_none_or(|(_, bm)| m < bm) {
-                    best = Some((v, m));
+                let basis = e.basis.unwrap_or(Basis::Illustration);
+                if basis.decides() {
+                    if best.is_none_or(|(_, bm, _)| m < bm) {
+                        best = Some((v, m, basis));
+                    }
+                } else {
+                    illustrations.push(format!(
+                        "illustration only (not a verdict): {} gives {} {}",
+                        check,
+                        crate::units::fmt_num(v),
+                        r.unit.symbol
+                    ));
                 }
                 (Some(v), None)
             }
@@ -263,6 +371,7 @@ fn row(
         };
         entries.push(EvidenceEntry {
             check: check.to_string(),
+            basis: if value.is_some() { e.basis } else { None },
             activity: e.activity.clone(),
             value,
             reason,
@@ -270,8 +379,8 @@ fn row(
             artifacts: e.artifacts.clone(),
         });
     }
-    let (status, value, margin, reason) = match best {
-        Some((v, m)) => {
+    let (status, value, margin, reason, basis) = match best {
+        Some((v, m, basis)) => {
             let ok = r.op.holds(v, limit);
             (
                 if ok {
@@ -282,29 +391,50 @@ fn row(
                 Some(v),
                 Some(m),
                 None,
+                Some(basis),
             )
         }
         None => {
+            reasons.extend(illustrations);
             let why = if reasons.is_empty() {
                 "no check provides evidence for this requirement".to_string()
             } else {
                 reasons.join("; ")
             };
-            (Status::NotVerified, None, None, Some(why))
+            (Status::NotVerified, None, None, Some(why), None)
         }
     };
-    let tests = traces
-        .iter()
-        .filter(|t| t.requirements.contains(&r.id.as_str()))
-        .map(|t| TestRef {
-            test: t.test.to_string(),
-            location: format!("{}:{}", t.file, t.line),
-            kind: t.kind.to_string(),
+    let tests: Vec<TestRef> = run
+        .map(|run| {
+            run.for_requirement(r.id.as_str())
+                .map(|t| TestRef {
+                    test: format!("{}::{}", t.krate, t.test),
+                    kind: t.kind.clone(),
+                    location: t.location.clone(),
+                    result: t.result,
+                    assertions: t.assertions.clone(),
+                    cases: t.cases,
+                })
+                .collect()
         })
-        .collect();
+        .unwrap_or_default();
+    let tests_status = if tests.iter().any(|t| t.result == TestResult::Failed) {
+        TestsStatus::Failed
+    } else if tests
+        .iter()
+        .any(|t| matches!(t.result, TestResult::Ignored | TestResult::NotRun))
+    {
+        TestsStatus::Incomplete
+    } else if tests.iter().any(TestRef::is_evidence) {
+        TestsStatus::Passed
+    } else {
+        TestsStatus::None
+    };
     Row {
         id: r.id.to_string(),
         status,
+        basis,
+        disposition: disposition.cloned(),
         value,
         limit,
         margin,
@@ -329,6 +459,7 @@ fn row(
         reason,
         evidence: entries,
         tests,
+        tests_status,
         defined_at: format!("{}:{}", r.origin.file.display(), r.origin.line),
     }
 }
@@ -379,12 +510,27 @@ requirements:
         let ev = vec![(
             "mc".to_string(),
             vec![
-                Evidence::measured("A-ONE", Quantity::new(1.5e-6, Dim::VELOCITY), "mc"),
-                Evidence::measured("A-TWO", Quantity::new(0.99, Dim::DIMENSIONLESS), "mc"),
-                Evidence::measured("NOPE", Quantity::new(0.99, Dim::DIMENSIONLESS), "mc"),
+                Evidence::measured(
+                    "A-ONE",
+                    Quantity::new(1.5e-6, Dim::VELOCITY),
+                    Basis::Model,
+                    "mc",
+                ),
+                Evidence::measured(
+                    "A-TWO",
+                    Quantity::new(0.99, Dim::DIMENSIONLESS),
+                    Basis::Model,
+                    "mc",
+                ),
+                Evidence::measured(
+                    "NOPE",
+                    Quantity::new(0.99, Dim::DIMENSIONLESS),
+                    Basis::Model,
+                    "mc",
+                ),
             ],
         )];
-        let m = Matrix::build(&r, &ev, &[]);
+        let m = Matrix::build(&r, &ev, None, &[]);
         assert_eq!(m.requirements[0].status, Status::Compliant);
         assert!((m.requirements[0].value.unwrap() - 1.5).abs() < 1e-9);
         assert!((m.requirements[0].margin.unwrap() - 0.7).abs() < 1e-9);
@@ -410,10 +556,11 @@ requirements:
             vec![Evidence::measured(
                 "A-ONE",
                 Quantity::new(1e-9, Dim::LENGTH),
+                Basis::Model,
                 "mc",
             )],
         )];
-        let m = Matrix::build(&r, &ev, &[]);
+        let m = Matrix::build(&r, &ev, None, &[]);
         assert_eq!(m.requirements[0].status, Status::NotVerified);
     }
 
@@ -423,11 +570,21 @@ requirements:
         let ev = vec![(
             "mc".to_string(),
             vec![
-                Evidence::measured("A-ONE", Quantity::new(1e-6, Dim::VELOCITY), "a"),
-                Evidence::measured("A-ONE", Quantity::new(6e-6, Dim::VELOCITY), "b"),
+                Evidence::measured(
+                    "A-ONE",
+                    Quantity::new(1e-6, Dim::VELOCITY),
+                    Basis::Model,
+                    "a",
+                ),
+                Evidence::measured(
+                    "A-ONE",
+                    Quantity::new(6e-6, Dim::VELOCITY),
+                    Basis::Model,
+                    "b",
+                ),
             ],
         )];
-        let m = Matrix::build(&r, &ev, &[]);
+        let m = Matrix::build(&r, &ev, None, &[]);
         assert_eq!(m.requirements[0].status, Status::NonCompliant);
         assert!((m.requirements[0].value.unwrap() - 6.0).abs() < 1e-9);
     }

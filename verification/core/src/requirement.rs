@@ -240,7 +240,7 @@ pub struct LoadError {
     pub cause: String,
 }
 
-fn origin_of<T>(file: &Path, s: &Spanned<T>) -> Origin {
+pub(crate) fn origin_of<T>(file: &Path, s: &Spanned<T>) -> Origin {
     Origin {
         file: file.to_path_buf(),
         line: s.referenced.line(),
@@ -505,7 +505,7 @@ fn parse_op(s: &str) -> Result<(Op, &str), String> {
     ))
 }
 
-fn first_line(s: &str) -> String {
+pub(crate) fn first_line(s: &str) -> String {
     let l = s.lines().next().unwrap_or("").trim();
     // serde-saphyr prefixes "error: line N column M: "; the location is printed by us.
     let l = l.strip_prefix("error: ").unwrap_or(l);

@@ -115,14 +115,24 @@ requirements:
         let ev = vec![(
             "mc".to_string(),
             vec![
-                Evidence::measured("F-A", Quantity::new(a_um_s * 1e-6, Dim::VELOCITY), "mc")
-                    .with_input("seed", 1),
-                Evidence::measured("F-B", Quantity::new(b_um_s * 1e-6, Dim::VELOCITY), "mc")
-                    .with_input("seed", 1),
+                Evidence::measured(
+                    "F-A",
+                    Quantity::new(a_um_s * 1e-6, Dim::VELOCITY),
+                    geodesic_core::Basis::Model,
+                    "mc",
+                )
+                .with_input("seed", 1),
+                Evidence::measured(
+                    "F-B",
+                    Quantity::new(b_um_s * 1e-6, Dim::VELOCITY),
+                    geodesic_core::Basis::Model,
+                    "mc",
+                )
+                .with_input("seed", 1),
             ],
         )];
         Report {
-            matrix: Matrix::build(&reqs, &ev, &[]),
+            matrix: Matrix::build(&reqs, &ev, None, &[]),
             run: RunInfo {
                 geodesic_version: "t".into(),
                 requirements: "f".into(),

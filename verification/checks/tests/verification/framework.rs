@@ -2,8 +2,8 @@
 //! compliance matrix snapshotted with rounded floats (a change of any value, status or traced
 //! test shows in review), and the invariants the matrix must keep.
 
+use geodesic_core::Requirements;
 use geodesic_core::matrix::{Matrix, Status};
-use geodesic_core::{CheckContext, Requirements};
 use std::path::Path;
 
 fn requirements() -> Requirements {
@@ -22,12 +22,7 @@ fn compute_matrix() -> Matrix {
     let reqs = requirements();
     let dir = std::env::temp_dir().join(format!("geodesic-framework-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let ctx = CheckContext {
-        reports_dir: dir.clone(),
-        mc_n: 2000,
-        seed: 7,
-        quiet: true,
-    };
+    let ctx = geodesic_checks::builtin_context(dir.clone(), 2000, 7);
     let mut evidence = Vec::new();
     for c in geodesic_checks::registry() {
         if c.verifies().iter().any(|id| reqs.get(id).is_some()) {
@@ -35,7 +30,7 @@ fn compute_matrix() -> Matrix {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
-    Matrix::build(&reqs, &evidence, geodesic_checks::TEST_TRACES)
+    Matrix::build(&reqs, &evidence, None, &[])
 }
 
 /// 4 significant digits, so that the snapshot pins values without floating-point noise.

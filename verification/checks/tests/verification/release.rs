@@ -9,7 +9,7 @@ use geodesic_checks::release::{
 use geodesic_contact::{
     ContactLaw, ExponentialAdhesion, Hertz, HertzAdhesion, dmt_pull_off_n, jkr_pull_off_n,
 };
-use geodesic_core::{CheckContext, Outcome};
+use geodesic_core::Outcome;
 use geodesic_mechanism::{PiezoMechanism, PiezoParams};
 use geodesic_release::budget::Budget;
 use geodesic_release::figures::energy_fit;
@@ -243,12 +243,7 @@ fn montecarlo_summary_snapshot() {
 fn release_checks_give_evidence() {
     geodesic_core::verifies!("REL-GPRM-VEL", "REL-DFACS-VEL", "TMS-Z-VEL", "FAC-ADH-CAL");
     let dir = std::env::temp_dir().join(format!("geodesic-release-check-{}", std::process::id()));
-    let ctx = CheckContext {
-        reports_dir: dir.clone(),
-        mc_n: 500,
-        seed: 3,
-        quiet: true,
-    };
+    let ctx = geodesic_checks::builtin_context(dir.clone(), 500, 3);
     let mc = SharedMonteCarlo::new();
     let ev = geodesic_core::Check::run(&ReleaseMonteCarlo::for_test(mc.clone()), &ctx).unwrap();
     assert_eq!(ev.len(), 3);

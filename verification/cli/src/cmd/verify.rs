@@ -5,8 +5,8 @@
 
 use crate::builtin;
 use crate::error::{CliError, CmdResult};
+use geodesic_core::Requirements;
 use geodesic_core::matrix::Matrix;
-use geodesic_core::{CheckContext, Requirements};
 use geodesic_report::{CheckRun, Report, RunInfo};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -91,12 +91,14 @@ pub fn run(args: Args) -> CmdResult {
 
     let staging = geodesic_report::write::Staging::new(&args.reports)
         .map_err(|e| CliError::Io(e.to_string()))?;
-    let ctx = CheckContext {
-        reports_dir: staging.path().to_path_buf(),
-        mc_n: args.mc_n,
-        seed: args.seed,
-        quiet: args.json || !std::io::stderr().is_terminal(),
-    };
+    let ctx = geodesic_checks::context(
+        reqs.clone(),
+        geodesic_checks::builtin_inputs(),
+        staging.path().to_path_buf(),
+        args.mc_n,
+        args.seed,
+        args.json || !std::io::stderr().is_terminal(),
+    );
     let mut evidence = Vec::new();
     let mut runs = Vec::new();
     for check in &registry {
@@ -117,7 +119,7 @@ pub fn run(args: Args) -> CmdResult {
         });
         evidence.push((check.name().to_string(), ev));
     }
-    let mut matrix = Matrix::build(&reqs, &evidence, geodesic_checks::TEST_TRACES);
+    let mut matrix = Matrix::build(&reqs, &evidence, None, &[]);
     for check in &registry {
         if !check.verifies().iter().any(|id| reqs.get(id).is_some()) {
             for id in check.verifies() {

@@ -1,0 +1,124 @@
+//! A recorded test run: the results of the tests that trace to requirements, read by the
+//! compliance matrix instead of the source text.
+//!
+//! `cargo xtask test` runs the workspace's tests (the README's test command) and writes
+//! `target/geodesic/test-run.json`: when, on which commit (and whether the tree was dirty), the
+//! command, and for every test that executed a [`crate::verifies!`] call: its name, result,
+//! the requirement IDs whose call executed, how many times (a property test runs its body once
+//! per case) and what it asserted (the requirement's limit, an independent reference, or only a
+//! snapshot). Declared traces whose test did not run are reported as `ignored` or `not-run`.
+
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Result of one test in a recorded run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TestResult {
+    /// Ran and passed.
+    Passed,
+    /// Ran and failed.
+    Failed,
+    /// Marked `#[ignore]`: did not run.
+    Ignored,
+    /// Not in the recorded run (no run recorded, a dead function, a comment, a filtered run).
+    NotRun,
+}
+
+impl TestResult {
+    /// As written in JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TestResult::Passed => "passed",
+            TestResult::Failed => "failed",
+            TestResult::Ignored => "ignored",
+            TestResult::NotRun => "not-run",
+        }
+    }
+}
+
+/// What a traced test asserted about the requirement (recorded at run time).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Assertion {
+    /// The requirement's own limit, read from the requirement set (`trace::assert_limit`).
+    Limit,
+    /// An independent reference value (`trace::assert_reference`).
+    Reference,
+    /// Only a snapshot or other change detection: not evidence of compliance.
+    ChangeDetection,
+}
+
+impl Assertion {
+    /// As written in JSON.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Assertion::Limit => "limit",
+            Assertion::Reference => "reference",
+            Assertion::ChangeDetection => "change-detection",
+        }
+    }
+}
+
+/// One test of a recorded run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RecordedTest {
+    /// Crate of the test binary (`geodesic_checks`, `verification`, ...).
+    pub krate: String,
+    /// Test name as the test harness prints it (`capture::tests::criterion_evidence`).
+    pub test: String,
+    /// Result.
+    pub result: TestResult,
+    /// `file:line` of the `verifies!` call that executed (empty when none did).
+    #[serde(default)]
+    pub location: String,
+    /// Requirement IDs whose `verifies!` call executed.
+    #[serde(default)]
+    pub requirements: Vec<String>,
+    /// How many times the call executed (cases of a property test).
+    #[serde(default)]
+    pub cases: u64,
+    /// What the test asserted, strongest first.
+    #[serde(default)]
+    pub assertions: Vec<Assertion>,
+    /// Test kind: `proptest` (more than one case), `snapshot` (an insta assertion), `unit`.
+    #[serde(default)]
+    pub kind: String,
+}
+
+/// A recorded test run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TestRun {
+    /// Git commit the tests ran on (`unknown` outside a repository).
+    pub commit: String,
+    /// Whether the work tree had uncommitted changes.
+    pub dirty: bool,
+    /// UTC date and time the run finished (RFC 3339).
+    pub date: String,
+    /// The command that ran the tests.
+    pub command: String,
+    /// Every test the run saw that traces to a requirement (or was declared to).
+    pub tests: Vec<RecordedTest>,
+}
+
+impl TestRun {
+    /// Reads a recorded run; the error names the file.
+    pub fn load(path: &Path) -> Result<TestRun, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        serde_json::from_str(&text).map_err(|e| {
+            format!(
+                "{}:{}:{}: not a recorded test run: {e}",
+                path.display(),
+                e.line(),
+                e.column()
+            )
+        })
+    }
+
+    /// The recorded tests that executed a `verifies!` call naming `id`.
+    pub fn for_requirement<'a>(&'a self, id: &'a str) -> impl Iterator<Item = &'a RecordedTest> {
+        self.tests
+            .iter()
+            .filter(move |t| t.requirements.iter().any(|r| r == id))
+    }
+}
