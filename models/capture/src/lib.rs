@@ -2,14 +2,15 @@
 //! (thesis ch. 7; physics.md section 6).
 //!
 //! - [`state`]: the 12 TM states (offsets, velocities, angles, rates) and their YAML form;
-//! - [`limits`]: the capture limits `x_LIM` and the requirement box, read from YAML
-//!   (default `xlim.yaml`, embedded), and the derivation of the default set;
+//! - [`inputs`]: the capture inputs file (`capture.yaml`: `x_LIM`, drift time, the source of
+//!   each state) and [`StateModel`], the one source of the TM state at the start of control
+//!   that the capture checks and the TM state rows share;
+//! - [`limits`]: the capture limits tied to a requirement box, and the derivation of the
+//!   default limits;
 //! - [`criterion`]: the quartic criterion `sum_i (x0_i/x_LIM,i)^4 < 1`, the consistency
 //!   constraint, single-state limits and the largest capturable box scale;
-//! - [`probability`]: the capture probability of a release Monte Carlo (z velocities given,
-//!   other states from configurable distributions, seeded);
+//! - [`probability`]: statistics of a capture probability;
 //! - [`shear`]: the shear illustration of thesis ch. 6 (tangential pull -> rate and velocity);
-//! - [`drift`]: the offset reached in the 15 s of free drift before control starts.
 //!
 //! Physics only: no I/O beyond reading YAML configuration, no CLI.
 //!
@@ -24,7 +25,6 @@
 //! ```
 
 pub mod criterion;
-pub mod drift;
 pub mod error;
 pub mod inputs;
 pub mod limits;
@@ -36,18 +36,12 @@ pub use criterion::{
     Evaluation, Term, box_corner, consistency_residual, consistency_sum, evaluate, is_captured,
     max_box_scale, quartic_sum, single_state_limits, terms,
 };
-pub use drift::{DRIFT_TIME_S, drift_angle_rad, drift_offset_m};
 pub use error::CaptureError;
 pub use inputs::{
     CaptureInputs, DEFAULT_CAPTURE_YAML, SourceKind, StateModel, StateSource, XlimDerivation,
     Z_9973, drift_rate_of,
 };
-pub use limits::{
-    DEFAULT_XLIM_LABEL, DEFAULT_XLIM_YAML, DeriveError, Xlim, derive_xlim, derived_factor,
-};
-pub use probability::{
-    CaptureProbability, DEFAULT_DISTRIBUTION_LABEL, DEFAULT_DISTRIBUTION_YAML, StateDist,
-    StateDistribution, capture_probability,
-};
+pub use limits::{DeriveError, THESIS_BOX, Xlim, derive_xlim, derived_factor};
+pub use probability::CaptureProbability;
 pub use shear::{PulseShape, ShearInputs, THESIS_PRINTED_RATE_RAD_S, THESIS_PRINTED_VELOCITY_M_S};
 pub use state::{N_STATES, StateName, TmState};

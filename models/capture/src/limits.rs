@@ -1,24 +1,22 @@
-//! The capture limits `x_LIM,i` and the requirement box `req_i` (thesis ch. 7, "DFACS
-//! worst-case initial conditions"; physics.md section 6), read from YAML, plus the derivation
-//! of the default set.
+//! The capture limits `x_LIM,i` tied to a requirement box `req_i` (thesis ch. 7, "DFACS
+//! worst-case initial conditions"; physics.md section 6), and the derivation of the default
+//! limits. The limits are read from the capture inputs file ([`crate::inputs`]); the box from
+//! the loaded requirements.
 //!
 //! The thesis does not print `x_LIM`; it gives (a) the z velocity alone is captured up to
 //! 12 um/s, (b) the requirement box scales by 1.4 and (c) the consistency constraint
 //! `sum_i (1.4 req_i / x_LIM,i)^4 = 1`. [`derive_xlim`] builds the default set from these:
 //! `x_LIM,vz = 12 um/s` and every other `x_LIM,i = c req_i` with `c` solving (c) exactly. The
-//! default file `models/capture/xlim.yaml` holds the result; a unit test re-derives it.
+//! inputs file `models/capture/capture.yaml` holds the result; a unit test re-derives it.
 
-use serde::Deserialize;
-use serde_saphyr::Spanned;
+use crate::state::{N_STATES, StateName, TmState};
 
-use crate::error::CaptureError;
-use crate::state::{N_STATES, NamedMap, StateName, TmState, named_entries};
-
-/// The default `xlim.yaml` (embedded; override with a file of the same form).
-pub const DEFAULT_XLIM_YAML: &str = include_str!("../xlim.yaml");
-
-/// Label used in messages for the embedded default file.
-pub const DEFAULT_XLIM_LABEL: &str = "models/capture/xlim.yaml (embedded default)";
+/// Requirement box of the thesis (Tab. "TM state requirement", ch. 2) [SI]: for this crate's
+/// examples and tests only. `geodesic verify` and `geodesic capture` read the box from the loaded
+/// requirement set (rows TMS-*), never from this constant.
+pub const THESIS_BOX: [f64; N_STATES] = [
+    200e-6, 200e-6, 200e-6, 5e-6, 5e-6, 5e-6, 2e-3, 2e-3, 2e-3, 100e-6, 100e-6, 100e-6,
+];
 
 /// Capture limits and the requirement box they are tied to.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,58 +31,11 @@ pub struct Xlim {
     pub source: String,
 }
 
-/// The raw file: top-level keys, nested state tables with locations.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawXlim {
-    box_scale: Spanned<f64>,
-    requirement: Spanned<NamedMap<f64>>,
-    xlim: Spanned<NamedMap<f64>>,
-}
-
 impl Xlim {
-    /// The embedded default set (see the module docs and `docs/capture-charge.md`).
+    /// The repository's capture limits (`models/capture/capture.yaml`) tied to the thesis's
+    /// requirement box [`THESIS_BOX`]: for examples and tests.
     pub fn default_set() -> Xlim {
-        Xlim::from_yaml_str(DEFAULT_XLIM_YAML, DEFAULT_XLIM_LABEL)
-            .expect("embedded xlim.yaml is valid (unit-tested)")
-    }
-
-    /// Reads and checks an xlim file:
-    ///
-    /// ```yaml
-    /// box_scale: 1.4
-    /// requirement: {x: 200.0e-6, ..., wz: 100.0e-6}   # all 12 states, SI
-    /// xlim: {x: 525.9e-6, ..., wz: 262.9e-6}          # all 12 states, SI
-    /// ```
-    ///
-    /// Every value must be finite and positive; both tables must list all 12 states.
-    pub fn from_yaml_str(text: &str, file: &str) -> Result<Xlim, CaptureError> {
-        let raw: RawXlim =
-            serde_saphyr::from_str(text).map_err(|e| CaptureError::yaml(file, &e))?;
-        let box_scale = positive(
-            file,
-            raw.box_scale.referenced.line(),
-            "box_scale",
-            raw.box_scale.value,
-        )?;
-        let req = full_table(raw.requirement, file, "requirement")?;
-        let xlim = full_table(raw.xlim, file, "xlim")?;
-        Ok(Xlim {
-            req,
-            xlim,
-            box_scale,
-            source: file.to_owned(),
-        })
-    }
-
-    /// Reads an xlim file from disk (see [`Xlim::from_yaml_str`]).
-    pub fn load(path: &std::path::Path) -> Result<Xlim, CaptureError> {
-        let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| CaptureError::Io {
-            file: file.clone(),
-            cause: e.to_string(),
-        })?;
-        Xlim::from_yaml_str(&text, &file)
+        crate::inputs::CaptureInputs::default_inputs().xlim(THESIS_BOX)
     }
 
     /// Requirement box as a state (each state at `+req_i`).
@@ -101,41 +52,6 @@ impl Xlim {
     pub fn requirement(&self, s: StateName) -> f64 {
         self.req[s.index()]
     }
-}
-
-fn positive(file: &str, line: u64, name: &str, v: f64) -> Result<f64, CaptureError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(CaptureError::BadValue {
-            file: file.to_owned(),
-            line,
-            name: name.to_owned(),
-            value: v.to_string(),
-            cause: "must be finite and positive".into(),
-        })
-    }
-}
-
-fn full_table(
-    raw: Spanned<NamedMap<f64>>,
-    file: &str,
-    section: &str,
-) -> Result<[f64; N_STATES], CaptureError> {
-    let section_line = raw.referenced.line();
-    let mut out = [f64::NAN; N_STATES];
-    for (name, v, line) in named_entries(raw.value, file)? {
-        out[name.index()] = positive(file, line, &format!("{section}.{name}"), v)?;
-    }
-    if let Some(s) = StateName::ALL.iter().find(|s| out[s.index()].is_nan()) {
-        return Err(CaptureError::Missing {
-            file: file.to_owned(),
-            line: section_line,
-            section: section.to_owned(),
-            name: s.to_string(),
-        });
-    }
-    Ok(out)
 }
 
 /// Error of [`derive_xlim`]: the anchor limit leaves no room for the other 11 states.
@@ -201,10 +117,7 @@ pub fn derived_factor(req_anchor: f64, box_scale: f64, anchor_limit: f64) -> f64
 mod tests {
     use super::*;
 
-    /// Requirement box of the thesis Tab. "TM state requirement" [SI].
-    const REQ: [f64; N_STATES] = [
-        200e-6, 200e-6, 200e-6, 5e-6, 5e-6, 5e-6, 2e-3, 2e-3, 2e-3, 100e-6, 100e-6, 100e-6,
-    ];
+    const REQ: [f64; N_STATES] = THESIS_BOX;
 
     #[test]
     fn embedded_default_loads_with_thesis_requirement_box() {
@@ -237,42 +150,5 @@ mod tests {
     fn derive_rejects_an_anchor_that_fills_the_budget() {
         let e = derive_xlim(&REQ, 1.4, StateName::Vz, 7e-6).unwrap_err();
         assert_eq!(e.anchor, StateName::Vz);
-    }
-
-    #[test]
-    fn missing_state_is_reported() {
-        let text = DEFAULT_XLIM_YAML.replace("  wz: 100.0e-6\n", "");
-        let e = Xlim::from_yaml_str(&text, "x.yaml").unwrap_err();
-        assert!(
-            matches!(e, CaptureError::Missing { ref section, ref name, .. } if section == "requirement" && name == "wz"),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn unknown_state_in_xlim_names_its_line() {
-        let text = "box_scale: 1.4\nrequirement:\n  x: 1.0\nxlim:\n  q: 1.0\n";
-        let e = Xlim::from_yaml_str(text, "x.yaml").unwrap_err();
-        assert!(e.to_string().starts_with("x.yaml:"), "{e}");
-        assert!(e.to_string().contains('q'), "{e}");
-    }
-
-    #[test]
-    fn negative_limit_is_rejected_with_line() {
-        let text = DEFAULT_XLIM_YAML.replacen("  vz: 12.0e-6", "  vz: -12.0e-6", 1);
-        let e = Xlim::from_yaml_str(&text, "x.yaml").unwrap_err();
-        let line = DEFAULT_XLIM_YAML
-            .lines()
-            .position(|l| l.starts_with("  vz: 12.0e-6"))
-            .unwrap()
-            + 1;
-        assert!(e.to_string().starts_with(&format!("x.yaml:{line}:")), "{e}");
-    }
-
-    #[test]
-    fn unknown_top_level_key_is_rejected() {
-        let text = format!("{DEFAULT_XLIM_YAML}\nextra: 1\n");
-        let e = Xlim::from_yaml_str(&text, "x.yaml").unwrap_err();
-        assert!(e.to_string().starts_with("x.yaml:"), "{e}");
     }
 }

@@ -1,24 +1,31 @@
-//! Checks of the `capture` family (thesis ch. 7; physics.md section 6):
+//! Checks of the `capture` family (thesis ch. 7; physics.md section 6). Every input is read at
+//! run time: the requirement box `req_i` from the loaded TM state requirements (`TMS-*`), the
+//! capture limits, the drift time and the per-state sources from the capture inputs file
+//! (`models/capture/capture.yaml` or `verify --capture FILE`).
 //!
-//! - `capture-criterion`: CAP-QUARTIC (quartic sum at the requirement box corner),
-//!   CAP-XLIM-CONSISTENCY (|sum (1.4 req/xlim)^4 - 1|) and CAP-VZ-SINGLE (the z-velocity
-//!   single-state limit), from the xlim set of `models/capture/xlim.yaml`;
+//! - `capture-criterion`:
+//!   - CAP-QUARTIC: the quartic sum at the corner of the loaded requirement box (flow-down) and
+//!     at the predicted 99.73 % TM state of [`StateModel`] (release Monte Carlo for `vz`, drifts,
+//!     flow-down assumptions: the basis is the weakest of its states);
+//!   - CAP-XLIM-CONSISTENCY: `|sum_i (box_scale req_i / xlim_i)^4 - 1|` with the loaded box. When
+//!     the inputs say xlim was derived from this constraint, it holds by construction and the
+//!     residual only shows whether the loaded box is still the one xlim was derived for;
+//!   - CAP-VZ-SINGLE: the single-state z-velocity limit, accepted from the E2E result the
+//!     inputs cite (the thesis's 12 um/s): basis `accepted`.
 //! - `capture-probability`: CAP-RELEASE-PROB, the fraction of release Monte Carlo draws whose
-//!   12-state TM state is captured. The z velocities come from a [`ReleaseVzSource`] that the
-//!   registry supplies (this family does not run the release model itself); without one the
-//!   requirement stays not-verified with that reason.
+//!   12 states (from the same [`StateModel`] as the TMS rows) satisfy the criterion.
 //!
-//! [`capture_probability_evidence`] builds the CAP-RELEASE-PROB evidence from any slice of
-//! z velocities, so a release check that already ran the Monte Carlo can emit it directly.
+//! [`CaptureSetup`] is the shared set-up, also used by the `tm_state` family.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use geodesic_capture::{
-    StateDistribution, StateName, Xlim, box_corner, capture_probability, consistency_residual,
-    consistency_sum, max_box_scale, quartic_sum, single_state_limits,
+    CaptureInputs, N_STATES, SourceKind, StateModel, StateName, Xlim, XlimDerivation, box_corner,
+    consistency_residual, consistency_sum, max_box_scale, quartic_sum, single_state_limits,
 };
-use geodesic_core::{Check, CheckContext, CheckError, Dim, Evidence, Quantity};
+use geodesic_core::requirement::Op;
+use geodesic_core::{Basis, Check, CheckContext, CheckError, Dim, Evidence, Quantity};
 use serde_json::{Value, json};
 
 /// Release Monte Carlo z velocities [m/s] with the inputs that produced them (N, seed, case,
@@ -31,16 +38,36 @@ pub struct ReleaseVz {
     pub inputs: BTreeMap<String, Value>,
 }
 
+impl ReleaseVz {
+    /// 99.73 % of |vz| (nearest rank) [m/s]; NaN when empty.
+    pub fn p9973(&self) -> f64 {
+        abs_p9973(&self.vz_m_s)
+    }
+}
+
+/// 99.73 % quantile of `|v|` (nearest rank); NaN for an empty slice.
+pub fn abs_p9973(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    let mut a: Vec<f64> = v.iter().map(|v| v.abs()).collect();
+    a.sort_by(f64::total_cmp);
+    let idx = ((0.9973 * a.len() as f64).ceil() as usize).clamp(1, a.len()) - 1;
+    a[idx]
+}
+
 /// Supplies the release Monte Carlo z velocities for a run (memoise inside if several checks
 /// share it).
 pub type ReleaseVzSource =
     Arc<dyn Fn(&CheckContext) -> Result<ReleaseVz, CheckError> + Send + Sync>;
 
-/// The checks of this family. `release` supplies the release Monte Carlo z velocities for
-/// CAP-RELEASE-PROB; `None` leaves it not-verified with the reason.
+/// The checks of this family. `release` supplies the release Monte Carlo z velocities; `None`
+/// leaves what needs them not-verified with that reason.
 pub fn checks_with(release: Option<ReleaseVzSource>) -> Vec<Box<dyn Check>> {
     vec![
-        Box::new(CaptureCriterion),
+        Box::new(CaptureCriterion {
+            release: release.clone(),
+        }),
         Box::new(CaptureProbabilityCheck { release }),
     ]
 }
@@ -50,53 +77,198 @@ pub fn checks() -> Vec<Box<dyn Check>> {
     checks_with(None)
 }
 
-fn xlim_inputs(x: &Xlim) -> BTreeMap<String, Value> {
-    let mut m = BTreeMap::new();
-    m.insert("xlim_source".into(), json!(x.source));
-    m.insert("box_scale".into(), json!(x.box_scale));
-    m
+/// The requirement box `req_i` [SI] from the loaded TMS requirements, or why it cannot be had
+/// (a TMS row missing, or not an upper bound).
+pub fn requirement_box(ctx: &CheckContext) -> Result<[f64; N_STATES], String> {
+    let mut out = [f64::NAN; N_STATES];
+    for s in StateName::ALL {
+        let id = s.requirement_id();
+        let r = ctx
+            .requirements
+            .get(id)
+            .ok_or_else(|| format!("{id} is not in the loaded requirements: no requirement box"))?;
+        if !matches!(r.op, Op::Le | Op::Lt) || !(r.limit.value.is_finite() && r.limit.value > 0.0) {
+            return Err(format!(
+                "{id} is not a positive upper bound (`{}`): no requirement box",
+                r.limit_text
+            ));
+        }
+        out[s.index()] = r.limit.value;
+    }
+    Ok(out)
 }
 
-/// `capture-criterion`: evaluates the default xlim set against CAP-QUARTIC,
-/// CAP-XLIM-CONSISTENCY and CAP-VZ-SINGLE.
-pub struct CaptureCriterion;
+/// What the capture checks and the TMS rows share for one run.
+#[derive(Clone, Debug)]
+pub struct CaptureSetup {
+    /// The parsed capture inputs file.
+    pub inputs: CaptureInputs,
+    /// The requirement box from the loaded requirements [SI].
+    pub req: [f64; N_STATES],
+    /// xlim tied to that box.
+    pub xlim: Xlim,
+    /// The source of each state at the start of control.
+    pub model: StateModel,
+    /// Label and SHA-256 of the capture inputs file.
+    pub file: (String, String),
+}
+
+impl CaptureSetup {
+    /// The set-up of `ctx`: `Err` for a bad inputs file (a run error), `Ok(Err(reason))` when
+    /// the requirement box cannot be formed (the checks are then not verified).
+    pub fn of(ctx: &CheckContext) -> Result<Result<CaptureSetup, String>, CheckError> {
+        let f = &ctx.inputs.capture;
+        let inputs = CaptureInputs::from_yaml_str(&f.text, &f.label)
+            .map_err(|e| CheckError(e.to_string()))?;
+        let req = match requirement_box(ctx) {
+            Ok(r) => r,
+            Err(why) => return Ok(Err(why)),
+        };
+        Ok(Ok(CaptureSetup {
+            xlim: inputs.xlim(req),
+            model: StateModel::new(&inputs, req),
+            req,
+            file: (f.label.clone(), f.sha256.clone()),
+            inputs,
+        }))
+    }
+
+    /// Inputs recorded with the evidence: the capture file and its hash, the box.
+    pub fn evidence_inputs(&self) -> BTreeMap<String, Value> {
+        let mut m = BTreeMap::new();
+        m.insert("capture_file".into(), json!(self.file.0));
+        m.insert("capture_sha256".into(), json!(self.file.1));
+        m.insert("box_scale".into(), json!(self.inputs.box_scale));
+        m.insert(
+            "xlim_derivation".into(),
+            json!(self.inputs.derivation.as_str()),
+        );
+        let boxv: BTreeMap<&str, f64> = StateName::ALL
+            .iter()
+            .map(|s| (s.as_str(), self.req[s.index()]))
+            .collect();
+        m.insert("requirement_box_si".into(), json!(boxv));
+        m
+    }
+
+    /// Per-state sources, for the evidence.
+    pub fn sources(&self) -> BTreeMap<&'static str, String> {
+        StateName::ALL
+            .iter()
+            .map(|s| (s.as_str(), self.inputs.states[s.index()].describe()))
+            .collect()
+    }
+}
+
+/// The verification basis of a state-model kind.
+pub fn basis_of(k: SourceKind) -> Basis {
+    match k {
+        SourceKind::Model => Basis::Model,
+        SourceKind::FlowDown => Basis::FlowDown,
+        SourceKind::Assumption => Basis::Illustration,
+    }
+}
+
+fn not_verified(ids: &[&str], why: &str) -> Vec<Evidence> {
+    ids.iter()
+        .map(|id| Evidence::not_verified(id, why, "Capture analysis."))
+        .collect()
+}
+
+/// `capture-criterion`: CAP-QUARTIC, CAP-XLIM-CONSISTENCY and CAP-VZ-SINGLE.
+pub struct CaptureCriterion {
+    /// Source of the release z velocities (for the predicted-state evidence of CAP-QUARTIC).
+    pub release: Option<ReleaseVzSource>,
+}
 
 impl CaptureCriterion {
-    /// The evidence for a given xlim set (the check uses the embedded default).
-    pub fn evidence(x: &Xlim) -> Vec<Evidence> {
+    /// The evidence of a set-up, with the release Monte Carlo's 99.73 % |vz| when there is one.
+    pub fn evidence(setup: &CaptureSetup, release: Option<&ReleaseVz>) -> Vec<Evidence> {
+        let x = &setup.xlim;
+        let common = |mut e: Evidence| {
+            e.inputs.extend(setup.evidence_inputs());
+            e
+        };
         let corner = quartic_sum(x, &box_corner(x, 1.0));
-        let mut quartic = Evidence::measured(
-            "CAP-QUARTIC",
-            Quantity::new(corner, Dim::DIMENSIONLESS),
-            geodesic_core::Basis::Model,
-            "Quartic capture criterion evaluated at the corner of the TM state requirement box \
-             (every state at +req_i) with the xlim set.",
-        )
-        .with_input("max_box_scale", max_box_scale(x));
-        quartic.inputs.extend(xlim_inputs(x));
-
-        let mut consistency = Evidence::measured(
-            "CAP-XLIM-CONSISTENCY",
-            Quantity::new(consistency_residual(x), Dim::DIMENSIONLESS),
-            geodesic_core::Basis::Model,
-            "Consistency constraint |sum_i (box_scale req_i/xlim_i)^4 - 1| evaluated on the xlim \
-             set (default set derived to satisfy it exactly, stored to 7 significant digits).",
-        )
-        .with_input("consistency_sum", consistency_sum(x));
-        consistency.inputs.extend(xlim_inputs(x));
-
+        let mut out = vec![common(
+            Evidence::measured(
+                "CAP-QUARTIC",
+                Quantity::new(corner, Dim::DIMENSIONLESS),
+                Basis::FlowDown,
+                "Quartic sum at the corner of the TM state requirement box (every state at the \
+                 limit of its loaded TMS requirement) with the capture limits xlim.",
+            )
+            .with_input("max_box_scale", max_box_scale(x)),
+        )];
+        if let Some(r) = release {
+            let vz9973 = r.p9973();
+            let state = setup.model.p9973_state(vz9973);
+            let sum = quartic_sum(x, &state);
+            let mut e = common(
+                Evidence::measured(
+                    "CAP-QUARTIC",
+                    Quantity::new(sum, Dim::DIMENSIONLESS),
+                    basis_of(setup.model.weakest_kind()),
+                    format!(
+                        "Quartic sum at the predicted TM state, every state at its 99.73 % value \
+                         from its source (vz: release Monte Carlo {:.3} um/s; positions and \
+                         angles: rate x {} s; others: the capture inputs' assumptions).",
+                        vz9973 * 1e6,
+                        setup.inputs.drift_time_s
+                    ),
+                )
+                .with_input("state_p9973_si", json!(state.0))
+                .with_input("state_sources", json!(setup.sources())),
+            );
+            for (k, v) in &r.inputs {
+                e.inputs.insert(format!("release.{k}"), v.clone());
+            }
+            out.push(e);
+        }
+        let by_construction = setup.inputs.derivation == XlimDerivation::Constraint;
+        out.push(common(
+            Evidence::measured(
+                "CAP-XLIM-CONSISTENCY",
+                Quantity::new(consistency_residual(x), Dim::DIMENSIONLESS),
+                if by_construction {
+                    Basis::FlowDown
+                } else {
+                    Basis::Accepted
+                },
+                if by_construction {
+                    "By construction (inspection): xlim was derived to satisfy this constraint; \
+                     the residual with the loaded requirement box shows whether the box is still \
+                     the one xlim was derived for."
+                        .to_string()
+                } else {
+                    format!(
+                        "Constraint evaluated on independent capture limits ({}) with the loaded \
+                         requirement box.",
+                        setup.inputs.xlim_source
+                    )
+                },
+            )
+            .with_input("consistency_sum", consistency_sum(x))
+            .with_input("xlim_source", setup.inputs.xlim_source.clone()),
+        ));
         let vz = single_state_limits(x)[StateName::Vz.index()];
-        let mut single = Evidence::measured(
-            "CAP-VZ-SINGLE",
-            Quantity::new(vz, Dim::VELOCITY),
-            geodesic_core::Basis::Model,
-            "Single-state limit of the quartic criterion for the z velocity (the supremum of \
-             captured |v_z| with all other states zero, = xlim_vz). The default xlim set is \
-             anchored on the thesis's 12 um/s E2E result, so this confirms the configured set \
-             carries it, not the DFACS itself.",
-        );
-        single.inputs.extend(xlim_inputs(x));
-        vec![quartic, consistency, single]
+        let cited = match &setup.inputs.anchor {
+            Some((StateName::Vz, src)) => src.clone(),
+            _ => setup.inputs.xlim_source.clone(),
+        };
+        out.push(common(
+            Evidence::measured(
+                "CAP-VZ-SINGLE",
+                Quantity::new(vz, Dim::VELOCITY),
+                Basis::Accepted,
+                format!(
+                    "Accepted: the single-state z-velocity limit of the capture limits (= xlim_vz), \
+                     taken from a cited DFACS result ({cited}), not computed by a geodesic model."
+                ),
+            )
+            .with_input("accepted_from", cited),
+        ));
+        out
     }
 }
 
@@ -110,9 +282,16 @@ impl Check for CaptureCriterion {
     }
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
-        let x = Xlim::default_set();
-        let mut ev = CaptureCriterion::evidence(&x);
-        let svg = crate::plots::capture_criterion_svg(&x)?;
+        let setup = match CaptureSetup::of(ctx)? {
+            Ok(s) => s,
+            Err(why) => return Ok(not_verified(self.verifies(), &why)),
+        };
+        let release = match &self.release {
+            Some(src) => Some(src(ctx)?),
+            None => None,
+        };
+        let mut ev = CaptureCriterion::evidence(&setup, release.as_ref());
+        let svg = crate::plots::capture_criterion_svg(&setup.xlim)?;
         let file = crate::plots::write(&ctx.reports_dir, "capture-criterion.svg", &svg)?;
         if let Some(q) = ev.iter_mut().find(|e| e.requirement == "CAP-QUARTIC") {
             q.artifacts.push(file);
@@ -127,31 +306,39 @@ pub struct CaptureProbabilityCheck {
     pub release: Option<ReleaseVzSource>,
 }
 
-/// CAP-RELEASE-PROB evidence from release z velocities `vz_m_s` [m/s]: the other 11 states are
-/// drawn from `dist` with `seed` (draw `k` on stream `k`), each draw judged by the quartic
-/// criterion with `xlim`. `release_inputs` (N, seed, case of the release Monte Carlo) are
-/// copied into the evidence.
+/// CAP-RELEASE-PROB evidence: draw `k` takes the release z velocity `release.vz_m_s[k]` and the
+/// other states from the set-up's [`StateModel`] (stream `k` of `seed`); the basis is the
+/// weakest of the states' sources.
 pub fn capture_probability_evidence(
-    vz_m_s: &[f64],
-    dist: &StateDistribution,
-    xlim: &Xlim,
+    setup: &CaptureSetup,
+    release: &ReleaseVz,
     seed: u64,
-    release_inputs: &BTreeMap<String, Value>,
 ) -> Evidence {
-    if vz_m_s.is_empty() {
+    if release.vz_m_s.is_empty() {
         return Evidence::not_verified(
             "CAP-RELEASE-PROB",
             "the release Monte Carlo gave no z velocities",
             "Capture probability of the release Monte Carlo.",
         );
     }
-    let p = capture_probability(vz_m_s, dist, xlim, seed);
+    let p = setup
+        .model
+        .capture_probability(&release.vz_m_s, &setup.xlim, seed);
     let mut e = Evidence::measured(
         "CAP-RELEASE-PROB",
         Quantity::new(p.probability, Dim::DIMENSIONLESS),
-        geodesic_core::Basis::Model,
-        "Fraction of release Monte Carlo draws captured by the quartic criterion: z velocity \
-         from the release model, the other 11 states drawn from the capture state distribution.",
+        basis_of(setup.model.weakest_kind()),
+        format!(
+            "Fraction of {} release Monte Carlo draws captured by the quartic criterion: vz from \
+             the release model, the other states from the capture inputs' sources (the same as \
+             the TMS rows: {}).",
+            p.n,
+            StateName::ALL
+                .iter()
+                .map(|s| format!("{s}: {}", setup.inputs.states[s.index()].describe()))
+                .collect::<Vec<_>>()
+                .join("; ")
+        ),
     )
     .with_input("n", p.n)
     .with_input("captured", p.captured)
@@ -159,9 +346,9 @@ pub fn capture_probability_evidence(
     .with_input("quartic_sum_p9973", p.sum_p9973)
     .with_input("quartic_sum_max", p.sum_max)
     .with_input("state_seed", p.seed)
-    .with_input("state_distribution", dist.source.clone());
-    e.inputs.extend(xlim_inputs(xlim));
-    for (k, v) in release_inputs {
+    .with_input("state_sources", json!(setup.sources()));
+    e.inputs.extend(setup.evidence_inputs());
+    for (k, v) in &release.inputs {
         e.inputs.insert(format!("release.{k}"), v.clone());
     }
     e
@@ -177,20 +364,19 @@ impl Check for CaptureProbabilityCheck {
     }
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
+        let setup = match CaptureSetup::of(ctx)? {
+            Ok(s) => s,
+            Err(why) => return Ok(not_verified(self.verifies(), &why)),
+        };
         let Some(source) = &self.release else {
-            return Ok(vec![Evidence::not_verified(
-                "CAP-RELEASE-PROB",
+            return Ok(not_verified(
+                self.verifies(),
                 "no release Monte Carlo z velocities are wired into capture-probability",
-                "Capture probability of the release Monte Carlo.",
-            )]);
+            ));
         };
         let release = source(ctx)?;
         Ok(vec![capture_probability_evidence(
-            &release.vz_m_s,
-            &StateDistribution::default_set(),
-            &Xlim::default_set(),
-            ctx.seed,
-            &release.inputs,
+            &setup, &release, ctx.seed,
         )])
     }
 }
@@ -211,14 +397,67 @@ mod tests {
         }
     }
 
+    fn release(v: f64, n: usize) -> ReleaseVz {
+        ReleaseVz {
+            vz_m_s: vec![v; n],
+            inputs: BTreeMap::from([("n".to_string(), json!(n))]),
+        }
+    }
+
     #[test]
-    fn criterion_evidence_for_the_default_set() {
-        let ev = CaptureCriterion.run(&ctx()).unwrap();
+    fn criterion_evidence_for_the_default_inputs() {
+        let setup = CaptureSetup::of(&ctx()).unwrap().unwrap();
+        let ev = CaptureCriterion::evidence(&setup, Some(&release(1e-6, 10)));
         let ids: Vec<&str> = ev.iter().map(|e| e.requirement.as_str()).collect();
-        assert_eq!(ids, CaptureCriterion.verifies());
+        assert_eq!(
+            ids,
+            [
+                "CAP-QUARTIC",
+                "CAP-QUARTIC",
+                "CAP-XLIM-CONSISTENCY",
+                "CAP-VZ-SINGLE"
+            ]
+        );
         assert!((value(&ev[0]) - 1.0 / 1.4f64.powi(4)).abs() < 1e-6);
-        assert!(value(&ev[1]) < 1e-6);
-        assert_eq!(value(&ev[2]), 12e-6);
+        // the predicted state has vz = 1 um/s and z = 15 um instead of the box's 5 um/s, 200 um
+        assert!(value(&ev[1]) < value(&ev[0]));
+        assert_eq!(ev[1].basis, Some(Basis::FlowDown));
+        assert!(value(&ev[2]) < 1e-6);
+        assert_eq!(value(&ev[3]), 12e-6);
+        assert_eq!(ev[3].basis, Some(Basis::Accepted));
+    }
+
+    #[test]
+    fn a_looser_requirement_moves_the_capture_verdicts() {
+        let mut c = ctx();
+        let mut reqs = (*c.requirements).clone();
+        let r = reqs
+            .items
+            .iter_mut()
+            .find(|r| r.id.as_str() == "TMS-X-VEL")
+            .unwrap();
+        r.limit.value = 20e-6;
+        c.requirements = Arc::new(reqs);
+        let setup = CaptureSetup::of(&c).unwrap().unwrap();
+        let ev = CaptureCriterion::evidence(&setup, None);
+        // (20/13.14641)^4 alone exceeds 1
+        assert!(value(&ev[0]) > 5.0, "{}", value(&ev[0]));
+        assert!(value(&ev[1]) > 0.1, "{}", value(&ev[1]));
+    }
+
+    #[test]
+    fn missing_box_row_is_not_verified() {
+        let mut c = ctx();
+        let mut reqs = (*c.requirements).clone();
+        reqs.items.retain(|r| r.id.as_str() != "TMS-Y-RATE");
+        c.requirements = Arc::new(reqs);
+        let ev = CaptureCriterion { release: None }.run(&c).unwrap();
+        for e in &ev {
+            let Outcome::NotVerified(why) = &e.outcome else {
+                panic!("{e:?}")
+            };
+            assert!(why.contains("TMS-Y-RATE"), "{why}");
+        }
     }
 
     #[test]
@@ -231,18 +470,21 @@ mod tests {
 
     #[test]
     fn wired_probability_uses_the_source() {
-        let source: ReleaseVzSource = Arc::new(|_| {
-            Ok(ReleaseVz {
-                vz_m_s: vec![1e-6; 99],
-                inputs: BTreeMap::from([("n".to_string(), json!(99))]),
-            })
-        });
+        let source: ReleaseVzSource = Arc::new(|_| Ok(release(1e-6, 99)));
         let ev = CaptureProbabilityCheck {
             release: Some(source),
         }
         .run(&ctx())
         .unwrap();
-        assert_eq!(value(&ev[0]), 1.0);
+        assert!(value(&ev[0]) > 0.9);
         assert_eq!(ev[0].inputs["release.n"], json!(99));
+        assert_eq!(ev[0].basis, Some(Basis::FlowDown));
+    }
+
+    #[test]
+    fn p9973_nearest_rank() {
+        let v: Vec<f64> = (1..=10_000).map(f64::from).collect();
+        assert_eq!(abs_p9973(&v), 9973.0);
+        assert!(abs_p9973(&[]).is_nan());
     }
 }

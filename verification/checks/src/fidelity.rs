@@ -5,7 +5,6 @@
 use crate::release::SharedMonteCarlo;
 use geodesic_core::check::ReferenceRow;
 use geodesic_core::{CheckContext, CheckError};
-use geodesic_release::budget::Budget;
 use geodesic_release::figures::mechanism_figures;
 use geodesic_release::montecarlo::{self, Case};
 
@@ -61,11 +60,14 @@ pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceR
             "A1 in (0, 1.5e5] N/m, lambda in (0, 8e-7] m, everything else nominal",
         ),
     ];
-    let budget = Budget::default_budget();
+    let budget = crate::release::budget_of(ctx)?;
     let all = mc.get(ctx)?.summary();
     let note = format!(
-        "N = {}, seed = {}, default budget (models/release/budget.yaml)",
-        ctx.mc_n, ctx.seed
+        "N = {}, seed = {}, budget {} (sha256 {})",
+        ctx.mc_n,
+        ctx.seed,
+        ctx.inputs.budget.label,
+        &ctx.inputs.budget.sha256[..12]
     );
     for (case, thesis, extra) in [
         (Case::All, 1.50, ""),

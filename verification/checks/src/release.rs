@@ -29,10 +29,17 @@ pub const HISTOGRAM_FILE: &str = "release-velocity-histogram.svg";
 /// Draws of the adhesion calibration.
 pub const CALIBRATION_DRAWS: usize = 200_000;
 
-/// A memoised release Monte Carlo run (case `all`, default budget), keyed by `(N, seed)`.
+/// A memoised release Monte Carlo run (case `all`, the run's budget file), keyed by
+/// `(N, seed, budget hash)`.
 #[derive(Default)]
 pub struct SharedMonteCarlo {
-    cache: Mutex<Option<Arc<McResult>>>,
+    cache: Mutex<Option<(Arc<McResult>, String)>>,
+}
+
+/// The budget of a run: the budget file of `ctx` parsed (errors name the file and line).
+pub fn budget_of(ctx: &CheckContext) -> Result<Budget, CheckError> {
+    let f = &ctx.inputs.budget;
+    Budget::from_yaml(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))
 }
 
 impl SharedMonteCarlo {
@@ -47,32 +54,31 @@ impl SharedMonteCarlo {
             .cache
             .lock()
             .map_err(|_| CheckError("release Monte Carlo cache poisoned".into()))?;
-        if let Some(r) = guard.as_ref()
+        let sha = &ctx.inputs.budget.sha256;
+        if let Some((r, h)) = guard.as_ref()
             && r.n == ctx.mc_n
             && r.seed == ctx.seed
+            && h == sha
         {
             return Ok(r.clone());
         }
-        let budget = Budget::default_budget();
+        let budget = budget_of(ctx)?;
         let r = montecarlo::run(&budget, Case::All, ctx.mc_n, ctx.seed, None, &|_| {})
             .map_err(|e| CheckError(format!("release Monte Carlo: {e}")))?;
         let r = Arc::new(r);
-        *guard = Some(r.clone());
+        *guard = Some((r.clone(), sha.clone()));
         Ok(r)
     }
 }
 
 /// The inputs recorded with the Monte Carlo evidence.
-pub fn mc_inputs(r: &McResult) -> BTreeMap<String, Value> {
+pub fn mc_inputs(r: &McResult, ctx: &CheckContext) -> BTreeMap<String, Value> {
     let mut m = BTreeMap::new();
     m.insert("n".into(), json!(r.n));
     m.insert("seed".into(), json!(r.seed));
     m.insert("case".into(), json!(r.case.as_str()));
-    m.insert(
-        "budget".into(),
-        json!("models/release/budget.yaml (embedded default)"),
-    );
-    m.insert("budget_hash".into(), json!(r.budget_hash));
+    m.insert("budget_file".into(), json!(ctx.inputs.budget.label));
+    m.insert("budget_sha256".into(), json!(ctx.inputs.budget.sha256));
     m.insert(
         "integrator".into(),
         json!("dopri5 rtol 3e-5 with e = 0 event location"),
@@ -88,7 +94,7 @@ pub fn vz_source(mc: Arc<SharedMonteCarlo>) -> ReleaseVzSource {
         let r = mc.get(ctx)?;
         Ok(ReleaseVz {
             vz_m_s: r.v_m_s.clone(),
-            inputs: mc_inputs(&r),
+            inputs: mc_inputs(&r, ctx),
         })
     })
 }
@@ -134,7 +140,7 @@ impl Check for ReleaseMonteCarlo {
             let mut e =
                 Evidence::measured(id, value, geodesic_core::Basis::Model, activity.clone())
                     .with_artifact(HISTOGRAM_FILE);
-            e.inputs = mc_inputs(&r);
+            e.inputs = mc_inputs(&r, ctx);
             if *id == "TMS-Z-VEL" {
                 e = e.with_input("axis", "release axis X = z (DFACS frame)");
             }
@@ -157,7 +163,7 @@ impl Check for AdhesionCalibration {
     }
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
-        let b = Budget::default_budget();
+        let b = budget_of(ctx)?;
         let s = simulate_tmmf_statistics(&b.adhesion, CALIBRATION_DRAWS, ctx.seed);
         let t = TMMF_INTERMEDIATE;
         let activity = format!(

@@ -1,33 +1,27 @@
 //! Checks of the `tm_state` family: `tm-state-bounds` gives, for each row of the TM state
 //! requirement (thesis Tab. "TM state requirement") except TMS-Z-VEL (the release Monte Carlo
-//! verifies it), the value the models give or the reason none does:
+//! verifies it), the value its source in the capture inputs gives, or why none does. The same
+//! [`StateModel`](geodesic_capture::StateModel) feeds CAP-QUARTIC and CAP-RELEASE-PROB, so a
+//! TMS row and the capture verdicts never contradict each other.
 //!
-//! | rows | evidence |
+//! | source of the state (capture inputs) | row |
 //! | --- | --- |
-//! | TMS-X-POS, TMS-Y-POS | offset after 15 s of free drift at the 5 um/s velocity requirement |
-//! | TMS-Z-POS | offset after 15 s at the release Monte Carlo 99.73 % z velocity (needs a source) |
-//! | TMS-X-VEL, TMS-Y-VEL | shear illustration (thesis ch. 6): 50 mN tangential pull for 100 us |
-//! | TMS-X-RATE, TMS-Y-RATE | the same shear illustration, angular rate |
-//! | TMS-Z-RATE | not verified: a contact on the z axis has no lever arm about z |
-//! | TMS-X/Y/Z-ANG | not verified: no model gives the TM attitude at release |
+//! | release Monte Carlo, or a drift of it (`z`) | `model`: 99.73 % of the Monte Carlo, x drift time |
+//! | a drift of a flow-down state (`x` from `vx`) | `flow-down`: the rate's loaded limit x drift time |
+//! | a flow-down assumption itself (`vx`, `wz`, ...) | not verified: the assumption cannot verify the requirement it assumes |
+//! | an explicit assumption | not verified, its 99.73 % value shown as an illustration |
 //!
-//! The shear illustration is a hypothetical worst case (the thesis raises it to argue against
-//! adding shear at the contact; the nominal retraction is along z), and its rectangular-pulse
-//! form is used ([`PulseShape::USED`]); the triangular-pulse values go into the inputs.
+//! The shear case of thesis ch. 6 (a hypothetical 50 mN tangential pull for 100 us, which the
+//! thesis raises to argue against adding shear at the contact) is shown beside TMS-X/Y-VEL and
+//! TMS-X/Y-RATE as an illustration, never as a verdict.
 
-use std::collections::BTreeMap;
+use geodesic_capture::{PulseShape, ShearInputs, SourceKind, StateName, StateSource};
+use geodesic_core::{Basis, Check, CheckContext, CheckError, Dim, Evidence, Quantity};
 
-use geodesic_capture::{DRIFT_TIME_S, PulseShape, ShearInputs, drift_offset_m};
-use geodesic_core::{Check, CheckContext, CheckError, Dim, Evidence, Quantity};
-use serde_json::Value;
+use crate::capture::{CaptureSetup, ReleaseVz, ReleaseVzSource, basis_of};
 
-use crate::capture::ReleaseVzSource;
-
-/// Velocity requirement of TMS-X/Y-VEL used for the drift of TMS-X/Y-POS [m/s].
-pub const VEL_REQUIREMENT_M_S: f64 = 5e-6;
-
-/// The checks of this family; `release` supplies the release Monte Carlo z velocities for
-/// TMS-Z-POS (`None`: not verified, with that reason).
+/// The checks of this family; `release` supplies the release Monte Carlo z velocities (`None`:
+/// the states that need them are not verified, with that reason).
 pub fn checks_with(release: Option<ReleaseVzSource>) -> Vec<Box<dyn Check>> {
     vec![Box::new(TmStateBounds { release })]
 }
@@ -39,121 +33,176 @@ pub fn checks() -> Vec<Box<dyn Check>> {
 
 /// `tm-state-bounds`: evidence for the 11 TMS rows other than TMS-Z-VEL.
 pub struct TmStateBounds {
-    /// Source of the release Monte Carlo z velocities for TMS-Z-POS.
+    /// Source of the release Monte Carlo z velocities.
     pub release: Option<ReleaseVzSource>,
 }
 
-/// 99.73 % quantile of `|v|` (nearest rank) [m/s]; NaN for an empty slice.
-pub fn abs_p9973(v_m_s: &[f64]) -> f64 {
-    if v_m_s.is_empty() {
-        return f64::NAN;
+const ROWS: [StateName; 11] = [
+    StateName::X,
+    StateName::Y,
+    StateName::Z,
+    StateName::Vx,
+    StateName::Vy,
+    StateName::Thx,
+    StateName::Thy,
+    StateName::Thz,
+    StateName::Wx,
+    StateName::Wy,
+    StateName::Wz,
+];
+
+fn dim_of(s: StateName) -> Dim {
+    match s.unit() {
+        "m" => Dim::LENGTH,
+        "m/s" => Dim::VELOCITY,
+        "rad" => Dim::ANGLE,
+        _ => Dim::ANGULAR_RATE,
     }
-    let mut a: Vec<f64> = v_m_s.iter().map(|v| v.abs()).collect();
-    a.sort_by(f64::total_cmp);
-    let idx = ((0.9973 * a.len() as f64).ceil() as usize).clamp(1, a.len()) - 1;
-    a[idx]
 }
 
-/// TMS-Z-POS evidence from the release Monte Carlo 99.73 % z velocity `v9973_m_s` [m/s]:
-/// offset after [`DRIFT_TIME_S`] of free drift from the centred hold.
-pub fn z_position_evidence(v9973_m_s: f64, release_inputs: &BTreeMap<String, Value>) -> Evidence {
-    let mut e = Evidence::measured(
-        "TMS-Z-POS",
-        Quantity::new(drift_offset_m(0.0, v9973_m_s, DRIFT_TIME_S), Dim::LENGTH),
-        geodesic_core::Basis::Model,
-        "Offset after 15 s of free drift (release to start of control, thesis ch. 7) at the \
-         99.73 % |v_z| of the release Monte Carlo, from the centred hold (no model of the hold \
-         offset; plunger attraction, < 0.1 um/s per the thesis, neglected).",
+const ACTIVITY: &str = "TM state at the start of DFACS control from the capture inputs' sources.";
+
+fn shear_illustration(s: StateName) -> Option<Evidence> {
+    let sh = ShearInputs::THESIS;
+    let (value, dim, formula) = match s {
+        StateName::Vx | StateName::Vy => (
+            sh.velocity_m_s(PulseShape::USED),
+            Dim::VELOCITY,
+            "dv = dt F / M",
+        ),
+        StateName::Wx | StateName::Wy => (
+            sh.angular_rate_rad_s(PulseShape::USED),
+            Dim::ANGULAR_RATE,
+            "dw = dt F a / I",
+        ),
+        _ => return None,
+    };
+    Some(
+        Evidence::measured(
+            s.requirement_id(),
+            Quantity::new(value, dim),
+            Basis::Illustration,
+            format!(
+                "Illustration (thesis ch. 6 shear what-if, not a prediction): a hypothetical 50 mN \
+                 tangential pull for 100 us, rectangular pulse, {formula}; the thesis itself argues \
+                 there is no reason to expect it (the nominal retraction is along z)."
+            ),
+        )
+        .with_input("pulse_shape_used", PulseShape::USED.as_str())
+        .with_input("dt_s", sh.dt_s)
+        .with_input("force_n", sh.force_n)
+        .with_input("arm_m", sh.arm_m)
+        .with_input("inertia_kg_m2", sh.inertia_kg_m2)
+        .with_input("mass_kg", sh.mass_kg)
+        .with_input(
+            "triangular_pulse_value_si",
+            if dim == Dim::VELOCITY {
+                sh.velocity_m_s(PulseShape::Triangular)
+            } else {
+                sh.angular_rate_rad_s(PulseShape::Triangular)
+            },
+        ),
     )
-    .with_input("v_z_p9973_m_s", v9973_m_s)
-    .with_input("drift_time_s", DRIFT_TIME_S);
-    for (k, v) in release_inputs {
-        e.inputs.insert(format!("release.{k}"), v.clone());
-    }
-    e
 }
 
-fn shear_inputs(e: Evidence) -> Evidence {
-    let s = ShearInputs::THESIS;
-    e.with_input("pulse_shape_used", PulseShape::USED.as_str())
-        .with_input("dt_s", s.dt_s)
-        .with_input("force_n", s.force_n)
-        .with_input("arm_m", s.arm_m)
-        .with_input("inertia_kg_m2", s.inertia_kg_m2)
-        .with_input("mass_kg", s.mass_kg)
-        .with_input(
-            "rate_triangular_rad_s",
-            s.angular_rate_rad_s(PulseShape::Triangular),
-        )
-        .with_input(
-            "rate_rectangular_rad_s",
-            s.angular_rate_rad_s(PulseShape::Rectangular),
-        )
-        .with_input(
-            "velocity_triangular_m_s",
-            s.velocity_m_s(PulseShape::Triangular),
-        )
-        .with_input(
-            "velocity_rectangular_m_s",
-            s.velocity_m_s(PulseShape::Rectangular),
-        )
-}
-
-/// The evidence that needs no release Monte Carlo (10 rows: all but TMS-Z-POS and TMS-Z-VEL).
-pub fn model_evidence() -> Vec<Evidence> {
-    let s = ShearInputs::THESIS;
+/// The evidence of one TMS row from the set-up, with the release Monte Carlo when wired.
+pub fn row_evidence(
+    setup: &CaptureSetup,
+    s: StateName,
+    release: Option<&ReleaseVz>,
+) -> Vec<Evidence> {
+    let id = s.requirement_id();
+    let src = &setup.inputs.states[s.index()];
+    let kind = setup.model.kind(s);
+    let dt = setup.inputs.drift_time_s;
     let mut out = Vec::new();
-    for id in ["TMS-X-POS", "TMS-Y-POS"] {
-        out.push(
-            Evidence::measured(
-                id,
-                Quantity::new(
-                    drift_offset_m(0.0, VEL_REQUIREMENT_M_S, DRIFT_TIME_S),
-                    Dim::LENGTH,
+    let needs_release = matches!(src, StateSource::Release)
+        || (matches!(src, StateSource::Drift(_)) && kind == SourceKind::Model);
+    let vz9973 = release.map_or(f64::NAN, ReleaseVz::p9973);
+    let common = |mut e: Evidence| {
+        e.inputs.extend(setup.evidence_inputs());
+        e.inputs
+            .insert("state_source".into(), src.describe().into());
+        e
+    };
+    if needs_release && release.is_none_or(|r| r.vz_m_s.is_empty()) {
+        out.push(common(Evidence::not_verified(
+            id,
+            format!("{s} comes from the release Monte Carlo, which is not wired or gave no draws"),
+            ACTIVITY,
+        )));
+        return out;
+    }
+    match (src, kind) {
+        (StateSource::FlowDown(f), _) => {
+            let why = match s {
+                StateName::Wz => format!(
+                    "no model gives a rate about z (the contact lies on the z axis, so a pull there \
+                     has no lever arm about z); the capture analyses assume Normal(0, {f:.4} x limit), \
+                     a flow-down assumption that cannot verify the requirement it assumes"
                 ),
-                geodesic_core::Basis::Model,
-                "Offset after 15 s of free drift (release to start of control, thesis ch. 7) at \
-                 the 5 um/s lateral velocity requirement, from the centred hold: a flow-down \
-                 bound (no model of the hold offset).",
-            )
-            .with_input("velocity_m_s", VEL_REQUIREMENT_M_S)
-            .with_input("drift_time_s", DRIFT_TIME_S),
-        );
+                _ => format!(
+                    "no model gives {s} at release (the nominal retraction is along z); the capture \
+                     analyses assume Normal(0, {f:.4} x limit), a flow-down assumption that cannot \
+                     verify the requirement it assumes"
+                ),
+            };
+            out.push(common(Evidence::not_verified(id, why, ACTIVITY)));
+        }
+        (_, SourceKind::Assumption) => {
+            out.push(common(Evidence::not_verified(
+                id,
+                format!(
+                    "{s} is an explicit assumption of the capture inputs ({})",
+                    src.describe()
+                ),
+                ACTIVITY,
+            )));
+            out.push(common(Evidence::measured(
+                id,
+                Quantity::new(setup.model.p9973(s, vz9973), dim_of(s)),
+                Basis::Illustration,
+                "99.73 % value of the assumed distribution (an assumption, not a verdict).",
+            )));
+        }
+        (_, k) => {
+            let v = setup.model.p9973(s, vz9973);
+            let rate = geodesic_capture::drift_rate_of(s);
+            let activity = match (k, rate) {
+                (SourceKind::Model, Some(r)) => format!(
+                    "Offset after {dt} s of free drift from a centred hold at the 99.73 % |{r}| of \
+                     the release Monte Carlo ({:.4} um/s); hold offset not modelled, plunger \
+                     attraction (< 0.1 um/s per the thesis) neglected.",
+                    vz9973 * 1e6
+                ),
+                (SourceKind::FlowDown, Some(r)) => format!(
+                    "Flow-down: {r} at its 99.73 % value under the flow-down assumption (3 sigma = \
+                     the limit of {} read from the loaded requirements) drifting for {dt} s from a \
+                     centred hold.",
+                    r.requirement_id()
+                ),
+                _ => "99.73 % value from the release Monte Carlo.".to_string(),
+            };
+            let mut e = common(Evidence::measured(
+                id,
+                Quantity::new(v, dim_of(s)),
+                basis_of(k),
+                activity,
+            ))
+            .with_input("drift_time_s", dt);
+            if k == SourceKind::Model {
+                e = e.with_input("v_z_p9973_m_s", vz9973);
+                if let Some(r) = release {
+                    for (key, val) in &r.inputs {
+                        e.inputs.insert(format!("release.{key}"), val.clone());
+                    }
+                }
+            }
+            out.push(e);
+        }
     }
-    for id in ["TMS-X-VEL", "TMS-Y-VEL"] {
-        out.push(shear_inputs(Evidence::measured(
-            id,
-            Quantity::new(s.velocity_m_s(PulseShape::USED), Dim::VELOCITY),
-            geodesic_core::Basis::Model,
-            "Shear illustration of thesis ch. 6: a hypothetical 50 mN tangential pull at the \
-             contact for 100 us (rectangular pulse, dv = dt F / M); the nominal retraction is \
-             along z and no model gives a lateral velocity otherwise.",
-        )));
-    }
-    for id in ["TMS-X-RATE", "TMS-Y-RATE"] {
-        out.push(shear_inputs(Evidence::measured(
-            id,
-            Quantity::new(s.angular_rate_rad_s(PulseShape::USED), Dim::ANGULAR_RATE),
-            geodesic_core::Basis::Model,
-            "Shear illustration of thesis ch. 6: a hypothetical 50 mN tangential pull at the \
-             contact for 100 us (rectangular pulse, dw = dt F a / I, a = 0.046 m as in the \
-             thesis); the nominal retraction is along z.",
-        )));
-    }
-    out.push(Evidence::not_verified(
-        "TMS-Z-RATE",
-        "no model gives a rate about z: the contact lies on the z axis, so a tangential pull \
-         there has no lever arm about z, and contact-patch torsion is not modelled",
-        "TM state analysis from the release, shear and drift models.",
-    ));
-    for id in ["TMS-X-ANG", "TMS-Y-ANG", "TMS-Z-ANG"] {
-        out.push(Evidence::not_verified(
-            id,
-            "no model gives the TM attitude at release: the GPRM holding attitude and the \
-             alignment of the tips are not modelled (drifting at the 100 urad/s rate \
-             requirement for 15 s would give 1.5 mrad, a flow-down, not evidence)",
-            "TM state analysis from the release, shear and drift models.",
-        ));
+    if let Some(ill) = shear_illustration(s) {
+        out.push(ill);
     }
     out
 }
@@ -180,79 +229,99 @@ impl Check for TmStateBounds {
     }
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
-        let mut out = model_evidence();
-        let z = match &self.release {
-            Some(source) => {
-                let r = source(ctx)?;
-                if r.vz_m_s.is_empty() {
-                    Evidence::not_verified(
-                        "TMS-Z-POS",
-                        "the release Monte Carlo gave no z velocities",
-                        "Offset after 15 s of free drift.",
-                    )
-                } else {
-                    z_position_evidence(abs_p9973(&r.vz_m_s), &r.inputs)
-                }
+        let setup = match CaptureSetup::of(ctx)? {
+            Ok(s) => s,
+            Err(why) => {
+                return Ok(self
+                    .verifies()
+                    .iter()
+                    .map(|id| Evidence::not_verified(id, &why, ACTIVITY))
+                    .collect());
             }
-            None => Evidence::not_verified(
-                "TMS-Z-POS",
-                "no release Monte Carlo z velocities are wired into tm-state-bounds",
-                "Offset after 15 s of free drift.",
-            ),
         };
-        out.insert(2, z);
-        Ok(out)
+        let release = match &self.release {
+            Some(src) => Some(src(ctx)?),
+            None => None,
+        };
+        Ok(ROWS
+            .iter()
+            .flat_map(|s| row_evidence(&setup, *s, release.as_ref()))
+            .collect())
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::capture::ReleaseVz;
     use geodesic_core::Outcome;
+    use std::collections::BTreeMap;
     use std::sync::Arc;
 
     fn ctx() -> CheckContext {
         crate::builtin_context(std::env::temp_dir(), 100, 1)
     }
 
-    #[test]
-    fn one_evidence_per_declared_row_in_order() {
-        let c = TmStateBounds { release: None };
-        let ev = c.run(&ctx()).unwrap();
-        let ids: Vec<&str> = ev.iter().map(|e| e.requirement.as_str()).collect();
-        let mut want = c.verifies().to_vec();
-        let mut got = ids.clone();
-        want.sort_unstable();
-        got.sort_unstable();
-        assert_eq!(got, want);
-        assert_eq!(ids[2], "TMS-Z-POS");
-    }
-
-    #[test]
-    fn z_position_from_a_release_source() {
-        let source: crate::capture::ReleaseVzSource = Arc::new(|_| {
+    fn source() -> ReleaseVzSource {
+        Arc::new(|_| {
             Ok(ReleaseVz {
                 vz_m_s: (1..=10_000).map(|k| -(k as f64) * 1e-10).collect(),
                 inputs: BTreeMap::new(),
             })
-        });
-        let ev = TmStateBounds {
-            release: Some(source),
-        }
-        .run(&ctx())
-        .unwrap();
-        let Outcome::Measured(q) = &ev[2].outcome else {
-            panic!()
-        };
-        // 99.73 % of |v| = 9973e-10 m/s, times 15 s
-        assert!((q.value - 9973e-10 * 15.0).abs() < 1e-15, "{}", q.value);
+        })
+    }
+
+    fn deciding(ev: &[Evidence], id: &str) -> Option<(f64, Basis)> {
+        ev.iter()
+            .filter(|e| e.requirement == id && e.basis != Some(Basis::Illustration))
+            .find_map(|e| match &e.outcome {
+                Outcome::Measured(q) => Some((q.value, e.basis.unwrap())),
+                Outcome::NotVerified(_) => None,
+            })
     }
 
     #[test]
-    fn p9973_nearest_rank() {
-        let v: Vec<f64> = (1..=10_000).map(f64::from).collect();
-        assert_eq!(abs_p9973(&v), 9973.0);
-        assert!(abs_p9973(&[]).is_nan());
+    fn every_declared_row_has_evidence() {
+        let c = TmStateBounds {
+            release: Some(source()),
+        };
+        let ev = c.run(&ctx()).unwrap();
+        for id in c.verifies() {
+            assert!(ev.iter().any(|e| e.requirement == *id), "{id}");
+        }
+    }
+
+    #[test]
+    fn rows_follow_their_sources() {
+        let ev = TmStateBounds {
+            release: Some(source()),
+        }
+        .run(&ctx())
+        .unwrap();
+        // z: 99.73 % of |vz| = 9973e-10 m/s, times 15 s (model)
+        let (z, b) = deciding(&ev, "TMS-Z-POS").unwrap();
+        assert!((z - 9973e-10 * 15.0).abs() < 1e-15, "{z}");
+        assert_eq!(b, Basis::Model);
+        // x: the loaded 5 um/s limit of TMS-X-VEL times 15 s (flow-down)
+        let (x, b) = deciding(&ev, "TMS-X-POS").unwrap();
+        assert!((x - 75e-6).abs() < 1e-15, "{x}");
+        assert_eq!(b, Basis::FlowDown);
+        // angles: 100 urad/s x 15 s
+        let (a, _) = deciding(&ev, "TMS-Y-ANG").unwrap();
+        assert!((a - 1.5e-3).abs() < 1e-15, "{a}");
+        // no model: not verified, shear shown as an illustration only
+        assert!(deciding(&ev, "TMS-X-VEL").is_none());
+        assert!(deciding(&ev, "TMS-X-RATE").is_none());
+        assert!(deciding(&ev, "TMS-Z-RATE").is_none());
+        assert!(
+            ev.iter()
+                .any(|e| e.requirement == "TMS-X-RATE" && e.basis == Some(Basis::Illustration))
+        );
+    }
+
+    #[test]
+    fn without_release_the_z_offset_is_not_verified() {
+        let ev = TmStateBounds { release: None }.run(&ctx()).unwrap();
+        assert!(deciding(&ev, "TMS-Z-POS").is_none());
+        assert!(deciding(&ev, "TMS-X-POS").is_some());
     }
 }

@@ -12,9 +12,14 @@ fn geodesic(args: &[&str]) -> Output {
 }
 
 fn json(out: &Output) -> serde_json::Value {
+    json_with(out, 0)
+}
+
+/// The JSON document of a run that exited with `code` (capture: 1 = not captured).
+fn json_with(out: &Output, code: i32) -> serde_json::Value {
     assert_eq!(
         out.status.code(),
-        Some(0),
+        Some(code),
         "stderr: {}",
         String::from_utf8_lossy(&out.stderr)
     );
@@ -48,7 +53,8 @@ fn capture_json_with_negative_velocity() {
 
 #[test]
 fn capture_at_the_single_state_limit_is_not_captured() {
-    let d = json(&geodesic(&["capture", "--vz", "12e-6", "--json"]));
+    // exit 1: the verdict of a command that judges
+    let d = json_with(&geodesic(&["capture", "--vz", "12e-6", "--json"]), 1);
     assert_eq!(d["captured"], false);
 }
 
@@ -79,31 +85,29 @@ fn capture_unknown_state_exits_2_with_file_line() {
 
 #[test]
 fn capture_bad_xlim_exits_2_with_file_line() {
-    let text = geodesic_capture::DEFAULT_XLIM_YAML;
+    let text = geodesic_capture::DEFAULT_CAPTURE_YAML;
     let line = text
         .lines()
-        .position(|l| l.starts_with("  vz: 12.0e-6"))
+        .position(|l| l.starts_with("    vz: 12.0e-6"))
         .unwrap()
         + 1;
     let s = scratch_file(
         "bad-xlim.yaml",
-        &text.replacen("  vz: 12.0e-6", "  vz: -12.0e-6", 1),
+        &text.replacen("    vz: 12.0e-6", "    vz: -12.0e-6", 1),
     );
     let f = s.to_str().unwrap();
     assert_bad(
-        &geodesic(&["capture", "--xlim", f, "--json"]),
+        &geodesic(&["capture", "--capture", f, "--json"]),
         &format!("{f}:{line}:"),
     );
 }
 
 #[test]
 fn capture_incomplete_xlim_exits_2_with_file_line() {
-    let s = scratch_file(
-        "short-xlim.yaml",
-        "box_scale: 1.4\nrequirement:\n  x: 1.0\nxlim:\n  x: 1.0\n",
-    );
+    let text = geodesic_capture::DEFAULT_CAPTURE_YAML.replacen("    wz: 262.9282e-6\n", "", 1);
+    let s = scratch_file("short-xlim.yaml", &text);
     let f = s.to_str().unwrap();
-    let out = geodesic(&["capture", "--xlim", f, "--json"]);
+    let out = geodesic(&["capture", "--capture", f, "--json"]);
     assert_bad(&out, &format!("{f}:"));
     assert!(String::from_utf8_lossy(&out.stderr).contains("lacks state"));
 }

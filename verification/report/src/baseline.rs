@@ -1,11 +1,21 @@
-//! Change impact: compares a compliance report with a baseline `compliance.json` from an
-//! earlier run and lists every requirement whose status flipped or whose margin moved beyond a
-//! stated tolerance, the requirements added or removed, and the checks whose evidence changed
-//! (suspect evidence). A regression (a status that got worse, a margin that fell by more than
-//! the tolerance, a requirement that disappeared) makes `geodesic verify --baseline` exit 1.
+//! The CI gate: compares a compliance report with a baseline `compliance.json` and lists, once
+//! per requirement, what changed, in plain words. `geodesic verify --baseline OLD.json` exits 1
+//! only on a **regression**:
+//!
+//! - a new non-compliance (the requirement was compliant or not verified in the baseline);
+//! - a margin lost beyond the tolerance (absolute, as a fraction of the limit);
+//! - evidence lost (a value in the baseline, none now) or a weaker basis (model -> accepted);
+//! - a traced test that passed in the baseline and does not pass now (compared only when this
+//!   run has a recorded test run);
+//! - a disposition that expired or was withdrawn while the requirement is non-compliant;
+//! - a requirement that disappeared.
+//!
+//! A known non-compliance present in the baseline is not a regression; an improvement is listed
+//! but never fails the gate. Checks whose value or inputs changed are listed as suspect evidence.
 
 use crate::Report;
-use geodesic_core::matrix::Status;
+use geodesic_core::matrix::{Row, Status};
+use geodesic_core::units::fmt_num;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -24,7 +34,13 @@ struct OldRow {
     #[serde(default)]
     unit: String,
     #[serde(default)]
+    basis: Option<String>,
+    #[serde(default)]
     evidence: Vec<OldEvidence>,
+    #[serde(default)]
+    tests: Vec<OldTest>,
+    #[serde(default)]
+    disposition: Option<OldDisposition>,
 }
 
 #[derive(Deserialize)]
@@ -35,41 +51,38 @@ struct OldEvidence {
     inputs: BTreeMap<String, serde_json::Value>,
 }
 
+#[derive(Deserialize)]
+struct OldTest {
+    test: String,
+    #[serde(default)]
+    result: Option<String>,
+}
+
+#[derive(Deserialize)]
+struct OldDisposition {
+    reference: String,
+}
+
 /// A baseline file that cannot be read: one line with file:line:column.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
 pub struct BaselineError(pub String);
 
-/// A requirement whose status changed.
+/// What changed for one requirement.
 #[derive(Clone, Debug, Serialize)]
-pub struct Flip {
+pub struct Change {
     /// Requirement ID.
     pub id: String,
-    /// Status in the baseline.
-    pub from: String,
-    /// Status now.
-    pub to: String,
-    /// Whether it got worse.
+    /// Whether any of the changes is a regression (counted once per requirement).
     pub regression: bool,
-}
-
-/// A requirement whose margin moved by more than the tolerance.
-#[derive(Clone, Debug, Serialize)]
-pub struct Move {
-    /// Requirement ID.
-    pub id: String,
-    /// Margin in the baseline (fraction).
-    pub from: f64,
-    /// Margin now (fraction).
-    pub to: f64,
-    /// Value in the baseline (requirement unit).
-    pub value_from: Option<f64>,
-    /// Value now (requirement unit).
-    pub value_to: Option<f64>,
-    /// Unit of the values.
-    pub unit: String,
-    /// Whether the margin fell.
-    pub regression: bool,
+    /// The regressions, in plain words.
+    pub regressions: Vec<String>,
+    /// The other changes (improvements, information), in plain words.
+    pub notes: Vec<String>,
+    /// Status in the baseline and now.
+    pub status: (String, String),
+    /// Margin in the baseline and now (fraction of the limit).
+    pub margin: (Option<f64>, Option<f64>),
 }
 
 /// Evidence of a check for a requirement whose value or inputs changed.
@@ -90,17 +103,17 @@ pub struct Diff {
     pub baseline: String,
     /// Margin tolerance (absolute, as a fraction of the limit).
     pub tolerance: f64,
-    /// Status flips.
-    pub flipped: Vec<Flip>,
-    /// Margins moved beyond the tolerance.
-    pub margin_moved: Vec<Move>,
+    /// Whether test results were compared (this run has a recorded test run).
+    pub tests_compared: bool,
+    /// Requirements that changed, one entry each.
+    pub changes: Vec<Change>,
     /// Requirements new in this run.
     pub added: Vec<String>,
-    /// Requirements of the baseline missing now.
+    /// Requirements of the baseline missing now (each a regression).
     pub removed: Vec<String>,
     /// Checks whose evidence changed.
     pub suspect_evidence: Vec<Suspect>,
-    /// Number of regressions.
+    /// Number of requirements with a regression (each counted once).
     pub regressions: usize,
 }
 
@@ -112,33 +125,57 @@ fn rank(s: &str) -> u8 {
     }
 }
 
-/// Reads a baseline file.
-fn load(path: &Path) -> Result<OldReport, BaselineError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| BaselineError(format!("{}: {e}", path.display())))?;
-    serde_json::from_str(&text).map_err(|e| {
-        BaselineError(format!(
-            "{}:{}:{}: not a geodesic compliance.json: {e}",
-            path.display(),
-            e.line(),
-            e.column()
-        ))
-    })
+fn basis_rank(b: Option<&str>) -> u8 {
+    match b {
+        Some("model") => 0,
+        Some("flow-down") => 1,
+        Some("accepted") => 2,
+        _ => 3,
+    }
 }
 
 /// Compares `now` with the baseline file.
 pub fn diff(now: &Report, baseline: &Path, tolerance: f64) -> Result<Diff, BaselineError> {
-    let old = load(baseline)?;
+    let text = std::fs::read_to_string(baseline)
+        .map_err(|e| BaselineError(format!("{}: {e}", baseline.display())))?;
+    diff_text(now, &text, &baseline.display().to_string(), tolerance)
+}
+
+fn pct(m: Option<f64>) -> String {
+    m.map_or("—".into(), |m| format!("{:.1} %", 100.0 * m))
+}
+
+fn val(v: Option<f64>, unit: &str) -> String {
+    v.map_or("no value".into(), |v| {
+        format!("{} {unit}", fmt_num(v)).trim().to_string()
+    })
+}
+
+/// Compares `now` with a baseline's JSON text (`label` names it in messages).
+pub fn diff_text(
+    now: &Report,
+    text: &str,
+    label: &str,
+    tolerance: f64,
+) -> Result<Diff, BaselineError> {
+    let old: OldReport = serde_json::from_str(text).map_err(|e| {
+        BaselineError(format!(
+            "{label}:{}:{}: not a geodesic compliance.json: {e}",
+            e.line(),
+            e.column()
+        ))
+    })?;
     let old_by: BTreeMap<&str, &OldRow> = old
         .requirements
         .iter()
         .map(|r| (r.id.as_str(), r))
         .collect();
+    let tests_compared = now.matrix.test_run.is_some();
     let mut d = Diff {
-        baseline: baseline.display().to_string(),
+        baseline: label.to_string(),
         tolerance,
-        flipped: vec![],
-        margin_moved: vec![],
+        tests_compared,
+        changes: vec![],
         added: vec![],
         removed: vec![],
         suspect_evidence: vec![],
@@ -149,62 +186,11 @@ pub fn diff(now: &Report, baseline: &Path, tolerance: f64) -> Result<Diff, Basel
             d.added.push(r.id.clone());
             continue;
         };
-        let to = r.status.as_str();
-        if o.status != to {
-            let regression = rank(to) > rank(&o.status);
-            d.flipped.push(Flip {
-                id: r.id.clone(),
-                from: o.status.clone(),
-                to: to.into(),
-                regression,
-            });
+        let c = compare(r, o, tolerance, tests_compared);
+        if !c.regressions.is_empty() || !c.notes.is_empty() {
+            d.changes.push(c);
         }
-        if let (Some(a), Some(b)) = (o.margin, r.margin) {
-            if (b - a).abs() > tolerance {
-                d.margin_moved.push(Move {
-                    id: r.id.clone(),
-                    from: a,
-                    to: b,
-                    value_from: o.value,
-                    value_to: r.value,
-                    unit: if o.unit.is_empty() {
-                        r.unit.clone()
-                    } else {
-                        o.unit.clone()
-                    },
-                    regression: b < a,
-                });
-            }
-        }
-        for e in &r.evidence {
-            match o.evidence.iter().find(|x| x.check == e.check) {
-                None => d.suspect_evidence.push(Suspect {
-                    id: r.id.clone(),
-                    check: e.check.clone(),
-                    what: "new evidence".into(),
-                }),
-                Some(x) => {
-                    let mut what = Vec::new();
-                    if !opt_close(x.value, e.value) {
-                        what.push(format!("value {:?} -> {:?}", x.value, e.value));
-                    }
-                    let keys: std::collections::BTreeSet<&String> =
-                        x.inputs.keys().chain(e.inputs.keys()).collect();
-                    for k in keys {
-                        if !json_close(x.inputs.get(k), e.inputs.get(k)) {
-                            what.push(format!("input {k} changed"));
-                        }
-                    }
-                    if !what.is_empty() {
-                        d.suspect_evidence.push(Suspect {
-                            id: r.id.clone(),
-                            check: e.check.clone(),
-                            what: what.join(", "),
-                        });
-                    }
-                }
-            }
-        }
+        suspects(r, o, &mut d.suspect_evidence);
     }
     let now_ids: Vec<&str> = now
         .matrix
@@ -218,10 +204,145 @@ pub fn diff(now: &Report, baseline: &Path, tolerance: f64) -> Result<Diff, Basel
         .filter(|o| !now_ids.contains(&o.id.as_str()))
         .map(|o| o.id.clone())
         .collect();
-    d.regressions = d.flipped.iter().filter(|f| f.regression).count()
-        + d.margin_moved.iter().filter(|m| m.regression).count()
-        + d.removed.len();
+    d.regressions = d.changes.iter().filter(|c| c.regression).count() + d.removed.len();
     Ok(d)
+}
+
+fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change {
+    let mut reg = Vec::new();
+    let mut notes = Vec::new();
+    let now = r.status.as_str();
+    let unit = if r.unit.is_empty() { &o.unit } else { &r.unit };
+    if now != o.status {
+        let msg = format!("status {} -> {}", o.status, now);
+        if r.status == Status::NonCompliant {
+            reg.push(format!(
+                "became non-compliant (was {}): value {} against {} {}",
+                o.status,
+                val(r.value, unit),
+                r.op,
+                val(Some(r.limit), unit)
+            ));
+        } else if o.value.is_some() && r.value.is_none() {
+            reg.push(format!(
+                "lost its evidence: now not verified ({})",
+                r.reason.as_deref().unwrap_or("no reason given")
+            ));
+        } else if rank(now) < rank(&o.status) {
+            notes.push(format!("improved: {msg}"));
+        } else {
+            notes.push(msg);
+        }
+    }
+    if let (Some(a), Some(b)) = (o.margin, r.margin) {
+        if b < a - tolerance {
+            reg.push(format!(
+                "margin fell from {} to {} of the limit (value {} -> {}; tolerance {:.1} %)",
+                pct(Some(a)),
+                pct(Some(b)),
+                val(o.value, unit),
+                val(r.value, unit),
+                100.0 * tolerance
+            ));
+        } else if b > a + tolerance {
+            notes.push(format!(
+                "margin rose from {} to {} (value {} -> {})",
+                pct(Some(a)),
+                pct(Some(b)),
+                val(o.value, unit),
+                val(r.value, unit)
+            ));
+        }
+    }
+    let now_basis = r.basis.map(|b| b.as_str());
+    if o.value.is_some()
+        && r.value.is_some()
+        && basis_rank(now_basis) > basis_rank(o.basis.as_deref())
+    {
+        reg.push(format!(
+            "its verdict now rests on a weaker basis: {} -> {}",
+            o.basis.as_deref().unwrap_or("none"),
+            now_basis.unwrap_or("none")
+        ));
+    }
+    if tests_compared {
+        for t in o
+            .tests
+            .iter()
+            .filter(|t| t.result.as_deref() == Some("passed"))
+        {
+            let res = r
+                .tests
+                .iter()
+                .find(|n| n.test == t.test)
+                .map_or("absent", |n| n.result.as_str());
+            if res != "passed" {
+                reg.push(format!("test {} passed in the baseline, now {res}", t.test));
+            }
+        }
+    }
+    if r.status == Status::NonCompliant {
+        match (&r.disposition, &o.disposition) {
+            (Some(dn), _) if dn.expired => reg.push(format!(
+                "its {} {} expired on {}",
+                dn.kind.as_str(),
+                dn.reference,
+                dn.expires.as_deref().unwrap_or("?")
+            )),
+            (None, Some(od)) => reg.push(format!(
+                "its disposition {} was withdrawn while it is still non-compliant",
+                od.reference
+            )),
+            _ => {}
+        }
+    }
+    Change {
+        id: r.id.clone(),
+        regression: !reg.is_empty(),
+        regressions: reg,
+        notes,
+        status: (o.status.clone(), now.to_string()),
+        margin: (o.margin, r.margin),
+    }
+}
+
+fn suspects(r: &Row, o: &OldRow, out: &mut Vec<Suspect>) {
+    for e in &r.evidence {
+        match o.evidence.iter().find(|x| x.check == e.check) {
+            None => out.push(Suspect {
+                id: r.id.clone(),
+                check: e.check.clone(),
+                what: "new evidence".into(),
+            }),
+            Some(x) => {
+                let mut what = Vec::new();
+                if !opt_close(x.value, e.value) {
+                    what.push(format!(
+                        "value {} -> {}",
+                        val(x.value, &r.unit),
+                        val(e.value, &r.unit)
+                    ));
+                }
+                let keys: std::collections::BTreeSet<&String> =
+                    x.inputs.keys().chain(e.inputs.keys()).collect();
+                let changed: Vec<&str> = keys
+                    .into_iter()
+                    .filter(|k| !json_close(x.inputs.get(*k), e.inputs.get(*k)))
+                    .map(String::as_str)
+                    .collect();
+                if !changed.is_empty() {
+                    what.push(format!("inputs changed: {}", changed.join(", ")));
+                }
+                if !what.is_empty() {
+                    out.push(Suspect {
+                        id: r.id.clone(),
+                        check: e.check.clone(),
+                        what: what.join("; "),
+                    });
+                }
+            }
+        }
+    }
 }
 
 /// Numbers equal to 1e-12 relative: a value re-read from JSON is the same evidence.
@@ -257,54 +378,52 @@ fn json_close(a: Option<&serde_json::Value>, b: Option<&serde_json::Value>) -> b
     }
 }
 
+/// Plain-text lines for a terminal or a CI log: one line per regression.
+pub fn summary_lines(d: &Diff) -> Vec<String> {
+    let mut out = Vec::new();
+    for c in d.changes.iter().filter(|c| c.regression) {
+        out.push(format!("REGRESSION {}: {}", c.id, c.regressions.join("; ")));
+    }
+    for id in &d.removed {
+        out.push(format!(
+            "REGRESSION {id}: removed (it is in the baseline, not in this run)"
+        ));
+    }
+    out
+}
+
 /// Markdown summary fit for a pull-request comment.
 pub fn markdown(d: &Diff) -> String {
     let mut o = String::from("## geodesic: change impact against the baseline\n\n");
     o.push_str(&format!(
-        "Baseline `{}` · margin tolerance {:.2} % of the limit · **{} regression(s)**\n\n",
+        "Baseline `{}` · margin tolerance {:.1} % of the limit · **{} requirement(s) regressed**\n\n",
         d.baseline,
         100.0 * d.tolerance,
         d.regressions
     ));
-    if d.flipped.is_empty()
-        && d.margin_moved.is_empty()
-        && d.added.is_empty()
-        && d.removed.is_empty()
-    {
-        o.push_str("No requirement changed status or moved its margin beyond the tolerance.\n");
+    if !d.tests_compared {
+        o.push_str(
+            "Test results were not compared: this run has no recorded test run \
+             (`cargo xtask test` records one).\n\n",
+        );
     }
-    if !d.flipped.is_empty() {
-        o.push_str("| Requirement | Status before | Status now | |\n|---|---|---|---|\n");
-        for f in &d.flipped {
-            let tag = if f.regression {
-                "⬇️ regression"
-            } else {
-                "⬆️ improvement"
-            };
-            o.push_str(&format!("| {} | {} | {} | {tag} |\n", f.id, f.from, f.to));
-        }
-        o.push('\n');
+    if d.changes.is_empty() && d.added.is_empty() && d.removed.is_empty() {
+        o.push_str("No requirement changed status, margin, basis, tests or disposition.\n\n");
     }
-    if !d.margin_moved.is_empty() {
-        o.push_str("| Requirement | Margin before | Margin now | Value before | Value now | |\n|---|---|---|---|---|---|\n");
-        for m in &d.margin_moved {
-            let tag = if m.regression {
-                "⬇️ regression"
-            } else {
-                "⬆️"
-            };
-            let v = |x: Option<f64>| {
-                x.map_or("—".into(), |x| {
-                    format!("{} {}", geodesic_core::units::fmt_num(x), m.unit)
-                })
-            };
+    if !d.changes.is_empty() {
+        o.push_str("| Requirement | | Status | Margin | What changed |\n|---|---|---|---|---|\n");
+        for c in &d.changes {
+            let tag = if c.regression { "regression" } else { "change" };
+            let mut what = c.regressions.clone();
+            what.extend(c.notes.iter().cloned());
             o.push_str(&format!(
-                "| {} | {:.2} % | {:.2} % | {} | {} | {tag} |\n",
-                m.id,
-                100.0 * m.from,
-                100.0 * m.to,
-                v(m.value_from),
-                v(m.value_to)
+                "| {} | {tag} | {} -> {} | {} -> {} | {} |\n",
+                c.id,
+                c.status.0,
+                c.status.1,
+                pct(c.margin.0),
+                pct(c.margin.1),
+                what.join("; ").replace('|', "\\|")
             ));
         }
         o.push('\n');
@@ -337,53 +456,61 @@ mod tests {
     use super::*;
     use crate::testutil::report;
 
+    /// No files: the baseline is the old report's JSON text.
     fn diff_of(old: &Report, new: &Report, tol: f64) -> Diff {
-        let p = std::env::temp_dir().join(format!(
-            "geodesic-baseline-{}-{tol}.json",
-            std::process::id()
-        ));
-        std::fs::write(&p, serde_json::to_string(old).unwrap()).unwrap();
-        let d = diff(new, &p, tol).unwrap();
-        std::fs::remove_file(&p).unwrap();
-        d
+        diff_text(new, &serde_json::to_string(old).unwrap(), "old.json", tol).unwrap()
     }
 
     #[test]
     fn identical_runs_have_no_change() {
         let d = diff_of(&report(1.3, 2.0), &report(1.3, 2.0), 0.01);
-        assert!(d.flipped.is_empty() && d.margin_moved.is_empty() && d.suspect_evidence.is_empty());
+        assert!(d.changes.is_empty() && d.suspect_evidence.is_empty());
         assert_eq!(d.regressions, 0);
     }
 
     #[test]
-    fn names_exactly_the_requirements_that_moved() {
-        // F-A moves by 2 % of the limit (beyond 1 %), F-B by 0.2 % (within)
+    fn names_exactly_the_requirements_that_moved_once_each() {
+        // F-A loses 2 % of the limit (beyond 1 %), F-B 0.2 % (within)
         let d = diff_of(&report(1.3, 2.0), &report(1.4, 2.01), 0.01);
-        let moved: Vec<&str> = d.margin_moved.iter().map(|m| m.id.as_str()).collect();
+        let moved: Vec<&str> = d.changes.iter().map(|m| m.id.as_str()).collect();
         assert_eq!(moved, ["F-A"]);
         assert_eq!(d.regressions, 1);
+        assert!(d.changes[0].regressions[0].starts_with("margin fell from 74.0 % to 72.0 %"));
         // both values changed: both are suspect evidence
         assert_eq!(d.suspect_evidence.len(), 2);
         assert!(markdown(&d).contains("F-A"));
+        assert!(!d.changes[0].regressions[0].contains("Some("));
     }
 
     #[test]
-    fn a_flip_to_non_compliant_is_a_regression_and_back_is_not() {
+    fn a_new_non_compliance_is_one_regression_and_back_is_none() {
+        // flips and loses margin: still one requirement, one count
         let d = diff_of(&report(1.3, 2.0), &report(6.0, 2.0), 0.01);
-        assert_eq!(d.flipped.len(), 1);
-        assert!(d.flipped[0].regression);
+        assert_eq!(d.changes.len(), 1);
+        assert_eq!(d.regressions, 1);
+        assert_eq!(d.changes[0].regressions.len(), 2);
+        assert_eq!(summary_lines(&d).len(), 1);
         let d = diff_of(&report(6.0, 2.0), &report(1.3, 2.0), 0.01);
-        assert!(!d.flipped[0].regression);
+        assert!(!d.changes[0].regression);
+        assert_eq!(d.regressions, 0);
+    }
+
+    #[test]
+    fn a_known_non_compliance_is_not_a_regression() {
+        let d = diff_of(&report(1.3, 6.0), &report(1.3, 6.0), 0.01);
         assert_eq!(d.regressions, 0);
     }
 
     #[test]
     fn a_malformed_baseline_names_file_and_line() {
-        let p =
-            std::env::temp_dir().join(format!("geodesic-baseline-bad-{}.json", std::process::id()));
-        std::fs::write(&p, "{\"requirements\": [\n  {\"id\": 3}\n]}").unwrap();
-        let e = diff(&report(1.0, 1.0), &p, 0.01).unwrap_err().to_string();
-        std::fs::remove_file(&p).unwrap();
-        assert!(e.contains(":2:"), "{e}");
+        let e = diff_text(
+            &report(1.0, 1.0),
+            "{\"requirements\": [\n  {\"id\": 3}\n]}",
+            "old.json",
+            0.01,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.starts_with("old.json:2:"), "{e}");
     }
 }

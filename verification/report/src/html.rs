@@ -110,8 +110,9 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         "<h2 id=\"matrix\">Compliance matrix</h2><div class=\"filters\">\
          <button data-filter=\"all\">all</button><button data-filter=\"compliant\">compliant</button>\
          <button data-filter=\"non-compliant\">non-compliant</button><button data-filter=\"not-verified\">not-verified</button></div>\
-         <table><thead><tr><th>ID</th><th>Title</th><th>Method</th><th>Status</th><th>Value</th><th>Limit</th><th>Margin</th><th>Evidence</th><th>Tests</th></tr></thead><tbody>"
+         <table><thead><tr><th>ID</th><th>Title</th><th>Method</th><th>Status</th><th>Basis</th><th>Value</th><th>Limit</th><th>Margin</th><th>Evidence</th><th>Tests</th></tr></thead><tbody>"
     );
+    let run = m.test_run.is_some();
     for r in &m.requirements {
         let st = r.status.as_str();
         let checks: Vec<String> = r
@@ -122,7 +123,9 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         let _ = write!(
             o,
             "<tr data-status=\"{st}\" class=\"{st}\"><td><a href=\"#{id}\">{id}</a></td><td>{t}</td><td>{meth}</td>\
-             <td><span class=\"badge\">{st}</span></td><td>{v}</td><td>{lim}</td><td>{mg}</td><td>{ev}</td><td>{nt}</td></tr>",
+             <td><span class=\"badge\">{verdict}</span></td><td>{basis}</td><td>{v}</td><td>{lim}</td><td>{mg}</td><td>{ev}</td><td>{nt}</td></tr>",
+            verdict = esc(&crate::verdict(r)),
+            basis = crate::basis_word(r),
             id = esc(&r.id),
             t = esc(&r.title),
             meth = esc(&r.method),
@@ -138,7 +141,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
             } else {
                 checks.join(" ")
             },
-            nt = r.tests.len()
+            nt = esc(&crate::tests_word(r, run))
         );
     }
     let _ = write!(o, "</tbody></table>");
@@ -271,12 +274,15 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         if !r.tests.is_empty() {
             let _ = write!(o, "<p><b>Tests</b></p><ul>");
             for t in &r.tests {
+                let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
                 let _ = write!(
                     o,
-                    "<li><code>{}</code> ({}, {})</li>",
+                    "<li><code>{}</code> ({}, {}): <b>{}</b>, asserts {}</li>",
                     esc(&t.test),
                     esc(&t.kind),
-                    esc(&t.location)
+                    esc(&t.location),
+                    t.result.as_str(),
+                    esc(&asserted.join(", "))
                 );
             }
             let _ = write!(o, "</ul>");

@@ -27,8 +27,24 @@ use serde::Serialize;
 pub struct RunInfo {
     /// geodesic version.
     pub geodesic_version: String,
+    /// geodesic version (the contract's name for it).
+    pub tool_version: String,
+    /// Git commit of the working directory (`unknown` outside a repository).
+    pub commit: String,
+    /// Whether the work tree had uncommitted changes to tracked files.
+    pub dirty: bool,
+    /// UTC date and time of the run (RFC 3339).
+    pub date: String,
+    /// The command line.
+    pub command: String,
     /// Requirements directory (or `built-in`).
     pub requirements: String,
+    /// SHA-256 over the requirement files (names and bytes, sorted by name).
+    pub requirements_hash: String,
+    /// The model input files (release budget, capture inputs) with their SHA-256.
+    pub inputs: geodesic_core::check::ModelInputs,
+    /// The dispositions file and its SHA-256 (`None`: no dispositions).
+    pub dispositions: Option<geodesic_core::check::InputFile>,
     /// Monte Carlo sample count given to the checks [-].
     pub mc_n: usize,
     /// Monte Carlo seed.
@@ -72,6 +88,67 @@ pub fn id_list(ids: &[&str]) -> String {
         "None.".to_string()
     } else {
         ids.join(", ")
+    }
+}
+
+/// The verdict as a reader should take it: `compliant`, `compliant (accepted)`,
+/// `non-compliant (NCR NCR-GEO-001)`, `non-compliant (waiver W-1 EXPIRED)`, `not-verified`.
+pub fn verdict(r: &geodesic_core::matrix::Row) -> String {
+    use geodesic_core::Basis;
+    use geodesic_core::matrix::Status;
+    let mut s = r.status.as_str().to_string();
+    if r.status != Status::NotVerified && r.basis == Some(Basis::Accepted) {
+        s.push_str(" (accepted)");
+    }
+    if r.status == Status::NonCompliant {
+        if let Some(d) = &r.disposition {
+            s.push_str(&format!(
+                " ({} {}{})",
+                d.kind.as_str(),
+                d.reference,
+                if d.expired { " EXPIRED" } else { "" }
+            ));
+        }
+    }
+    s
+}
+
+/// The basis of a row as a word (`model`, `flow-down`, `accepted`, `—`).
+pub fn basis_word(r: &geodesic_core::matrix::Row) -> &'static str {
+    r.basis.map_or("—", |b| b.as_str())
+}
+
+/// A row's traced tests in a few words: `2 passed`, `1 failed, 1 passed`, `1 ignored`,
+/// `none` (with `no run` when no test run is recorded).
+pub fn tests_word(r: &geodesic_core::matrix::Row, run_recorded: bool) -> String {
+    use geodesic_core::testrun::TestResult;
+    if !run_recorded {
+        return "no run".into();
+    }
+    let mut parts = Vec::new();
+    for res in [
+        TestResult::Failed,
+        TestResult::Ignored,
+        TestResult::NotRun,
+        TestResult::Passed,
+    ] {
+        let n = r.tests.iter().filter(|t| t.result == res).count();
+        if n > 0 {
+            parts.push(format!("{n} {}", res.as_str()));
+        }
+    }
+    let change_only = r
+        .tests
+        .iter()
+        .filter(|t| t.result == TestResult::Passed && !t.is_evidence())
+        .count();
+    if change_only > 0 {
+        parts.push(format!("({change_only} change detection only)"));
+    }
+    if parts.is_empty() {
+        "none".into()
+    } else {
+        parts.join(", ")
     }
 }
 
@@ -135,7 +212,18 @@ requirements:
             matrix: Matrix::build(&reqs, &ev, None, &[]),
             run: RunInfo {
                 geodesic_version: "t".into(),
+                tool_version: "t".into(),
+                commit: "c".into(),
+                dirty: false,
+                date: "2026-01-01T00:00:00Z".into(),
+                command: "geodesic verify".into(),
                 requirements: "f".into(),
+                requirements_hash: "h".into(),
+                inputs: geodesic_core::check::ModelInputs {
+                    budget: geodesic_core::check::InputFile::new("b.yaml", "b"),
+                    capture: geodesic_core::check::InputFile::new("c.yaml", "c"),
+                },
+                dispositions: None,
                 mc_n: 1,
                 seed: 1,
                 checks: vec![],

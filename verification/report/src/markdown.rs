@@ -39,9 +39,10 @@ pub fn render(rep: &Report) -> String {
     );
     let _ = writeln!(
         o,
-        "| ID | Title | Method | Status | Value | Limit | Margin | Evidence | Tests |"
+        "| ID | Title | Method | Status | Basis | Value | Limit | Margin | Evidence | Tests |"
     );
-    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|");
+    let run = m.test_run.is_some();
     for r in &m.requirements {
         let value = r.value.map_or("—".to_string(), |_| {
             format!("{} {}", fmt_opt(r.value), r.unit)
@@ -53,12 +54,13 @@ pub fn render(rep: &Report) -> String {
             .collect();
         let _ = writeln!(
             o,
-            "| [{id}](#{anchor}) | {t} | {meth} | {st} | {value} | {op} {lim} {u} | {mg} | {ev} | {nt} |",
+            "| [{id}](#{anchor}) | {t} | {meth} | {st} | {basis} | {value} | {op} {lim} {u} | {mg} | {ev} | {nt} |",
             id = r.id,
             anchor = r.id.to_lowercase(),
             t = cell(&r.title),
             meth = r.method,
-            st = badge(r.status),
+            st = crate::verdict(r),
+            basis = crate::basis_word(r),
             op = r.op.replace('<', "&lt;").replace('>', "&gt;"),
             lim = fmt_num(r.limit),
             u = r.unit,
@@ -68,7 +70,7 @@ pub fn render(rep: &Report) -> String {
             } else {
                 ev.join(", ")
             },
-            nt = r.tests.len()
+            nt = crate::tests_word(r, run)
         );
     }
     if !rep.run.fidelity.is_empty() {
@@ -124,6 +126,23 @@ pub fn render(rep: &Report) -> String {
             let _ = writeln!(o, "- Children: {}", c.join(", "));
         }
         let _ = writeln!(o, "- Defined at: `{}`", r.defined_at);
+        let _ = writeln!(o, "- Basis of the verdict: {}", crate::basis_word(r));
+        if let Some(d) = &r.disposition {
+            let _ = writeln!(
+                o,
+                "- Disposition: {} {} ({}; owner {}, raised {}{}{}) — {}",
+                d.kind.as_str(),
+                d.reference,
+                d.defined_at,
+                d.owner,
+                d.date,
+                d.expires
+                    .as_ref()
+                    .map_or(String::new(), |e| format!(", expires {e}")),
+                if d.expired { ", EXPIRED" } else { "" },
+                d.reason
+            );
+        }
         match r.status {
             Status::NotVerified => {
                 let _ = writeln!(
@@ -154,7 +173,8 @@ pub fn render(rep: &Report) -> String {
                 };
                 let inputs: Vec<String> =
                     e.inputs.iter().map(|(k, v)| format!("{k} = {v}")).collect();
-                let _ = writeln!(o, "- `{}`: {} — {}", e.check, e.activity, what);
+                let basis = e.basis.map_or(String::new(), |b| format!(" [{b}]"));
+                let _ = writeln!(o, "- `{}`{basis}: {} — {}", e.check, e.activity, what);
                 if !inputs.is_empty() {
                     let _ = writeln!(o, "  - inputs: {}", inputs.join(", "));
                 }
@@ -164,9 +184,23 @@ pub fn render(rep: &Report) -> String {
             }
         }
         if !r.tests.is_empty() {
-            let _ = writeln!(o, "\nTests that verify it:\n");
+            let _ = writeln!(o, "\nTraced tests (recorded results):\n");
             for t in &r.tests {
-                let _ = writeln!(o, "- `{}` ({}, `{}`)", t.test, t.kind, t.location);
+                let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
+                let _ = writeln!(
+                    o,
+                    "- `{}` ({}, `{}`): **{}**, {} case(s), asserts {}",
+                    t.test,
+                    t.kind,
+                    t.location,
+                    t.result.as_str(),
+                    t.cases,
+                    if asserted.is_empty() {
+                        "nothing recorded".to_string()
+                    } else {
+                        asserted.join(", ")
+                    }
+                );
             }
         }
         let _ = writeln!(o);
@@ -198,7 +232,15 @@ pub fn render(rep: &Report) -> String {
     }
     let _ = writeln!(o, "\n### Requirements without a measured value\n");
     let _ = writeln!(o, "{}", crate::id_list(&m.without_value()));
-    let _ = writeln!(o, "\n### Requirements without a traced test\n");
+    let _ = writeln!(
+        o,
+        "\n### Requirements without a passing traced test that asserts their limit or a reference\n"
+    );
     let _ = writeln!(o, "{}", crate::id_list(&m.without_tests()));
+    let _ = writeln!(
+        o,
+        "\n### Requirements whose traced tests failed, were ignored or did not run\n"
+    );
+    let _ = writeln!(o, "{}", crate::id_list(&m.with_test_problems()));
     o
 }

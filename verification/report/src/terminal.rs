@@ -1,18 +1,20 @@
 //! The short compliance table printed on a terminal by `geodesic verify`.
 
-use crate::{fmt_margin, fmt_opt};
+use crate::{basis_word, fmt_margin, fmt_opt, tests_word, verdict};
 use geodesic_core::matrix::{Matrix, Status};
 
 /// Renders the matrix as an aligned text table with a summary line.
 pub fn table(m: &Matrix, color: bool) -> String {
-    let head = ["ID", "status", "value", "limit", "margin", "tests"];
-    let rows: Vec<[String; 6]> = m
+    let head = ["ID", "status", "basis", "value", "limit", "margin", "tests"];
+    let run = m.test_run.is_some();
+    let rows: Vec<[String; 7]> = m
         .requirements
         .iter()
         .map(|r| {
             [
                 r.id.clone(),
-                r.status.as_str().to_string(),
+                verdict(r),
+                basis_word(r).to_string(),
                 match r.value {
                     Some(_) => format!("{} {}", fmt_opt(r.value), r.unit),
                     None => "—".into(),
@@ -24,7 +26,7 @@ pub fn table(m: &Matrix, color: bool) -> String {
                     r.unit
                 ),
                 fmt_margin(r.margin),
-                r.tests.len().to_string(),
+                tests_word(r, run),
             ]
         })
         .collect();
@@ -65,5 +67,17 @@ pub fn table(m: &Matrix, color: bool) -> String {
         "{} requirements: {} compliant, {} non-compliant, {} not verified\n",
         s.total, s.compliant, s.non_compliant, s.not_verified
     ));
+    match &m.test_run {
+        Some(t) => out.push_str(&format!(
+            "test results: {} (commit {}{}, {})\n",
+            t.file,
+            &t.commit[..t.commit.len().min(12)],
+            if t.dirty { ", dirty" } else { "" },
+            t.date
+        )),
+        None => out.push_str(
+            "test results: none recorded (run `cargo xtask test` to record the traced tests)\n",
+        ),
+    }
     out
 }

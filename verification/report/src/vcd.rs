@@ -39,14 +39,16 @@ pub struct VcdLine {
     pub reason: String,
 }
 
-/// Compliance as the VCD states it: `yes` (compliant), `no` (non-compliant), `partial`
-/// (not verified but some evidence or a traced test exists), `no evidence` otherwise.
+/// Compliance as the VCD states it (ECSS-E-ST-10-02C Annex B): `yes` (compliant on a model or
+/// flow-down), `yes (accepted)` (compliant on a cited external result), `no` (non-compliant),
+/// `not verified` (no evidence gives a value: in ECSS "partial" means partly met, which a
+/// missing verification is not).
 pub fn compliance(r: &Row) -> &'static str {
-    match r.status {
-        Status::Compliant => "yes",
-        Status::NonCompliant => "no",
-        Status::NotVerified if !r.evidence.is_empty() || !r.tests.is_empty() => "partial",
-        Status::NotVerified => "no evidence",
+    match (r.status, r.basis) {
+        (Status::Compliant, Some(geodesic_core::Basis::Accepted)) => "yes (accepted)",
+        (Status::Compliant, _) => "yes",
+        (Status::NonCompliant, _) => "no",
+        (Status::NotVerified, _) => "not verified",
     }
 }
 
@@ -72,24 +74,32 @@ pub fn lines(rep: &Report) -> Vec<VcdLine> {
             ev.extend(
                 r.tests
                     .iter()
-                    .map(|t| format!("{} test {}", t.kind, t.test)),
+                    .map(|t| format!("{} test {} ({})", t.kind, t.test, t.result.as_str())),
             );
+            if let Some(d) = &r.disposition {
+                ev.push(format!("{} {}", d.kind.as_str(), d.reference));
+            }
+            let basis = r.basis.map_or("", |b| b.as_str());
+            let tests = crate::tests_word(r, rep.matrix.test_run.is_some());
             let (close_out, reason) = match r.status {
-                Status::Compliant if r.tests.is_empty() => (
-                    "closed",
-                    "value within limit (no traced test yet)".to_string(),
-                ),
                 Status::Compliant => (
                     "closed",
-                    format!("value within limit; {} traced test(s)", r.tests.len()),
+                    format!("value within limit ({basis}); traced tests: {tests}"),
                 ),
                 Status::NonCompliant => (
                     "open",
                     format!(
-                        "value {} {} violates `{}`",
+                        "value {} {} violates `{}`{}",
                         fmt_opt(r.value),
                         r.unit,
-                        r.limit_text
+                        r.limit_text,
+                        r.disposition.as_ref().map_or(String::new(), |d| format!(
+                            "; {} {}{}: {}",
+                            d.kind.as_str(),
+                            d.reference,
+                            if d.expired { " (EXPIRED)" } else { "" },
+                            d.reason
+                        ))
                     ),
                 ),
                 Status::NotVerified => (

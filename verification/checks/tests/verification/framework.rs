@@ -46,18 +46,18 @@ fn compliance_matrix_snapshot() {
         .iter()
         .map(|r| {
             format!(
-                "{:<22} {:<14} value {:>10} {:<7} margin {:>10} checks [{}] tests {}",
+                "{:<22} {:<14} {:<10} value {:>10} {:<7} margin {:>10} checks [{}]",
                 r.id,
                 r.status.as_str(),
+                r.basis.map_or("—", |b| b.as_str()),
                 round(r.value),
                 r.unit,
                 round(r.margin),
                 r.evidence
                     .iter()
-                    .map(|e| e.check.as_str())
+                    .map(|e| format!("{}:{}", e.check, e.basis.map_or("—", |b| b.as_str())))
                     .collect::<Vec<_>>()
-                    .join(","),
-                r.tests.len()
+                    .join(",")
             )
         })
         .collect();
@@ -92,6 +92,28 @@ fn not_verified_rows_state_a_reason_and_compliant_rows_a_value() {
                 assert!(r.reason.as_ref().is_some_and(|s| !s.is_empty()), "{}", r.id)
             }
             _ => assert!(r.value.is_some() && r.margin.is_some(), "{}", r.id),
+        }
+    }
+}
+
+/// No row is compliant on an illustration, and every verdict names its basis: a compliant or
+/// non-compliant row rests on a model, a flow-down or an accepted result; a not-verified row
+/// on nothing.
+#[test]
+fn every_verdict_states_its_basis() {
+    use geodesic_core::Basis;
+    for r in &matrix().requirements {
+        match r.status {
+            Status::NotVerified => assert_eq!(r.basis, None, "{}", r.id),
+            _ => assert!(
+                matches!(
+                    r.basis,
+                    Some(Basis::Model | Basis::FlowDown | Basis::Accepted)
+                ),
+                "{}: {:?}",
+                r.id,
+                r.basis
+            ),
         }
     }
 }

@@ -5,8 +5,8 @@
 use std::path::PathBuf;
 
 use geodesic_capture::{
-    CaptureProbability, Evaluation, StateDistribution, StateName, TmState, Xlim,
-    capture_probability, consistency_sum, evaluate, max_box_scale, single_state_limits,
+    CaptureInputs, CaptureProbability, Evaluation, StateModel, StateName, TmState, Xlim,
+    consistency_sum, evaluate, max_box_scale, single_state_limits,
 };
 use serde_json::{Map, Value, json};
 
@@ -18,9 +18,14 @@ pub struct Args {
     /// TM state as YAML (`vz: -3.0e-6`, ...); the flags below override its values.
     #[arg(long, value_name = "FILE.yaml")]
     pub state: Option<PathBuf>,
-    /// Capture limits x_LIM and requirement box (default: the embedded models/capture/xlim.yaml).
-    #[arg(long, value_name = "FILE.yaml")]
-    pub xlim: Option<PathBuf>,
+    /// Capture inputs: limits x_LIM, drift time, state sources [default:
+    /// ./models/capture/capture.yaml if present, else the built-in copy].
+    #[arg(long, alias = "xlim", value_name = "FILE.yaml")]
+    pub capture: Option<PathBuf>,
+    /// Requirement directory the TM state box is read from (rows TMS-*) [default:
+    /// ./requirements if present, else the built-in set].
+    #[arg(long, value_name = "DIR")]
+    pub requirements: Option<PathBuf>,
     /// Offset along x [m].
     #[arg(long, allow_hyphen_values = true)]
     pub x: Option<f64>,
@@ -58,13 +63,9 @@ pub struct Args {
     #[arg(long, allow_hyphen_values = true)]
     pub wz: Option<f64>,
     /// Release z velocities [m/s], one per line (`#` comments allowed): also print the capture
-    /// probability with the other states drawn from --dist.
+    /// probability with the other states from the capture inputs' sources (as `verify` does).
     #[arg(long, value_name = "FILE")]
     pub vz_samples: Option<PathBuf>,
-    /// Distributions of the other 11 states for the capture probability (default: the embedded
-    /// models/capture/state-distribution.yaml, Normal(0, req/3)).
-    #[arg(long, value_name = "FILE.yaml")]
-    pub dist: Option<PathBuf>,
     /// Seed of the other states' draws for the capture probability.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -94,11 +95,20 @@ impl Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let xlim = match &args.xlim {
-        Some(p) => Xlim::load(p),
-        None => Ok(Xlim::default_set()),
-    }
-    .map_err(|e| CliError::bad(e.to_string()))?;
+    let file = crate::cmd::verify::capture_file(args.capture.as_ref())?;
+    let inputs = CaptureInputs::from_yaml_str(&file.text, &file.label)
+        .map_err(|e| CliError::bad(e.to_string()))?;
+    let (reqs, _, _) = crate::cmd::verify::load_requirements(args.requirements.as_ref())?;
+    let ctx = geodesic_checks::context(
+        reqs,
+        geodesic_checks::builtin_inputs(),
+        std::env::temp_dir(),
+        1,
+        args.seed,
+        true,
+    );
+    let req = geodesic_checks::capture::requirement_box(&ctx).map_err(CliError::bad)?;
+    let xlim = inputs.xlim(req);
     let mut state = match &args.state {
         Some(p) => TmState::load(p).map_err(|e| CliError::bad(e.to_string()))?,
         None => TmState::zero(),
@@ -115,14 +125,10 @@ pub fn run(args: Args) -> CmdResult {
     let prob = match &args.vz_samples {
         Some(p) => {
             let vz = read_samples(p)?;
-            let dist = match &args.dist {
-                Some(d) => StateDistribution::load(d),
-                None => Ok(StateDistribution::default_set()),
-            }
-            .map_err(|e| CliError::bad(e.to_string()))?;
+            let model = StateModel::new(&inputs, req);
             Some((
-                capture_probability(&vz, &dist, &xlim, args.seed),
-                dist.source,
+                model.capture_probability(&vz, &xlim, args.seed),
+                format!("state sources of {}", file.label),
             ))
         }
         None => None,
@@ -133,7 +139,8 @@ pub fn run(args: Args) -> CmdResult {
     } else {
         print_text(&xlim, &eval, prob.as_ref());
     }
-    Ok(0)
+    // exit 1 is the verdict of a command that judges: this state is not captured
+    Ok(u8::from(!eval.captured))
 }
 
 /// Reads one velocity per line [m/s]; blank lines and `#` comments are skipped.

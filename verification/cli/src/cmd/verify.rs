@@ -19,6 +19,26 @@ pub struct Args {
     /// built-in set].
     #[arg(long, value_name = "DIR")]
     pub requirements: Option<PathBuf>,
+    /// Release Monte Carlo budget [default: ./models/release/budget.yaml if present, else the
+    /// built-in copy].
+    #[arg(long, value_name = "FILE.yaml")]
+    pub budget: Option<PathBuf>,
+    /// Capture inputs: xlim, drift time, state sources [default: ./models/capture/capture.yaml
+    /// if present, else the built-in copy].
+    #[arg(long, value_name = "FILE.yaml")]
+    pub capture: Option<PathBuf>,
+    /// Dispositions of known non-compliances (NCR, waiver, RFD) [default:
+    /// ./verification/dispositions.yaml if present, else none].
+    #[arg(long, value_name = "FILE.yaml")]
+    pub dispositions: Option<PathBuf>,
+    /// Recorded test run read for the traced tests' results [default:
+    /// ./target/geodesic/test-run.json if present, else none: `cargo xtask test` writes it].
+    #[arg(long, value_name = "FILE.json")]
+    pub tests: Option<PathBuf>,
+    /// Exit 1 when a requirement's traced tests failed, were ignored or did not run, or when no
+    /// test run is recorded.
+    #[arg(long = "require-tests")]
+    pub require_tests: bool,
     /// Directory the reports are written to.
     #[arg(long, value_name = "DIR", default_value = "reports")]
     pub reports: PathBuf,
@@ -31,8 +51,9 @@ pub struct Args {
     /// Also write the compliance checks as JUnit XML to FILE (for CI dashboards).
     #[arg(long, value_name = "FILE")]
     pub junit: Option<PathBuf>,
-    /// Compare with a baseline compliance.json: list status flips, margins moved beyond
-    /// --margin-tolerance and suspect evidence; exit 1 on any regression.
+    /// Gate against a baseline compliance.json: exit 0 when nothing regressed, 1 on a
+    /// regression (a new non-compliance, a margin lost beyond --margin-tolerance, evidence or a
+    /// passing test lost, a disposition expired), each requirement counted once.
     #[arg(long, value_name = "OLD.json")]
     pub baseline: Option<PathBuf>,
     /// Margin change (absolute, as a fraction of the limit) that counts as moved.
@@ -50,31 +71,94 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Loads the requirements named by `--requirements`, `./requirements`, or the built-in set.
-pub fn load_requirements(dir: Option<&PathBuf>) -> Result<(Requirements, String), CliError> {
+/// Loads the requirements named by `--requirements`, `./requirements`, or the built-in set;
+/// returns them with their source label and the SHA-256 over their files (names and bytes,
+/// sorted by name).
+pub fn load_requirements(
+    dir: Option<&PathBuf>,
+) -> Result<(Requirements, String, String), CliError> {
+    let dir = match dir {
+        Some(d) => Some(d.clone()),
+        None if PathBuf::from("requirements").is_dir() => Some(PathBuf::from("requirements")),
+        None => None,
+    };
     match dir {
-        Some(d) => Ok((
-            Requirements::load_dir(d).map_err(|e| CliError::bad(e.to_string()))?,
-            d.display().to_string(),
-        )),
-        None if PathBuf::from("requirements").is_dir() => {
-            let d = PathBuf::from("requirements");
-            Ok((
-                Requirements::load_dir(&d).map_err(|e| CliError::bad(e.to_string()))?,
-                "requirements".into(),
-            ))
+        Some(d) => {
+            let reqs = Requirements::load_dir(&d).map_err(|e| CliError::bad(e.to_string()))?;
+            let mut files: Vec<PathBuf> = std::fs::read_dir(&d)
+                .map_err(|e| CliError::bad(format!("{}: {e}", d.display())))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("yaml" | "yml")))
+                .collect();
+            files.sort();
+            let mut parts = Vec::new();
+            for f in &files {
+                let name = f
+                    .file_name()
+                    .map_or(String::new(), |n| n.to_string_lossy().into());
+                let bytes =
+                    std::fs::read(f).map_err(|e| CliError::bad(format!("{}: {e}", f.display())))?;
+                parts.push((name, bytes));
+            }
+            let hash = geodesic_core::hash::sha256_parts(
+                parts.iter().map(|(n, b)| (n.as_str(), b.as_slice())),
+            );
+            Ok((reqs, d.display().to_string(), hash))
         }
         None => {
             let src: Vec<(PathBuf, String)> = builtin::REQUIREMENTS
                 .iter()
                 .map(|(n, t)| (PathBuf::from(format!("<built-in>/{n}")), t.to_string()))
                 .collect();
+            let hash = geodesic_core::hash::sha256_parts(
+                builtin::REQUIREMENTS
+                    .iter()
+                    .map(|(n, t)| (*n, t.as_bytes())),
+            );
             Ok((
                 Requirements::from_sources(&src).map_err(|e| CliError::bad(e.to_string()))?,
                 "built-in".into(),
+                hash,
             ))
         }
     }
+}
+
+/// Git commit and dirty flag of the current directory (`unknown`, false outside a repository).
+pub fn git_state() -> (String, bool) {
+    let run = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .stderr(std::process::Stdio::null())
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match run(&["rev-parse", "HEAD"]) {
+        Some(c) if !c.is_empty() => {
+            let dirty = run(&["status", "--porcelain", "--untracked-files=no"])
+                .is_some_and(|s| !s.is_empty());
+            (c, dirty)
+        }
+        _ => ("unknown".into(), false),
+    }
+}
+
+/// UTC date and time now, RFC 3339 (`2026-11-23T18:40:00Z`).
+pub fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs() as i64);
+    let day = secs.div_euclid(86_400);
+    let s = secs.rem_euclid(86_400);
+    format!(
+        "{}T{:02}:{:02}:{:02}Z",
+        geodesic_core::disposition::civil_from_days(day),
+        s / 3600,
+        (s / 60) % 60,
+        s % 60
+    )
 }
 
 /// Runs the command.
@@ -82,18 +166,54 @@ pub fn run(args: Args) -> CmdResult {
     if args.mc_n == 0 {
         return Err(CliError::bad("--mc-n must be at least 1"));
     }
-    let (reqs, source) = load_requirements(args.requirements.as_ref())?;
+    if !(args.margin_tolerance.is_finite() && args.margin_tolerance >= 0.0) {
+        return Err(CliError::bad(
+            "--margin-tolerance must be a non-negative number",
+        ));
+    }
+    let (reqs, source, requirements_hash) = load_requirements(args.requirements.as_ref())?;
     let mc = geodesic_checks::release::SharedMonteCarlo::new();
     let registry = geodesic_checks::registry_with(mc.clone());
     let names: Vec<&str> = registry.iter().map(|c| c.name()).collect();
     reqs.validate_checks(&names)
         .map_err(|e| CliError::bad(e.to_string()))?;
 
+    // model inputs, read and checked before anything runs
+    let inputs = geodesic_core::check::ModelInputs {
+        budget: budget_file(args.budget.as_ref())?,
+        capture: capture_file(args.capture.as_ref())?,
+    };
+    geodesic_release::budget::Budget::from_yaml(&inputs.budget.text, &inputs.budget.label)
+        .map_err(|e| CliError::bad(e.to_string()))?;
+    geodesic_capture::CaptureInputs::from_yaml_str(&inputs.capture.text, &inputs.capture.label)
+        .map_err(|e| CliError::bad(e.to_string()))?;
+    let today = geodesic_core::disposition::today();
+    let disp_path = args.dispositions.clone().or_else(|| {
+        let p = PathBuf::from("verification/dispositions.yaml");
+        p.is_file().then_some(p)
+    });
+    let (dispositions, disp_file) = match &disp_path {
+        Some(p) => (
+            geodesic_core::disposition::load(p, &reqs, today)
+                .map_err(|e| CliError::bad(e.to_string()))?,
+            Some(geodesic_core::check::InputFile::read(p).map_err(CliError::bad)?),
+        ),
+        None => (Vec::new(), None),
+    };
+    let tests_path = args.tests.clone().or_else(|| {
+        let p = PathBuf::from("target/geodesic/test-run.json");
+        p.is_file().then_some(p)
+    });
+    let test_run = match &tests_path {
+        Some(p) => Some(geodesic_core::testrun::TestRun::load(p).map_err(CliError::bad)?),
+        None => None,
+    };
+
     let staging = geodesic_report::write::Staging::new(&args.reports)
         .map_err(|e| CliError::Io(e.to_string()))?;
     let ctx = geodesic_checks::context(
         reqs.clone(),
-        geodesic_checks::builtin_inputs(),
+        inputs.clone(),
         staging.path().to_path_buf(),
         args.mc_n,
         args.seed,
@@ -119,7 +239,13 @@ pub fn run(args: Args) -> CmdResult {
         });
         evidence.push((check.name().to_string(), ev));
     }
-    let mut matrix = Matrix::build(&reqs, &evidence, None, &[]);
+    let tests_label = tests_path.as_ref().map(|p| p.display().to_string());
+    let mut matrix = Matrix::build(
+        &reqs,
+        &evidence,
+        tests_label.as_deref().zip(test_run.as_ref()),
+        &dispositions,
+    );
     for check in &registry {
         if !check.verifies().iter().any(|id| reqs.get(id).is_some()) {
             for id in check.verifies() {
@@ -141,22 +267,26 @@ pub fn run(args: Args) -> CmdResult {
         geodesic_checks::fidelity::table(&mc, &ctx)
             .map_err(|e| CliError::bad(format!("fidelity table: {e}")))?
     };
+    let (commit, dirty) = git_state();
     let report = Report {
         matrix,
         run: RunInfo {
             geodesic_version: env!("CARGO_PKG_VERSION").to_string(),
+            tool_version: env!("CARGO_PKG_VERSION").to_string(),
+            commit,
+            dirty,
+            date: utc_now(),
+            command: std::env::args().collect::<Vec<_>>().join(" "),
             requirements: source,
+            requirements_hash,
+            inputs,
+            dispositions: disp_file,
             mc_n: args.mc_n,
             seed: args.seed,
             checks: runs,
             fidelity,
         },
     };
-    if !(args.margin_tolerance.is_finite() && args.margin_tolerance >= 0.0) {
-        return Err(CliError::bad(
-            "--margin-tolerance must be a non-negative number",
-        ));
-    }
     let diff = match &args.baseline {
         Some(b) => Some(
             geodesic_report::baseline::diff(&report, b, args.margin_tolerance)
@@ -203,9 +333,6 @@ pub fn run(args: Args) -> CmdResult {
             "{}",
             geodesic_report::terminal::table(&report.matrix, color)
         );
-        if let Some(d) = &diff {
-            print!("{}", geodesic_report::baseline::markdown(d));
-        }
         let names: Vec<String> = written
             .iter()
             .filter(|p| p.parent() == Some(args.reports.as_path()))
@@ -213,8 +340,74 @@ pub fn run(args: Args) -> CmdResult {
             .collect();
         println!("wrote {}/{{{}}}", args.reports.display(), names.join(","));
     }
-    let regressions = diff.as_ref().map_or(0, |d| d.regressions);
-    Ok(report.matrix.exit_code().max(u8::from(regressions > 0)))
+    if let Some(d) = &diff {
+        for l in geodesic_report::baseline::summary_lines(d) {
+            eprintln!("geodesic: {l}");
+        }
+        if d.regressions == 0 {
+            eprintln!(
+                "geodesic: no regression against {} ({} requirement(s) changed without regressing)",
+                d.baseline,
+                d.changes.len()
+            );
+        }
+    }
+    let tests_fail = args.require_tests
+        && (report.matrix.test_run.is_none() || !report.matrix.with_test_problems().is_empty());
+    if args.require_tests {
+        if report.matrix.test_run.is_none() {
+            eprintln!("geodesic: --require-tests: no recorded test run (run `cargo xtask test`)");
+        }
+        for id in report.matrix.with_test_problems() {
+            eprintln!(
+                "geodesic: --require-tests: {id}: a traced test failed, was ignored or did not run"
+            );
+        }
+    }
+    // With a baseline the gate is the regression count; without one, the verdict.
+    let code = match &diff {
+        Some(d) => u8::from(d.regressions > 0),
+        None => report.matrix.exit_code(),
+    };
+    Ok(code.max(u8::from(tests_fail)))
+}
+
+/// A model input file: `path` if given, else the repository's copy at `default_rel` (relative to
+/// the current directory) if present, else the copy built into the binary.
+pub fn input_file(
+    path: Option<&PathBuf>,
+    default_rel: &str,
+    builtin: &str,
+) -> Result<geodesic_core::check::InputFile, CliError> {
+    match path {
+        Some(p) => geodesic_core::check::InputFile::read(p).map_err(CliError::bad),
+        None if std::path::Path::new(default_rel).is_file() => {
+            geodesic_core::check::InputFile::read(std::path::Path::new(default_rel))
+                .map_err(CliError::bad)
+        }
+        None => Ok(geodesic_core::check::InputFile::new(
+            format!("<built-in>/{default_rel}"),
+            builtin,
+        )),
+    }
+}
+
+/// The release budget file (see [`input_file`]).
+pub fn budget_file(path: Option<&PathBuf>) -> Result<geodesic_core::check::InputFile, CliError> {
+    input_file(
+        path,
+        "models/release/budget.yaml",
+        geodesic_release::budget::DEFAULT_BUDGET_YAML,
+    )
+}
+
+/// The capture inputs file (see [`input_file`]).
+pub fn capture_file(path: Option<&PathBuf>) -> Result<geodesic_core::check::InputFile, CliError> {
+    input_file(
+        path,
+        "models/capture/capture.yaml",
+        geodesic_capture::DEFAULT_CAPTURE_YAML,
+    )
 }
 
 /// Writes a file whole or not at all (temporary file, then rename).
