@@ -69,6 +69,16 @@ fn print_figures() {
     for c in [TMMF_INTERMEDIATE, TMMF_HEAVY] {
         eprintln!("{:#?}", compare(&b.adhesion, &c, 200_000, 1));
     }
+    // the what-if of the README: the A1 bound lowered to 1.2e5 N/m
+    let mut lower = b.adhesion;
+    lower.A1_n_m = geodesic_release::budget::Dist::Uniform {
+        min: 0.0,
+        max: 1.2e5,
+    };
+    eprintln!(
+        "A1 <= 1.2e5: {:#?}",
+        compare(&lower, &TMMF_HEAVY, 200_000, 1)
+    );
 }
 
 #[test]
