@@ -53,7 +53,7 @@ fn tolerance_sweep() {
 #[ignore = "prints the figures; run with --ignored --nocapture"]
 fn print_figures() {
     use geodesic_mechanism::VoltageCommand;
-    use geodesic_release::calibration::simulate_tmmf_statistics;
+    use geodesic_release::calibration::{TMMF_HEAVY, TMMF_INTERMEDIATE, compare};
     use geodesic_release::figures::{mechanism_figures, v_rt_spread};
     let f = mechanism_figures(10).unwrap();
     eprintln!("{:#?}", f.retraction);
@@ -66,7 +66,19 @@ fn print_figures() {
         "v_RT spread {:?}",
         v_rt_spread(&b.mechanism, VoltageCommand::nominal(), 1000, 1)
     );
-    eprintln!("{:#?}", simulate_tmmf_statistics(&b.adhesion, 200_000, 1));
+    for c in [TMMF_INTERMEDIATE, TMMF_HEAVY] {
+        eprintln!("{:#?}", compare(&b.adhesion, &c, 200_000, 1));
+    }
+    // the what-if of the README: the A1 bound lowered to 1.2e5 N/m
+    let mut lower = b.adhesion;
+    lower.A1_n_m = geodesic_release::budget::Dist::Uniform {
+        min: 0.0,
+        max: 1.2e5,
+    };
+    eprintln!(
+        "A1 <= 1.2e5: {:#?}",
+        compare(&lower, &TMMF_HEAVY, 200_000, 1)
+    );
 }
 
 #[test]

@@ -108,7 +108,10 @@ fn every_row_has_a_basis_and_the_run_names_its_inputs() {
     ] {
         assert!(run.get(k).is_some(), "run lacks {k}");
     }
-    assert_eq!(run["inputs"]["budget"]["sha256"].as_str().unwrap().len(), 64);
+    assert_eq!(
+        run["inputs"]["budget"]["sha256"].as_str().unwrap().len(),
+        64
+    );
     assert_eq!(row(&doc, "CAP-VZ-SINGLE")["basis"], "accepted");
     assert_eq!(row(&doc, "TMS-X-RATE")["status"], "not-verified");
 }
@@ -122,7 +125,12 @@ fn unchanged_run_against_its_baseline_exits_0() {
     let (code, doc, err) = verify(&d, &req, "now", &["--baseline", "base/compliance.json"]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(doc["baseline_diff"]["regressions"], 0);
-    assert!(doc["baseline_diff"]["changes"].as_array().unwrap().is_empty());
+    assert!(
+        doc["baseline_diff"]["changes"]
+            .as_array()
+            .unwrap()
+            .is_empty()
+    );
 }
 
 #[test]
@@ -139,13 +147,25 @@ fn a_budget_change_that_eats_a_margin_exits_1_naming_each_requirement_once() {
         &d,
         &req,
         "now",
-        &["--baseline", "base/compliance.json", "--budget", "lighter.yaml"],
+        &[
+            "--baseline",
+            "base/compliance.json",
+            "--budget",
+            "lighter.yaml",
+        ],
     );
     assert_eq!(code, 1, "{err}");
     let lines: Vec<&str> = err.lines().filter(|l| l.contains("REGRESSION")).collect();
     let ids: Vec<&str> = lines
         .iter()
-        .map(|l| l.split("REGRESSION ").nth(1).unwrap().split(':').next().unwrap())
+        .map(|l| {
+            l.split("REGRESSION ")
+                .nth(1)
+                .unwrap()
+                .split(':')
+                .next()
+                .unwrap()
+        })
         .collect();
     let mut unique = ids.clone();
     unique.sort_unstable();
@@ -207,11 +227,19 @@ fn dispositions_show_and_an_expired_one_is_a_regression() {
         &d,
         &req,
         "now",
-        &["--dispositions", "expired.yaml", "--baseline", "base/compliance.json"],
+        &[
+            "--dispositions",
+            "expired.yaml",
+            "--baseline",
+            "base/compliance.json",
+        ],
     );
     assert_eq!(code, 1, "{err}");
     assert_eq!(row(&doc, "CHG-Q")["disposition"]["expired"], true);
-    assert!(err.contains("REGRESSION CHG-Q: its NCR NCR-T-1 expired"), "{err}");
+    assert!(
+        err.contains("REGRESSION CHG-Q: its NCR NCR-T-1 expired"),
+        "{err}"
+    );
     // an unknown requirement is bad input naming the file and line
     std::fs::write(d.join("bad.yaml"), ok.replace("CHG-Q", "CHG-NOPE")).unwrap();
     let out = geodesic(

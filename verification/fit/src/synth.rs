@@ -1,5 +1,10 @@
 //! `synth`: synthetic datasets from a truth model built from the same effect code as the fit,
 //! with seeded white noise. Used by the tests that hide each effect in turn.
+//!
+//! With `oversample = K > 1` the truth differs from the fitted model's own evaluation: it is
+//! simulated at `K` sub-samples per sample (and, for `tmmf-release`, with an RK4 step `K` times
+//! smaller), and each sample is the mean of its `K` sub-samples, centred on the sample time (an
+//! integrating converter) - both channels.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -38,6 +43,13 @@ pub struct SynthSpec {
     pub profile: TipProfile,
     /// Noise seed.
     pub seed: u64,
+    /// Sub-samples per sample of the truth (1: the fit's own sampling and integration step).
+    #[serde(default = "one")]
+    pub oversample: usize,
+}
+
+fn one() -> usize {
+    1
 }
 
 impl SynthSpec {
@@ -74,6 +86,7 @@ impl SynthSpec {
                 v_m_s: 3e-3,
             },
             seed: 1,
+            oversample: 1,
         }
     }
 }
@@ -117,7 +130,27 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
     let unit = Normal::new(0.0, 1.0).expect("unit normal");
     let mut channels = BTreeMap::new();
-    let truth = model.predict(&p, &t, &inputs);
+    let k = spec.oversample.max(1);
+    // sub-sample times, centred on each sample time; their means are the samples
+    let fine: Vec<f64> = t
+        .iter()
+        .flat_map(|&ti| (0..k).map(move |j| ti + ((j as f64 + 0.5) / k as f64 - 0.5) / spec.fs_hz))
+        .collect();
+    let mean_of = |v: Vec<f64>| -> Vec<f64> {
+        v.chunks(k)
+            .map(|c| c.iter().sum::<f64>() / k as f64)
+            .collect()
+    };
+    let truth = if k == 1 {
+        model.predict(&p, &t, &inputs)
+    } else if scenario == Scenario::TmmfRelease {
+        let h = geodesic_facility::tmmf::step_for_mass(inputs.m_kg) / k as f64;
+        mean_of(geodesic_facility::tmmf::simulate_with_step(
+            &model, &p, &fine, &inputs, h,
+        ))
+    } else {
+        mean_of(model.predict(&p, &fine, &inputs))
+    };
     let fitted = scenario.fitted_channel();
     let mut add = |ch: &str, clean: Vec<f64>| {
         let s = spec.noise.get(ch).copied().unwrap_or(0.0);
@@ -131,7 +164,10 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
     };
     add(fitted, truth);
     if scenario == Scenario::TmmfRelease {
-        add("y", t.iter().map(|&ti| spec.profile.y(ti)).collect());
+        add(
+            "y",
+            mean_of(fine.iter().map(|&ti| spec.profile.y(ti)).collect()),
+        );
     }
     let units = channels
         .keys()

@@ -4,14 +4,15 @@
 //! fixed-seed Monte Carlo summary snapshot.
 
 use geodesic_checks::release::{
-    AdhesionCalibration, ReleaseMonteCarlo, SharedMonteCarlo, checks_with,
+    AdhesionCalibration, CALIBRATION_DRAWS, ReleaseMonteCarlo, SharedMonteCarlo, checks_with,
 };
 use geodesic_contact::{
     ContactLaw, ExponentialAdhesion, Hertz, HertzAdhesion, dmt_pull_off_n, jkr_pull_off_n,
 };
 use geodesic_core::Outcome;
 use geodesic_mechanism::{PiezoMechanism, PiezoParams};
-use geodesic_release::budget::Budget;
+use geodesic_release::budget::{AdhesionBudget, Budget, Dist};
+use geodesic_release::calibration::{HOLD_OUT, TMMF_HEAVY, compare};
 use geodesic_release::figures::energy_fit;
 use geodesic_release::inputs::ReleaseInputs;
 use geodesic_release::integrator::{DormandPrince, Integrator, MAX_SWITCHES, SwitchedSystem};
@@ -165,7 +166,72 @@ fn contact_laws_reproduce_thesis_pull_off_figures() {
     assert!((a / 35e-6 - 1.0).abs() < 0.1, "Hertz radius {a}");
     let law = HertzAdhesion::new(Hertz::nominal(), ExponentialAdhesion::new(1.5e5, 8e-7));
     let peak = law.force_n(8e-7);
-    assert!(peak > 0.040 && peak < 0.050, "{peak}");
+    geodesic_core::trace::assert_reference(
+        "FAC-ADH-CAL",
+        "A1 lambda / e at the thesis bounds, 1.5e5 N/m * 8e-7 m / e, by hand",
+        peak,
+        0.044_145_5,
+        1e-5,
+    );
+}
+
+/// FAC-ADH-CAL's statistics against an analytic reference. The honest verdict of FAC-ADH-CAL is
+/// non-compliant (the default budget's largest |z| against the heavy-TM campaign is well above
+/// 3: its bounds cap the pull-off at 44 mN, the campaign saw 54 mN, and its mean is above the
+/// campaign's), so this test does not assert the limit: it checks the figure of merit itself on
+/// a budget with a closed form. With `lambda` fixed at 8e-7 m and `A1` uniform on [0, 1.5e5] N/m
+/// the pull-off is uniform on [0, F] with F = 1.5e5 * 8e-7 / e: mean F/2, sd F/sqrt(12), and the
+/// maximum of n draws has mean F n/(n+1) and sd F sqrt(n/((n+1)^2 (n+2))); the campaign's 54 mN
+/// is out of reach (probability 0). The value also moves with the budget (a lower A1 bound
+/// changes every z).
+#[test]
+fn adhesion_calibration_statistics_match_the_analytic_reference() {
+    geodesic_core::verifies!("FAC-ADH-CAL");
+    let f = 1.5e5 * 8e-7 / std::f64::consts::E * 1e3;
+    let uniform = AdhesionBudget {
+        A1_n_m: Dist::Uniform {
+            min: 0.0,
+            max: 1.5e5,
+        },
+        lambda_m: Dist::Fixed(8e-7),
+    };
+    let c = compare(&uniform, &TMMF_HEAVY, 200_000, 5).unwrap();
+    let n: f64 = 23.0;
+    assert_eq!(c.releases, 23);
+    let (z_mean, z_sd) = (
+        (f / 2.0 - 12.0) / 2.0,
+        (f / 12f64.sqrt() - 9.0) / (9.0 / (2.0 * (n - 1.0)).sqrt()),
+    );
+    let (max_mean, max_sd) = (
+        f * n / (n + 1.0),
+        f * (n / ((n + 1.0).powi(2) * (n + 2.0))).sqrt(),
+    );
+    let z_max = (54.0 - max_mean) / max_sd;
+    let id = "FAC-ADH-CAL";
+    let what = "uniform pull-off, closed form";
+    geodesic_core::trace::assert_reference(id, what, c.mean.z, z_mean, 0.02);
+    geodesic_core::trace::assert_reference(id, what, c.sd.z, z_sd, 0.02);
+    geodesic_core::trace::assert_reference(id, what, c.max.simulated, max_mean, 0.002);
+    geodesic_core::trace::assert_reference(id, what, c.max.standard_error, max_sd, 0.02);
+    geodesic_core::trace::assert_reference(id, what, c.max.z, z_max, 0.02);
+    assert_eq!(c.p_max_at_least, 0.0);
+    let worst = z_mean.abs().max(z_sd.abs()).max(z_max.abs());
+    geodesic_core::trace::assert_reference(id, "largest |z|", c.worst_z, worst, 0.02);
+    // the figure moves with the budget
+    let lower = AdhesionBudget {
+        A1_n_m: Dist::Uniform {
+            min: 0.0,
+            max: 1.2e5,
+        },
+        ..uniform
+    };
+    let d = compare(&lower, &TMMF_HEAVY, 200_000, 5).unwrap();
+    assert!(
+        d.worst_z > c.worst_z * 1.1,
+        "{} vs {}",
+        d.worst_z,
+        c.worst_z
+    );
 }
 
 /// The eight reference releases of the spec (independent DOP853 at rtol 1e-12) within 0.5 % or
@@ -238,10 +304,13 @@ fn montecarlo_summary_snapshot() {
 }
 
 /// The release-montecarlo check gives the same 99.73 % |X'| to the three requirements, with N
-/// and seed in its inputs, and writes the histogram; FAC-ADH-CAL stays within its 25 % limit.
+/// and seed in its inputs, and writes the histogram; the adhesion-calibration check gives the
+/// largest |z| of [`compare`] against the hold-out campaign with the budget file's hash (its
+/// figures are checked against an analytic reference in
+/// `adhesion_calibration_statistics_match_the_analytic_reference`).
 #[test]
 fn release_checks_give_evidence() {
-    geodesic_core::verifies!("REL-GPRM-VEL", "REL-DFACS-VEL", "TMS-Z-VEL", "FAC-ADH-CAL");
+    geodesic_core::verifies!("REL-GPRM-VEL", "REL-DFACS-VEL", "TMS-Z-VEL");
     let dir = std::env::temp_dir().join(format!("geodesic-release-check-{}", std::process::id()));
     let ctx = geodesic_checks::builtin_context(dir.clone(), 500, 3);
     let mc = SharedMonteCarlo::new();
@@ -263,7 +332,16 @@ fn release_checks_give_evidence() {
     let Outcome::Measured(q) = &cal[0].outcome else {
         panic!("not measured")
     };
-    assert!(q.value < 0.25, "{}", q.value);
+    let direct = compare(
+        &Budget::default_budget().adhesion,
+        &HOLD_OUT,
+        CALIBRATION_DRAWS,
+        3,
+    )
+    .unwrap();
+    assert_eq!(q.value, direct.worst_z);
+    assert_eq!(cal[0].inputs["budget_sha256"], ctx.inputs.budget.sha256);
+    assert_eq!(cal[0].inputs["hold_out_campaign"], "tab:1kg");
     assert_eq!(checks_with(mc).len(), 3);
     let _ = std::fs::remove_dir_all(dir);
 }
