@@ -90,6 +90,19 @@ pub fn check_names() -> Vec<&'static str> {
     registry().iter().map(|c| c.name()).collect()
 }
 
+/// A scratch reports directory of its own for the unit test running on this thread (removed when
+/// the test's thread ends), so that tests running in parallel never share a path.
+#[cfg(test)]
+pub(crate) fn scratch_dir() -> PathBuf {
+    thread_local! {
+        static DIR: tempfile::TempDir = tempfile::Builder::new()
+            .prefix("geodesic-checks-")
+            .tempdir()
+            .expect("a temporary directory");
+    }
+    DIR.with(|d| d.path().to_path_buf())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

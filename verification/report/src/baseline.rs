@@ -338,14 +338,11 @@ mod tests {
     use crate::testutil::report;
 
     fn diff_of(old: &Report, new: &Report, tol: f64) -> Diff {
-        let p = std::env::temp_dir().join(format!(
-            "geodesic-baseline-{}-{tol}.json",
-            std::process::id()
-        ));
+        // each call its own file: tests run in parallel
+        let tmp = tempfile::tempdir().unwrap();
+        let p = tmp.path().join("baseline.json");
         std::fs::write(&p, serde_json::to_string(old).unwrap()).unwrap();
-        let d = diff(new, &p, tol).unwrap();
-        std::fs::remove_file(&p).unwrap();
-        d
+        diff(new, &p, tol).unwrap()
     }
 
     #[test]
@@ -379,11 +376,10 @@ mod tests {
 
     #[test]
     fn a_malformed_baseline_names_file_and_line() {
-        let p =
-            std::env::temp_dir().join(format!("geodesic-baseline-bad-{}.json", std::process::id()));
+        let tmp = tempfile::tempdir().unwrap();
+        let p = tmp.path().join("baseline.json");
         std::fs::write(&p, "{\"requirements\": [\n  {\"id\": 3}\n]}").unwrap();
         let e = diff(&report(1.0, 1.0), &p, 0.01).unwrap_err().to_string();
-        std::fs::remove_file(&p).unwrap();
         assert!(e.contains(":2:"), "{e}");
     }
 }
