@@ -162,6 +162,18 @@ fn update_record(f: impl FnOnce(&mut TraceRecord)) {
     }
 }
 
+/// Like [`assert_reference`] with an absolute tolerance `abs_tol` (in the unit of `value`): for a
+/// reference of zero, or a tolerance stated in the value's unit.
+#[track_caller]
+pub fn assert_reference_abs(id: &str, what: &str, value: f64, reference: f64, abs_tol: f64) {
+    let ok = value.is_finite() && reference.is_finite() && (value - reference).abs() <= abs_tol;
+    assert!(
+        ok,
+        "{id}: {value} differs from the reference {reference} ({what}) by more than {abs_tol}"
+    );
+    record_assertion(id, crate::testrun::Assertion::Reference);
+}
+
 /// Records, for the test running on this thread, that it asserted `kind` for `id` (used by the
 /// test-run recorder; a no-op when no run is being recorded).
 pub fn record_assertion(id: &str, kind: Assertion) {

@@ -9,6 +9,7 @@ use geodesic_capture::{
 use geodesic_checks::capture::CaptureCriterion;
 use geodesic_checks::tm_state::model_evidence;
 use geodesic_core::Outcome;
+use geodesic_core::trace::{assert_limit, assert_reference};
 use proptest::prelude::*;
 
 /// A state with every component within +-3 x its limit.
@@ -53,12 +54,12 @@ proptest! {
         for (v, neg) in c.0.iter_mut().zip(&signs) {
             if *neg { *v = -*v; }
         }
-        prop_assert!((quartic_sum(&x, &c) - 1.0).abs() < 1e-12);
+        assert_reference("CAP-QUARTIC", "analytic: 1 at the largest box scale", quartic_sum(&x, &c), 1.0, 1e-12);
         let mut r = box_corner(&x, 1.0);
         for (v, neg) in r.0.iter_mut().zip(&signs) {
             if *neg { *v = -*v; }
         }
-        prop_assert!(is_captured(&x, &r));
+        assert_limit("CAP-QUARTIC", quartic_sum(&x, &r));
     }
 
     /// The derivation of xlim satisfies the consistency constraint for any requirement box
@@ -75,7 +76,7 @@ proptest! {
         let a = StateName::ALL[anchor];
         let xl = derive_xlim(&req, scale, a, room * scale * req[anchor]).unwrap();
         let x = Xlim { req, xlim: xl, box_scale: scale, source: "test".into() };
-        prop_assert!((consistency_sum(&x) - 1.0).abs() < 1e-12);
+        assert_reference("CAP-XLIM-CONSISTENCY", "analytic: 1", consistency_sum(&x), 1.0, 1e-12);
         prop_assert!((max_box_scale(&x) / scale - 1.0).abs() < 1e-12);
     }
 
@@ -147,8 +148,13 @@ fn shear_illustration_rows() {
     let rect_w = s.angular_rate_rad_s(PulseShape::Rectangular);
     assert!((rect_w / tri_w - 2.0).abs() < 1e-12);
     // thesis prints 330 urad/s and 2.5 um/s: the rectangular form, rounded
-    assert!((rect_w - 330e-6).abs() < 5e-6, "{rect_w}");
-    assert!((s.velocity_m_s(PulseShape::Rectangular) - 2.5e-6).abs() < 0.06e-6);
+    for id in ["TMS-X-RATE", "TMS-Y-RATE"] {
+        assert_reference(id, "thesis: 330 urad/s", rect_w, 330e-6, 5.0 / 330.0);
+    }
+    for id in ["TMS-X-VEL", "TMS-Y-VEL"] {
+        let v = s.velocity_m_s(PulseShape::Rectangular);
+        assert_reference(id, "thesis: 2.5 um/s", v, 2.5e-6, 0.06 / 2.5);
+    }
     assert_eq!(PulseShape::USED, PulseShape::Rectangular);
     let ev = model_evidence();
     let get = |id: &str| {
@@ -177,8 +183,8 @@ fn drift_offsets_and_reasons() {
     );
     for e in model_evidence() {
         match (&e.outcome, e.requirement.as_str()) {
-            (Outcome::Measured(q), "TMS-X-POS" | "TMS-Y-POS") => {
-                assert!((q.value - 75e-6).abs() < 1e-15, "{}", q.value)
+            (Outcome::Measured(q), id @ ("TMS-X-POS" | "TMS-Y-POS")) => {
+                assert_reference(id, "analytic: 5 um/s x 15 s", q.value, 75e-6, 1e-15 / 75e-6)
             }
             (Outcome::NotVerified(r), "TMS-X-ANG" | "TMS-Y-ANG" | "TMS-Z-ANG" | "TMS-Z-RATE") => {
                 assert!(r.len() > 40, "{r}")
@@ -202,5 +208,11 @@ fn z_offset_from_release_velocity() {
         panic!()
     };
     // 1.5 um/s (the thesis's 99.73 % release velocity) for 15 s: 22.5 um
-    assert!((q.value - 22.5e-6).abs() < 1e-15, "{}", q.value);
+    assert_reference(
+        "TMS-Z-POS",
+        "analytic: 1.5 um/s x 15 s",
+        q.value,
+        22.5e-6,
+        1e-15 / 22.5e-6,
+    );
 }
