@@ -361,7 +361,7 @@ pub fn scan_text(text: &str, package: &str, rel_pkg: &Path, rel_root: &str) -> V
                 };
                 (open < at && at < body_end).then_some((f, name, open, body_end))
             })
-            .last();
+            .next_back();
         let (fn_at, name, body) = match &function {
             Some((f, name, open, end)) => (*f, name.clone(), &code[*open..*end]),
             None => (at, "?".to_string(), ""),
@@ -516,7 +516,9 @@ mod tests {
             Path::new("tests/verification/capture.rs"),
             "verification/checks/tests/verification/capture.rs",
         );
-        let brief: Vec<(&str, &str, Vec<&str>, bool, bool, bool)> = got
+        // test, line, requirements, is_test, in_proptest, snapshot
+        type Brief<'a> = (&'a str, &'a str, Vec<&'a str>, bool, bool, bool);
+        let brief: Vec<Brief> = got
             .iter()
             .map(|d| {
                 (

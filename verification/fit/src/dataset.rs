@@ -350,8 +350,7 @@ mod tests {
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path().to_path_buf();
         let p = write(&dir, yaml, csv);
-        let e = Dataset::load(&p).unwrap_err().to_string();
-        e
+        Dataset::load(&p).unwrap_err().to_string()
     }
 
     #[test]
