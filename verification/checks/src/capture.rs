@@ -387,7 +387,7 @@ mod tests {
     use geodesic_core::Outcome;
 
     fn ctx() -> CheckContext {
-        crate::builtin_context(std::env::temp_dir(), 1000, 3)
+        crate::builtin_context(crate::scratch_dir(), 1000, 3)
     }
 
     fn value(e: &Evidence) -> f64 {

@@ -258,7 +258,7 @@ mod tests {
     use std::sync::Arc;
 
     fn ctx() -> CheckContext {
-        crate::builtin_context(std::env::temp_dir(), 100, 1)
+        crate::builtin_context(crate::scratch_dir(), 100, 1)
     }
 
     fn source() -> ReleaseVzSource {

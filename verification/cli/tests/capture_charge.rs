@@ -26,8 +26,20 @@ fn json_with(out: &Output, code: i32) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).expect("exactly one JSON document on stdout")
 }
 
+/// A temporary directory of its own for the test running on this thread, removed when the
+/// test's thread ends: tests run in parallel and never share a path.
+fn test_dir() -> PathBuf {
+    thread_local! {
+        static DIR: tempfile::TempDir = tempfile::Builder::new()
+            .prefix("geodesic-cli-")
+            .tempdir()
+            .expect("a temporary directory");
+    }
+    DIR.with(|d| d.path().to_path_buf())
+}
+
 fn scratch_file(name: &str, text: &str) -> PathBuf {
-    let p = std::env::temp_dir().join(format!("geodesic-cc-{}-{name}", std::process::id()));
+    let p = test_dir().join(name);
     std::fs::write(&p, text).unwrap();
     p
 }

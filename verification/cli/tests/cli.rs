@@ -19,8 +19,20 @@ fn workspace() -> PathBuf {
         .unwrap()
 }
 
+/// A temporary directory of its own for the test running on this thread, removed when the
+/// test's thread ends: tests run in parallel and never share a path.
+fn test_dir() -> PathBuf {
+    thread_local! {
+        static DIR: tempfile::TempDir = tempfile::Builder::new()
+            .prefix("geodesic-cli-")
+            .tempdir()
+            .expect("a temporary directory");
+    }
+    DIR.with(|d| d.path().to_path_buf())
+}
+
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("geodesic-cli-{}-{name}", std::process::id()));
+    let d = test_dir().join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

@@ -37,8 +37,8 @@ fn same_numbers_twice_with_any_thread_count_and_merged_shards() {
     let (_, b, _) = geodesic(&one);
     assert_eq!(a, without_seconds(&b));
 
-    let dir = std::env::temp_dir().join(format!("geodesic-mc-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
     let mut parts = Vec::new();
     for i in 1..=3 {
         let p = dir.join(format!("part{i}.json")).display().to_string();
@@ -70,7 +70,6 @@ fn same_numbers_twice_with_any_thread_count_and_merged_shards() {
         e.contains("missing shard(s) 2/3") && e.lines().count() == 1,
         "{e}"
     );
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 #[test]

@@ -412,7 +412,7 @@ fn row(
                     kind: t.kind.clone(),
                     location: t.location.clone(),
                     result: t.result,
-                    assertions: t.assertions.clone(),
+                    assertions: t.assertions_for(r.id.as_str()),
                     cases: t.cases,
                 })
                 .collect()

@@ -9,6 +9,7 @@
 //! snapshot). Declared traces whose test did not run are reported as `ignored` or `not-run`.
 
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Result of one test in a recorded run.
@@ -84,6 +85,61 @@ pub struct RecordedTest {
     /// Test kind: `proptest` (more than one case), `snapshot` (an insta assertion), `unit`.
     #[serde(default)]
     pub kind: String,
+    /// What the test asserted, per requirement ID (strongest first); empty in runs recorded
+    /// before this field existed, see [`RecordedTest::assertions_for`].
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub asserted: BTreeMap<String, Vec<Assertion>>,
+}
+
+impl RecordedTest {
+    /// What the test asserted about requirement `id`: its own assertions for that ID when the
+    /// run recorded them per requirement (`[change-detection]` when it asserted nothing for
+    /// `id`), else [`RecordedTest::assertions`].
+    pub fn assertions_for(&self, id: &str) -> Vec<Assertion> {
+        if self.asserted.is_empty() {
+            return self.assertions.clone();
+        }
+        match self.asserted.get(id) {
+            Some(a) if !a.is_empty() => a.clone(),
+            _ => vec![Assertion::ChangeDetection],
+        }
+    }
+}
+
+/// What one test recorded at run time (one file per test in the trace directory, written by
+/// [`crate::trace`] while `GEODESIC_TRACE_DIR` is set and read by `cargo xtask test`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TraceRecord {
+    /// Crate of the `verifies!` call (`CARGO_CRATE_NAME` at the call site; empty if none ran).
+    pub krate: String,
+    /// Test name: the name libtest gave the test's thread.
+    pub test: String,
+    /// File stem of the test binary (`verification-0123abcd`).
+    pub binary: String,
+    /// The `verifies!` calls that executed, in first-execution order.
+    pub calls: Vec<TraceCall>,
+    /// The assertions made through `trace::assert_limit` / `trace::assert_reference`.
+    pub asserted: Vec<TraceAssertion>,
+}
+
+/// One `verifies!` call site as executed by a test.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TraceCall {
+    /// `file:line` of the call.
+    pub location: String,
+    /// Requirement IDs it names.
+    pub requirements: Vec<String>,
+    /// How many times it executed.
+    pub count: u64,
+}
+
+/// One assertion recorded by a test.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct TraceAssertion {
+    /// Requirement ID.
+    pub requirement: String,
+    /// What was asserted.
+    pub assertion: Assertion,
 }
 
 /// A recorded test run.

@@ -346,23 +346,21 @@ mod tests {
         csv_rows_with(n, None)
     }
 
-    fn err_of(yaml: &str, csv: &str, tag: &str) -> String {
-        let dir =
-            std::env::temp_dir().join(format!("geodesic-fit-ds-{tag}-{}", std::process::id()));
+    fn err_of(yaml: &str, csv: &str, _tag: &str) -> String {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().to_path_buf();
         let p = write(&dir, yaml, csv);
-        let e = Dataset::load(&p).unwrap_err().to_string();
-        let _ = std::fs::remove_dir_all(&dir);
-        e
+        Dataset::load(&p).unwrap_err().to_string()
     }
 
     #[test]
     fn loads_and_converts_units() {
-        let dir = std::env::temp_dir().join(format!("geodesic-fit-ds-ok-{}", std::process::id()));
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().to_path_buf();
         let p = write(&dir, YAML, &csv_rows(20));
         let d = Dataset::load(&p).unwrap();
         assert_eq!(d.t.len(), 20);
         assert!((d.channel("y")[3] - 3e-9).abs() < 1e-20);
-        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -117,7 +117,8 @@ mod tests {
         let mut spec = SynthSpec::defaults(Scenario::RtRetraction, &["piezo", "voltage_ramp"]);
         spec.post_s = 2e-4;
         let prep = Prepared::new(generate(&spec, "h.yaml").unwrap());
-        let dir = std::env::temp_dir().join(format!("geodesic-history-{}", std::process::id()));
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().to_path_buf();
         for effects in [vec!["piezo"], vec!["piezo", "voltage_ramp"]] {
             let o = fit(&prep, &effects, &FitOptions::default()).unwrap();
             append(&dir, "h", &FitReport::new(&prep, &o)).unwrap();
@@ -136,6 +137,5 @@ mod tests {
             fsvg.to_uppercase().contains("#FFD2D2"),
             "failure windows are shaded"
         );
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }

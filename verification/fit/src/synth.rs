@@ -254,7 +254,8 @@ mod tests {
         let a = generate(&spec, "s.yaml").unwrap();
         let b = generate(&spec, "s.yaml").unwrap();
         assert_eq!(a.channels, b.channels);
-        let dir = std::env::temp_dir().join(format!("geodesic-synth-{}", std::process::id()));
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().to_path_buf();
         let files = write(&a, &spec, &dir.join("s.yaml")).unwrap();
         let back = Dataset::load(&files[0]).unwrap();
         assert_eq!(back.t.len(), a.t.len());
@@ -264,7 +265,6 @@ mod tests {
         assert_eq!(back.noise, a.noise);
         // pre-trigger x carries the drift offset p0
         assert!((a.channel("x")[..50].iter().sum::<f64>() / 50.0 - 2e-9).abs() < 5e-10);
-        let _ = std::fs::remove_dir_all(&dir);
         assert!(
             truth_params(
                 &Model::new(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]).unwrap(),

@@ -116,7 +116,8 @@ mod tests {
 
     #[test]
     fn uncommitted_staging_leaves_nothing() {
-        let dir = std::env::temp_dir().join(format!("geodesic-write-{}", std::process::id()));
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("reports");
         {
             let s = Staging::new(&dir).unwrap();
             s.write("a.md", b"x").unwrap();
@@ -134,6 +135,5 @@ mod tests {
             .filter(|e| e.file_name().to_string_lossy().starts_with(".staging"))
             .collect();
         assert!(left.is_empty());
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

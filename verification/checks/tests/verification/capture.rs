@@ -8,6 +8,7 @@ use geodesic_capture::{
 };
 use geodesic_checks::capture::{CaptureCriterion, CaptureSetup, ReleaseVz, ReleaseVzSource};
 use geodesic_checks::tm_state::TmStateBounds;
+use geodesic_core::trace::{assert_limit, assert_reference};
 use geodesic_core::{Basis, Outcome};
 use proptest::prelude::*;
 use std::sync::Arc;
@@ -54,12 +55,12 @@ proptest! {
         for (v, neg) in c.0.iter_mut().zip(&signs) {
             if *neg { *v = -*v; }
         }
-        prop_assert!((quartic_sum(&x, &c) - 1.0).abs() < 1e-12);
+        assert_reference("CAP-QUARTIC", "analytic: 1 at the largest box scale", quartic_sum(&x, &c), 1.0, 1e-12);
         let mut r = box_corner(&x, 1.0);
         for (v, neg) in r.0.iter_mut().zip(&signs) {
             if *neg { *v = -*v; }
         }
-        prop_assert!(is_captured(&x, &r));
+        assert_limit("CAP-QUARTIC", quartic_sum(&x, &r));
     }
 
     /// The derivation of xlim satisfies the consistency constraint for any requirement box
@@ -76,7 +77,7 @@ proptest! {
         let a = StateName::ALL[anchor];
         let xl = derive_xlim(&req, scale, a, room * scale * req[anchor]).unwrap();
         let x = Xlim { req, xlim: xl, box_scale: scale, source: "test".into() };
-        prop_assert!((consistency_sum(&x) - 1.0).abs() < 1e-12);
+        assert_reference("CAP-XLIM-CONSISTENCY", "analytic: 1", consistency_sum(&x), 1.0, 1e-12);
         prop_assert!((max_box_scale(&x) / scale - 1.0).abs() < 1e-12);
     }
 
