@@ -89,6 +89,10 @@ proptest! {
         let mut s = TmState::zero();
         s.set(StateName::Vz, if neg { -v } else { v });
         prop_assert_eq!(is_captured(&x, &s), v < 12e-6);
+        // the single-state limit is the thesis's E2E figure, and meets the requirement
+        let single = geodesic_capture::single_state_limits(&x)[StateName::Vz.index()];
+        assert_reference("CAP-VZ-SINGLE", "thesis ch. 7 E2E: 12 um/s", single, 12e-6, 0.0);
+        assert_limit("CAP-VZ-SINGLE", single);
     }
 
     /// With the other states at zero, the capture probability is the fraction of |v_z| below
@@ -101,6 +105,14 @@ proptest! {
         let want = vz.iter().filter(|v| v.abs() < 12e-6).count();
         prop_assert_eq!(p.captured, want);
         prop_assert_eq!(p.n, vz.len());
+        // independent reference: the fraction counted directly
+        assert_reference(
+            "CAP-RELEASE-PROB",
+            "fraction of |vz| < 12 um/s counted directly",
+            p.probability,
+            want as f64 / vz.len() as f64,
+            0.0,
+        );
     }
 }
 
@@ -118,6 +130,8 @@ fn probability_is_seeded_and_falls_with_velocity() {
     let b = d.capture_probability(&fast, &x, 9);
     assert!(b.captured <= a.captured, "{b:?} vs {a:?}");
     assert!(b.captured < b.n, "8-18 um/s must lose some draws: {b:?}");
+    // release velocities of 0-10 um/s with the flow-down states: at least 99.73 % captured
+    assert_limit("CAP-RELEASE-PROB", a.probability);
 }
 
 /// The capture-criterion evidence on the repository's requirements and capture inputs, with
