@@ -1,7 +1,8 @@
 //! The Verification Control Document (ECSS-E-ST-10-02C, annex on the VCD): for every
 //! requirement, its ID and text, parent and children, verification method, the activity and its
 //! evidence (check, Monte Carlo N and seed, dataset, test names, snapshots), value, limit,
-//! margin, compliance (yes / no / partial) and close-out status with its reason. Exported as
+//! margin, the basis of the verdict, compliance (yes / yes (accepted) / no / not verified) and
+//! close-out status with its reason. Exported as
 //! Markdown and CSV here, and as a section of the HTML report.
 
 use crate::{Report, fmt_margin, fmt_opt};
@@ -31,7 +32,9 @@ pub struct VcdLine {
     pub limit: String,
     /// Margin.
     pub margin: String,
-    /// yes / no / partial.
+    /// What the verdict rests on: model, flow-down, accepted (empty when not verified).
+    pub basis: &'static str,
+    /// yes / yes (accepted) / no / not verified.
     pub compliance: &'static str,
     /// closed / open.
     pub close_out: &'static str,
@@ -120,6 +123,7 @@ pub fn lines(rep: &Report) -> Vec<VcdLine> {
                 }),
                 limit: r.limit_text.clone(),
                 margin: fmt_margin(r.margin),
+                basis: r.basis.map_or("", |b| b.as_str()),
                 compliance: compliance(r),
                 close_out,
                 reason,
@@ -139,7 +143,7 @@ fn csv_field(s: &str) -> String {
 /// The VCD as CSV (RFC 4180 quoting), one header row.
 pub fn csv(rep: &Report) -> String {
     let mut o = String::from(
-        "id,text,parent,children,method,activity,evidence,value,limit,margin,compliance,close_out,reason\n",
+        "id,text,parent,children,method,activity,evidence,value,limit,margin,basis,compliance,close_out,reason\n",
     );
     for l in lines(rep) {
         let f = [
@@ -153,6 +157,7 @@ pub fn csv(rep: &Report) -> String {
             &l.value,
             &l.limit,
             &l.margin,
+            l.basis,
             l.compliance,
             l.close_out,
             &l.reason,
@@ -171,12 +176,12 @@ pub fn markdown(rep: &Report) -> String {
         "geodesic {} · requirements `{}` · Monte Carlo N = {}, seed = {}\n\n",
         rep.run.geodesic_version, rep.run.requirements, rep.run.mc_n, rep.run.seed
     ));
-    o.push_str("| ID | Requirement | Parent | Children | Method | Activity / evidence | Value | Limit | Margin | Compliance | Close-out |\n");
-    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
+    o.push_str("| ID | Requirement | Parent | Children | Method | Activity / evidence | Value | Limit | Margin | Basis | Compliance | Close-out |\n");
+    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     let c = |s: &str| s.replace('|', "\\|");
     for l in lines(rep) {
         o.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {}<br>{} | {} | `{}` | {} | {} | {}: {} |\n",
+            "| {} | {} | {} | {} | {} | {}<br>{} | {} | `{}` | {} | {} | {} | {}: {} |\n",
             l.id,
             c(&l.text),
             l.parent,
@@ -187,6 +192,7 @@ pub fn markdown(rep: &Report) -> String {
             l.value,
             l.limit,
             l.margin,
+            l.basis,
             l.compliance,
             l.close_out,
             c(&l.reason)
