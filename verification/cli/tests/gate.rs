@@ -275,9 +275,22 @@ fn an_ignored_or_failed_traced_test_shows_in_its_row_and_can_fail_verify() {
     };
     std::fs::write(d.join("pass.json"), run("passed")).unwrap();
     std::fs::write(d.join("ignored.json"), run("ignored")).unwrap();
-    let (_, doc, _) = verify(&d, &req, "base", &["--tests", "pass.json"]);
+    let (_, doc, _) = verify(
+        &d,
+        &req,
+        "base",
+        &["--tests", "pass.json", "--junit", "junit.xml"],
+    );
     assert_eq!(row(&doc, "TMS-Z-POS")["tests_status"], "passed");
     assert_eq!(row(&doc, "TMS-Z-POS")["tests"][0]["result"], "passed");
+    // JUnit: one test case per traced test naming its requirements
+    let junit = std::fs::read_to_string(d.join("junit.xml")).unwrap();
+    assert!(
+        junit.contains("<testsuite name=\"geodesic traced tests\" tests=\"2\""),
+        "{junit}"
+    );
+    assert!(junit.contains("name=\"z_offset\""), "{junit}");
+    assert!(junit.contains("<property name=\"requirement\" value=\"TMS-Z-POS\"/>"));
     let (code, doc, err) = verify(
         &d,
         &req,

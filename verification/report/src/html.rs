@@ -93,12 +93,9 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     let _ = write!(
         o,
         "<header><h1>geodesic verification report — LISA Pathfinder test-mass release</h1>\
-         <div>geodesic {} · requirements <code>{}</code> · Monte Carlo N = {}, seed = {} · \
+         <div>{} · \
          <b>{} requirements: {} compliant, {} non-compliant, {} not verified</b></div></header><main>",
-        esc(&rep.run.geodesic_version),
-        esc(&rep.run.requirements),
-        rep.run.mc_n,
-        rep.run.seed,
+        run_meta(rep),
         s.total,
         s.compliant,
         s.non_compliant,
@@ -351,18 +348,23 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     o
 }
 
+/// The run's identification (commit, date, inputs and their hashes) as one line of HTML.
+fn run_meta(rep: &Report) -> String {
+    crate::run_lines(rep)
+        .iter()
+        .map(|(k, v)| format!("{k} <code>{}</code>", esc(v)))
+        .collect::<Vec<_>>()
+        .join(" · ")
+}
+
 /// The Verification Control Document alone, as a self-contained HTML page.
 pub fn render_vcd(rep: &Report) -> String {
     let mut o = format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>geodesic VCD</title><style>{STYLE}</style></head>\
-         <body><header><h1>Verification Control Document</h1><div>geodesic {} · requirements <code>{}</code> · \
-         Monte Carlo N = {}, seed = {}</div></header><main><table><thead><tr><th>ID</th><th>Requirement</th><th>Parent</th>\
+         <body><header><h1>Verification Control Document</h1><div>{}</div></header><main><table><thead><tr><th>ID</th><th>Requirement</th><th>Parent</th>\
          <th>Children</th><th>Method</th><th>Activity</th><th>Evidence</th><th>Value</th><th>Limit</th><th>Margin</th>\
          <th>Compliance</th><th>Close-out</th></tr></thead><tbody>",
-        esc(&rep.run.geodesic_version),
-        esc(&rep.run.requirements),
-        rep.run.mc_n,
-        rep.run.seed
+        run_meta(rep)
     );
     for (l, r) in vcd::lines(rep).iter().zip(&rep.matrix.requirements) {
         let _ = write!(

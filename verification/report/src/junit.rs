@@ -1,6 +1,9 @@
 //! JUnit XML of the compliance checks, for CI dashboards: one test suite per requirement
-//! family, one test case per requirement; non-compliant is a failure, not-verified is skipped
-//! with its reason.
+//! family, one test case per requirement (non-compliant is a failure, not-verified is skipped
+//! with its reason), and a suite `geodesic traced tests` with one test case per traced test of
+//! the recorded test run, each naming the requirements it verifies in
+//! `<property name="requirement" value="ID"/>` (the convention Polarion, StrictDoc and
+//! sphinx-test-reports import): failed is a failure, ignored or not run is skipped.
 //!
 //! Written by hand rather than with `quick-junit`: the format used here is three elements with
 //! escaped text, and the crate would add an XML writer and its dependencies to every build.
@@ -52,6 +55,12 @@ pub fn render(rep: &Report) -> String {
                 esc(&r.id),
                 esc(&r.title)
             ));
+            o.push_str(&format!(
+                "      <properties><property name=\"requirement\" value=\"{}\"/><property name=\"basis\" value=\"{}\"/><property name=\"method\" value=\"{}\"/></properties>\n",
+                esc(&r.id),
+                crate::basis_word(r),
+                esc(&r.method)
+            ));
             let detail = format!(
                 "value {} {} against `{}`, margin {}; evidence: {}",
                 fmt_opt(r.value),
@@ -86,6 +95,67 @@ pub fn render(rep: &Report) -> String {
         }
         o.push_str("  </testsuite>\n");
     }
+    traced_suite(rep, &mut o);
     o.push_str("</testsuites>\n");
     o
+}
+
+/// The suite of traced tests: one test case per test of the recorded run, with its requirements.
+fn traced_suite(rep: &Report, o: &mut String) {
+    use geodesic_core::testrun::TestResult;
+    let mut tests: BTreeMap<&str, (&geodesic_core::matrix::TestRef, Vec<&str>)> = BTreeMap::new();
+    for r in &rep.matrix.requirements {
+        for t in &r.tests {
+            tests
+                .entry(t.test.as_str())
+                .or_insert_with(|| (t, Vec::new()))
+                .1
+                .push(r.id.as_str());
+        }
+    }
+    let fails = tests
+        .values()
+        .filter(|(t, _)| t.result == TestResult::Failed)
+        .count();
+    let skips = tests
+        .values()
+        .filter(|(t, _)| matches!(t.result, TestResult::Ignored | TestResult::NotRun))
+        .count();
+    o.push_str(&format!(
+        "  <testsuite name=\"geodesic traced tests\" tests=\"{}\" failures=\"{fails}\" skipped=\"{skips}\">\n",
+        tests.len()
+    ));
+    for (name, (t, ids)) in &tests {
+        let (class, short) = name.rsplit_once("::").unwrap_or(("", name));
+        o.push_str(&format!(
+            "    <testcase classname=\"{}\" name=\"{}\" file=\"{}\">\n      <properties>",
+            esc(class),
+            esc(short),
+            esc(t.location.split(':').next().unwrap_or(""))
+        ));
+        for id in ids {
+            o.push_str(&format!(
+                "<property name=\"requirement\" value=\"{}\"/>",
+                esc(id)
+            ));
+        }
+        o.push_str(&format!(
+            "<property name=\"kind\" value=\"{}\"/></properties>\n",
+            esc(&t.kind)
+        ));
+        match t.result {
+            TestResult::Failed => {
+                o.push_str("      <failure message=\"failed in the recorded test run\"/>\n")
+            }
+            TestResult::Ignored => {
+                o.push_str("      <skipped message=\"ignored in the recorded test run\"/>\n")
+            }
+            TestResult::NotRun => {
+                o.push_str("      <skipped message=\"did not run in the recorded test run\"/>\n")
+            }
+            TestResult::Passed => {}
+        }
+        o.push_str("    </testcase>\n");
+    }
+    o.push_str("  </testsuite>\n");
 }

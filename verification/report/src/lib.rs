@@ -77,6 +77,70 @@ pub struct Report {
     pub run: RunInfo,
 }
 
+/// The run's identification as `(label, value)` pairs, for the header of every report: tool
+/// version, commit (and whether the tree was dirty), date, command, requirement set and model
+/// input files with their SHA-256, the test run.
+pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
+    let r = &rep.run;
+    let short = |h: &str| h.chars().take(16).collect::<String>();
+    let mut v = vec![
+        ("geodesic", r.tool_version.clone()),
+        (
+            "commit",
+            format!("{}{}", r.commit, if r.dirty { " (dirty tree)" } else { "" }),
+        ),
+        ("date (UTC)", r.date.clone()),
+        ("command", r.command.clone()),
+        (
+            "requirements",
+            format!(
+                "{} (sha256 {})",
+                r.requirements,
+                short(&r.requirements_hash)
+            ),
+        ),
+        (
+            "release budget",
+            format!(
+                "{} (sha256 {})",
+                r.inputs.budget.label,
+                short(&r.inputs.budget.sha256)
+            ),
+        ),
+        (
+            "capture inputs",
+            format!(
+                "{} (sha256 {})",
+                r.inputs.capture.label,
+                short(&r.inputs.capture.sha256)
+            ),
+        ),
+        (
+            "dispositions",
+            r.dispositions.as_ref().map_or("none".into(), |d| {
+                format!("{} (sha256 {})", d.label, short(&d.sha256))
+            }),
+        ),
+        ("Monte Carlo", format!("N = {}, seed = {}", r.mc_n, r.seed)),
+    ];
+    v.push((
+        "test results",
+        rep.matrix.test_run.as_ref().map_or(
+            "none recorded (`cargo xtask test` records them)".into(),
+            |t| {
+                format!(
+                    "{} (commit {}{}, {})",
+                    t.file,
+                    t.commit.chars().take(12).collect::<String>(),
+                    if t.dirty { ", dirty" } else { "" },
+                    t.date
+                )
+            },
+        ),
+    ));
+    v
+}
+
 /// Formats a value for a table: 4 significant digits, `—` when absent.
 pub fn fmt_opt(v: Option<f64>) -> String {
     v.map_or_else(|| "—".to_string(), geodesic_core::units::fmt_num)

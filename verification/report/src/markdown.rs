@@ -24,11 +24,10 @@ pub fn render(rep: &Report) -> String {
     let m = &rep.matrix;
     let mut o = String::new();
     let _ = writeln!(o, "# geodesic compliance matrix\n");
-    let _ = writeln!(
-        o,
-        "geodesic {} · requirements: `{}` · Monte Carlo N = {}, seed = {}\n",
-        rep.run.geodesic_version, rep.run.requirements, rep.run.mc_n, rep.run.seed
-    );
+    for (k, v) in crate::run_lines(rep) {
+        let _ = writeln!(o, "- {k}: {}", cell(&v));
+    }
+    let _ = writeln!(o);
     let s = &m.summary;
     let _ = writeln!(
         o,

@@ -172,10 +172,10 @@ pub fn csv(rep: &Report) -> String {
 /// The VCD as Markdown.
 pub fn markdown(rep: &Report) -> String {
     let mut o = String::from("# Verification Control Document\n\n");
-    o.push_str(&format!(
-        "geodesic {} · requirements `{}` · Monte Carlo N = {}, seed = {}\n\n",
-        rep.run.geodesic_version, rep.run.requirements, rep.run.mc_n, rep.run.seed
-    ));
+    for (k, v) in crate::run_lines(rep) {
+        o.push_str(&format!("- {k}: {}\n", v.replace('|', "\\|")));
+    }
+    o.push('\n');
     o.push_str("| ID | Requirement | Parent | Children | Method | Activity / evidence | Value | Limit | Margin | Basis | Compliance | Close-out |\n");
     o.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     let c = |s: &str| s.replace('|', "\\|");
