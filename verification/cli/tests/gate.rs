@@ -255,6 +255,20 @@ fn dispositions_show_and_an_expired_one_is_a_regression() {
     assert_eq!(out.status.code(), Some(2));
     let e = String::from_utf8_lossy(&out.stderr);
     assert!(e.contains("bad.yaml:2:") && e.contains("CHG-NOPE"), "{e}");
+    // the repository's default file (found from the working directory) applies to a subset of
+    // the requirements: its entries for requirements not loaded are skipped
+    std::fs::create_dir_all(d.join("verification")).unwrap();
+    std::fs::write(d.join("verification/dispositions.yaml"), ok).unwrap();
+    std::fs::remove_file(req.join("charge.yaml")).unwrap();
+    let (_, doc, _) = verify(&d, &req, "subset", &[]);
+    assert!(
+        doc["requirements"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|r| r["id"] != "CHG-Q")
+    );
+    assert!(doc["run"]["dispositions"]["label"].is_string());
 }
 
 #[test]

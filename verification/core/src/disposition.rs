@@ -159,8 +159,15 @@ pub fn today() -> i64 {
 }
 
 /// Loads and checks a dispositions file against the loaded requirements; `today` is the day
-/// number of the run (see [`today`]) that decides [`Disposition::expired`].
-pub fn load(path: &Path, reqs: &Requirements, today: i64) -> Result<Vec<Disposition>, LoadError> {
+/// number of the run (see [`today`]) that decides [`Disposition::expired`]. With `strict`, a
+/// disposition for a requirement that is not loaded is an error; without (the repository's
+/// default file applied to a subset of the requirements), it is skipped.
+pub fn load(
+    path: &Path,
+    reqs: &Requirements,
+    today: i64,
+    strict: bool,
+) -> Result<Vec<Disposition>, LoadError> {
     let text = std::fs::read_to_string(path).map_err(|e| LoadError {
         origin: Origin {
             file: path.to_path_buf(),
@@ -169,15 +176,28 @@ pub fn load(path: &Path, reqs: &Requirements, today: i64) -> Result<Vec<Disposit
         },
         cause: format!("cannot read dispositions: {e}"),
     })?;
-    from_str(&text, path, reqs, today)
+    from_str_with(&text, path, reqs, today, strict)
 }
 
-/// Parses and checks dispositions from text (`file` is used in messages only).
+/// Parses and checks dispositions from text (`file` is used in messages only); a disposition
+/// for a requirement that is not loaded is an error.
 pub fn from_str(
     text: &str,
     file: &Path,
     reqs: &Requirements,
     today: i64,
+) -> Result<Vec<Disposition>, LoadError> {
+    from_str_with(text, file, reqs, today, true)
+}
+
+/// As [`from_str`]; without `strict`, dispositions for requirements that are not loaded are
+/// skipped (every other error still counts).
+pub fn from_str_with(
+    text: &str,
+    file: &Path,
+    reqs: &Requirements,
+    today: i64,
+    strict: bool,
 ) -> Result<Vec<Disposition>, LoadError> {
     let file: PathBuf = file.to_path_buf();
     let raw: RawFile = serde_saphyr::from_str(text).map_err(|e| {
@@ -201,7 +221,8 @@ pub fn from_str(
             cause,
         };
         let id = r.requirement.value.trim().to_string();
-        if reqs.get(&id).is_none() {
+        let known = reqs.get(&id).is_some();
+        if !known && strict {
             return Err(err(
                 &r.requirement,
                 format!("disposition for unknown requirement `{id}`"),
@@ -251,6 +272,9 @@ pub fn from_str(
             None => (None, false),
         };
         let at = origin_of(&file, &r.requirement);
+        if !known {
+            continue;
+        }
         out.push(Disposition {
             requirement: id,
             kind,

@@ -188,13 +188,16 @@ pub fn run(args: Args) -> CmdResult {
     geodesic_capture::CaptureInputs::from_yaml_str(&inputs.capture.text, &inputs.capture.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
     let today = geodesic_core::disposition::today();
+    // the repository's default file applies to whatever subset of requirements is loaded; a file
+    // given with --dispositions must name loaded requirements only
+    let strict = args.dispositions.is_some();
     let disp_path = args.dispositions.clone().or_else(|| {
         let p = PathBuf::from("verification/dispositions.yaml");
         p.is_file().then_some(p)
     });
     let (dispositions, disp_file) = match &disp_path {
         Some(p) => (
-            geodesic_core::disposition::load(p, &reqs, today)
+            geodesic_core::disposition::load(p, &reqs, today, strict)
                 .map_err(|e| CliError::bad(e.to_string()))?,
             Some(geodesic_core::check::InputFile::read(p).map_err(CliError::bad)?),
         ),
