@@ -146,7 +146,11 @@ mod tests {
         let e = evaluate(&x, &st);
         assert!(!e.captured);
         assert_eq!(e.quartic_sum, f64::MAX);
-        assert!(e.terms.iter().all(|t| t.term.is_finite() && t.share.is_finite()));
+        assert!(
+            e.terms
+                .iter()
+                .all(|t| t.term.is_finite() && t.share.is_finite())
+        );
     }
 
     #[test]

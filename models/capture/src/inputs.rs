@@ -483,8 +483,8 @@ mod tests {
         assert_eq!(c.derivation, XlimDerivation::Constraint);
         assert_eq!(c.drift_time_s, 15.0);
         let d = crate::derive_xlim(&THESIS_BOX, 1.4, StateName::Vz, 12e-6).unwrap();
-        for i in 0..N_STATES {
-            assert!((c.xlim[i] - d[i]).abs() <= 5e-7 * d[i], "{i}");
+        for (i, (x, d)) in c.xlim.iter().zip(&d).enumerate() {
+            assert!((x - d).abs() <= 5e-7 * d, "{i}");
         }
     }
 

@@ -453,7 +453,7 @@ impl Budget {
             } else {
                 d.mean() + 8.0 * d.sd()
             };
-            if !(top <= max) {
+            if top.is_nan() || top > max {
                 return Err(BudgetError::Invalid {
                     file: file.to_string(),
                     line: s.referenced.line(),
@@ -518,7 +518,10 @@ mod tests {
             let text = DEFAULT_BUDGET_YAML.replacen(from, to, 1);
             assert_ne!(text, DEFAULT_BUDGET_YAML, "{from}");
             let e = Budget::from_yaml(&text, "b.yaml").unwrap_err().to_string();
-            assert!(e.starts_with("b.yaml:") && e.contains(field) && e.contains("physical maximum"), "{e}");
+            assert!(
+                e.starts_with("b.yaml:") && e.contains(field) && e.contains("physical maximum"),
+                "{e}"
+            );
         }
     }
 

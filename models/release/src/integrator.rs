@@ -60,7 +60,9 @@ pub enum IntegrateError {
         t_s: f64,
     },
     /// The step budget ran out: the release is too stiff to resolve (extreme parameters).
-    #[error("gave up after {steps} steps at t = {t_s} s (step budget {MAX_STEPS}; the release is too stiff to resolve)")]
+    #[error(
+        "gave up after {steps} steps at t = {t_s} s (step budget {MAX_STEPS}; the release is too stiff to resolve)"
+    )]
     TooManySteps {
         /// Steps attempted.
         steps: u64,

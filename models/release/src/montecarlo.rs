@@ -391,13 +391,11 @@ pub fn run(
             let (mut fb, mut evals) = (0u64, 0u64);
             for i in c.clone() {
                 let r = draw_inputs(budget, case, seed, i as u64);
-                let out = r
-                    .simulate(&integ)
-                    .map_err(|source| McError::Release {
-                        index: i,
-                        inputs: describe(&r),
-                        source,
-                    })?;
+                let out = r.simulate(&integ).map_err(|source| McError::Release {
+                    index: i,
+                    inputs: describe(&r),
+                    source,
+                })?;
                 if !out.v_tm_m_s.is_finite() {
                     return Err(McError::Release {
                         index: i,
@@ -446,7 +444,8 @@ pub fn merge(mut parts: Vec<McResult>) -> Result<McResult, McError> {
         Some((_, k)) => k,
         None => 1,
     };
-    check_size(first.n, Some(k)).map_err(|e| McError::Merge(format!("shard {}: {e}", shard_name(first.shard))))?;
+    check_size(first.n, Some(k))
+        .map_err(|e| McError::Merge(format!("shard {}: {e}", shard_name(first.shard))))?;
     for p in &parts {
         let same = p.n == first.n
             && p.seed == first.seed

@@ -82,7 +82,12 @@ fn class1_a_bound_outside_the_built_in_range_replaces_it() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let r = v["params"]["piezo.R"]["value"].as_f64().unwrap();
     assert!((2e5 * 0.999..=4e5 * 1.001).contains(&r), "{r}");
-    for bad in ["piezo.R=5:1", "piezo.R=NaN:1", "piezo.R=1:inf", "piezo.R=3:3"] {
+    for bad in [
+        "piezo.R=5:1",
+        "piezo.R=NaN:1",
+        "piezo.R=1:inf",
+        "piezo.R=3:3",
+    ] {
         refused(
             &["fit", ds, "--effects", "piezo", "--bound", bad],
             &d,
@@ -100,19 +105,23 @@ fn class1_a_bound_outside_the_built_in_range_replaces_it() {
 #[test]
 fn class2_huge_counts_are_refused_naming_the_flag() {
     let d = scratch("class2");
-    refused(&["montecarlo", "--n", "100000000000"], &d, &["--n", "10000000"]);
+    refused(
+        &["montecarlo", "--n", "100000000000"],
+        &d,
+        &["--n", "10000000"],
+    );
     refused(
         &["montecarlo", "--n", "10", "--threads", "1000000"],
         &d,
         &["--threads", "1024"],
     );
-    refused(&["montecarlo", "--n", "10", "--threads", "0"], &d, &["--threads"]);
-    refused(&["charge", "--n", "100000000000"], &d, &["--n"]);
     refused(
-        &["verify", "--mc-n", "100000000000"],
+        &["montecarlo", "--n", "10", "--threads", "0"],
         &d,
-        &["maximum"],
+        &["--threads"],
     );
+    refused(&["charge", "--n", "100000000000"], &d, &["--n"]);
+    refused(&["verify", "--mc-n", "100000000000"], &d, &["maximum"]);
     for fs in ["1e12", "inf"] {
         refused(
             &[
@@ -131,7 +140,15 @@ fn class2_huge_counts_are_refused_naming_the_flag() {
         );
     }
     refused(
-        &["montecarlo", "--n", "3", "--shard", "1/5", "--out", "p.json"],
+        &[
+            "montecarlo",
+            "--n",
+            "3",
+            "--shard",
+            "1/5",
+            "--out",
+            "p.json",
+        ],
         &d,
         &["--shard", "empty"],
     );
@@ -173,7 +190,11 @@ fn class3_garbage_is_never_reported_as_success() {
             &["--fix", "piezo.R"],
         );
     }
-    refused(&["charge", "--neutralise-e", "NaN"], &d, &["--neutralise-e"]);
+    refused(
+        &["charge", "--neutralise-e", "NaN"],
+        &d,
+        &["--neutralise-e"],
+    );
     // a dataset whose values overflow downstream
     let csv = std::fs::read_to_string(d.join("d.csv")).unwrap();
     let mut lines: Vec<String> = csv.lines().map(String::from).collect();
@@ -182,10 +203,14 @@ fn class3_garbage_is_never_reported_as_success() {
     std::fs::write(d.join("d.csv"), lines.join("\n") + "\n").unwrap();
     refused(&["fit", ds, "--effects", "piezo"], &d, &["d.csv"]);
     // E0 = 0 or negative for rt-retraction
-    let yaml = std::fs::read_to_string(&ds).unwrap();
+    let yaml = std::fs::read_to_string(ds).unwrap();
     std::fs::write(d.join("z.yaml"), yaml.replace("E0: 1.2e2", "E0: 0")).unwrap();
     assert_ne!(yaml, yaml.replace("E0: 1.2e2", "E0: 0"));
-    refused(&["fit", "z.yaml", "--effects", "piezo"], &d, &["z.yaml", "E0"]);
+    refused(
+        &["fit", "z.yaml", "--effects", "piezo"],
+        &d,
+        &["z.yaml", "E0"],
+    );
     // a quartic sum that overflows is not captured and stays a finite number
     let o = geodesic(&["capture", "--vz", "1e308", "--json"], &d);
     assert_eq!(o.status.code(), Some(1));
@@ -236,9 +261,16 @@ fn class4_non_regular_files_are_refused_without_hanging() {
         &d,
         &["/dev/zero", "not a regular file"],
     );
-    refused(&["verify", "--requirements", "/dev/zero"], &d, &["/dev/zero"]);
+    refused(
+        &["verify", "--requirements", "/dev/zero"],
+        &d,
+        &["/dev/zero"],
+    );
     let fifo = d.join("fifo.yaml");
-    let ok = Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success());
+    let ok = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
     if ok {
         refused(
             &["fit", fifo.to_str().unwrap(), "--effects", "piezo"],

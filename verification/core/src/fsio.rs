@@ -74,7 +74,11 @@ fn kind_of(ft: &std::fs::FileType) -> &'static str {
             return "a socket";
         }
     }
-    if ft.is_dir() { "a directory" } else { "not a file" }
+    if ft.is_dir() {
+        "a directory"
+    } else {
+        "not a file"
+    }
 }
 
 /// Reads the bytes of the regular file `path`, refusing anything larger than `limit` bytes.
@@ -141,10 +145,7 @@ mod tests {
         ));
         let f = d.join("big.txt");
         std::fs::write(&f, vec![b'a'; 200]).unwrap();
-        assert_eq!(
-            read_text(&f, 100),
-            Err(ReadError::TooLarge { limit: 100 })
-        );
+        assert_eq!(read_text(&f, 100), Err(ReadError::TooLarge { limit: 100 }));
         std::fs::write(&f, b"one\ntwo\nth\xffree\n").unwrap();
         let e = read_text(&f, 100).unwrap_err();
         assert_eq!(e.line(), 3, "{e}");

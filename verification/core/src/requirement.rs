@@ -280,16 +280,15 @@ impl Requirements {
         }
         let mut sources = Vec::new();
         for f in files {
-            let text = crate::fsio::read_text(&f, crate::fsio::MAX_YAML_BYTES).map_err(|e| {
-                LoadError {
+            let text =
+                crate::fsio::read_text(&f, crate::fsio::MAX_YAML_BYTES).map_err(|e| LoadError {
                     origin: Origin {
                         file: f.clone(),
                         line: e.line().max(1) as u64,
                         column: 1,
                     },
                     cause: e.cause(),
-                }
-            })?;
+                })?;
             sources.push((f, text));
         }
         let reqs = Requirements::from_sources(&sources)?;
@@ -647,21 +646,23 @@ requirements:
     #[test]
     fn refuses_cycles_subnormal_limits_empty_dirs_and_bad_bytes() {
         // A parent of B parent of A (margins 1 keep the limits consistent)
-        let cyc = GOOD.replace("<= 7.5 um/s", "<= 5 um/s").replace("margin: 1.5", "margin: 1")
+        let cyc = GOOD
+            .replace("<= 7.5 um/s", "<= 5 um/s")
+            .replace("margin: 1.5", "margin: 1")
             .replace(
                 "    activity: Monte Carlo\n  - id",
                 "    activity: Monte Carlo\n    parent: {id: REL-B, margin: 1}\n  - id",
             );
         let e = err_of(&cyc);
-        assert!(e.starts_with("r.yaml:") && e.contains("derivation cycle"), "{e}");
+        assert!(
+            e.starts_with("r.yaml:") && e.contains("derivation cycle"),
+            "{e}"
+        );
         let e = err_of(&GOOD.replace("<= 5 um/s", "\">= 1e-320 m/s\""));
         assert!(e.starts_with("r.yaml:9:") && e.contains("subnormal"), "{e}");
         let e = err_of(&GOOD.replace("<= 5 um/s", "<= 1e400 m/s"));
         assert!(e.starts_with("r.yaml:9:"), "{e}");
-        let dir = std::env::temp_dir().join(format!(
-            "geodesic-req-robust-{}",
-            std::process::id()
-        ));
+        let dir = std::env::temp_dir().join(format!("geodesic-req-robust-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("a.yaml"), "family: x\nrequirements: []\n").unwrap();
         let e = Requirements::load_dir(&dir).unwrap_err().to_string();

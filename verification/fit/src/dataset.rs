@@ -201,7 +201,7 @@ impl Dataset {
                 v.iter_mut().for_each(|x| *x *= s);
                 // values near the largest float overflow once in SI (or in any sum of squares
                 // downstream): a channel must stay well inside the float range
-                if let Some(k) = v.iter().position(|x| !(x.abs() <= MAX_ABS_SI)) {
+                if let Some(k) = v.iter().position(|x| x.is_nan() || x.abs() > MAX_ABS_SI) {
                     return Err(FitError::input(
                         csv_path.display().to_string(),
                         0,
@@ -249,7 +249,10 @@ pub const MAX_ABS_SI: f64 = 1e100;
 
 /// `s` cut to at most 80 characters for a one-line message.
 fn short(s: &str) -> String {
-    let one: String = s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+    let one: String = s
+        .chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect();
     if one.chars().count() > 80 {
         format!("{}...", one.chars().take(80).collect::<String>())
     } else {
@@ -298,7 +301,11 @@ fn read_csv(
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line() as usize);
-            FitError::input(&file, line, format!("malformed CSV row: {}", short(&e.to_string())))
+            FitError::input(
+                &file,
+                line,
+                format!("malformed CSV row: {}", short(&e.to_string())),
+            )
         })?;
         let line = rec.position().map_or(0, |p| p.line() as usize);
         let cell = |i: usize, name: &str| -> Result<f64, FitError> {
@@ -439,15 +446,23 @@ mod tests {
     fn refuses_non_regular_overflowing_quoted_and_unphysical_input() {
         #[cfg(unix)]
         {
-            let e = Dataset::load(Path::new("/dev/zero")).unwrap_err().to_string();
-            assert!(e.contains("/dev/zero") && e.contains("not a regular file"), "{e}");
+            let e = Dataset::load(Path::new("/dev/zero"))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("/dev/zero") && e.contains("not a regular file"),
+                "{e}"
+            );
         }
         let e = err_of(YAML, &csv_rows_with(20, Some((3, "1e-6,1e300"))), "huge");
         assert!(e.contains("d.csv") && e.contains("magnitude"), "{e}");
         let mut q = csv_rows_with(20, Some((3, "1e-6,\"4")));
         q += &"x".repeat(5000);
         let e = err_of(YAML, &q, "quote");
-        assert!(e.contains("d.csv:5:") && e.len() < 300 && !e.contains('\n'), "{e}");
+        assert!(
+            e.contains("d.csv:5:") && e.len() < 300 && !e.contains('\n'),
+            "{e}"
+        );
         let e = err_of(&YAML.replace("E0: 120", "E0: 0"), &csv_rows(20), "e0");
         assert!(e.contains("d.yaml:7:") && e.contains("`E0`"), "{e}");
         let e = err_of(&YAML.replace("E0: 120", "E0: -5"), &csv_rows(20), "e0neg");

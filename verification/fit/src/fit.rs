@@ -155,9 +155,8 @@ pub fn fit_model(
     }
     for (k, v) in &opts.fixed {
         let i = model.index(k).expect("checked");
-        check_value(&specs[i], k, *v).map_err(|c| {
-            FitError::input(&prep.dataset.name, 0, format!("--fix {k}={v}: {c}"))
-        })?;
+        check_value(&specs[i], k, *v)
+            .map_err(|c| FitError::input(&prep.dataset.name, 0, format!("--fix {k}={v}: {c}")))?;
     }
     for (k, (bl, bh)) in &opts.bounds {
         let i = model.index(k).expect("checked");
@@ -572,7 +571,12 @@ pub fn fit_model(
             format!(
                 "the fit of {} gave non-finite values (chi-square {chi2:e}, noise {sig:e}); \
                  the data or the constraints overflow the model's arithmetic",
-                model.effects.iter().map(|e| e.name()).collect::<Vec<_>>().join("+")
+                model
+                    .effects
+                    .iter()
+                    .map(|e| e.name())
+                    .collect::<Vec<_>>()
+                    .join("+")
             ),
         ));
     }
@@ -850,7 +854,11 @@ mod tests {
             },
         )
         .unwrap();
-        assert!(o.p[i] >= lo * (1.0 - 1e-9) && o.p[i] <= hi * (1.0 + 1e-9), "{}", o.p[i]);
+        assert!(
+            o.p[i] >= lo * (1.0 - 1e-9) && o.p[i] <= hi * (1.0 + 1e-9),
+            "{}",
+            o.p[i]
+        );
         for (fixed, bounds, want) in [
             (Some(f64::NAN), None, "finite"),
             (Some(f64::INFINITY), None, "finite"),
@@ -860,8 +868,14 @@ mod tests {
             (None, Some((-1.0, 1e3)), "above 0"),
         ] {
             let opts = FitOptions {
-                fixed: fixed.map(|v| ("piezo.R".to_string(), v)).into_iter().collect(),
-                bounds: bounds.map(|b| ("piezo.R".to_string(), b)).into_iter().collect(),
+                fixed: fixed
+                    .map(|v| ("piezo.R".to_string(), v))
+                    .into_iter()
+                    .collect(),
+                bounds: bounds
+                    .map(|b| ("piezo.R".to_string(), b))
+                    .into_iter()
+                    .collect(),
                 ..Default::default()
             };
             let e = fit(&prep, &effects, &opts).unwrap_err().to_string();

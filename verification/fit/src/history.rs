@@ -122,7 +122,10 @@ mod tests {
         let p = path_for(&dir, "h");
         std::fs::write(&p, b"{\"version\":1}\n\xff\xfe\n").unwrap();
         let e = read(&p).unwrap_err().to_string();
-        assert!(e.contains("h.history.jsonl:2:") && e.contains("UTF-8"), "{e}");
+        assert!(
+            e.contains("h.history.jsonl:2:") && e.contains("UTF-8"),
+            "{e}"
+        );
         assert!(read(&path_for(&dir, "none")).unwrap().is_empty());
         let _ = std::fs::remove_dir_all(&dir);
     }

@@ -117,7 +117,11 @@ pub const MAX_OVERSAMPLE: usize = 64;
 /// plus finite, bounded sampling, a finite positive tip profile and physical parameter values.
 pub fn validate(spec: &SynthSpec, scenario: Scenario, model: &Model) -> Result<(), FitError> {
     let bad = |c: String| Err(FitError::input("synth", 0, c));
-    for (name, v) in [("fs", spec.fs_hz), ("pre", spec.pre_s), ("post", spec.post_s)] {
+    for (name, v) in [
+        ("fs", spec.fs_hz),
+        ("pre", spec.pre_s),
+        ("post", spec.post_s),
+    ] {
         if !v.is_finite() {
             return bad(format!("--{name} {v}: must be finite"));
         }
@@ -126,7 +130,7 @@ pub fn validate(spec: &SynthSpec, scenario: Scenario, model: &Model) -> Result<(
         return bad("sampling must be positive (--fs > 0, --pre >= 0, --post > 0)".into());
     }
     let rows = (spec.pre_s + spec.post_s) * spec.fs_hz + 1.0;
-    if !(rows <= MAX_ROWS) {
+    if rows.is_nan() || rows > MAX_ROWS {
         return bad(format!(
             "--fs {} over {} s gives {rows:.3e} rows, more than the maximum {MAX_ROWS:e}",
             spec.fs_hz,
@@ -171,7 +175,11 @@ pub fn validate(spec: &SynthSpec, scenario: Scenario, model: &Model) -> Result<(
                 channels.join(", ")
             ));
         }
-        let ok = if spec.noise_in_yaml { *v > 0.0 } else { *v >= 0.0 };
+        let ok = if spec.noise_in_yaml {
+            *v > 0.0
+        } else {
+            *v >= 0.0
+        };
         if !(v.is_finite() && ok) {
             return bad(format!("--noise {ch}={v}: must be a positive number"));
         }
@@ -244,13 +252,18 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
         .map(|c| (c.clone(), "m".to_string()))
         .collect();
     for (ch, v) in &channels {
-        if let Some(k) = v.iter().position(|x| !(x.abs() <= crate::dataset::MAX_ABS_SI)) {
+        if let Some(k) = v
+            .iter()
+            .position(|x| x.is_nan() || x.abs() > crate::dataset::MAX_ABS_SI)
+        {
             return Err(FitError::input(
                 "synth",
                 0,
                 format!(
                     "the truth model gives {:e} on channel `{ch}` at t = {:e} s (non-finite or beyond {:e})",
-                    v[k], t[k], crate::dataset::MAX_ABS_SI
+                    v[k],
+                    t[k],
+                    crate::dataset::MAX_ABS_SI
                 ),
             ));
         }
@@ -340,8 +353,20 @@ mod tests {
     fn refuses_specs_the_loader_would_refuse() {
         let base = SynthSpec::defaults(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]);
         let cases: Vec<(SynthSpec, &str)> = vec![
-            (SynthSpec { fs_hz: 1e12, ..base.clone() }, "--fs"),
-            (SynthSpec { fs_hz: f64::INFINITY, ..base.clone() }, "--fs"),
+            (
+                SynthSpec {
+                    fs_hz: 1e12,
+                    ..base.clone()
+                },
+                "--fs",
+            ),
+            (
+                SynthSpec {
+                    fs_hz: f64::INFINITY,
+                    ..base.clone()
+                },
+                "--fs",
+            ),
             (
                 SynthSpec {
                     noise: [("x".to_string(), -1e-9)].into(),

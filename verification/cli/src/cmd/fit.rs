@@ -44,7 +44,9 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
             .parse()
             .map_err(|_| CliError::bad(format!("--fix `{f}`: `{v}` is not a number")))?;
         if !v.is_finite() {
-            return Err(CliError::bad(format!("--fix `{f}`: must be a finite number")));
+            return Err(CliError::bad(format!(
+                "--fix `{f}`: must be a finite number"
+            )));
         }
         fixed.insert(k.trim().to_string(), v);
     }

@@ -57,12 +57,13 @@ fn read_part(p: &Path) -> Result<McResult, CliError> {
         ))
     })?;
     let (i, k) = r.shard.unwrap_or((1, 1));
-    montecarlo::check_size(r.n, Some(k))
-        .map_err(|e| CliError::bad(format!("{file}: {e}")))?;
-    let expect = montecarlo::shard_range(r.n, i, k)
-        .map_err(|e| CliError::bad(format!("{file}: {e}")))?;
+    montecarlo::check_size(r.n, Some(k)).map_err(|e| CliError::bad(format!("{file}: {e}")))?;
+    let expect =
+        montecarlo::shard_range(r.n, i, k).map_err(|e| CliError::bad(format!("{file}: {e}")))?;
     if r.v_m_s.is_empty() {
-        return Err(CliError::bad(format!("{file}: shard {i}/{k} holds no draws")));
+        return Err(CliError::bad(format!(
+            "{file}: shard {i}/{k} holds no draws"
+        )));
     }
     if r.start != expect.start || r.v_m_s.len() != expect.len() {
         return Err(CliError::bad(format!(
