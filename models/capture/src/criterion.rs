@@ -62,9 +62,21 @@ pub struct Evaluation {
 }
 
 /// Evaluates a state: sum, verdict, per-state terms and the dominant states.
+///
+/// Overflow rule: a term or sum that overflows (e.g. `vz = 1e308`) saturates at `f64::MAX`, so
+/// that every reported figure stays finite; such a state is far outside the box and is
+/// reported as not captured. A NaN term (NaN state) also counts as `f64::MAX`: never captured.
 pub fn evaluate(xlim: &Xlim, state: &TmState) -> Evaluation {
-    let t = terms(xlim, state);
-    let sum: f64 = t.iter().sum();
+    let mut t = terms(xlim, state);
+    for v in t.iter_mut() {
+        if !v.is_finite() {
+            *v = f64::MAX;
+        }
+    }
+    let sum: f64 = t.iter().fold(0.0f64, |a, b| {
+        let s = a + b;
+        if s.is_finite() { s } else { f64::MAX }
+    });
     let terms: Vec<Term> = StateName::ALL
         .iter()
         .map(|&s| Term {
@@ -124,6 +136,22 @@ pub fn box_corner(xlim: &Xlim, scale: f64) -> TmState {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    #[test]
+    fn an_overflowing_state_is_not_captured_and_every_figure_is_finite() {
+        let x = Xlim::default_set();
+        let mut st = TmState::zero();
+        st.set(StateName::Vz, 1e308);
+        st.set(StateName::Vx, -1e308);
+        let e = evaluate(&x, &st);
+        assert!(!e.captured);
+        assert_eq!(e.quartic_sum, f64::MAX);
+        assert!(
+            e.terms
+                .iter()
+                .all(|t| t.term.is_finite() && t.share.is_finite())
+        );
+    }
 
     #[test]
     fn default_set_is_consistent_and_scales_by_1_4() {

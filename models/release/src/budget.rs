@@ -380,6 +380,30 @@ struct RawBudget {
     e0_v: S,
 }
 
+/// Largest physically plausible value of a budget field [SI] (generous: 100 to 10^5 times the
+/// nominal LPF values), beyond which a budget is refused as unphysical.
+pub fn physical_max(field: &str) -> f64 {
+    match field {
+        "mechanism.R_ohm" => 1e8,
+        "mechanism.m_kg" => 1.0,
+        "mechanism.Ca_f" => 1e-3,
+        "mechanism.k_n_m" => 1e11,
+        "mechanism.Kg_n_m" => 1e10,
+        "mechanism.b_ns_m" => 1e5,
+        "mechanism.Mg_kg" => 10.0,
+        "mechanism.T_c_m" => 1e4,
+        "em_v_s" => 1e11,
+        "tip_radius_m" => 1.0,
+        "preload_n" => 100.0,
+        "adhesion.A1_n_m" => 1e9,
+        "adhesion.lambda_m" => 1e-3,
+        "e_star_pa" => 1e13,
+        "tm_mass_kg" => 100.0,
+        "e0_v" => 1e4,
+        _ => f64::INFINITY,
+    }
+}
+
 impl Budget {
     /// The embedded default budget.
     pub fn default_budget() -> Self {
@@ -413,6 +437,30 @@ impl Budget {
                     line: s.referenced.line(),
                     field: field.to_string(),
                     cause: format!("must be non-negative (lower bound {lo:e}); add min: 0.0"),
+                });
+            }
+            Ok(d)
+        };
+        // plainly unphysical values (orders of magnitude beyond any LPF hardware) are refused:
+        // a draw at them cannot be integrated in bounded work
+        let non_negative = |field: &str, s: &S| -> Result<Dist, BudgetError> {
+            let d = non_negative(field, s)?;
+            let max = physical_max(field);
+            let (_, hi) = d.bounds();
+            // the largest value drawn: the upper bound, or 8 sd above the mean when unbounded
+            let top = if hi.is_finite() {
+                hi
+            } else {
+                d.mean() + 8.0 * d.sd()
+            };
+            if top.is_nan() || top > max {
+                return Err(BudgetError::Invalid {
+                    file: file.to_string(),
+                    line: s.referenced.line(),
+                    field: field.to_string(),
+                    cause: format!(
+                        "draws up to {top:e}, beyond the physical maximum {max:e} accepted for it"
+                    ),
                 });
             }
             Ok(d)
@@ -458,6 +506,24 @@ impl Budget {
 mod tests {
     use super::*;
     use rand::SeedableRng;
+
+    #[test]
+    fn unphysical_budget_values_are_refused_with_file_line_and_field() {
+        for (from, to, field) in [
+            ("max: 1.5e5", "max: 1.0e30", "adhesion.A1_n_m"),
+            ("mean: 2.15e6", "mean: 1.0e19", "mechanism.Kg_n_m"),
+            ("mean: 4.91e7", "mean: 1.0e19", "mechanism.k_n_m"),
+            ("mean: 0.300", "mean: 1.0e19", "preload_n"),
+        ] {
+            let text = DEFAULT_BUDGET_YAML.replacen(from, to, 1);
+            assert_ne!(text, DEFAULT_BUDGET_YAML, "{from}");
+            let e = Budget::from_yaml(&text, "b.yaml").unwrap_err().to_string();
+            assert!(
+                e.starts_with("b.yaml:") && e.contains(field) && e.contains("physical maximum"),
+                "{e}"
+            );
+        }
+    }
 
     #[test]
     fn default_budget_loads_with_physics_md_values() {

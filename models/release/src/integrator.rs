@@ -34,6 +34,11 @@ pub trait SwitchedSystem<const N: usize> {
     fn scales(&self) -> [f64; N];
 }
 
+/// Largest number of steps (accepted plus rejected) one integration may attempt: a nominal
+/// release takes a few thousand; extreme but finite inputs (a stiffness of 1e19 N/m) would
+/// otherwise shrink the step towards 1e-18 s and run for days.
+pub const MAX_STEPS: u64 = 2_000_000;
+
 /// Failure of an integration.
 #[derive(Debug, Error, Clone, PartialEq)]
 #[non_exhaustive]
@@ -52,6 +57,16 @@ pub enum IntegrateError {
         /// Step [s].
         h_s: f64,
         /// Time [s].
+        t_s: f64,
+    },
+    /// The step budget ran out: the release is too stiff to resolve (extreme parameters).
+    #[error(
+        "gave up after {steps} steps at t = {t_s} s (step budget {MAX_STEPS}; the release is too stiff to resolve)"
+    )]
+    TooManySteps {
+        /// Steps attempted.
+        steps: u64,
+        /// Time reached [s].
         t_s: f64,
     },
     /// The state became non-finite.
@@ -309,6 +324,12 @@ impl Integrator for DormandPrince {
             }
             if h < min_h {
                 return Err(IntegrateError::StepTooSmall { h_s: h, t_s: t });
+            }
+            if stats.accepted + stats.rejected >= MAX_STEPS {
+                return Err(IntegrateError::TooManySteps {
+                    steps: stats.accepted + stats.rejected,
+                    t_s: t,
+                });
             }
             // stages
             axpy(&mut tmp, &y, h, &[(A21, &k1)]);

@@ -23,6 +23,12 @@ use thiserror::Error;
 /// Default number of releases of `geodesic montecarlo`.
 pub const DEFAULT_N: usize = 100_000;
 
+/// Largest number of draws of a run (a hundred times the default; 80 MB of velocities).
+pub const MAX_N: usize = 10_000_000;
+
+/// Largest number of shards a run may be split into.
+pub const MAX_SHARDS: usize = 100_000;
+
 /// Which uncertainties a run samples (interface.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -84,13 +90,18 @@ pub enum McError {
     #[error("n must be at least 1")]
     EmptyRun,
     /// One release failed to integrate.
-    #[error("draw {index}: {source}")]
+    #[error("draw {index} ({inputs}): {source}")]
     Release {
         /// Draw index.
         index: usize,
+        /// The draw's inputs, for the message.
+        inputs: String,
         /// Integrator failure.
         source: IntegrateError,
     },
+    /// A count beyond its stated maximum.
+    #[error("{0}")]
+    TooLarge(String),
     /// Partials that cannot be merged (different run, missing or duplicate shards).
     #[error("{0}")]
     Merge(String),
@@ -143,6 +154,63 @@ pub fn draw_inputs(budget: &Budget, case: Case, seed: u64, index: u64) -> Releas
         }
     }
     r
+}
+
+/// The sampled inputs of a draw in one line (for the message of a failed draw).
+pub fn describe(r: &ReleaseInputs) -> String {
+    let m = &r.mech;
+    format!(
+        "preload {:e} N, A1 {:e}/{:e} N/m, lambda {:e}/{:e} m, k {:e}/{:e} N/m, Kg {:e}/{:e} N/m, \
+         m {:e}/{:e} kg, em {:e}/{:e} V/s, tip radius {:e}/{:e} m, E* {:e} Pa, TM {:e} kg",
+        r.preload_n,
+        r.a1_n_m[0],
+        r.a1_n_m[1],
+        r.lambda_m[0],
+        r.lambda_m[1],
+        m[0].k_n_m,
+        m[1].k_n_m,
+        m[0].kg_n_m,
+        m[1].kg_n_m,
+        m[0].m_kg,
+        m[1].m_kg,
+        r.em_v_s[0],
+        r.em_v_s[1],
+        r.tip_radius_m[0],
+        r.tip_radius_m[1],
+        r.e_star_pa,
+        r.tm_mass_kg
+    )
+}
+
+/// Refuses a run of more than [`MAX_N`] draws, or split into more than [`MAX_SHARDS`] shards
+/// or into more shards than draws (a shard would be empty).
+pub fn check_size(n: usize, shards: Option<usize>) -> Result<(), McError> {
+    if n > MAX_N {
+        return Err(McError::TooLarge(format!(
+            "n = {n} draws is more than the maximum {MAX_N}"
+        )));
+    }
+    if let Some(k) = shards {
+        if k > MAX_SHARDS {
+            return Err(McError::TooLarge(format!(
+                "{k} shards is more than the maximum {MAX_SHARDS}"
+            )));
+        }
+        if k > n {
+            return Err(McError::TooLarge(format!(
+                "{k} shards of {n} draws would leave a shard empty"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// `I/K` of a shard, `whole run` for none.
+fn shard_name(s: Option<(usize, usize)>) -> String {
+    match s {
+        Some((i, k)) => format!("{i}/{k}"),
+        None => "whole run".into(),
+    }
 }
 
 /// Contiguous draw range of shard `index` (1-based) of `count` over `n` draws.
@@ -305,6 +373,7 @@ pub fn run(
     if n == 0 {
         return Err(McError::EmptyRun);
     }
+    check_size(n, shard.map(|s| s.1))?;
     let range = match shard {
         Some((i, k)) => shard_range(n, i, k)?,
         None => 0..n,
@@ -322,9 +391,18 @@ pub fn run(
             let (mut fb, mut evals) = (0u64, 0u64);
             for i in c.clone() {
                 let r = draw_inputs(budget, case, seed, i as u64);
-                let out = r
-                    .simulate(&integ)
-                    .map_err(|source| McError::Release { index: i, source })?;
+                let out = r.simulate(&integ).map_err(|source| McError::Release {
+                    index: i,
+                    inputs: describe(&r),
+                    source,
+                })?;
+                if !out.v_tm_m_s.is_finite() {
+                    return Err(McError::Release {
+                        index: i,
+                        inputs: describe(&r),
+                        source: IntegrateError::NonFinite { t_s: f64::NAN },
+                    });
+                }
                 v.push(out.v_tm_m_s);
                 fb += u64::from(out.fallback_stop);
                 evals += out.stats.rhs_evals;
@@ -366,6 +444,8 @@ pub fn merge(mut parts: Vec<McResult>) -> Result<McResult, McError> {
         Some((_, k)) => k,
         None => 1,
     };
+    check_size(first.n, Some(k))
+        .map_err(|e| McError::Merge(format!("shard {}: {e}", shard_name(first.shard))))?;
     for p in &parts {
         let same = p.n == first.n
             && p.seed == first.seed
@@ -373,13 +453,13 @@ pub fn merge(mut parts: Vec<McResult>) -> Result<McResult, McError> {
             && p.budget_hash == first.budget_hash;
         if !same {
             return Err(McError::Merge(format!(
-                "partial of shard {:?} is from another run (n {}, seed {}, case {}, budget {}) than shard {:?} (n {}, seed {}, case {}, budget {})",
-                p.shard,
+                "partial of shard {} is from another run (n {}, seed {}, case {}, budget {}) than shard {} (n {}, seed {}, case {}, budget {})",
+                shard_name(p.shard),
                 p.n,
                 p.seed,
                 p.case,
                 p.budget_hash,
-                first.shard,
+                shard_name(first.shard),
                 first.n,
                 first.seed,
                 first.case,
@@ -393,6 +473,13 @@ pub fn merge(mut parts: Vec<McResult>) -> Result<McResult, McError> {
             )));
         }
         let idx = p.shard.map(|s| s.0).unwrap_or(1);
+        if let Some(j) = p.v_m_s.iter().position(|v| !v.is_finite()) {
+            return Err(McError::Merge(format!(
+                "shard {idx}/{k}: draw {} has a non-finite velocity {}",
+                p.start + j,
+                p.v_m_s[j]
+            )));
+        }
         let expect = shard_range(p.n, idx, k)?;
         if p.start != expect.start || p.v_m_s.len() != expect.len() {
             return Err(McError::Merge(format!(
@@ -443,6 +530,36 @@ pub fn merge(mut parts: Vec<McResult>) -> Result<McResult, McError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_extreme_draw_ends_with_a_named_failure_in_bounded_work() {
+        let mut r = ReleaseInputs::nominal();
+        r.mech[0].k_n_m = 1e19;
+        r.mech[1].kg_n_m = 1e19;
+        let t0 = std::time::Instant::now();
+        let e = r.simulate(&DormandPrince::fast()).unwrap_err();
+        assert!(t0.elapsed().as_secs() < 120, "{e}");
+        let m = McError::Release {
+            index: 7,
+            inputs: describe(&r),
+            source: e,
+        }
+        .to_string();
+        assert!(m.starts_with("draw 7 (") && m.contains("k 1e19"), "{m}");
+    }
+
+    #[test]
+    fn counts_are_bounded() {
+        let b = Budget::default_budget();
+        let e = run(&b, Case::All, MAX_N + 1, 1, None, &|_| {}).unwrap_err();
+        assert!(e.to_string().contains("maximum"), "{e}");
+        let e = run(&b, Case::All, 3, 1, Some((1, 5)), &|_| {}).unwrap_err();
+        assert!(e.to_string().contains("empty"), "{e}");
+        let mut p = run(&b, Case::All, 4, 1, Some((1, 2)), &|_| {}).unwrap();
+        p.shard = Some((1, 1 << 62));
+        let e = merge(vec![p]).unwrap_err().to_string();
+        assert!(e.contains("maximum") && !e.contains("Some("), "{e}");
+    }
 
     #[test]
     fn shards_cover_the_run_contiguously() {

@@ -87,7 +87,8 @@ pub fn requirement_box(ctx: &CheckContext) -> Result<[f64; N_STATES], String> {
             .requirements
             .get(id)
             .ok_or_else(|| format!("{id} is not in the loaded requirements: no requirement box"))?;
-        if !matches!(r.op, Op::Le | Op::Lt) || !(r.limit.value.is_finite() && r.limit.value > 0.0) {
+        let positive = r.limit.value.is_finite() && r.limit.value > 0.0;
+        if !matches!(r.op, Op::Le | Op::Lt) || !positive {
             return Err(format!(
                 "{id} is not a positive upper bound (`{}`): no requirement box",
                 r.limit_text

@@ -56,6 +56,18 @@ fn reset_sigpipe() {
     }
 }
 
+/// A clap usage error as one line: `geodesic: usage: <first line of the cause> (see --help)`.
+fn usage_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("invalid usage");
+    let first = first.strip_prefix("error: ").unwrap_or(first);
+    format!("geodesic: usage: {first} (see geodesic --help)")
+}
+
 fn main() -> ExitCode {
     reset_sigpipe();
     let cli = match Cli::try_parse() {
@@ -66,7 +78,11 @@ fn main() -> ExitCode {
                 ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => 0,
                 _ => 2,
             };
-            let _ = e.print();
+            if code == 0 {
+                let _ = e.print();
+            } else {
+                eprintln!("{}", usage_line(&e));
+            }
             return ExitCode::from(code);
         }
     };

@@ -280,17 +280,24 @@ impl Requirements {
         }
         let mut sources = Vec::new();
         for f in files {
-            let text = std::fs::read_to_string(&f).map_err(|e| LoadError {
-                origin: Origin {
-                    file: f.clone(),
-                    line: 1,
-                    column: 1,
-                },
-                cause: format!("cannot read: {e}"),
-            })?;
+            let text =
+                crate::fsio::read_text(&f, crate::fsio::MAX_YAML_BYTES).map_err(|e| LoadError {
+                    origin: Origin {
+                        file: f.clone(),
+                        line: e.line().max(1) as u64,
+                        column: 1,
+                    },
+                    cause: e.cause(),
+                })?;
             sources.push((f, text));
         }
-        Requirements::from_sources(&sources)
+        let reqs = Requirements::from_sources(&sources)?;
+        if reqs.items.is_empty() {
+            return Err(top(
+                "no requirements in this directory (every file lists none)".into(),
+            ));
+        }
+        Ok(reqs)
     }
 
     /// Loads requirements from `(path, text)` pairs (the path is used in messages only).
@@ -351,6 +358,22 @@ impl Requirements {
                         format!(
                             "limit `{}` is a {} but the requirement's dimension is {}",
                             r.limit.value, limit.dim, dim
+                        ),
+                    ));
+                }
+                if !limit.value.is_finite() {
+                    return Err(err(
+                        &r.limit,
+                        format!("limit `{}` is not a finite number", r.limit.value.trim()),
+                    ));
+                }
+                if limit.value != 0.0 && !limit.value.is_normal() {
+                    return Err(err(
+                        &r.limit,
+                        format!(
+                            "limit `{}` is subnormal (below {:e} in SI); the relative margin divides by it",
+                            r.limit.value.trim(),
+                            f64::MIN_POSITIVE
                         ),
                     ));
                 }
@@ -417,6 +440,7 @@ impl Requirements {
                 });
             }
         }
+        let mut origins: Vec<(usize, Origin)> = Vec::new();
         for (idx, pid, margin, file) in parents {
             let origin = origin_of(&file, &pid);
             let perr = |cause: String| LoadError {
@@ -448,6 +472,30 @@ impl Requirements {
                 )));
             }
             out.items[idx].parent = Some((parent_id, margin));
+            origins.push((idx, origin));
+        }
+        // a derivation chain must end: following parents from any requirement may not return
+        for (idx, origin) in &origins {
+            let mut chain = vec![out.items[*idx].id.clone()];
+            let mut at = *idx;
+            while let Some((p, _)) = &out.items[at].parent {
+                let Some(next) = out.items.iter().position(|r| &r.id == p) else {
+                    break;
+                };
+                if next == *idx {
+                    chain.push(p.clone());
+                    let names: Vec<&str> = chain.iter().map(ReqId::as_str).collect();
+                    return Err(LoadError {
+                        origin: origin.clone(),
+                        cause: format!("derivation cycle: {}", names.join(" -> parent ")),
+                    });
+                }
+                if chain.len() > out.items.len() {
+                    break;
+                }
+                chain.push(p.clone());
+                at = next;
+            }
         }
         Ok(out)
     }
@@ -593,6 +641,39 @@ requirements:
         ));
         assert!(e.contains("method"), "{e}");
         assert!(!e.contains('\n'));
+    }
+
+    #[test]
+    fn refuses_cycles_subnormal_limits_empty_dirs_and_bad_bytes() {
+        // A parent of B parent of A (margins 1 keep the limits consistent)
+        let cyc = GOOD
+            .replace("<= 7.5 um/s", "<= 5 um/s")
+            .replace("margin: 1.5", "margin: 1")
+            .replace(
+                "    activity: Monte Carlo\n  - id",
+                "    activity: Monte Carlo\n    parent: {id: REL-B, margin: 1}\n  - id",
+            );
+        let e = err_of(&cyc);
+        assert!(
+            e.starts_with("r.yaml:") && e.contains("derivation cycle"),
+            "{e}"
+        );
+        let e = err_of(&GOOD.replace("<= 5 um/s", "\">= 1e-320 m/s\""));
+        assert!(e.starts_with("r.yaml:9:") && e.contains("subnormal"), "{e}");
+        let e = err_of(&GOOD.replace("<= 5 um/s", "<= 1e400 m/s"));
+        assert!(e.starts_with("r.yaml:9:"), "{e}");
+        let dir = std::env::temp_dir().join(format!("geodesic-req-robust-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("a.yaml"), "family: x\nrequirements: []\n").unwrap();
+        let e = Requirements::load_dir(&dir).unwrap_err().to_string();
+        assert!(e.contains("no requirements"), "{e}");
+        let mut bytes = GOOD.as_bytes().to_vec();
+        let at = GOOD.find("Thesis ch. 7").unwrap();
+        bytes[at] = 0xff;
+        std::fs::write(dir.join("a.yaml"), &bytes).unwrap();
+        let e = Requirements::load_dir(&dir).unwrap_err().to_string();
+        assert!(e.contains("a.yaml:15:") && e.contains("UTF-8"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -70,8 +70,8 @@ impl Dataset {
     /// Loads the YAML at `path` and its CSV.
     pub fn load(path: &Path) -> Result<Dataset, FitError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| FitError::input(&file, 0, format!("cannot read: {e}")))?;
+        let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
+            .map_err(|e| FitError::input(&file, e.line(), e.cause()))?;
         let meta: Meta = serde_saphyr::from_str(&text).map_err(|e| {
             let line = e.location().map_or(0, |l| l.line() as usize);
             let msg = e.to_string();
@@ -144,12 +144,16 @@ impl Dataset {
                 ));
             }
         }
-        if scenario == Scenario::TmmfRelease && known["m"] <= 0.0 {
-            return Err(FitError::input(
-                &file,
-                0,
-                "known `m` (TM mass, kg) must be positive",
-            ));
+        for (k, what) in [("m", "TM mass, kg"), ("E0", "electrode voltage, V")] {
+            if let Some(v) = meta.known.as_ref().and_then(|m| m.get(k)) {
+                if v.value <= 0.0 {
+                    return Err(FitError::input(
+                        &file,
+                        line_of(v),
+                        format!("known `{k}` ({what}) must be positive, not {}", v.value),
+                    ));
+                }
+            }
         }
         let mut noise = BTreeMap::new();
         for (ch, v) in meta.noise.iter().flatten() {
@@ -195,6 +199,19 @@ impl Dataset {
         for (ch, s) in &scales {
             if let Some(v) = channels.get_mut(ch) {
                 v.iter_mut().for_each(|x| *x *= s);
+                // values near the largest float overflow once in SI (or in any sum of squares
+                // downstream): a channel must stay well inside the float range
+                if let Some(k) = v.iter().position(|x| x.is_nan() || x.abs() > MAX_ABS_SI) {
+                    return Err(FitError::input(
+                        csv_path.display().to_string(),
+                        0,
+                        format!(
+                            "channel `{ch}` sample {} is {:e} in SI, beyond the supported magnitude {MAX_ABS_SI:e}",
+                            k + 1,
+                            v[k]
+                        ),
+                    ));
+                }
             }
         }
         let name = path
@@ -226,6 +243,23 @@ impl Dataset {
     }
 }
 
+/// Largest magnitude of a sample in SI: squares and sums of squares of a whole record stay
+/// finite (1e100^2 times a billion samples is far below the float maximum).
+pub const MAX_ABS_SI: f64 = 1e100;
+
+/// `s` cut to at most 80 characters for a one-line message.
+fn short(s: &str) -> String {
+    let one: String = s
+        .chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect();
+    if one.chars().count() > 80 {
+        format!("{}...", one.chars().take(80).collect::<String>())
+    } else {
+        one
+    }
+}
+
 type Columns = (Vec<f64>, BTreeMap<String, Vec<f64>>);
 
 fn read_csv(
@@ -234,8 +268,8 @@ fn read_csv(
     channels: &BTreeMap<String, f64>,
 ) -> Result<Columns, FitError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| FitError::input(&file, 0, format!("cannot read data file: {e}")))?;
+    let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_CSV_BYTES)
+        .map_err(|e| FitError::input(&file, e.line(), format!("data file: {}", e.cause())))?;
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
         .trim(csv::Trim::All)
@@ -267,7 +301,11 @@ fn read_csv(
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line() as usize);
-            FitError::input(&file, line, format!("malformed CSV row: {e}"))
+            FitError::input(
+                &file,
+                line,
+                format!("malformed CSV row: {}", short(&e.to_string())),
+            )
         })?;
         let line = rec.position().map_or(0, |p| p.line() as usize);
         let cell = |i: usize, name: &str| -> Result<f64, FitError> {
@@ -283,14 +321,21 @@ fn read_csv(
                 FitError::input(
                     &file,
                     line,
-                    format!("`{s}` in column `{name}` is not a number"),
+                    if s.starts_with('"') {
+                        format!(
+                            "`{}` in column `{name}` is not a number (unbalanced quote?)",
+                            short(s)
+                        )
+                    } else {
+                        format!("`{}` in column `{name}` is not a number", short(s))
+                    },
                 )
             })?;
             if !v.is_finite() {
                 return Err(FitError::input(
                     &file,
                     line,
-                    format!("`{s}` in column `{name}` is not a finite number"),
+                    format!("`{}` in column `{name}` is not a finite number", short(s)),
                 ));
             }
             Ok(v)
@@ -393,6 +438,33 @@ mod tests {
             "known",
         );
         assert!(e.contains("`E0`"), "{e}");
+    }
+
+    #[test]
+    fn refuses_non_regular_overflowing_quoted_and_unphysical_input() {
+        #[cfg(unix)]
+        {
+            let e = Dataset::load(Path::new("/dev/zero"))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("/dev/zero") && e.contains("not a regular file"),
+                "{e}"
+            );
+        }
+        let e = err_of(YAML, &csv_rows_with(20, Some((3, "1e-6,1e300"))), "huge");
+        assert!(e.contains("d.csv") && e.contains("magnitude"), "{e}");
+        let mut q = csv_rows_with(20, Some((3, "1e-6,\"4")));
+        q += &"x".repeat(5000);
+        let e = err_of(YAML, &q, "quote");
+        assert!(
+            e.contains("d.csv:5:") && e.len() < 300 && !e.contains('\n'),
+            "{e}"
+        );
+        let e = err_of(&YAML.replace("E0: 120", "E0: 0"), &csv_rows(20), "e0");
+        assert!(e.contains("d.yaml:7:") && e.contains("`E0`"), "{e}");
+        let e = err_of(&YAML.replace("E0: 120", "E0: -5"), &csv_rows(20), "e0neg");
+        assert!(e.contains("positive"), "{e}");
     }
 
     proptest::proptest! {

@@ -153,6 +153,17 @@ pub fn fit_model(
             ));
         }
     }
+    for (k, v) in &opts.fixed {
+        let i = model.index(k).expect("checked");
+        check_value(&specs[i], k, *v)
+            .map_err(|c| FitError::input(&prep.dataset.name, 0, format!("--fix {k}={v}: {c}")))?;
+    }
+    for (k, (bl, bh)) in &opts.bounds {
+        let i = model.index(k).expect("checked");
+        check_bound(&specs[i], *bl, *bh).map_err(|c| {
+            FitError::input(&prep.dataset.name, 0, format!("--bound {k}={bl}:{bh}: {c}"))
+        })?;
+    }
     let superseded = model.superseded();
     let mut free = vec![true; np];
     for i in superseded {
@@ -168,11 +179,12 @@ pub fn fit_model(
     let mut lo = Vec::new();
     let mut hi = Vec::new();
     for &i in &fidx {
-        let (mut l, mut h) = (specs[i].lower, specs[i].upper);
-        if let Some((bl, bh)) = opts.bounds.get(&names[i]) {
-            l = l.max(*bl);
-            h = h.min(*bh);
-        }
+        // a user bound replaces the built-in range of that parameter (wider or narrower)
+        let (l, h) = opts
+            .bounds
+            .get(&names[i])
+            .copied()
+            .unwrap_or((specs[i].lower, specs[i].upper));
         let (ul, uh) = if specs[i].log {
             (l.max(1e-300).ln(), h.ln())
         } else {
@@ -546,6 +558,28 @@ pub fn fit_model(
             }
         }
     }
+    let finite = chi2.is_finite()
+        && sig.is_finite()
+        && sig > 0.0
+        && p.iter().all(|v| v.is_finite())
+        && pred.iter().all(|v| v.is_finite())
+        && sigma_p.iter().all(|v| v.is_finite());
+    if !finite {
+        return Err(FitError::input(
+            &prep.dataset.name,
+            0,
+            format!(
+                "the fit of {} gave non-finite values (chi-square {chi2:e}, noise {sig:e}); \
+                 the data or the constraints overflow the model's arithmetic",
+                model
+                    .effects
+                    .iter()
+                    .map(|e| e.name())
+                    .collect::<Vec<_>>()
+                    .join("+")
+            ),
+        ));
+    }
     Ok(FitOutcome {
         model: model.clone(),
         p,
@@ -561,6 +595,43 @@ pub fn fit_model(
         sigma: sig,
         sigma_source,
     })
+}
+
+/// Why `v` is not an acceptable value of the parameter `spec` (named `name`): not finite, or
+/// of the wrong sign for a parameter whose physical range is non-negative (masses, stiffnesses,
+/// resistances), or not positive for one fitted in log space.
+pub fn check_value(spec: &ParamSpec, name: &str, v: f64) -> Result<(), String> {
+    if !v.is_finite() {
+        return Err(format!("{name} must be a finite number"));
+    }
+    if spec.log && v <= 0.0 {
+        return Err(format!("{name} must be positive ({})", spec.unit));
+    }
+    if spec.lower >= 0.0 && v < 0.0 {
+        return Err(format!("{name} cannot be negative ({})", spec.unit));
+    }
+    Ok(())
+}
+
+/// Why `lo:hi` is not an acceptable bound of the parameter `spec`: both finite, `lo < hi`, and
+/// `lo > 0` for a parameter fitted in log space (it replaces the built-in range).
+pub fn check_bound(spec: &ParamSpec, lo: f64, hi: f64) -> Result<(), String> {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err("bounds must be finite numbers".into());
+    }
+    if lo >= hi {
+        return Err("lower bound not below upper bound".into());
+    }
+    if spec.log && lo <= 0.0 {
+        return Err(format!(
+            "the parameter is strictly positive: the lower bound must be above 0 ({})",
+            spec.unit
+        ));
+    }
+    if spec.lower >= 0.0 && lo < 0.0 {
+        return Err(format!("the parameter cannot be negative ({})", spec.unit));
+    }
+    Ok(())
 }
 
 /// Successive-halving stages after screening: (iterations, starts kept for the next stage).
@@ -762,6 +833,54 @@ mod tests {
                 .to_string()
                 .contains("piezo.Q")
         );
+    }
+
+    #[test]
+    fn user_bounds_replace_the_built_in_range_and_bad_constraints_are_refused() {
+        let prep = retraction();
+        let effects = ["piezo", "voltage_ramp"];
+        let m = model_for(&prep, &effects).unwrap();
+        let i = m.index("piezo.R").unwrap();
+        let spec = m.specs()[i];
+        // a bound entirely outside the built-in range used to panic in clamp
+        let (lo, hi) = (spec.upper * 2.0, spec.upper * 4.0);
+        let o = fit(
+            &prep,
+            &effects,
+            &FitOptions {
+                bounds: [("piezo.R".to_string(), (lo, hi))].into(),
+                max_starts: Some(2),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            o.p[i] >= lo * (1.0 - 1e-9) && o.p[i] <= hi * (1.0 + 1e-9),
+            "{}",
+            o.p[i]
+        );
+        for (fixed, bounds, want) in [
+            (Some(f64::NAN), None, "finite"),
+            (Some(f64::INFINITY), None, "finite"),
+            (Some(-380.0), None, "piezo.R"),
+            (None, Some((5.0, 1.0)), "lower bound not below"),
+            (None, Some((f64::NAN, 1.0)), "finite"),
+            (None, Some((-1.0, 1e3)), "above 0"),
+        ] {
+            let opts = FitOptions {
+                fixed: fixed
+                    .map(|v| ("piezo.R".to_string(), v))
+                    .into_iter()
+                    .collect(),
+                bounds: bounds
+                    .map(|b| ("piezo.R".to_string(), b))
+                    .into_iter()
+                    .collect(),
+                ..Default::default()
+            };
+            let e = fit(&prep, &effects, &opts).unwrap_err().to_string();
+            assert!(e.contains(want) && e.contains("piezo.R"), "{want}: {e}");
+        }
     }
 
     #[test]

@@ -35,9 +35,11 @@ pub fn path_for(out_dir: &Path, stem: &str) -> PathBuf {
 
 /// Reads a history (empty when the file does not exist).
 pub fn read(path: &Path) -> Result<Vec<Entry>, FitError> {
-    let Ok(text) = std::fs::read_to_string(path) else {
+    if !path.exists() {
         return Ok(Vec::new());
-    };
+    }
+    let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_CSV_BYTES)
+        .map_err(|e| FitError::input(path.display().to_string(), e.line(), e.cause()))?;
     text.lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty())
@@ -111,6 +113,22 @@ mod tests {
     use crate::fit::{FitOptions, FitReport, Prepared, fit};
     use crate::synth::{SynthSpec, generate};
     use geodesic_facility::Scenario;
+
+    #[test]
+    fn a_non_utf8_history_is_an_error_naming_the_file() {
+        let dir =
+            std::env::temp_dir().join(format!("geodesic-history-utf8-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = path_for(&dir, "h");
+        std::fs::write(&p, b"{\"version\":1}\n\xff\xfe\n").unwrap();
+        let e = read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("h.history.jsonl:2:") && e.contains("UTF-8"),
+            "{e}"
+        );
+        assert!(read(&path_for(&dir, "none")).unwrap().is_empty());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn appends_versions_and_plots_them() {

@@ -107,6 +107,86 @@ pub fn truth_params(model: &Model, spec: &SynthSpec) -> Result<Vec<f64>, FitErro
     Ok(p)
 }
 
+/// Largest number of rows `synth` writes (`(pre + post) * fs + 1`).
+pub const MAX_ROWS: f64 = 10_000_000.0;
+/// Largest number of truth sub-samples per sample.
+pub const MAX_OVERSAMPLE: usize = 64;
+
+/// Refuses a spec whose dataset the loader would refuse, or that cannot be generated: the same
+/// checks as [`Dataset::load`] (positive known constants, positive noise of declared channels)
+/// plus finite, bounded sampling, a finite positive tip profile and physical parameter values.
+pub fn validate(spec: &SynthSpec, scenario: Scenario, model: &Model) -> Result<(), FitError> {
+    let bad = |c: String| Err(FitError::input("synth", 0, c));
+    for (name, v) in [
+        ("fs", spec.fs_hz),
+        ("pre", spec.pre_s),
+        ("post", spec.post_s),
+    ] {
+        if !v.is_finite() {
+            return bad(format!("--{name} {v}: must be finite"));
+        }
+    }
+    if !(spec.fs_hz > 0.0 && spec.pre_s >= 0.0 && spec.post_s > 0.0) {
+        return bad("sampling must be positive (--fs > 0, --pre >= 0, --post > 0)".into());
+    }
+    let rows = (spec.pre_s + spec.post_s) * spec.fs_hz + 1.0;
+    if rows.is_nan() || rows > MAX_ROWS {
+        return bad(format!(
+            "--fs {} over {} s gives {rows:.3e} rows, more than the maximum {MAX_ROWS:e}",
+            spec.fs_hz,
+            spec.pre_s + spec.post_s
+        ));
+    }
+    if spec.oversample == 0 || spec.oversample > MAX_OVERSAMPLE {
+        return bad(format!(
+            "oversample {} must be 1..={MAX_OVERSAMPLE}",
+            spec.oversample
+        ));
+    }
+    for (name, v) in [("jerk", spec.profile.jerk_m_s3), ("v", spec.profile.v_m_s)] {
+        if !(v.is_finite() && v > 0.0) {
+            return bad(format!("--{name} {v}: must be finite and positive"));
+        }
+    }
+    let specs = model.specs();
+    for (k, v) in &spec.params {
+        if let Some(i) = model.index(k) {
+            crate::fit::check_value(&specs[i], k, *v)
+                .map_err(|c| FitError::input("synth", 0, format!("--param {k}={v}: {c}")))?;
+        }
+    }
+    for (k, v) in &spec.known {
+        if !v.is_finite() {
+            return bad(format!("--known {k}={v}: must be finite"));
+        }
+        if matches!(k.as_str(), "m" | "E0") && *v <= 0.0 {
+            return bad(format!("--known {k}={v}: must be positive"));
+        }
+    }
+    let mut channels = vec![scenario.fitted_channel()];
+    if scenario == Scenario::TmmfRelease {
+        channels.push("y");
+    }
+    for (ch, v) in &spec.noise {
+        if !channels.contains(&ch.as_str()) {
+            return bad(format!(
+                "--noise {ch}: not a channel of {} (channels: {})",
+                scenario.name(),
+                channels.join(", ")
+            ));
+        }
+        let ok = if spec.noise_in_yaml {
+            *v > 0.0
+        } else {
+            *v >= 0.0
+        };
+        if !(v.is_finite() && ok) {
+            return bad(format!("--noise {ch}={v}: must be a positive number"));
+        }
+    }
+    Ok(())
+}
+
 /// Generates the dataset in memory (its `yaml_path` is `name`).
 pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
     let scenario = Scenario::from_name(&spec.scenario).ok_or_else(|| {
@@ -116,9 +196,7 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
     let model =
         Model::new(scenario, &effects).map_err(|e| FitError::input("synth", 0, e.to_string()))?;
     let p = truth_params(&model, spec)?;
-    if !(spec.fs_hz > 0.0 && spec.pre_s >= 0.0 && spec.post_s > 0.0) {
-        return Err(FitError::input("synth", 0, "sampling must be positive"));
-    }
+    validate(spec, scenario, &model)?;
     let n_pre = (spec.pre_s * spec.fs_hz).round() as i64;
     let n_post = (spec.post_s * spec.fs_hz).round() as i64;
     let t: Vec<f64> = (-n_pre..=n_post).map(|i| i as f64 / spec.fs_hz).collect();
@@ -173,6 +251,23 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
         .keys()
         .map(|c| (c.clone(), "m".to_string()))
         .collect();
+    for (ch, v) in &channels {
+        if let Some(k) = v
+            .iter()
+            .position(|x| x.is_nan() || x.abs() > crate::dataset::MAX_ABS_SI)
+        {
+            return Err(FitError::input(
+                "synth",
+                0,
+                format!(
+                    "the truth model gives {:e} on channel `{ch}` at t = {:e} s (non-finite or beyond {:e})",
+                    v[k],
+                    t[k],
+                    crate::dataset::MAX_ABS_SI
+                ),
+            ));
+        }
+    }
     let noise = if spec.noise_in_yaml {
         spec.noise.clone()
     } else {
@@ -236,12 +331,86 @@ pub fn write(ds: &Dataset, spec: &SynthSpec, yaml_path: &Path) -> Result<Vec<Pat
     let truth = serde_json::to_string_pretty(spec)
         .map_err(|e| FitError::input("synth", 0, e.to_string()))?;
     write_atomic(&truth_path, truth.as_bytes())?;
+    // what was written must load: otherwise remove it and refuse
+    if let Err(e) = Dataset::load(yaml_path) {
+        for f in [yaml_path, csv_path.as_path(), truth_path.as_path()] {
+            let _ = std::fs::remove_file(f);
+        }
+        return Err(FitError::input(
+            "synth",
+            0,
+            format!("the dataset written would not load back: {e}"),
+        ));
+    }
     Ok(vec![yaml_path.to_path_buf(), csv_path, truth_path])
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn refuses_specs_the_loader_would_refuse() {
+        let base = SynthSpec::defaults(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]);
+        let cases: Vec<(SynthSpec, &str)> = vec![
+            (
+                SynthSpec {
+                    fs_hz: 1e12,
+                    ..base.clone()
+                },
+                "--fs",
+            ),
+            (
+                SynthSpec {
+                    fs_hz: f64::INFINITY,
+                    ..base.clone()
+                },
+                "--fs",
+            ),
+            (
+                SynthSpec {
+                    noise: [("x".to_string(), -1e-9)].into(),
+                    ..base.clone()
+                },
+                "--noise x",
+            ),
+            (
+                SynthSpec {
+                    noise: [("q".to_string(), 1e-9)].into(),
+                    ..base.clone()
+                },
+                "--noise q",
+            ),
+            (
+                SynthSpec {
+                    known: [("m".to_string(), -0.089)].into(),
+                    ..base.clone()
+                },
+                "--known m",
+            ),
+            (
+                SynthSpec {
+                    profile: TipProfile {
+                        jerk_m_s3: f64::NAN,
+                        v_m_s: 3e-3,
+                    },
+                    ..base.clone()
+                },
+                "--jerk",
+            ),
+            (
+                SynthSpec {
+                    params: [("needle_contact.k_nd".to_string(), -1.0)].into(),
+                    ..base.clone()
+                },
+                "needle_contact.k_nd",
+            ),
+        ];
+        for (spec, want) in cases {
+            let e = generate(&spec, "s.yaml").unwrap_err().to_string();
+            assert!(e.contains(want), "{want}: {e}");
+        }
+    }
 
     #[test]
     fn written_datasets_load_back_identically_and_are_deterministic() {

@@ -14,6 +14,9 @@ use crate::error::{CliError, CmdResult};
 /// Relative tolerance of the `C_RT` quadrature [-].
 const QUAD_REL_TOL: f64 = 1e-12;
 
+/// Largest `--n` (Monte Carlo draws).
+pub const MAX_N: usize = 10_000_000;
+
 /// Flags of `geodesic charge` (defaults: the thesis's values).
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -91,10 +94,16 @@ pub fn run(args: Args) -> CmdResult {
         dv_2sigma_v: positive("dv-2sigma-v", args.dv_2sigma_v)?,
     };
     let rate = positive("rate-e-s", args.rate_e_s)?;
-    if args.n < 2 {
+    if args.n < 2 || args.n > MAX_N {
         return Err(CliError::bad(format!(
-            "--n {}: needs at least 2 draws",
+            "--n {}: must be 2 to {MAX_N} draws",
             args.n
+        )));
+    }
+    if !args.neutralise_e.is_finite() || args.neutralise_e.abs() > 1e30 {
+        return Err(CliError::bad(format!(
+            "--neutralise-e {}: must be a finite charge of at most 1e30 e",
+            args.neutralise_e
         )));
     }
     let mc = monte_carlo(&inputs, args.n, args.seed);
@@ -102,6 +111,25 @@ pub fn run(args: Args) -> CmdResult {
     let t_given = time_to_neutralise_s(args.neutralise_e, rate);
     let t_q2 = time_to_neutralise_s(-q2, rate);
     let days = |t: Option<f64>| t.map(|s| s / DAY_S);
+    let figures = [
+        ("C_RT", c_rt_used),
+        ("C_RT quadrature", c_rt_quad),
+        ("C_RT exact", c_rt_exact),
+        ("C_RT small-angle", c_rt_small),
+        ("Q 2-sigma", q2),
+        ("V_TM 2-sigma", inputs.v_2sigma_v()),
+        ("Monte Carlo Q", mc.q_p9545_e),
+        ("Monte Carlo V", mc.v_p9545_v),
+        ("Monte Carlo Q 2 sd", mc.q_2sd_e),
+        ("Monte Carlo V 2 sd", mc.v_2sd_v),
+        ("neutralisation time", t_given.unwrap_or(0.0)),
+        ("neutralisation time of Q", t_q2.unwrap_or(0.0)),
+    ];
+    if let Some((name, v)) = figures.iter().find(|(_, v)| !v.is_finite()) {
+        return Err(CliError::bad(format!(
+            "charge: {name} is {v}: the inputs overflow the arithmetic (use physical values)"
+        )));
+    }
 
     let doc: Value = json!({
         "c_rt_pf": c_rt_used * 1e12,

@@ -43,6 +43,11 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
             .trim()
             .parse()
             .map_err(|_| CliError::bad(format!("--fix `{f}`: `{v}` is not a number")))?;
+        if !v.is_finite() {
+            return Err(CliError::bad(format!(
+                "--fix `{f}`: must be a finite number"
+            )));
+        }
         fixed.insert(k.trim().to_string(), v);
     }
     let mut bounds = BTreeMap::new();
@@ -61,6 +66,11 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
             .trim()
             .parse()
             .map_err(|_| CliError::bad(format!("--bound `{b}`: bad upper bound")))?;
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Err(CliError::bad(format!(
+                "--bound `{b}`: bounds must be finite numbers"
+            )));
+        }
         if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
             return Err(CliError::bad(format!(
                 "--bound `{b}`: lower bound not below upper bound"

@@ -2,10 +2,10 @@
 //! --out PART.json` into the summary of the whole run, identical to an unsharded run with the
 //! same N and seed (interface.md). Missing, duplicate or foreign shards are bad input (exit 2).
 
-use crate::cmd::montecarlo::{print_text, summary_json, write_histogram};
+use crate::cmd::montecarlo::{CHECKSUM_KEY, print_text, summary_json, write_histogram};
 use crate::error::{CliError, CmdResult};
 use geodesic_release::montecarlo::{self, McResult};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Flags of `geodesic merge`.
@@ -22,23 +22,113 @@ pub struct Args {
     pub json: bool,
 }
 
+/// Reads one partial result, refusing anything that is not exactly what `montecarlo --shard`
+/// wrote: a non-regular or oversized file, malformed JSON, a missing or wrong checksum, a
+/// count beyond its maximum, an empty shard or a non-finite velocity. Errors name the file.
+fn read_part(p: &Path) -> Result<McResult, CliError> {
+    let file = p.display().to_string();
+    let text = geodesic_core::fsio::read_text(p, MAX_PART_BYTES)
+        .map_err(|e| CliError::bad(format!("{file}: {e}")))?;
+    let mut v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        CliError::bad(format!(
+            "{file}:{}: not a geodesic montecarlo partial result: {e}",
+            e.line()
+        ))
+    })?;
+    let Some(obj) = v.as_object_mut() else {
+        return Err(CliError::bad(format!(
+            "{file}: not a geodesic montecarlo partial result (not a JSON object)"
+        )));
+    };
+    let Some(sum) = obj.remove(CHECKSUM_KEY) else {
+        return Err(CliError::bad(format!(
+            "{file}: no `{CHECKSUM_KEY}` checksum (write partial results with this geodesic's montecarlo --shard)"
+        )));
+    };
+    let body = serde_json::to_vec(&v).map_err(|e| CliError::Io(e.to_string()))?;
+    if sum.as_str() != Some(geodesic_core::hash::sha256_hex(&body).as_str()) {
+        return Err(CliError::bad(format!(
+            "{file}: checksum mismatch: the partial result was changed or damaged after it was written"
+        )));
+    }
+    let r: McResult = serde_json::from_value(v).map_err(|e| {
+        CliError::bad(format!(
+            "{file}: not a geodesic montecarlo partial result: {e}"
+        ))
+    })?;
+    let (i, k) = r.shard.unwrap_or((1, 1));
+    montecarlo::check_size(r.n, Some(k)).map_err(|e| CliError::bad(format!("{file}: {e}")))?;
+    let expect =
+        montecarlo::shard_range(r.n, i, k).map_err(|e| CliError::bad(format!("{file}: {e}")))?;
+    if r.v_m_s.is_empty() {
+        return Err(CliError::bad(format!(
+            "{file}: shard {i}/{k} holds no draws"
+        )));
+    }
+    if r.start != expect.start || r.v_m_s.len() != expect.len() {
+        return Err(CliError::bad(format!(
+            "{file}: shard {i}/{k} holds draws {}..{}, expected {}..{}",
+            r.start,
+            r.start + r.v_m_s.len(),
+            expect.start,
+            expect.end
+        )));
+    }
+    if let Some(j) = r.v_m_s.iter().position(|x| !x.is_finite()) {
+        return Err(CliError::bad(format!(
+            "{file}: draw {} has a non-finite velocity {}",
+            r.start + j,
+            r.v_m_s[j]
+        )));
+    }
+    Ok(r)
+}
+
+/// Largest partial result read [bytes]: 20 digits per draw of the largest run, plus slack.
+const MAX_PART_BYTES: u64 = 24 * montecarlo::MAX_N as u64 + (1 << 20);
+
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let t0 = Instant::now();
-    let mut parts = Vec::with_capacity(args.parts.len());
+    let mut parts: Vec<McResult> = Vec::with_capacity(args.parts.len().min(montecarlo::MAX_SHARDS));
+    let mut names: Vec<String> = Vec::new();
     for p in &args.parts {
-        let text = std::fs::read_to_string(p)
-            .map_err(|e| CliError::bad(format!("{}:0: {e}", p.display())))?;
-        let r: McResult = serde_json::from_str(&text).map_err(|e| {
-            CliError::bad(format!(
-                "{}:{}: not a geodesic montecarlo partial result: {e}",
-                p.display(),
-                e.line()
-            ))
-        })?;
+        let r = read_part(p)?;
+        let file = p.display().to_string();
+        if let (Some(first), Some(fname)) = (parts.first(), names.first()) {
+            let same = r.n == first.n
+                && r.seed == first.seed
+                && r.case == first.case
+                && r.budget_hash == first.budget_hash
+                && r.shard.map(|s| s.1) == first.shard.map(|s| s.1);
+            if !same {
+                return Err(CliError::bad(format!(
+                    "{file}: from another run than {fname} (n {} vs {}, seed {} vs {}, case {} vs {}, budget {} vs {}, shards {} vs {})",
+                    r.n,
+                    first.n,
+                    r.seed,
+                    first.seed,
+                    r.case,
+                    first.case,
+                    r.budget_hash,
+                    first.budget_hash,
+                    r.shard.map_or(1, |s| s.1),
+                    first.shard.map_or(1, |s| s.1)
+                )));
+            }
+        }
+        if let Some(j) = parts.iter().position(|q| q.shard == r.shard) {
+            let (i, k) = r.shard.unwrap_or((1, 1));
+            return Err(CliError::bad(format!(
+                "{file}: shard {i}/{k} given twice (also {})",
+                names[j]
+            )));
+        }
         parts.push(r);
+        names.push(file);
     }
-    let merged = montecarlo::merge(parts).map_err(|e| CliError::bad(format!("merge: {e}")))?;
+    let merged = montecarlo::merge(parts)
+        .map_err(|e| CliError::bad(format!("merge of {}: {e}", names.join(", "))))?;
     write_histogram(&merged, args.histogram.as_deref())?;
     let seconds = t0.elapsed().as_secs_f64();
     let summary = merged.summary();

@@ -43,6 +43,31 @@ pub struct Args {
     pub json: bool,
 }
 
+/// Largest `--threads`.
+pub const MAX_THREADS: usize = 1024;
+
+/// Checks `--threads`: 1..=[`MAX_THREADS`].
+pub fn check_threads(t: Option<usize>) -> Result<(), CliError> {
+    match t {
+        Some(t) if t == 0 || t > MAX_THREADS => Err(CliError::bad(format!(
+            "--threads {t}: must be 1 to {MAX_THREADS}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Field of a partial result holding the SHA-256 of the rest of its JSON.
+pub const CHECKSUM_KEY: &str = "sha256";
+
+/// The JSON text of a partial result with the SHA-256 of its content (the JSON without the
+/// checksum field) added, so that `geodesic merge` detects any change to it.
+pub fn sealed_json(r: &McResult) -> Result<Vec<u8>, CliError> {
+    let mut v = serde_json::to_value(r).map_err(|e| CliError::Io(e.to_string()))?;
+    let body = serde_json::to_vec(&v).map_err(|e| CliError::Io(e.to_string()))?;
+    v[CHECKSUM_KEY] = serde_json::json!(geodesic_core::hash::sha256_hex(&body));
+    serde_json::to_vec(&v).map_err(|e| CliError::Io(e.to_string()))
+}
+
 /// Parses `I/K`.
 fn parse_shard(s: &str) -> Result<(usize, usize), CliError> {
     let bad = || {
@@ -66,8 +91,11 @@ pub fn load_budget(path: Option<&Path>) -> Result<Budget, CliError> {
     match path {
         None => Ok(Budget::default_budget()),
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| CliError::bad(format!("{}:0: {e}", p.display())))?;
+            let text = geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_YAML_BYTES)
+                .map_err(|e| match e.line() {
+                    0 => CliError::bad(format!("{}: {}", p.display(), e.cause())),
+                    l => CliError::bad(format!("{}:{l}: {}", p.display(), e.cause())),
+                })?;
             Budget::from_yaml(&text, &p.display().to_string())
                 .map_err(|e| CliError::bad(e.to_string()))
         }
@@ -133,10 +161,19 @@ pub fn run(args: Args) -> CmdResult {
         .case
         .parse()
         .map_err(|e: montecarlo::McError| CliError::bad(format!("--case: {e}")))?;
-    if args.n == 0 {
-        return Err(CliError::bad("--n: must be at least 1"));
+    if args.n == 0 || args.n > montecarlo::MAX_N {
+        return Err(CliError::bad(format!(
+            "--n {}: must be 1 to {}",
+            args.n,
+            montecarlo::MAX_N
+        )));
     }
+    check_threads(args.threads)?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
+    if let Some((_, k)) = shard {
+        montecarlo::check_size(args.n, Some(k))
+            .map_err(|e| CliError::bad(format!("--shard: {e}")))?;
+    }
     let budget = load_budget(args.budget.as_deref())?;
     let draws = match shard {
         Some((i, k)) => montecarlo::shard_range(args.n, i, k)
@@ -160,18 +197,23 @@ pub fn run(args: Args) -> CmdResult {
     let go = || montecarlo::run(&budget, case, args.n, args.seed, shard, &|k| bar.inc(k));
     let result = match args.threads {
         Some(t) => rayon::ThreadPoolBuilder::new()
-            .num_threads(t.max(1))
+            .num_threads(t)
             .build()
             .map_err(|e| CliError::bad(format!("--threads: {e}")))?
             .install(go),
         None => go(),
     }
-    .map_err(|e| CliError::bad(format!("montecarlo: {e}")))?;
+    .map_err(|e| {
+        let src = args
+            .budget
+            .as_ref()
+            .map_or("built-in budget".to_string(), |p| p.display().to_string());
+        CliError::bad(format!("montecarlo ({src}): {e}"))
+    })?;
     bar.finish_and_clear();
     let seconds = t0.elapsed().as_secs_f64();
     if let Some(out) = &args.out {
-        let text = serde_json::to_vec(&result).map_err(|e| CliError::Io(e.to_string()))?;
-        write_atomic(out, &text)?;
+        write_atomic(out, &sealed_json(&result)?)?;
     }
     write_histogram(&result, args.histogram.as_deref())?;
     let summary = result.summary();
