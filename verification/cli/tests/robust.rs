@@ -121,7 +121,11 @@ fn class2_huge_counts_are_refused_naming_the_flag() {
         &["--threads"],
     );
     refused(&["charge", "--n", "100000000000"], &d, &["--n"]);
-    refused(&["verify", "--mc-n", "100000000000"], &d, &["maximum"]);
+    refused(
+        &["verify", "--mc-n", "100000000000"],
+        &d,
+        &["--mc-n", "between 1 and 10000000"],
+    );
     for fs in ["1e12", "inf"] {
         refused(
             &[

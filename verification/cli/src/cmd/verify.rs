@@ -163,8 +163,12 @@ pub fn utc_now() -> String {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    if args.mc_n == 0 {
-        return Err(CliError::bad("--mc-n must be at least 1"));
+    if args.mc_n == 0 || args.mc_n > geodesic_release::montecarlo::MAX_N {
+        return Err(CliError::bad(format!(
+            "--mc-n {}: must be between 1 and {}",
+            args.mc_n,
+            geodesic_release::montecarlo::MAX_N
+        )));
     }
     if !(args.margin_tolerance.is_finite() && args.margin_tolerance >= 0.0) {
         return Err(CliError::bad(
