@@ -17,7 +17,7 @@
 //!     expires: 2027-06-30  # optional
 //! ```
 
-use crate::requirement::{LoadError, Origin, Requirements, first_line, origin_of};
+use crate::requirement::{LoadError, Origin, Requirements, origin_of, yaml_error};
 use serde::{Deserialize, Serialize};
 use serde_saphyr::Spanned;
 use std::path::{Path, PathBuf};
@@ -200,20 +200,7 @@ pub fn from_str_with(
     strict: bool,
 ) -> Result<Vec<Disposition>, LoadError> {
     let file: PathBuf = file.to_path_buf();
-    let raw: RawFile = serde_saphyr::from_str(text).map_err(|e| {
-        let (line, column) = e
-            .location()
-            .map(|l| (l.line(), l.column()))
-            .unwrap_or((1, 1));
-        LoadError {
-            origin: Origin {
-                file: file.clone(),
-                line,
-                column,
-            },
-            cause: first_line(&e.to_string()),
-        }
-    })?;
+    let raw: RawFile = serde_saphyr::from_str(text).map_err(|e| yaml_error(&file, &e))?;
     let mut out: Vec<Disposition> = Vec::new();
     for r in raw.dispositions {
         let err = |s: &Spanned<String>, cause: String| LoadError {

@@ -306,20 +306,7 @@ impl Requirements {
         let mut seen: BTreeMap<String, Origin> = BTreeMap::new();
         let mut parents: Vec<(usize, Spanned<String>, f64, PathBuf)> = Vec::new();
         for (file, text) in sources {
-            let raw: RawFile = serde_saphyr::from_str(text).map_err(|e| {
-                let (line, column) = e
-                    .location()
-                    .map(|l| (l.line(), l.column()))
-                    .unwrap_or((1, 1));
-                LoadError {
-                    origin: Origin {
-                        file: file.clone(),
-                        line,
-                        column,
-                    },
-                    cause: first_line(&e.to_string()),
-                }
-            })?;
+            let raw: RawFile = serde_saphyr::from_str(text).map_err(|e| yaml_error(file, &e))?;
             out.families.insert(
                 raw.family.clone(),
                 raw.description.clone().unwrap_or_default(),
@@ -551,6 +538,22 @@ fn parse_op(s: &str) -> Result<(Op, &str), String> {
     Err(format!(
         "limit `{t}` must start with <=, <, >= or > (e.g. `<= 5 um/s`)"
     ))
+}
+
+/// A YAML error of `file` as a [`LoadError`] with the parser's line and column.
+pub(crate) fn yaml_error(file: &Path, e: &serde_saphyr::Error) -> LoadError {
+    let (line, column) = e
+        .location()
+        .map(|l| (l.line(), l.column()))
+        .unwrap_or((1, 1));
+    LoadError {
+        origin: Origin {
+            file: file.to_path_buf(),
+            line,
+            column,
+        },
+        cause: first_line(&e.to_string()),
+    }
 }
 
 pub(crate) fn first_line(s: &str) -> String {
