@@ -25,9 +25,21 @@ fn workspace() -> PathBuf {
         .unwrap()
 }
 
-/// A scratch directory of this test alone (test name and process id).
+/// A temporary directory of its own for the test running on this thread, removed when the
+/// test's thread ends: tests run in parallel and never share a path, and nothing is left behind.
+fn test_dir() -> PathBuf {
+    thread_local! {
+        static DIR: tempfile::TempDir = tempfile::Builder::new()
+            .prefix("geodesic-gate-")
+            .tempdir()
+            .expect("a temporary directory");
+    }
+    DIR.with(|d| d.path().to_path_buf())
+}
+
+/// A scratch directory `name` inside this test's own temporary directory.
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("geodesic-gate-{}-{name}", std::process::id()));
+    let d = test_dir().join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
