@@ -44,6 +44,8 @@ enum Command {
     Charge(cmd::charge::Args),
     /// Evaluate the DFACS quartic capture criterion for one TM state.
     Capture(cmd::capture::Args),
+    /// List the effect catalogue: effects, scenarios, parameters with units and ranges.
+    Effects(cmd::effects::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -96,6 +98,7 @@ fn main() -> ExitCode {
         Command::History(a) => cmd::history::run(a),
         Command::Charge(a) => cmd::charge::run(a),
         Command::Capture(a) => cmd::capture::run(a),
+        Command::Effects(a) => cmd::effects::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),

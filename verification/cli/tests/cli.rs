@@ -221,3 +221,35 @@ fn verify_json_lists_every_requirement_with_a_status() {
     assert_eq!(code == 1, non_compliant, "exit status matches the verdict");
     assert!(d.join("reports/compliance.json").exists() && d.join("reports/compliance.md").exists());
 }
+
+#[test]
+fn effects_lists_the_catalogue_with_units_and_ranges() {
+    let d = scratch("effects");
+    let out = geodesic(&["effects", "--json"], &d);
+    assert_eq!(out.status.code(), Some(0));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let effects = doc["effects"].as_array().unwrap();
+    // the ten effects of the interface contract
+    assert_eq!(effects.len(), 10);
+    let tip = effects
+        .iter()
+        .find(|e| e["effect"] == "tip_adhesion")
+        .unwrap();
+    assert_eq!(tip["scenario"], "tmmf-release");
+    let a1 = &tip["parameters"][0];
+    assert_eq!(a1["name"], "tip_adhesion.A1");
+    assert_eq!(a1["unit"], "N/m");
+    assert!(a1["min"].as_f64().unwrap() < a1["max"].as_f64().unwrap());
+    let out = geodesic(&["effects", "--scenario", "rt-retraction", "--json"], &d);
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let names: Vec<&str> = doc["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["effect"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["piezo", "plunger_compliance", "voltage_ramp"]);
+    let out = geodesic(&["effects", "--scenario", "moon"], &d);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--scenario moon"));
+}

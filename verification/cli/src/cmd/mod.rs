@@ -3,6 +3,7 @@
 pub mod capture;
 pub mod charge;
 pub mod diagnose;
+pub mod effects;
 pub mod fit;
 pub mod history;
 pub mod merge;
