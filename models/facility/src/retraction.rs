@@ -187,10 +187,10 @@ impl RtConfig {
         }
         let mut cache: Option<(f64, Mat)> = None;
         let mut phi = |dt: f64| -> Mat {
-            if let Some((h, m)) = &cache {
-                if (h - dt).abs() <= 1e-12 * dt {
-                    return *m;
-                }
+            if let Some((h, m)) = &cache
+                && (h - dt).abs() <= 1e-12 * dt
+            {
+                return *m;
             }
             let m = propagator(&a, dt);
             cache = Some((dt, m));

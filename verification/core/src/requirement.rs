@@ -504,17 +504,17 @@ impl Requirements {
     /// Checks that every `check:` field names one of `known` checks.
     pub fn validate_checks(&self, known: &[&str]) -> Result<(), LoadError> {
         for r in &self.items {
-            if let (Some(c), Some(o)) = (&r.check, &r.check_origin) {
-                if !known.contains(&c.as_str()) {
-                    return Err(LoadError {
-                        origin: o.clone(),
-                        cause: format!(
-                            "{} names unknown check `{c}` (known: {})",
-                            r.id,
-                            known.join(", ")
-                        ),
-                    });
-                }
+            if let (Some(c), Some(o)) = (&r.check, &r.check_origin)
+                && !known.contains(&c.as_str())
+            {
+                return Err(LoadError {
+                    origin: o.clone(),
+                    cause: format!(
+                        "{} names unknown check `{c}` (known: {})",
+                        r.id,
+                        known.join(", ")
+                    ),
+                });
             }
         }
         Ok(())

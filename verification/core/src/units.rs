@@ -223,10 +223,10 @@ fn factor(s: &str) -> Option<(f64, Dim)> {
         return Some((sc, d));
     }
     for (p, ps) in PREFIXES {
-        if let Some(rest) = s.strip_prefix(p) {
-            if let Some((sc, d, true)) = symbol(rest) {
-                return Some((sc * ps, d));
-            }
+        if let Some(rest) = s.strip_prefix(p)
+            && let Some((sc, d, true)) = symbol(rest)
+        {
+            return Some((sc * ps, d));
         }
     }
     None

@@ -94,17 +94,17 @@ impl Dataset {
         for (ch, u) in &meta.channels.value {
             let unit = parse_unit(u.value.trim())
                 .map_err(|e| FitError::input(&file, line_of(u), format!("channel `{ch}`: {e}")))?;
-            if let Some(d) = channel_dim(ch) {
-                if unit.dim != d {
-                    return Err(FitError::input(
-                        &file,
-                        line_of(u),
-                        format!(
-                            "channel `{ch}` has unit `{}` of dimension {}, expected {d}",
-                            u.value, unit.dim
-                        ),
-                    ));
-                }
+            if let Some(d) = channel_dim(ch)
+                && unit.dim != d
+            {
+                return Err(FitError::input(
+                    &file,
+                    line_of(u),
+                    format!(
+                        "channel `{ch}` has unit `{}` of dimension {}, expected {d}",
+                        u.value, unit.dim
+                    ),
+                ));
             }
             scales.insert(ch.clone(), unit.scale);
             units.insert(ch.clone(), u.value.clone());
@@ -145,14 +145,14 @@ impl Dataset {
             }
         }
         for (k, what) in [("m", "TM mass, kg"), ("E0", "electrode voltage, V")] {
-            if let Some(v) = meta.known.as_ref().and_then(|m| m.get(k)) {
-                if v.value <= 0.0 {
-                    return Err(FitError::input(
-                        &file,
-                        line_of(v),
-                        format!("known `{k}` ({what}) must be positive, not {}", v.value),
-                    ));
-                }
+            if let Some(v) = meta.known.as_ref().and_then(|m| m.get(k))
+                && v.value <= 0.0
+            {
+                return Err(FitError::input(
+                    &file,
+                    line_of(v),
+                    format!("known `{k}` ({what}) must be positive, not {}", v.value),
+                ));
             }
         }
         let mut noise = BTreeMap::new();
@@ -341,14 +341,14 @@ fn read_csv(
             Ok(v)
         };
         let tv = cell(it, time_col)?;
-        if let Some(&prev) = t.last() {
-            if tv <= prev {
-                return Err(FitError::input(
-                    &file,
-                    line,
-                    format!("time not strictly increasing ({tv} after {prev})"),
-                ));
-            }
+        if let Some(&prev) = t.last()
+            && tv <= prev
+        {
+            return Err(FitError::input(
+                &file,
+                line,
+                format!("time not strictly increasing ({tv} after {prev})"),
+            ));
         }
         t.push(tv);
         for (c, i) in &idx {

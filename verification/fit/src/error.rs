@@ -48,10 +48,10 @@ pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> Result<(), FitError
         path: path.display().to_string(),
         cause: e.to_string(),
     };
-    if let Some(dir) = path.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir).map_err(werr)?;
-        }
+    if let Some(dir) = path.parent()
+        && !dir.as_os_str().is_empty()
+    {
+        std::fs::create_dir_all(dir).map_err(werr)?;
     }
     let tmp = path.with_extension(format!(
         "{}.tmp{}",

@@ -383,23 +383,22 @@ pub fn fit_model(
     };
     // the start that fits the whole record best also gets a full run (with a windowed screen
     // it may have been dropped; e.g. a candidate at its null values, i.e. the baseline)
-    if windows[0] < 1.0 {
-        if let Some(&(si, c)) = full_costs
+    if windows[0] < 1.0
+        && let Some(&(si, c)) = full_costs
             .iter()
             .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
-        {
-            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                eprintln!("best full-record start {si} {:?}: cost {c:.2}", &starts[si]);
-            }
-            // from its own values, not from where the windowed stages moved it
-            let u0: Vec<f64> = fidx
-                .iter()
-                .map(|&i| {
-                    to_u(&specs[i], starts[si][i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
-                })
-                .collect();
-            first.push((si, c, u0));
+    {
+        if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+            eprintln!("best full-record start {si} {:?}: cost {c:.2}", &starts[si]);
         }
+        // from its own values, not from where the windowed stages moved it
+        let u0: Vec<f64> = fidx
+            .iter()
+            .map(|&i| {
+                to_u(&specs[i], starts[si][i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
+            })
+            .collect();
+        first.push((si, c, u0));
     }
     let refined: Vec<(usize, f64, Vec<f64>)> = first
         .par_iter()

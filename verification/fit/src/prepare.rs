@@ -53,10 +53,10 @@ fn estimate_noise(t: &[f64], v: &[f64]) -> (f64, &'static str) {
         .filter(|(t, _)| **t < 0.0)
         .map(|(_, v)| *v)
         .collect();
-    if let Some(s) = noise_from_differences(&pre) {
-        if s > 0.0 {
-            return (s, "pre-trigger");
-        }
+    if let Some(s) = noise_from_differences(&pre)
+        && s > 0.0
+    {
+        return (s, "pre-trigger");
     }
     // third differences: var = 20 sigma^2 for white noise
     let d3: Vec<f64> = v

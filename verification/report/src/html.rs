@@ -254,17 +254,16 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
                 esc(&inputs.join(", "))
             );
             for a in &e.artifacts {
-                if let Some(p) = find(a) {
-                    if a.ends_with(".svg") {
-                        if let Some(svg) = inline_svg(&p) {
-                            let _ = write!(
-                                o,
-                                "<div class=\"plot\"><p class=\"muted\">{}</p>{svg}</div>",
-                                esc(a)
-                            );
-                            inlined.push(p);
-                        }
-                    }
+                if let Some(p) = find(a)
+                    && a.ends_with(".svg")
+                    && let Some(svg) = inline_svg(&p)
+                {
+                    let _ = write!(
+                        o,
+                        "<div class=\"plot\"><p class=\"muted\">{}</p>{svg}</div>",
+                        esc(a)
+                    );
+                    inlined.push(p);
                 }
             }
         }

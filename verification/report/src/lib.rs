@@ -164,15 +164,15 @@ pub fn verdict(r: &geodesic_core::matrix::Row) -> String {
     if r.status != Status::NotVerified && r.basis == Some(Basis::Accepted) {
         s.push_str(" (accepted)");
     }
-    if r.status == Status::NonCompliant {
-        if let Some(d) = &r.disposition {
-            s.push_str(&format!(
-                " ({} {}{})",
-                d.kind.as_str(),
-                d.reference,
-                if d.expired { " EXPIRED" } else { "" }
-            ));
-        }
+    if r.status == Status::NonCompliant
+        && let Some(d) = &r.disposition
+    {
+        s.push_str(&format!(
+            " ({} {}{})",
+            d.kind.as_str(),
+            d.reference,
+            if d.expired { " EXPIRED" } else { "" }
+        ));
     }
     s
 }
