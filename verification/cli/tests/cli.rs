@@ -1,42 +1,11 @@
 //! End-to-end tests of the `geodesic` binary: exit statuses, one-line causes with file:line,
 //! and the JSON contract of `verify` (interface.md).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+use common::{geodesic, scratch, workspace};
 
-fn geodesic(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geodesic"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run geodesic")
-}
-
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
-}
-
-/// A temporary directory of its own for the test running on this thread, removed when the
-/// test's thread ends: tests run in parallel and never share a path.
-fn test_dir() -> PathBuf {
-    thread_local! {
-        static DIR: tempfile::TempDir = tempfile::Builder::new()
-            .prefix("geodesic-cli-")
-            .tempdir()
-            .expect("a temporary directory");
-    }
-    DIR.with(|d| d.path().to_path_buf())
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = test_dir().join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use std::path::PathBuf;
+use std::process::Output;
 
 /// A copy of the built-in requirements with one file's text replaced.
 fn broken_requirements(name: &str, file: &str, edit: impl Fn(&str) -> String) -> PathBuf {

@@ -6,44 +6,11 @@
 //! The facility family is left out of the requirement copies (its identification check fits
 //! synthetic releases and is slow in the test profile); it is covered by the framework tests.
 
+mod common;
+use common::{geodesic, scratch, workspace};
+
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn geodesic(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geodesic"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run geodesic")
-}
-
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
-}
-
-/// A temporary directory of its own for the test running on this thread, removed when the
-/// test's thread ends: tests run in parallel and never share a path, and nothing is left behind.
-fn test_dir() -> PathBuf {
-    thread_local! {
-        static DIR: tempfile::TempDir = tempfile::Builder::new()
-            .prefix("geodesic-gate-")
-            .tempdir()
-            .expect("a temporary directory");
-    }
-    DIR.with(|d| d.path().to_path_buf())
-}
-
-/// A scratch directory `name` inside this test's own temporary directory.
-fn scratch(name: &str) -> PathBuf {
-    let d = test_dir().join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// Copies the requirement families except `facility` into `d/requirements`, applying `edit` to
 /// each file's text.

@@ -2,37 +2,11 @@
 //! the file (and line) or the flag and the cause; no panic, no hang, no NaN reported as success.
 //! One test per class of input; every test works in its own scratch directory.
 
+mod common;
+use common::{geodesic, scratch};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn geodesic(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geodesic"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run geodesic")
-}
-
-/// A fresh scratch directory named after the test and the process.
-/// A temporary directory of its own for the test running on this thread, removed when the
-/// test's thread ends: tests run in parallel and never share a path, and nothing is left behind.
-fn test_dir() -> PathBuf {
-    thread_local! {
-        static DIR: tempfile::TempDir = tempfile::Builder::new()
-            .prefix("geodesic-robust-")
-            .tempdir()
-            .expect("a temporary directory");
-    }
-    DIR.with(|d| d.path().to_path_buf())
-}
-
-/// A scratch directory `name` inside this test's own temporary directory.
-fn scratch(name: &str) -> PathBuf {
-    let d = test_dir().join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use std::process::Command;
 
 /// Runs and asserts exit 2 with one stderr line containing every `want`.
 fn refused(args: &[&str], cwd: &Path, want: &[&str]) -> String {
