@@ -1,14 +1,15 @@
 //! End-to-end tests of `geodesic capture` and `geodesic charge`: the JSON contract of
 //! interface.md, negative flag values, and exit 2 with `file:line` on bad input.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
+use common::test_dir;
 
+use std::path::PathBuf;
+use std::process::Output;
+
+/// Runs `geodesic ARGS` in this test's own temporary directory.
 fn geodesic(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geodesic"))
-        .args(args)
-        .output()
-        .expect("run geodesic")
+    common::geodesic(args, &test_dir())
 }
 
 fn json(out: &Output) -> serde_json::Value {
@@ -24,18 +25,6 @@ fn json_with(out: &Output, code: i32) -> serde_json::Value {
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).expect("exactly one JSON document on stdout")
-}
-
-/// A temporary directory of its own for the test running on this thread, removed when the
-/// test's thread ends: tests run in parallel and never share a path.
-fn test_dir() -> PathBuf {
-    thread_local! {
-        static DIR: tempfile::TempDir = tempfile::Builder::new()
-            .prefix("geodesic-cli-")
-            .tempdir()
-            .expect("a temporary directory");
-    }
-    DIR.with(|d| d.path().to_path_buf())
 }
 
 fn scratch_file(name: &str, text: &str) -> PathBuf {
