@@ -9,6 +9,8 @@
 mod builtin;
 mod cmd;
 mod error;
+mod progress;
+mod quantity;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -22,29 +24,80 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Show progress on standard error even with --json or when it is not a terminal.
+    #[arg(long, global = true, conflicts_with = "quiet")]
+    progress: bool,
+    /// Never show progress (errors are still printed).
+    #[arg(long, short = 'q', global = true)]
+    quiet: bool,
 }
 
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Check every requirement and write the compliance matrix (reports/compliance.{md,json}).
+    #[command(after_help = "Examples:
+  geodesic verify                                   # every requirement, built-in models; reports/ 
+  geodesic verify --mc-n 20000 --no-fidelity        # a quicker look
+  geodesic verify --requirements my-reqs/ --budget my-budget.yaml --reports out/
+  geodesic verify --baseline verification/baseline/compliance.json --require-tests --junit reports/junit.xml
+  geodesic verify --json | jq '.requirements[] | select(.status != \"compliant\") | .id'
+
+Exit status: 0 nothing non-compliant (with --baseline: nothing regressed), 1 a non-compliance
+or a regression, 2 bad input.")]
     Verify(cmd::verify::Args),
     /// Run the in-flight release Monte Carlo.
+    #[command(after_help = "Examples:
+  geodesic montecarlo --n 100000 --seed 1
+  geodesic montecarlo --n 100000 --case adhesion --budget my-budget.yaml --json
+  geodesic montecarlo --n 1000000 --seed 1 --shard 2/8 --out parts/part-2.json   # then `geodesic merge`")]
     Montecarlo(cmd::montecarlo::Args),
     /// Merge partial Monte Carlo results written with --shard.
+    #[command(after_help = "Examples:
+  geodesic merge parts/part-*.json
+  geodesic merge parts/part-1.json parts/part-2.json --json")]
     Merge(cmd::merge::Args),
     /// Fit a model (a list of effects) to a measurement dataset.
+    #[command(after_help = "Examples:
+  geodesic effects --scenario tmmf-release                 # the effects you can fit
+  geodesic fit data/examples/tmmf-adhesion.yaml --effects needle_contact,tip_contact,tip_adhesion
+  geodesic fit data/examples/rt-plunger.yaml --effects piezo --fix piezo.R=371ohm --bound \"piezo.Ca=10nF:10uF\" --json
+Values may carry units (--fix tip_adhesion.lambda=400nm); bare numbers are SI.
+Writes reports/fits/<dataset>.<effects>.svg and appends reports/fits/<dataset>.history.jsonl.")]
     Fit(cmd::fit::Args),
     /// Fit a model, then every candidate effect it lacks, and name the missing one.
+    #[command(after_help = "Examples:
+  geodesic diagnose data/examples/tmmf-adhesion.yaml --effects needle_contact,tip_contact
+  geodesic diagnose data/examples/rt-plunger.yaml --effects piezo --json | jq .missing")]
     Diagnose(cmd::diagnose::Args),
     /// Write a synthetic dataset from a truth model built from the effect catalogue.
+    #[command(after_help = "Examples:
+  geodesic synth --scenario tmmf-release --effects needle_contact,tip_contact,tip_adhesion \
+      --param tip_adhesion.A1=2e5 --noise x=2nm --seed 3 --out data/mine.yaml
+  geodesic synth --scenario rt-retraction --effects piezo,plunger_compliance --fs 1MHz --out rt.yaml
+Writes X.yaml, X.csv and X.truth.json (the truth parameters) beside each other.")]
     Synth(cmd::synth::Args),
     /// Show the fit history (RMS and chi-square per model version) of a dataset.
+    #[command(after_help = "Examples:
+  geodesic history data/examples/tmmf-adhesion.yaml
+  geodesic history tmmf-adhesion --json")]
     History(cmd::history::Args),
     /// Charge left on the TM after release (contact electrification).
+    #[command(after_help = "Examples:
+  geodesic charge
+  geodesic charge --c-rt-pf 2.5 --json          # the thesis's rounded C_RT
+  geodesic charge --dv-2sigma-v 0.5V --neutralise-e \"-1e8 e\"")]
     Charge(cmd::charge::Args),
     /// Evaluate the DFACS quartic capture criterion for one TM state.
+    #[command(after_help = "Examples:
+  geodesic capture --vz 3um/s                        # exit 1 when the TM is not captured
+  geodesic capture --vz 12um/s --x 20um --thz 1mrad --json
+  geodesic capture --state state.yaml --vz-samples velocities.txt
+Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
     Capture(cmd::capture::Args),
     /// List the effect catalogue: effects, scenarios, parameters with units and ranges.
+    #[command(after_help = "Examples:
+  geodesic effects
+  geodesic effects --scenario rt-retraction --json")]
     Effects(cmd::effects::Args),
 }
 
@@ -55,6 +108,38 @@ fn reset_sigpipe() {
     // SAFETY: called once at start-up, before any thread exists; SIG_DFL is a valid handler.
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+/// Handles SIGINT, SIGTERM and SIGHUP on a thread of their own: it removes the temporary files
+/// and staged report sets the run registered (`geodesic_core::output`), waiting for a commit in
+/// progress to finish, then exits with 128 + the signal number, as a shell reports it. The
+/// signals are blocked in every other thread (the mask is inherited by the threads spawned
+/// later, rayon's included), so only this thread receives them.
+fn handle_interrupts() {
+    #[cfg(unix)]
+    // SAFETY: called once at start-up, before any other thread exists; the sigset is
+    // initialised by sigemptyset before use and lives on this stack frame while it is used.
+    unsafe {
+        let mut set: libc::sigset_t = std::mem::zeroed();
+        libc::sigemptyset(&mut set);
+        for s in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+            libc::sigaddset(&mut set, s);
+        }
+        if libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut()) != 0 {
+            return;
+        }
+        std::thread::Builder::new()
+            .name("geodesic-signals".into())
+            .spawn(move || {
+                let mut sig: libc::c_int = 0;
+                // SAFETY: `set` is a valid, initialised signal set owned by this closure.
+                while libc::sigwait(&set, &mut sig) != 0 {}
+                geodesic_core::output::remove_registered();
+                eprintln!("geodesic: interrupted (signal {sig}); no partial output left");
+                std::process::exit(128 + sig);
+            })
+            .ok();
     }
 }
 
@@ -72,6 +157,7 @@ fn usage_line(e: &clap::Error) -> String {
 
 fn main() -> ExitCode {
     reset_sigpipe();
+    handle_interrupts();
     let cli = match Cli::try_parse() {
         Ok(c) => c,
         Err(e) => {
@@ -88,6 +174,13 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
+    progress::set_mode(if cli.quiet {
+        progress::Mode::Never
+    } else if cli.progress {
+        progress::Mode::Always
+    } else {
+        progress::Mode::Auto
+    });
     let result = match cli.command {
         Command::Verify(a) => cmd::verify::run(a),
         Command::Montecarlo(a) => cmd::montecarlo::run(a),

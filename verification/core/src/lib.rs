@@ -13,6 +13,7 @@ pub mod disposition;
 pub mod fsio;
 pub mod hash;
 pub mod matrix;
+pub mod output;
 pub mod requirement;
 pub mod testrun;
 pub mod trace;

@@ -390,6 +390,42 @@ pub fn parse_quantity(text: &str) -> Result<(Quantity, Unit), UnitError> {
     Ok((Quantity::new(value * unit.scale, unit.dim), unit))
 }
 
+/// Parses a value of dimension `dim` as given on a command line or in a file: a bare number is
+/// taken in SI units (`3e-6` for 3 um/s), a number with a unit is converted (`3um/s`,
+/// `3 um/s`, `200 µm`). Refuses a unit of another dimension and non-finite values; the error is
+/// one line naming the expected dimension.
+///
+/// ```
+/// use geodesic_core::units::{parse_si, Dim};
+/// assert_eq!(parse_si("3e-6", Dim::VELOCITY).unwrap(), 3e-6);
+/// assert!((parse_si("3um/s", Dim::VELOCITY).unwrap() - 3e-6).abs() < 1e-18);
+/// assert!(parse_si("3 um", Dim::VELOCITY).is_err());
+/// assert!(parse_si("NaN", Dim::VELOCITY).is_err());
+/// ```
+pub fn parse_si(text: &str, dim: Dim) -> Result<f64, String> {
+    let want = || {
+        dim.name()
+            .map(|n| format!("of dimension {n}"))
+            .unwrap_or_else(|| "a value".into())
+    };
+    let (q, unit) = parse_quantity(text).map_err(|e| e.to_string())?;
+    if unit.symbol.is_empty() {
+        // a bare number: SI units of the expected dimension
+        return Ok(q.value);
+    }
+    if q.dim != dim {
+        return Err(format!(
+            "`{text}`: unit `{}` is not {} (give SI units or a unit of that dimension)",
+            unit.symbol,
+            want()
+        ));
+    }
+    if !q.value.is_finite() {
+        return Err(format!("`{text}`: not a finite number"));
+    }
+    Ok(q.value)
+}
+
 /// Formats a number compactly with 4 significant digits (`5`, `1.503`, `3.1e+08`).
 pub fn fmt_num(v: f64) -> String {
     if v == 0.0 {

@@ -42,22 +42,20 @@ impl FitError {
     }
 }
 
-/// Writes `bytes` to `path` whole or not at all (temporary file, then rename).
+/// Writes `bytes` to `path` whole or not at all (a temporary file beside it, then a rename;
+/// the temporary file is removed on failure or interruption: `geodesic_core::output`). Creates
+/// the folder if needed.
 pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> Result<(), FitError> {
-    let werr = |e: std::io::Error| FitError::Write {
+    let werr = |e: String| FitError::Write {
         path: path.display().to_string(),
-        cause: e.to_string(),
+        cause: e,
     };
     if let Some(dir) = path.parent()
         && !dir.as_os_str().is_empty()
     {
-        std::fs::create_dir_all(dir).map_err(werr)?;
+        std::fs::create_dir_all(dir).map_err(|e| werr(e.to_string()))?;
     }
-    let tmp = path.with_extension(format!(
-        "{}.tmp{}",
-        path.extension().and_then(|e| e.to_str()).unwrap_or(""),
-        std::process::id()
-    ));
-    std::fs::write(&tmp, bytes).map_err(werr)?;
-    std::fs::rename(&tmp, path).map_err(werr)
+    geodesic_core::output::write_atomic(path, bytes)
+        .map(|_| ())
+        .map_err(|e| werr(e.cause))
 }

@@ -26,41 +26,41 @@ pub struct Args {
     /// ./requirements if present, else the built-in set].
     #[arg(long, value_name = "DIR")]
     pub requirements: Option<PathBuf>,
-    /// Offset along x [m].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Offset along x [m; or with a unit: 20um].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::length())]
     pub x: Option<f64>,
-    /// Offset along y [m].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Offset along y [m; or with a unit: 20um].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::length())]
     pub y: Option<f64>,
-    /// Offset along z [m].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Offset along z [m; or with a unit: 20um].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::length())]
     pub z: Option<f64>,
-    /// Velocity along x [m/s].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Velocity along x [m/s; or with a unit: 3um/s].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::velocity())]
     pub vx: Option<f64>,
-    /// Velocity along y [m/s].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Velocity along y [m/s; or with a unit: 3um/s].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::velocity())]
     pub vy: Option<f64>,
-    /// Velocity along z (release axis) [m/s].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Velocity along z (release axis) [m/s; or with a unit: 3um/s].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::velocity())]
     pub vz: Option<f64>,
-    /// Angle around x [rad].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Angle around x [rad; or with a unit: 1.5mrad].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::angle())]
     pub thx: Option<f64>,
-    /// Angle around y [rad].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Angle around y [rad; or with a unit: 1.5mrad].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::angle())]
     pub thy: Option<f64>,
-    /// Angle around z [rad].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Angle around z [rad; or with a unit: 1.5mrad].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::angle())]
     pub thz: Option<f64>,
-    /// Angular rate around x [rad/s].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Angular rate around x [rad/s; or with a unit: 50urad/s].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::angular_rate())]
     pub wx: Option<f64>,
-    /// Angular rate around y [rad/s].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Angular rate around y [rad/s; or with a unit: 50urad/s].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::angular_rate())]
     pub wy: Option<f64>,
-    /// Angular rate around z [rad/s].
-    #[arg(long, allow_hyphen_values = true)]
+    /// Angular rate around z [rad/s; or with a unit: 50urad/s].
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::angular_rate())]
     pub wz: Option<f64>,
     /// Release z velocities [m/s], one per line (`#` comments allowed): also print the capture
     /// probability with the other states from the capture inputs' sources (as `verify` does).

@@ -21,35 +21,35 @@ pub const MAX_N: usize = 10_000_000;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// TM - electrode housing capacitance C_EH [pF].
-    #[arg(long, default_value_t = 34.4, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 34.4, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
     pub c_eh_pf: f64,
     /// TM - pyramidal plunger capacitance C_Pyr [pF].
-    #[arg(long, default_value_t = 35.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 35.0, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
     pub c_pyr_pf: f64,
     /// TM - cylindrical plunger capacitance C_Cyl [pF].
-    #[arg(long, default_value_t = 10.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 10.0, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
     pub c_cyl_pf: f64,
     /// Use this C_RT [pF] instead of the cap integral (e.g. the thesis's rounded 2.5).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
     pub c_rt_pf: Option<f64>,
     /// Release-tip radius of curvature R [m].
-    #[arg(long, default_value_t = 10e-3, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 10e-3, allow_hyphen_values = true, value_parser = crate::quantity::length())]
     pub r_m: f64,
     /// Release-tip cap radius [m]: theta_f = atan(cap / R).
-    #[arg(long, default_value_t = 0.4e-3, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.4e-3, allow_hyphen_values = true, value_parser = crate::quantity::length())]
     pub cap_radius_m: f64,
     /// Tip - TM gap d [m].
-    #[arg(long, default_value_t = 100e-9, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 100e-9, allow_hyphen_values = true, value_parser = crate::quantity::length())]
     pub d_m: f64,
     /// 2-sigma contact voltage difference of each contact [V].
-    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::quantity::voltage())]
     pub dv_2sigma_v: f64,
     /// Cosmic-ray charging rate [e/s] (default 3e8 e / 50 days = 69.4 e/s, back-derived from
     /// the thesis's "about 50 days to neutralise -3e8 e").
-    #[arg(long, default_value_t = THESIS_RATE_E_S, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = THESIS_RATE_E_S, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim([0, 0, 0, 1, 0, 0]), geodesic_core::units::ELEMENTARY_CHARGE_C))]
     pub rate_e_s: f64,
     /// Charge whose neutralisation time is reported [e] (negative: cosmic rays charge positively).
-    #[arg(long, default_value_t = -3e8, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = -3e8, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CHARGE, geodesic_core::units::ELEMENTARY_CHARGE_C))]
     pub neutralise_e: f64,
     /// Monte Carlo draws.
     #[arg(long, default_value_t = 100_000)]
@@ -106,7 +106,10 @@ pub fn run(args: Args) -> CmdResult {
             args.neutralise_e
         )));
     }
+    let task =
+        crate::progress::Task::spinner(args.json, &format!("charge: {} Monte Carlo draws", args.n));
     let mc = monte_carlo(&inputs, args.n, args.seed);
+    task.finish();
     let q2 = inputs.q_2sigma_e();
     let t_given = time_to_neutralise_s(args.neutralise_e, rate);
     let t_q2 = time_to_neutralise_s(-q2, rate);

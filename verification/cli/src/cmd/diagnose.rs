@@ -3,7 +3,7 @@
 
 use geodesic_fit::fit::FitReport;
 
-use crate::cmd::fit::{effect_list, load, options, outputs, summary};
+use crate::cmd::fit::{effect_list, fits_dir, load, options, outputs, summary};
 use crate::error::{CliError, CmdResult};
 
 /// Flags of `geodesic diagnose`: the same as `geodesic fit` (the model to start from).
@@ -11,13 +11,24 @@ pub use crate::cmd::fit::Args;
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
+    let fits = fits_dir(&args)?;
     let opts = options(&args.fix, &args.bound)?;
     let prep = load(&args.dataset)?;
     let effects = effect_list(&args.effects);
-    let (mut report, base) = geodesic_fit::diagnose::diagnose(&prep, &effects, &opts)
-        .map_err(|e| CliError::bad(e.to_string()))?;
+    let task = crate::progress::Task::spinner(
+        args.json,
+        &format!(
+            "diagnose: {} samples, model {} and each candidate effect it lacks",
+            prep.dataset.t.len(),
+            effects.join("+")
+        ),
+    );
+    let r = geodesic_fit::diagnose::diagnose(&prep, &effects, &opts)
+        .map_err(|e| CliError::bad(e.to_string()));
+    task.finish();
+    let (mut report, base) = r?;
     let mut fr: FitReport = report.fit.clone();
-    outputs(&prep, &base.pred, &mut fr, &args.out)?;
+    outputs(&prep, &base.pred, &mut fr, &fits)?;
     report.fit = fr;
     if args.json {
         println!(

@@ -1,7 +1,7 @@
 //! `geodesic fit DATASET.yaml --effects a,b,c`: fits a model to a dataset (interface.md).
 //!
 //! Writes `<stem>.<effects>.svg` (data, model, residual, failure windows) and appends the fit to
-//! `<stem>.history.jsonl` under `--out` (default `reports/fits`).
+//! `<stem>.history.jsonl` under `--reports DIR` in `DIR/fits/` (default `reports/fits/`).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -13,7 +13,7 @@ use crate::error::{CliError, CmdResult};
 /// Flags of `geodesic fit`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Dataset YAML (interface.md).
+    /// Dataset YAML: `channels`, `known`, `scenario` and a CSV beside it (docs/spec/interface.md in the repository).
     pub dataset: PathBuf,
     /// Effects of the model, comma separated (e.g. needle_contact,tip_contact).
     #[arg(long, value_delimiter = ',', required = true)]
@@ -24,59 +24,68 @@ pub struct Args {
     /// Bound a parameter: effect.param=LO:HI (SI), repeatable.
     #[arg(long = "bound", value_name = "NAME=LO:HI")]
     pub bound: Vec<String>,
-    /// Output directory for the SVG and the history.
-    #[arg(long, default_value = "reports/fits")]
-    pub out: PathBuf,
+    /// Reports folder, as for `verify`: the SVG and the history go into DIR/fits/.
+    #[arg(long, value_name = "DIR", default_value = "reports")]
+    pub reports: PathBuf,
+    /// Not a flag of this command (`--out` names one output file everywhere in geodesic).
+    #[arg(long, hide = true)]
+    pub out: Option<PathBuf>,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
 }
 
+/// The folder of the fit outputs: `--reports DIR` + `fits`. Refuses the old `--out DIR`.
+pub fn fits_dir(args: &Args) -> Result<PathBuf, CliError> {
+    fits_under(&args.reports, args.out.as_ref())
+}
+
+/// `reports/fits`, or the cause when `--out` was given to a command that writes a folder.
+pub fn fits_under(reports: &Path, out: Option<&PathBuf>) -> Result<PathBuf, CliError> {
+    if let Some(o) = out {
+        return Err(CliError::bad(format!(
+            "--out {}: in geodesic --out names one output file; fit plots and histories go \
+             under --reports DIR (into DIR/fits/)",
+            o.display()
+        )));
+    }
+    if reports.exists() && !reports.is_dir() {
+        return Err(CliError::bad(format!(
+            "--reports {}: is not a directory",
+            reports.display()
+        )));
+    }
+    Ok(reports.join("fits"))
+}
+
 /// Parses `--fix` and `--bound` into fit options.
 pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError> {
+    use crate::quantity::{pair, param_dim, value_of};
     let mut fixed = BTreeMap::new();
     for f in fix {
-        let (k, v) = f
-            .split_once('=')
-            .ok_or_else(|| CliError::bad(format!("--fix `{f}`: expected NAME=VALUE")))?;
-        let v: f64 = v
-            .trim()
-            .parse()
-            .map_err(|_| CliError::bad(format!("--fix `{f}`: `{v}` is not a number")))?;
-        if !v.is_finite() {
-            return Err(CliError::bad(format!(
-                "--fix `{f}`: must be a finite number"
-            )));
-        }
-        fixed.insert(k.trim().to_string(), v);
+        let (k, v) = pair(f, "fix", param_dim)?;
+        fixed.insert(k, v);
     }
     let mut bounds = BTreeMap::new();
     for b in bound {
         let (k, r) = b
             .split_once('=')
             .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected NAME=LO:HI")))?;
+        let k = k.trim();
         let (lo, hi) = r
             .split_once(':')
             .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected LO:HI")))?;
-        let lo: f64 = lo
-            .trim()
-            .parse()
-            .map_err(|_| CliError::bad(format!("--bound `{b}`: bad lower bound")))?;
-        let hi: f64 = hi
-            .trim()
-            .parse()
-            .map_err(|_| CliError::bad(format!("--bound `{b}`: bad upper bound")))?;
-        if !(lo.is_finite() && hi.is_finite()) {
-            return Err(CliError::bad(format!(
-                "--bound `{b}`: bounds must be finite numbers"
-            )));
-        }
+        let dim = param_dim(k);
+        let lo = value_of(lo.trim(), dim)
+            .map_err(|e| CliError::bad(format!("--bound {k}: lower bound {e}")))?;
+        let hi = value_of(hi.trim(), dim)
+            .map_err(|e| CliError::bad(format!("--bound {k}: upper bound {e}")))?;
         if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
             return Err(CliError::bad(format!(
                 "--bound `{b}`: lower bound not below upper bound"
             )));
         }
-        bounds.insert(k.trim().to_string(), (lo, hi));
+        bounds.insert(k.to_string(), (lo, hi));
     }
     Ok(FitOptions {
         fixed,
@@ -163,6 +172,7 @@ pub fn effect_list(effects: &[String]) -> Vec<&str> {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
+    let fits = fits_dir(&args)?;
     let opts = options(&args.fix, &args.bound)?;
     let prep = load(&args.dataset)?;
     let effects = effect_list(&args.effects);
@@ -170,9 +180,19 @@ pub fn run(args: Args) -> CmdResult {
         profile: true,
         ..opts
     };
-    let o = geodesic_fit::fit(&prep, &effects, &opts).map_err(|e| CliError::bad(e.to_string()))?;
+    let task = crate::progress::Task::spinner(
+        args.json,
+        &format!(
+            "fit: {} samples, model {}",
+            prep.dataset.t.len(),
+            effects.join("+")
+        ),
+    );
+    let o = geodesic_fit::fit(&prep, &effects, &opts).map_err(|e| CliError::bad(e.to_string()));
+    task.finish();
+    let o = o?;
     let mut report = FitReport::new(&prep, &o);
-    outputs(&prep, &o.pred, &mut report, &args.out)?;
+    outputs(&prep, &o.pred, &mut report, &fits)?;
     if args.json {
         println!(
             "{}",

@@ -1,5 +1,5 @@
 //! `geodesic history DATASET`: RMS and reduced chi-square per model version of a dataset, as a
-//! table and an SVG (`<stem>.history.svg` under `--out`).
+//! table and an SVG (`<stem>.history.svg` in `DIR/fits/`, `--reports DIR`).
 
 use std::path::PathBuf;
 
@@ -12,9 +12,13 @@ use crate::error::{CliError, CmdResult};
 pub struct Args {
     /// Dataset YAML path or stem (`run-017.yaml` or `run-017`).
     pub dataset: PathBuf,
-    /// Directory holding the fit outputs.
-    #[arg(long, default_value = "reports/fits")]
-    pub out: PathBuf,
+    /// Reports folder, as for `verify` and `fit`: the history is read from DIR/fits/ and its
+    /// SVG written there.
+    #[arg(long, value_name = "DIR", default_value = "reports")]
+    pub reports: PathBuf,
+    /// Not a flag of this command (`--out` names one output file everywhere in geodesic).
+    #[arg(long, hide = true)]
+    pub out: Option<PathBuf>,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
@@ -26,7 +30,8 @@ pub fn run(args: Args) -> CmdResult {
         .dataset
         .file_stem()
         .map_or("dataset".into(), |s| s.to_string_lossy().to_string());
-    let path = history::path_for(&args.out, &stem);
+    let fits = crate::cmd::fit::fits_under(&args.reports, args.out.as_ref())?;
+    let path = history::path_for(&fits, &stem);
     let entries = history::read(&path).map_err(|e| CliError::bad(e.to_string()))?;
     if entries.is_empty() {
         return Err(CliError::bad(format!(
@@ -34,7 +39,7 @@ pub fn run(args: Args) -> CmdResult {
             path.display()
         )));
     }
-    let svg_path = args.out.join(format!("{stem}.history.svg"));
+    let svg_path = fits.join(format!("{stem}.history.svg"));
     let svg = plot::history_svg(&entries).map_err(|e| CliError::Io(e.to_string()))?;
     plot::write_svg(&svg_path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
     if args.json {

@@ -7,7 +7,6 @@
 use crate::error::{CliError, CmdResult};
 use geodesic_release::budget::Budget;
 use geodesic_release::montecarlo::{self, Case, McResult, Summary};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -102,22 +101,12 @@ pub fn load_budget(path: Option<&Path>) -> Result<Budget, CliError> {
     }
 }
 
-/// Writes `bytes` to `path` whole or not at all (temporary file, then rename).
+/// Writes `bytes` to `path` whole or not at all (temporary file, then rename; nothing left
+/// behind on failure or interruption).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    std::fs::write(&tmp, bytes).map_err(|e| CliError::Io(format!("{}: {e}", tmp.display())))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        CliError::Io(format!("{}: {e}", path.display()))
-    })
+    geodesic_core::output::write_atomic(path, bytes)
+        .map(|_| ())
+        .map_err(|e| CliError::Io(e.to_string()))
 }
 
 /// The JSON document of a summary plus wall time (interface.md keys first).
@@ -181,18 +170,7 @@ pub fn run(args: Args) -> CmdResult {
             .len(),
         None => args.n,
     };
-    let show = !args.json && std::io::stderr().is_terminal();
-    let bar = if show {
-        let b = indicatif::ProgressBar::new(draws as u64);
-        if let Ok(style) = indicatif::ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} releases, {per_sec}, eta {eta}",
-        ) {
-            b.set_style(style);
-        }
-        b
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let bar = crate::progress::Task::counter(args.json, "montecarlo: releases", draws as u64);
     let t0 = Instant::now();
     let go = || montecarlo::run(&budget, case, args.n, args.seed, shard, &|k| bar.inc(k));
     let result = match args.threads {
@@ -210,7 +188,7 @@ pub fn run(args: Args) -> CmdResult {
             .map_or("built-in budget".to_string(), |p| p.display().to_string());
         CliError::bad(format!("montecarlo ({src}): {e}"))
     })?;
-    bar.finish_and_clear();
+    bar.finish();
     let seconds = t0.elapsed().as_secs_f64();
     if let Some(out) = &args.out {
         write_atomic(out, &sealed_json(&result)?)?;

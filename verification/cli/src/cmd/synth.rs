@@ -34,19 +34,19 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Sampling frequency [Hz] (default: the scenario's examples).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::quantity::frequency())]
     pub fs: Option<f64>,
     /// Record before the trigger [s].
-    #[arg(long)]
+    #[arg(long, value_parser = crate::quantity::time())]
     pub pre: Option<f64>,
     /// Record after the trigger [s].
-    #[arg(long)]
+    #[arg(long, value_parser = crate::quantity::time())]
     pub post: Option<f64>,
     /// Tip profile jerk [m/s^3] (tmmf-release).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::quantity::jerk())]
     pub jerk: Option<f64>,
     /// Tip profile final speed [m/s] (tmmf-release).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::quantity::velocity())]
     pub v: Option<f64>,
     /// Output YAML path (CSV and truth JSON are written beside it).
     #[arg(long)]
@@ -56,20 +56,15 @@ pub struct Args {
     pub json: bool,
 }
 
-fn pairs(list: &[String], flag: &str) -> Result<BTreeMap<String, f64>, CliError> {
+fn pairs(
+    list: &[String],
+    flag: &str,
+    dim_of: impl Fn(&str) -> Option<geodesic_core::units::Dim> + Copy,
+) -> Result<BTreeMap<String, f64>, CliError> {
     let mut m = BTreeMap::new();
     for s in list {
-        let (k, v) = s
-            .split_once('=')
-            .ok_or_else(|| CliError::bad(format!("--{flag} `{s}`: expected NAME=VALUE")))?;
-        let v: f64 = v
-            .trim()
-            .parse()
-            .map_err(|_| CliError::bad(format!("--{flag} `{s}`: `{v}` is not a number")))?;
-        if !v.is_finite() {
-            return Err(CliError::bad(format!("--{flag} `{s}`: not finite")));
-        }
-        m.insert(k.trim().to_string(), v);
+        let (k, v) = crate::quantity::pair(s, flag, dim_of)?;
+        m.insert(k, v);
     }
     Ok(m)
 }
@@ -84,9 +79,10 @@ pub fn run(args: Args) -> CmdResult {
     })?;
     let effects: Vec<&str> = args.effects.iter().map(|s| s.trim()).collect();
     let mut spec = SynthSpec::defaults(scenario, &effects);
-    spec.params = pairs(&args.param, "param")?;
-    spec.known.extend(pairs(&args.known, "known")?);
-    let noise = pairs(&args.noise, "noise")?;
+    spec.params = pairs(&args.param, "param", crate::quantity::param_dim)?;
+    spec.known
+        .extend(pairs(&args.known, "known", crate::quantity::channel_dim)?);
+    let noise = pairs(&args.noise, "noise", crate::quantity::channel_dim)?;
     if !noise.is_empty() {
         spec.noise.extend(noise);
     }
@@ -103,7 +99,10 @@ pub fn run(args: Args) -> CmdResult {
         .out
         .file_name()
         .map_or("synth.yaml".into(), |s| s.to_string_lossy().to_string());
-    let ds = generate(&spec, &name).map_err(|e| CliError::bad(e.to_string()))?;
+    let task = crate::progress::Task::spinner(args.json, "synth: generating the record");
+    let ds = generate(&spec, &name).map_err(|e| CliError::bad(e.to_string()));
+    task.finish();
+    let ds = ds?;
     let files = write(&ds, &spec, &args.out).map_err(|e| CliError::Io(e.to_string()))?;
     if args.json {
         let doc = serde_json::json!({

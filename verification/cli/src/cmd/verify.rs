@@ -175,6 +175,16 @@ pub fn run(args: Args) -> CmdResult {
             "--margin-tolerance must be a non-negative number",
         ));
     }
+    if let Some(j) = &args.junit {
+        geodesic_core::output::check_target(j)
+            .map_err(|e| CliError::bad(format!("--junit {e}")))?;
+    }
+    if args.reports.exists() && !args.reports.is_dir() {
+        return Err(CliError::bad(format!(
+            "--reports {}: is not a directory; give a folder for the reports",
+            args.reports.display()
+        )));
+    }
     let (reqs, source, requirements_hash) = load_requirements(args.requirements.as_ref())?;
     let mc = geodesic_checks::release::SharedMonteCarlo::new();
     let registry = geodesic_checks::registry_with(mc.clone());
@@ -224,17 +234,21 @@ pub fn run(args: Args) -> CmdResult {
         staging.path().to_path_buf(),
         args.mc_n,
         args.seed,
-        args.json || !std::io::stderr().is_terminal(),
+        !crate::progress::enabled(args.json),
     );
+    let to_run = registry
+        .iter()
+        .filter(|c| c.verifies().iter().any(|id| reqs.get(id).is_some()))
+        .count()
+        + usize::from(!args.no_fidelity);
+    let mut task = crate::progress::Task::counter(args.json, "verify", to_run as u64);
     let mut evidence = Vec::new();
     let mut runs = Vec::new();
     for check in &registry {
         if !check.verifies().iter().any(|id| reqs.get(id).is_some()) {
             continue; // none of its requirements is loaded: listed as an orphan check below
         }
-        if !ctx.quiet {
-            eprintln!("geodesic: running check {} ...", check.name());
-        }
+        task.set_label(&format!("verify: check {}", check.name()));
         let t0 = Instant::now();
         let ev = check
             .run(&ctx)
@@ -245,6 +259,7 @@ pub fn run(args: Args) -> CmdResult {
             seconds: t0.elapsed().as_secs_f64(),
         });
         evidence.push((check.name().to_string(), ev));
+        task.inc(1);
     }
     let tests_label = tests_path.as_ref().map(|p| p.display().to_string());
     let mut matrix = Matrix::build(
@@ -266,14 +281,13 @@ pub fn run(args: Args) -> CmdResult {
     let fidelity = if args.no_fidelity {
         Vec::new()
     } else {
-        if !ctx.quiet {
-            eprintln!(
-                "geodesic: computing the fidelity table (Monte Carlo cases adhesion and mechanisms) ..."
-            );
-        }
-        geodesic_checks::fidelity::table(&mc, &ctx)
-            .map_err(|e| CliError::bad(format!("fidelity table: {e}")))?
+        task.set_label("verify: fidelity table (Monte Carlo cases adhesion and mechanisms)");
+        let t = geodesic_checks::fidelity::table(&mc, &ctx)
+            .map_err(|e| CliError::bad(format!("fidelity table: {e}")))?;
+        task.inc(1);
+        t
     };
+    task.finish();
     let (commit, dirty) = git_state();
     let report = Report {
         matrix,
@@ -328,9 +342,19 @@ pub fn run(args: Args) -> CmdResult {
             .map_err(io)?;
     }
     let junit = geodesic_report::junit::render(&report);
+    // the JUnit file is written beside its target first: a bad target fails before the report
+    // set is switched, and nothing is left behind
+    let junit_pending = match &args.junit {
+        Some(j) => Some(
+            geodesic_core::output::PendingFile::prepare(j, junit.as_bytes())
+                .map_err(|e| CliError::Io(format!("--junit {e}")))?,
+        ),
+        None => None,
+    };
     let written = staging.commit().map_err(io)?;
-    if let Some(j) = &args.junit {
-        write_whole(j, junit.as_bytes())?;
+    if let Some(j) = junit_pending {
+        j.commit()
+            .map_err(|e| CliError::Io(format!("--junit {e}")))?;
     }
     if args.json {
         println!("{json}");
@@ -415,11 +439,4 @@ pub fn capture_file(path: Option<&PathBuf>) -> Result<geodesic_core::check::Inpu
         "models/capture/capture.yaml",
         geodesic_capture::DEFAULT_CAPTURE_YAML,
     )
-}
-
-/// Writes a file whole or not at all (temporary file, then rename).
-fn write_whole(path: &std::path::Path, bytes: &[u8]) -> Result<(), CliError> {
-    let tmp = path.with_extension("tmp-geodesic");
-    std::fs::write(&tmp, bytes).map_err(|e| CliError::Io(format!("{}: {e}", tmp.display())))?;
-    std::fs::rename(&tmp, path).map_err(|e| CliError::Io(format!("{}: {e}", path.display())))
 }
