@@ -46,6 +46,10 @@ enum Command {
     Capture(cmd::capture::Args),
     /// List the effect catalogue: effects, scenarios, parameters with units and ranges.
     Effects(cmd::effects::Args),
+    /// Export the requirement set to another tool's format (reqif).
+    Export(cmd::export::Args),
+    /// Import requirements from another tool's format (reqif) into requirement YAML.
+    Import(cmd::import::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -99,6 +103,8 @@ fn main() -> ExitCode {
         Command::Charge(a) => cmd::charge::run(a),
         Command::Capture(a) => cmd::capture::run(a),
         Command::Effects(a) => cmd::effects::run(a),
+        Command::Export(a) => cmd::export::run(a),
+        Command::Import(a) => cmd::import::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),
