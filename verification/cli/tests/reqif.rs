@@ -74,7 +74,14 @@ fn builtin_set_exports_validates_imports_and_exports_again_unchanged() {
     assert!(first.contains("<CREATION-TIME>2023-11-14T22:13:20Z</CREATION-TIME>"));
 
     let s = ok(&geodesic(
-        &["import", "reqif", "first.reqif", "--out", "imported", "--json"],
+        &[
+            "import",
+            "reqif",
+            "first.reqif",
+            "--out",
+            "imported",
+            "--json",
+        ],
         &dir,
     ));
     let v: serde_json::Value = serde_json::from_str(&s).unwrap();
@@ -97,7 +104,10 @@ fn builtin_set_exports_validates_imports_and_exports_again_unchanged() {
     assert!(s.contains("22 requirements from imported"), "{s}");
     let second = std::fs::read_to_string(dir.join("second.reqif")).unwrap();
     assert_ne!(first, second);
-    assert_eq!(without_creation_time(&first), without_creation_time(&second));
+    assert_eq!(
+        without_creation_time(&first),
+        without_creation_time(&second)
+    );
 
     // with the verification status of the reviewed baseline
     let matrix = workspace().join("verification/baseline/compliance.json");
@@ -138,7 +148,10 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
     );
     let pol = fixtures.join("polarion-sample.reqif");
     one_line(
-        &geodesic(&["import", "reqif", pol.to_str().unwrap(), "--out", "o"], &dir),
+        &geodesic(
+            &["import", "reqif", pol.to_str().unwrap(), "--out", "o"],
+            &dir,
+        ),
         "polarion-sample.reqif:129: requirement LOREM-818",
     );
     one_line(
@@ -147,7 +160,13 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
     );
     one_line(
         &geodesic(
-            &["import", "reqif", pol.to_str().unwrap(), "--attribute", "colour=x"],
+            &[
+                "import",
+                "reqif",
+                pol.to_str().unwrap(),
+                "--attribute",
+                "colour=x",
+            ],
             &dir,
         ),
         "unknown field `colour`",
@@ -155,7 +174,10 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
     // a DOORS module with one incomplete requirement: refused, or imported without it
     let doors = fixtures.join("doors-style-lpf.reqif");
     one_line(
-        &geodesic(&["import", "reqif", doors.to_str().unwrap(), "--out", "d"], &dir),
+        &geodesic(
+            &["import", "reqif", doors.to_str().unwrap(), "--out", "d"],
+            &dir,
+        ),
         "requirement GRS-21",
     );
     assert!(!dir.join("d").exists() || std::fs::read_dir(dir.join("d")).unwrap().count() == 0);
@@ -180,7 +202,17 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
     ));
     // never into a directory that already holds requirements
     one_line(
-        &geodesic(&["import", "reqif", doors.to_str().unwrap(), "--out", "d", "--skip-incomplete"], &dir),
+        &geodesic(
+            &[
+                "import",
+                "reqif",
+                doors.to_str().unwrap(),
+                "--out",
+                "d",
+                "--skip-incomplete",
+            ],
+            &dir,
+        ),
         "already holds requirement YAML",
     );
     // a matrix of another requirement set
@@ -190,7 +222,10 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
     )
     .unwrap();
     one_line(
-        &geodesic(&["export", "reqif", "--matrix", "m.json", "--out", "x.reqif"], &dir),
+        &geodesic(
+            &["export", "reqif", "--matrix", "m.json", "--out", "x.reqif"],
+            &dir,
+        ),
         "m.json: has no row for requirement",
     );
     assert!(!dir.join("x.reqif").exists());

@@ -67,7 +67,9 @@ impl StatusSet {
         let rows = v
             .get("requirements")
             .and_then(Value::as_array)
-            .ok_or_else(|| err("no `requirements` array: not a compliance.json of geodesic verify".into()))?;
+            .ok_or_else(|| {
+                err("no `requirements` array: not a compliance.json of geodesic verify".into())
+            })?;
         let mut out = StatusSet::default();
         for (i, r) in rows.iter().enumerate() {
             let s = |k: &str| r.get(k).and_then(Value::as_str).map(str::to_string);

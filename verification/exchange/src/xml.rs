@@ -153,7 +153,10 @@ mod tests {
 
     #[test]
     fn escapes_markup_and_controls() {
-        assert_eq!(escape("a<b & \"c\" 'd'>"), "a&lt;b &amp; &quot;c&quot; &#x27;d&#x27;&gt;");
+        assert_eq!(
+            escape("a<b & \"c\" 'd'>"),
+            "a&lt;b &amp; &quot;c&quot; &#x27;d&#x27;&gt;"
+        );
         assert_eq!(escape("x\ny\u{1}"), "x&#10;y\u{FFFD}");
         assert_eq!(escape_text("a<b & \"c\"\n"), "a&lt;b &amp; \"c\"\n");
     }

@@ -27,7 +27,10 @@ fn entry(o: &mut String, r: &ImportedRequirement) {
         o.push_str(&format!("    check: {}\n", q(c)));
     }
     if let Some((id, margin)) = &r.parent {
-        o.push_str(&format!("    parent: {{id: {}, margin: {margin:?}}}\n", q(id)));
+        o.push_str(&format!(
+            "    parent: {{id: {}, margin: {margin:?}}}\n",
+            q(id)
+        ));
     }
     if let Some(n) = &r.note {
         o.push_str(&format!("    note: {}\n", q(n)));

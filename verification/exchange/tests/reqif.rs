@@ -39,11 +39,7 @@ fn content(r: &Requirements) -> serde_json::Value {
     v
 }
 
-fn import_to_set(
-    name: &Path,
-    text: &str,
-    o: &ImportOptions,
-) -> (reqif::Imported, Requirements) {
+fn import_to_set(name: &Path, text: &str, o: &ImportOptions) -> (reqif::Imported, Requirements) {
     let imp = reqif::import(name, text, o).unwrap();
     let sources: Vec<(PathBuf, String)> = imp
         .families
@@ -84,9 +80,15 @@ fn export_import_export_is_lossless() {
     );
     let second = reqif::export(&back, &opts("2027-06-30T12:00:00Z", None));
     assert_ne!(first, second, "the creation time differs");
-    assert_eq!(without_creation_time(&first), without_creation_time(&second));
     assert_eq!(
-        first.lines().filter(|l| l.contains("<CREATION-TIME>")).count(),
+        without_creation_time(&first),
+        without_creation_time(&second)
+    );
+    assert_eq!(
+        first
+            .lines()
+            .filter(|l| l.contains("<CREATION-TIME>"))
+            .count(),
         1
     );
 }
@@ -154,7 +156,10 @@ fn export_with_the_matrix_carries_the_vcd_status() {
         .unwrap();
     assert!(vel.contains("geodesic-ev-status-not-verified"));
     assert!(vel.contains("no model gives vx at release"));
-    assert!(!vel.contains("geodesic-ad-req-value<"), "no value when not verified");
+    assert!(
+        !vel.contains("geodesic-ad-req-value<"),
+        "no value when not verified"
+    );
     // the status is a result, not part of the requirement: the import ignores it
     let (_, back) = import_to_set(Path::new("s.reqif"), &a, &ImportOptions::default());
     assert_eq!(content(&back), content(&reqs));
@@ -163,7 +168,10 @@ fn export_with_the_matrix_carries_the_vcd_status() {
     let mut other = reqs.clone();
     other.items[0].limit_text = "< 2".into();
     let e = st.check_against(&mp, &other).unwrap_err().to_string();
-    assert!(e.contains("CAP-QUARTIC") && e.contains("verify again"), "{e}");
+    assert!(
+        e.contains("CAP-QUARTIC") && e.contains("verify again"),
+        "{e}"
+    );
     other.items.remove(0);
     let e = st.check_against(&mp, &other).unwrap_err().to_string();
     assert!(e.contains("CAP-QUARTIC"), "{e}");
@@ -176,8 +184,14 @@ fn doors_module_imports_with_headings_prefixes_enumerations_and_links() {
     let e = reqif::import(&name, &text, &ImportOptions::default())
         .unwrap_err()
         .to_string();
-    assert!(e.starts_with("fixtures/doors-style-lpf.reqif:123: requirement GRS-21"), "{e}");
-    assert!(e.contains("no limit") && e.contains("no verification method"), "{e}");
+    assert!(
+        e.starts_with("fixtures/doors-style-lpf.reqif:123: requirement GRS-21"),
+        "{e}"
+    );
+    assert!(
+        e.contains("no limit") && e.contains("no verification method"),
+        "{e}"
+    );
     let o = ImportOptions {
         skip_incomplete: true,
         ..ImportOptions::default()
@@ -220,7 +234,10 @@ fn doors_module_imports_with_headings_prefixes_enumerations_and_links() {
     assert_eq!(p.as_str(), "GRS-12");
     assert!((m - 1.5).abs() < 1e-12, "{m}");
     // a multi-valued method takes the first; other links are kept in the note
-    assert_eq!(set.get("GRS-20").unwrap().method.to_string(), "review-of-design");
+    assert_eq!(
+        set.get("GRS-20").unwrap().method.to_string(),
+        "review-of-design"
+    );
     assert_eq!(
         set.get("GRS-20").unwrap().note.as_deref(),
         Some("ReqIF relation 'Satisfies' to GRS-12")
@@ -234,7 +251,8 @@ fn attribute_names_can_be_given() {
         skip_incomplete: true,
         ..ImportOptions::default()
     };
-    o.attribute.insert(Field::Title, "ReqIF.ForeignCreatedBy".into());
+    o.attribute
+        .insert(Field::Title, "ReqIF.ForeignCreatedBy".into());
     o.attribute.insert(Field::Limit, "Maximum".into());
     let e = reqif::import(&name, &text, &o).unwrap_err().to_string();
     assert!(e.contains("nothing to import"), "{e}");
@@ -278,7 +296,10 @@ fn polarion_and_doors_exports_without_limits_are_refused_by_requirement() {
     let mut o = ImportOptions::default();
     o.attribute.insert(Field::Text, "Author".into());
     let e = reqif::import(&name, &text, &o).unwrap_err().to_string();
-    assert!(e.contains("requirement REQ-2C84E85A-59D1-11DA-8EF5-AFDBD01C7A79"), "{e}");
+    assert!(
+        e.contains("requirement REQ-2C84E85A-59D1-11DA-8EF5-AFDBD01C7A79"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -298,7 +319,9 @@ fn bad_files_name_the_line() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.starts_with("fixtures/doors-style-lpf.reqif:92: dangling reference: enumeration value `_ev_vm_x`"),
+        e.starts_with(
+            "fixtures/doors-style-lpf.reqif:92: dangling reference: enumeration value `_ev_vm_x`"
+        ),
         "{e}"
     );
     let dangling = text.replace(
@@ -308,17 +331,26 @@ fn bad_files_name_the_line() {
     let e = reqif::import(&name, &dangling, &ImportOptions::default())
         .unwrap_err()
         .to_string();
-    assert!(e.contains("dangling reference: SPEC-OBJECT `_obj_99`"), "{e}");
+    assert!(
+        e.contains("dangling reference: SPEC-OBJECT `_obj_99`"),
+        "{e}"
+    );
     let e = reqif::import(&name, "<html><body/></html>", &ImportOptions::default())
         .unwrap_err()
         .to_string();
-    assert!(e.starts_with("fixtures/doors-style-lpf.reqif:1: not a ReqIF file"), "{e}");
+    assert!(
+        e.starts_with("fixtures/doors-style-lpf.reqif:1: not a ReqIF file"),
+        "{e}"
+    );
     let bad_limit = text.replace("&lt;= 1.1 V", "&lt;= 1.1 furlong");
     let o = ImportOptions {
         skip_incomplete: true,
         ..ImportOptions::default()
     };
     let imp = reqif::import(&name, &bad_limit, &o).unwrap();
-    assert!(imp.skipped.iter().any(|s| s.id == "GRS-20"
-        && s.missing.iter().any(|m| m.contains("furlong"))));
+    assert!(
+        imp.skipped
+            .iter()
+            .any(|s| s.id == "GRS-20" && s.missing.iter().any(|m| m.contains("furlong")))
+    );
 }

@@ -33,7 +33,11 @@ pub struct ReqifArgs {
     #[arg(long, value_name = "compliance.json")]
     pub matrix: Option<PathBuf>,
     /// Output file.
-    #[arg(long, value_name = "FILE.reqif", default_value = "reports/requirements.reqif")]
+    #[arg(
+        long,
+        value_name = "FILE.reqif",
+        default_value = "reports/requirements.reqif"
+    )]
     pub out: PathBuf,
     /// Print a JSON summary on standard output.
     #[arg(long)]
@@ -84,7 +88,10 @@ pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
         .and_then(|_| std::fs::rename(&tmp, path));
     if let Err(e) = res {
         let _ = std::fs::remove_file(&tmp);
-        return Err(CliError::Io(format!("{}: cannot write: {e}", path.display())));
+        return Err(CliError::Io(format!(
+            "{}: cannot write: {e}",
+            path.display()
+        )));
     }
     Ok(())
 }

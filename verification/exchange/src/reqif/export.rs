@@ -176,7 +176,12 @@ const REQ_ATTRS: &[Attr] = &[
         Kind::String,
         "the registered geodesic check that runs the activity",
     ),
-    attr("geodesic-ad-req-note", "geodesic.Note", Kind::String, "note"),
+    attr(
+        "geodesic-ad-req-note",
+        "geodesic.Note",
+        Kind::String,
+        "note",
+    ),
 ];
 
 const STATUS_ATTRS: &[Attr] = &[
@@ -385,7 +390,11 @@ fn requirement_values(r: &Requirement, st: Option<&RowStatus>) -> Vec<(&'static 
         ("geodesic-ad-req-quantity", Val::Str(r.quantity.clone())),
         (
             "geodesic-ad-req-dimension",
-            Val::Str(r.dim.name().map_or_else(|| r.dim.to_string(), str::to_string)),
+            Val::Str(
+                r.dim
+                    .name()
+                    .map_or_else(|| r.dim.to_string(), str::to_string),
+            ),
         ),
         ("geodesic-ad-req-limit", Val::Str(r.limit_text.clone())),
         ("geodesic-ad-req-limit-value", Val::Real(limit_in_unit(r))),
@@ -505,7 +514,12 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
     b.open("SPEC-TYPES", &[]);
     for (tag, id, name, attrs) in [
         ("SPEC-OBJECT-TYPE", TYPE_HEADING, "Heading", HEADING_ATTRS),
-        ("SPEC-OBJECT-TYPE", TYPE_REQUIREMENT, "Requirement", REQ_ATTRS),
+        (
+            "SPEC-OBJECT-TYPE",
+            TYPE_REQUIREMENT,
+            "Requirement",
+            REQ_ATTRS,
+        ),
         (
             "SPEC-RELATION-TYPE",
             TYPE_DERIVED,
@@ -587,11 +601,18 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
             b.open(
                 "SPEC-RELATION",
                 &[
-                    ("IDENTIFIER", &format!("geodesic-rel-{}-derived-from-{pid}", r.id)),
+                    (
+                        "IDENTIFIER",
+                        &format!("geodesic-rel-{}-derived-from-{pid}", r.id),
+                    ),
                     ("LAST-CHANGE", LAST_CHANGE),
                 ],
             );
-            write_values(&mut b, REL_ATTRS, &[("geodesic-ad-rel-margin", Val::Real(*margin))]);
+            write_values(
+                &mut b,
+                REL_ATTRS,
+                &[("geodesic-ad-rel-margin", Val::Real(*margin))],
+            );
             b.open("SOURCE", &[]);
             b.text("SPEC-OBJECT-REF", &object_id(r));
             b.close("SOURCE");

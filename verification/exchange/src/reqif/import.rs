@@ -543,9 +543,10 @@ fn parse_limit(s: &str) -> Result<(Quantity, String), String> {
     for sym in ["<=", "≤", ">=", "≥", "<", ">"] {
         if let Some(rest) = t.strip_prefix(sym) {
             let (q, _) = parse_quantity(rest.trim()).map_err(|e| format!("limit `{t}`: {e}"))?;
-            let dim = q.dim.name().ok_or_else(|| {
-                format!("limit `{t}`: its unit has no dimension geodesic names")
-            })?;
+            let dim = q
+                .dim
+                .name()
+                .ok_or_else(|| format!("limit `{t}`: its unit has no dimension geodesic names"))?;
             return Ok((q, dim.to_string()));
         }
     }
@@ -648,15 +649,12 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
     if let Some(specs) = child(content, "SPECIFICATIONS") {
         for spec in elements(specs).filter(|n| n.tag_name().name() == "SPECIFICATION") {
             let spec_values = model.values(&ctx, spec)?;
-            let spec_name = spec
-                .attribute("LONG-NAME")
-                .map(str::to_string)
-                .or_else(|| {
-                    spec_values
-                        .iter()
-                        .find(|v| norm(&v.name) == norm(NAME) && !v.text.trim().is_empty())
-                        .map(|v| v.text.trim().to_string())
-                });
+            let spec_name = spec.attribute("LONG-NAME").map(str::to_string).or_else(|| {
+                spec_values
+                    .iter()
+                    .find(|v| norm(&v.name) == norm(NAME) && !v.text.trim().is_empty())
+                    .map(|v| v.text.trim().to_string())
+            });
             let place = Place {
                 family: None,
                 spec: spec_name,
@@ -835,7 +833,8 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
     if let Some(rels) = child(content, "SPEC-RELATIONS") {
         for rel in elements(rels).filter(|n| n.tag_name().name() == "SPEC-RELATION") {
             relations += 1;
-            let tr = ref_in(rel, "TYPE").ok_or_else(|| ctx.err(rel, "SPEC-RELATION without TYPE"))?;
+            let tr =
+                ref_in(rel, "TYPE").ok_or_else(|| ctx.err(rel, "SPEC-RELATION without TYPE"))?;
             let ty = model.resolve(&ctx, tr, "SPEC-RELATION-TYPE")?;
             let type_name = ty.attribute("LONG-NAME").unwrap_or("relation").to_string();
             let end = |w: &str| -> Result<String, ImportError> {
@@ -861,9 +860,7 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                         || norm(&v.name) == norm("Margin")
                 })
                 .map(|v| v.text.trim().to_string());
-            let is_parent = PARENT_RELATIONS
-                .iter()
-                .any(|p| norm(p) == norm(&type_name));
+            let is_parent = PARENT_RELATIONS.iter().any(|p| norm(p) == norm(&type_name));
             let target_id = pending[ti].req.id.clone();
             let mut as_note = !is_parent || pending[si].req.parent.is_some();
             if !as_note {
@@ -930,13 +927,17 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         })
         .collect();
     let skipped_ids: HashSet<String> = skipped.iter().map(|s| s.id.clone()).collect();
-    let mut kept: Vec<Pending> = pending.into_iter().filter(|p| p.missing.is_empty()).collect();
+    let mut kept: Vec<Pending> = pending
+        .into_iter()
+        .filter(|p| p.missing.is_empty())
+        .collect();
     for p in &mut kept {
         if let Some((pid, _)) = &p.req.parent
             && skipped_ids.contains(pid)
         {
-            p.extra_notes
-                .push(format!("parent {pid} not imported (incomplete in the ReqIF file)"));
+            p.extra_notes.push(format!(
+                "parent {pid} not imported (incomplete in the ReqIF file)"
+            ));
             p.req.parent = None;
         }
         if !p.extra_notes.is_empty() {
@@ -1123,6 +1124,10 @@ mod tests {
         assert_eq!(method_of("Review of Design").unwrap(), "review-of-design");
         assert_eq!(method_of("RoD").unwrap(), "review-of-design");
         assert_eq!(method_of("Inspection, Test").unwrap(), "inspection");
-        assert!(method_of("Demonstration").unwrap_err().contains("Demonstration"));
+        assert!(
+            method_of("Demonstration")
+                .unwrap_err()
+                .contains("Demonstration")
+        );
     }
 }

@@ -43,7 +43,13 @@ fn is_block(name: &str) -> bool {
 fn walk(node: roxmltree::Node, out: &mut String) {
     for c in node.children() {
         if c.is_text() {
-            out.push_str(c.text().unwrap_or(""));
+            // a line break in the source is white space; only `br` and blocks break lines
+            out.extend(
+                c.text()
+                    .unwrap_or("")
+                    .chars()
+                    .map(|ch| if ch.is_whitespace() { ' ' } else { ch }),
+            );
         } else if c.is_element() {
             let name = c.tag_name().name();
             match name {
@@ -96,9 +102,8 @@ mod tests {
     use super::*;
 
     fn back(markup: &str) -> String {
-        let doc = format!(
-            "<THE-VALUE xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">{markup}</THE-VALUE>"
-        );
+        let doc =
+            format!("<THE-VALUE xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">{markup}</THE-VALUE>");
         let d = roxmltree::Document::parse(&doc).unwrap();
         xhtml_to_text(d.root_element())
     }
