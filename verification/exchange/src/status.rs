@@ -91,16 +91,14 @@ impl StatusSet {
             {
                 return Err(err(format!("{id}: unknown basis `{b}`")));
             }
-            let close_out = s("close_out").unwrap_or_else(|| {
-                if status == "compliant" {
-                    "closed".into()
-                } else {
-                    "open".into()
-                }
-            });
-            if !matches!(close_out.as_str(), "closed" | "open") {
-                return Err(err(format!("{id}: unknown close_out `{close_out}`")));
-            }
+            // the matrix's own close-out when it states one ("closed", "open", or a phrase
+            // starting with either), else from the status
+            let close_out = match s("close_out") {
+                Some(c) if c.starts_with("closed") => "closed".to_string(),
+                Some(c) if c.starts_with("open") => "open".to_string(),
+                _ if status == "compliant" => "closed".to_string(),
+                _ => "open".to_string(),
+            };
             let disposition = r.get("disposition").and_then(|d| {
                 let kind = d.get("kind").and_then(Value::as_str)?;
                 let reference = d.get("reference").and_then(Value::as_str)?;
