@@ -99,6 +99,10 @@ Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
   geodesic effects
   geodesic effects --scenario rt-retraction --json")]
     Effects(cmd::effects::Args),
+    /// Export the requirement set to another tool's format (reqif).
+    Export(cmd::export::Args),
+    /// Import requirements from another tool's format (reqif) into requirement YAML.
+    Import(cmd::import::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -192,6 +196,8 @@ fn main() -> ExitCode {
         Command::Charge(a) => cmd::charge::run(a),
         Command::Capture(a) => cmd::capture::run(a),
         Command::Effects(a) => cmd::effects::run(a),
+        Command::Export(a) => cmd::export::run(a),
+        Command::Import(a) => cmd::import::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),

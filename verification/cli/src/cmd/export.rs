@@ -1,0 +1,155 @@
+//! `geodesic export reqif`: the requirement set (and, given a compliance matrix, the VCD status
+//! of each requirement) as a ReqIF 1.2 file for DOORS, Polarion, Jama, Capella and other tools.
+
+use crate::cmd::verify::load_requirements;
+use crate::error::{CliError, CmdResult};
+use geodesic_exchange::reqif::{ExportOptions, export};
+use geodesic_exchange::status::StatusSet;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Flags of `geodesic export`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(subcommand)]
+    format: Format,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum Format {
+    /// Write the requirement set as ReqIF 1.2 (OMG), with the VCD status when --matrix is given.
+    Reqif(ReqifArgs),
+}
+
+/// Flags of `geodesic export reqif`.
+#[derive(clap::Args, Debug)]
+pub struct ReqifArgs {
+    /// Directory of requirement YAML files [default: ./requirements if present, else the
+    /// built-in set].
+    #[arg(long, value_name = "DIR")]
+    pub requirements: Option<PathBuf>,
+    /// Compliance matrix written by `geodesic verify` (reports/compliance.json): adds status,
+    /// basis, value, margin, close-out, disposition and remarks to each requirement.
+    #[arg(long, value_name = "compliance.json")]
+    pub matrix: Option<PathBuf>,
+    /// Output file.
+    #[arg(
+        long,
+        value_name = "FILE.reqif",
+        default_value = "reports/requirements.reqif"
+    )]
+    pub out: PathBuf,
+    /// Print a JSON summary on standard output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// UTC time as xsd:dateTime: now, or `SOURCE_DATE_EPOCH` (seconds) when set, as reproducible
+/// builds do.
+pub fn creation_time() -> Result<String, CliError> {
+    let secs = match std::env::var("SOURCE_DATE_EPOCH") {
+        Ok(s) => s.trim().parse::<i64>().map_err(|_| {
+            CliError::bad(format!(
+                "SOURCE_DATE_EPOCH `{s}` is not a number of seconds since 1970-01-01"
+            ))
+        })?,
+        Err(_) => std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs() as i64),
+    };
+    let (day, s) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    Ok(format!(
+        "{}T{:02}:{:02}:{:02}Z",
+        geodesic_core::disposition::civil_from_days(day),
+        s / 3600,
+        (s / 60) % 60,
+        s % 60
+    ))
+}
+
+/// Writes `bytes` to `path` whole or not at all: a temporary file beside it, then a rename.
+pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)
+        .map_err(|e| CliError::Io(format!("{}: cannot create directory: {e}", dir.display())))?;
+    let name = path
+        .file_name()
+        .ok_or_else(|| CliError::bad(format!("{}: not a file name", path.display())))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let res = std::fs::File::create(&tmp)
+        .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
+        .and_then(|_| std::fs::rename(&tmp, path));
+    if let Err(e) = res {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(CliError::Io(format!(
+            "{}: cannot write: {e}",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> CmdResult {
+    match args.format {
+        Format::Reqif(a) => reqif(a),
+    }
+}
+
+fn reqif(a: ReqifArgs) -> CmdResult {
+    let (reqs, source, _hash) = load_requirements(a.requirements.as_ref())?;
+    let status = match &a.matrix {
+        Some(m) => {
+            let text = geodesic_core::fsio::read_text(m, geodesic_core::fsio::MAX_YAML_BYTES)
+                .map_err(|e| CliError::bad(format!("{}: {e}", m.display())))?;
+            let s = StatusSet::parse(m, &text).map_err(|e| CliError::bad(e.to_string()))?;
+            s.check_against(m, &reqs)
+                .map_err(|e| CliError::bad(e.to_string()))?;
+            Some(s)
+        }
+        None => None,
+    };
+    let time = creation_time()?;
+    let tool = format!("geodesic {}", env!("CARGO_PKG_VERSION"));
+    let doc = export(
+        &reqs,
+        &ExportOptions {
+            creation_time: &time,
+            tool_version: &tool,
+            status: status.as_ref(),
+        },
+    );
+    write_whole(&a.out, doc.as_bytes())?;
+    let relations = reqs.items.iter().filter(|r| r.parent.is_some()).count();
+    if a.json {
+        let v = serde_json::json!({
+            "out": a.out.display().to_string(),
+            "requirements_source": source,
+            "requirements": reqs.items.len(),
+            "relations": relations,
+            "with_status": status.is_some(),
+            "creation_time": time,
+            "sha256": geodesic_core::hash::sha256_hex(doc.as_bytes()),
+        });
+        println!("{v}");
+    } else {
+        println!(
+            "wrote {} ({} requirements from {source}, {relations} derivations{})",
+            a.out.display(),
+            reqs.items.len(),
+            if status.is_some() {
+                ", with the verification status"
+            } else {
+                ""
+            }
+        );
+    }
+    Ok(0)
+}

@@ -1,0 +1,356 @@
+//! ReqIF export and import: the round trip on the repository's requirements, files written as
+//! DOORS and Polarion write them, and bad files.
+
+use geodesic_core::Requirements;
+use geodesic_exchange::reqif::{self, ExportOptions, Field, ImportOptions};
+use geodesic_exchange::status::StatusSet;
+use std::path::{Path, PathBuf};
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn fixture(name: &str) -> (PathBuf, String) {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures")
+        .join(name);
+    let t = std::fs::read_to_string(&p).unwrap();
+    (PathBuf::from(format!("fixtures/{name}")), t)
+}
+
+fn repo_requirements() -> Requirements {
+    Requirements::load_dir(&workspace().join("requirements")).unwrap()
+}
+
+fn opts<'a>(time: &'a str, status: Option<&'a StatusSet>) -> ExportOptions<'a> {
+    ExportOptions {
+        creation_time: time,
+        tool_version: "geodesic test",
+        status,
+    }
+}
+
+/// Everything a requirement set says, without where it was read from.
+fn content(r: &Requirements) -> serde_json::Value {
+    let mut v = serde_json::to_value(r).unwrap();
+    for item in v["items"].as_array_mut().unwrap() {
+        item.as_object_mut().unwrap().remove("origin");
+    }
+    v
+}
+
+fn import_to_set(name: &Path, text: &str, o: &ImportOptions) -> (reqif::Imported, Requirements) {
+    let imp = reqif::import(name, text, o).unwrap();
+    let sources: Vec<(PathBuf, String)> = imp
+        .families
+        .iter()
+        .map(|f| (PathBuf::from(&f.file_name), f.yaml.clone()))
+        .collect();
+    let set = Requirements::from_sources(&sources).unwrap();
+    (imp, set)
+}
+
+fn without_creation_time(s: &str) -> String {
+    s.lines()
+        .filter(|l| !l.contains("<CREATION-TIME>"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn export_import_export_is_lossless() {
+    let reqs = repo_requirements();
+    let first = reqif::export(&reqs, &opts("2026-01-01T00:00:00Z", None));
+    let (imp, back) = import_to_set(Path::new("set.reqif"), &first, &ImportOptions::default());
+    assert!(imp.skipped.is_empty());
+    assert_eq!(imp.count(), reqs.items.len());
+    // the same requirement set: every field, family descriptions, parents and margins
+    assert_eq!(content(&back), content(&reqs));
+    // one file per family, named as in requirements/
+    let names: Vec<&str> = imp.families.iter().map(|f| f.file_name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "capture.yaml",
+            "charge.yaml",
+            "facility.yaml",
+            "release.yaml",
+            "tm-state.yaml"
+        ]
+    );
+    let second = reqif::export(&back, &opts("2027-06-30T12:00:00Z", None));
+    assert_ne!(first, second, "the creation time differs");
+    assert_eq!(
+        without_creation_time(&first),
+        without_creation_time(&second)
+    );
+    assert_eq!(
+        first
+            .lines()
+            .filter(|l| l.contains("<CREATION-TIME>"))
+            .count(),
+        1
+    );
+}
+
+#[test]
+fn export_is_deterministic_and_carries_every_field() {
+    let reqs = repo_requirements();
+    let a = reqif::export(&reqs, &opts("2026-01-01T00:00:00Z", None));
+    let b = reqif::export(&reqs, &opts("2026-01-01T00:00:00Z", None));
+    assert_eq!(a, b);
+    assert!(a.contains("xmlns=\"http://www.omg.org/spec/ReqIF/20110401/reqif.xsd\""));
+    // ID as ReqIF.ForeignID, title as ReqIF.Name, text as XHTML, limit with value and unit
+    let obj = a
+        .split("<SPEC-OBJECT IDENTIFIER=\"geodesic-req-REL-DFACS-VEL\"")
+        .nth(1)
+        .unwrap()
+        .split("</SPEC-OBJECT>")
+        .next()
+        .unwrap();
+    assert!(obj.contains("THE-VALUE=\"REL-DFACS-VEL\""), "{obj}");
+    assert!(obj.contains("THE-VALUE=\"DFACS design release velocity\""));
+    assert!(obj.contains("<xhtml:div>The DFACS shall be designed"));
+    assert!(obj.contains("THE-VALUE=\"&lt;= 7.5 um/s\""));
+    assert!(obj.contains("THE-VALUE=\"7.5\""));
+    assert!(obj.contains("<ENUM-VALUE-REF>geodesic-ev-method-analysis</ENUM-VALUE-REF>"));
+    // the derivation as a SPEC-RELATION child -> parent with its margin
+    assert!(a.contains("IDENTIFIER=\"geodesic-rel-REL-DFACS-VEL-derived-from-REL-GPRM-VEL\""));
+    assert_eq!(
+        a.matches("<SPEC-RELATION IDENTIFIER=").count(),
+        reqs.items.iter().filter(|r| r.parent.is_some()).count()
+    );
+    // no random identifiers, no dates but the header's creation time and the fixed LAST-CHANGE
+    for l in a.lines() {
+        if l.contains("LAST-CHANGE=") {
+            assert!(l.contains("LAST-CHANGE=\"1970-01-01T00:00:00Z\""), "{l}");
+        }
+    }
+}
+
+#[test]
+fn export_with_the_matrix_carries_the_vcd_status() {
+    let reqs = repo_requirements();
+    let mp = workspace().join("verification/baseline/compliance.json");
+    let st = StatusSet::parse(&mp, &std::fs::read_to_string(&mp).unwrap()).unwrap();
+    st.check_against(&mp, &reqs).unwrap();
+    let a = reqif::export(&reqs, &opts("2026-01-01T00:00:00Z", Some(&st)));
+    let chg = a
+        .split("<SPEC-OBJECT IDENTIFIER=\"geodesic-req-CHG-Q\"")
+        .nth(1)
+        .unwrap()
+        .split("</SPEC-OBJECT>")
+        .next()
+        .unwrap();
+    assert!(chg.contains("geodesic-ev-status-non-compliant"), "{chg}");
+    assert!(chg.contains("geodesic-ev-basis-model"));
+    assert!(chg.contains("geodesic-ev-close-out-open"));
+    assert!(chg.contains("THE-VALUE=\"NCR NCR-GEO-001\""));
+    assert!(chg.contains("THE-VALUE=\"-0.04322934809813976\""));
+    let vel = a
+        .split("<SPEC-OBJECT IDENTIFIER=\"geodesic-req-TMS-X-VEL\"")
+        .nth(1)
+        .unwrap()
+        .split("</SPEC-OBJECT>")
+        .next()
+        .unwrap();
+    assert!(vel.contains("geodesic-ev-status-not-verified"));
+    assert!(vel.contains("no model gives vx at release"));
+    assert!(
+        !vel.contains("geodesic-ad-req-value<"),
+        "no value when not verified"
+    );
+    // the status is a result, not part of the requirement: the import ignores it
+    let (_, back) = import_to_set(Path::new("s.reqif"), &a, &ImportOptions::default());
+    assert_eq!(content(&back), content(&reqs));
+
+    // a matrix of another requirement set is refused
+    let mut other = reqs.clone();
+    other.items[0].limit_text = "< 2".into();
+    let e = st.check_against(&mp, &other).unwrap_err().to_string();
+    assert!(
+        e.contains("CAP-QUARTIC") && e.contains("verify again"),
+        "{e}"
+    );
+    other.items.remove(0);
+    let e = st.check_against(&mp, &other).unwrap_err().to_string();
+    assert!(e.contains("CAP-QUARTIC"), "{e}");
+}
+
+#[test]
+fn doors_module_imports_with_headings_prefixes_enumerations_and_links() {
+    let (name, text) = fixture("doors-style-lpf.reqif");
+    // GRS-21 has no limit and no method: refused by default, naming file, line and requirement
+    let e = reqif::import(&name, &text, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("fixtures/doors-style-lpf.reqif:123: requirement GRS-21"),
+        "{e}"
+    );
+    assert!(
+        e.contains("no limit") && e.contains("no verification method"),
+        "{e}"
+    );
+    let o = ImportOptions {
+        skip_incomplete: true,
+        ..ImportOptions::default()
+    };
+    let (imp, set) = import_to_set(&name, &text, &o);
+    assert_eq!(imp.source_tool, "IBM Rational DOORS");
+    assert_eq!(imp.skipped.len(), 1);
+    assert_eq!(imp.skipped[0].id, "GRS-21");
+    assert_eq!(imp.headings, 2);
+    let ids: Vec<&str> = set.items.iter().map(|r| r.id.as_str()).collect();
+    assert_eq!(ids, ["GRS-12", "GRS-13", "GRS-20"]);
+    let fams: Vec<(&str, &str)> = imp
+        .families
+        .iter()
+        .map(|f| (f.family.as_str(), f.file_name.as_str()))
+        .collect();
+    // "release-velocity" sorts after "charge": numbered to keep the module's order
+    assert_eq!(
+        fams,
+        [
+            ("Release velocity", "01-release-velocity.yaml"),
+            ("Charge", "02-charge.yaml")
+        ]
+    );
+    let r12 = set.get("GRS-12").unwrap();
+    assert_eq!(
+        r12.text,
+        "The GPRM shall release the TM with a velocity along the release axis below 5 µm/s\nwith 99.73 % probability."
+    );
+    assert_eq!(r12.source, "LPF-RS-0340 Tab. 4");
+    assert_eq!(r12.limit_text, "<= 5 µm/s");
+    assert_eq!(r12.dim.name(), Some("velocity"));
+    assert_eq!(r12.method.to_string(), "analysis");
+    assert_eq!(r12.activity, "not stated in the ReqIF file");
+    assert!(r12.check.is_none(), "verify reports it not verified");
+    // the numeric foreign ID with its prefix; the title falls back to the text
+    assert!(r12.title.starts_with("The GPRM shall release"));
+    // "Derived From" becomes the parent, its margin computed from the limits
+    let (p, m) = set.get("GRS-13").unwrap().parent.clone().unwrap();
+    assert_eq!(p.as_str(), "GRS-12");
+    assert!((m - 1.5).abs() < 1e-12, "{m}");
+    // a multi-valued method takes the first; other links are kept in the note
+    assert_eq!(
+        set.get("GRS-20").unwrap().method.to_string(),
+        "review-of-design"
+    );
+    assert_eq!(
+        set.get("GRS-20").unwrap().note.as_deref(),
+        Some("ReqIF relation 'Satisfies' to GRS-12")
+    );
+}
+
+#[test]
+fn attribute_names_can_be_given() {
+    let (name, text) = fixture("doors-style-lpf.reqif");
+    let mut o = ImportOptions {
+        skip_incomplete: true,
+        ..ImportOptions::default()
+    };
+    o.attribute
+        .insert(Field::Title, "ReqIF.ForeignCreatedBy".into());
+    o.attribute.insert(Field::Limit, "Maximum".into());
+    let e = reqif::import(&name, &text, &o).unwrap_err().to_string();
+    assert!(e.contains("nothing to import"), "{e}");
+    o.attribute.remove(&Field::Limit);
+    let (_, set) = import_to_set(&name, &text, &o);
+    assert_eq!(set.get("GRS-12").unwrap().title, "jdoe");
+}
+
+#[test]
+fn polarion_and_doors_exports_without_limits_are_refused_by_requirement() {
+    // real files: no limit, no method; the message names the file, the line and the
+    // requirement as the tool identifies it
+    let (name, text) = fixture("polarion-sample.reqif");
+    let e = reqif::import(&name, &text, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("fixtures/polarion-sample.reqif:129: requirement LOREM-818 "),
+        "{e}"
+    );
+    assert!(e.contains("no limit"), "{e}");
+    let o = ImportOptions {
+        skip_incomplete: true,
+        ..ImportOptions::default()
+    };
+    let e = reqif::import(&name, &text, &o).unwrap_err().to_string();
+    assert!(e.contains("none of its 1 requirements"), "{e}");
+
+    let (name, text) = fixture("doors-capella-sample.reqif");
+    let e = reqif::import(&name, &text, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(":68: requirement PUID-1 "), "{e}");
+
+    // RIF/ReqIF 1.0.1 namespace: read; its objects have no text, so nothing is a requirement
+    let (name, text) = fixture("rmf-spec-relation.reqif");
+    let e = reqif::import(&name, &text, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no requirement in this file"), "{e}");
+    let mut o = ImportOptions::default();
+    o.attribute.insert(Field::Text, "Author".into());
+    let e = reqif::import(&name, &text, &o).unwrap_err().to_string();
+    assert!(
+        e.contains("requirement REQ-2C84E85A-59D1-11DA-8EF5-AFDBD01C7A79"),
+        "{e}"
+    );
+}
+
+#[test]
+fn bad_files_name_the_line() {
+    let (name, text) = fixture("doors-style-lpf.reqif");
+    let cut = &text[..text.len() / 2];
+    let e = reqif::import(&name, cut, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("malformed XML"), "{e}");
+    let dangling = text.replacen(
+        "<ENUM-VALUE-REF>_ev_vm_a</ENUM-VALUE-REF>",
+        "<ENUM-VALUE-REF>_ev_vm_x</ENUM-VALUE-REF>",
+        1,
+    );
+    let e = reqif::import(&name, &dangling, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with(
+            "fixtures/doors-style-lpf.reqif:92: dangling reference: enumeration value `_ev_vm_x`"
+        ),
+        "{e}"
+    );
+    let dangling = text.replace(
+        "<TARGET><SPEC-OBJECT-REF>_obj_12</SPEC-OBJECT-REF></TARGET>\n        </SPEC-RELATION>\n        <SPEC-RELATION IDENTIFIER=\"_rel_20_12\"",
+        "<TARGET><SPEC-OBJECT-REF>_obj_99</SPEC-OBJECT-REF></TARGET>\n        </SPEC-RELATION>\n        <SPEC-RELATION IDENTIFIER=\"_rel_20_12\"",
+    );
+    let e = reqif::import(&name, &dangling, &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("dangling reference: SPEC-OBJECT `_obj_99`"),
+        "{e}"
+    );
+    let e = reqif::import(&name, "<html><body/></html>", &ImportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("fixtures/doors-style-lpf.reqif:1: not a ReqIF file"),
+        "{e}"
+    );
+    let bad_limit = text.replace("&lt;= 1.1 V", "&lt;= 1.1 furlong");
+    let o = ImportOptions {
+        skip_incomplete: true,
+        ..ImportOptions::default()
+    };
+    let imp = reqif::import(&name, &bad_limit, &o).unwrap();
+    assert!(
+        imp.skipped
+            .iter()
+            .any(|s| s.id == "GRS-20" && s.missing.iter().any(|m| m.contains("furlong")))
+    );
+}
