@@ -62,3 +62,31 @@ fn the_worked_example_is_a_valid_force_effect() {
     assert_eq!(Pendulum.starts(&g).len(), 3);
     assert_eq!(Pendulum.kind(), EffectKind::Force);
 }
+
+/// The README's "Adding an effect" shows this file's code (with `use super::...` instead of the
+/// crate path): the two must not drift apart.
+#[test]
+fn the_readme_shows_this_code_line_for_line() {
+    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md"))
+        .expect("README.md at the workspace root");
+    let here = include_str!("worked_example.rs");
+    let code = &here[here.find("/// The TM mock-up hangs").unwrap()..here.find("#[test]").unwrap()];
+    let section = &readme[readme.find("## Adding an effect").expect("the section")..];
+    let start = section.find("```rust\n").expect("a rust block") + "```rust\n".len();
+    let block: String = section[start..start + section[start..].find("```").unwrap()]
+        .lines()
+        .map(|l| l.strip_prefix("   ").unwrap_or(l))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let expected_head = "//! `pendulum`: restoring force of the TM mock-up's suspension (thesis ch. 5).\n\n\
+                         use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};\n\n";
+    assert!(
+        block.starts_with(expected_head),
+        "the README's block starts differently:\n{block}"
+    );
+    assert_eq!(
+        block[expected_head.len()..].trim_end(),
+        code.trim_end(),
+        "README.md and models/facility/tests/worked_example.rs differ"
+    );
+}

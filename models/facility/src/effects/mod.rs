@@ -249,7 +249,7 @@ pub trait Effect: Send + Sync {
 
 /// The catalogue: every effect of every scenario, in interface.md order.
 pub fn catalogue() -> &'static [&'static dyn Effect] {
-    static LIST: [&'static dyn Effect; 10] = [
+    static LIST: &[&dyn Effect] = &[
         &NeedleContact,
         &TipContact,
         &TipAdhesion,
@@ -261,7 +261,7 @@ pub fn catalogue() -> &'static [&'static dyn Effect] {
         &PlungerCompliance,
         &VoltageRamp,
     ];
-    &LIST
+    LIST
 }
 
 /// Looks an effect up by name.
