@@ -157,7 +157,7 @@ pub fn fit_model(
 /// ([`Prepared::reduced`]) before the refinement on the whole record: the search's cost then
 /// stops growing with the record, and the refinement, which starts next to the minimum, takes
 /// a few Levenberg-Marquardt iterations whose cost is linear in the record.
-pub const SEARCH_SAMPLES: usize = 20_000;
+pub const SEARCH_SAMPLES: usize = 4_000;
 
 /// [`fit_model`] on `prep` itself; with `refine_only`, `starts[0]` is refined by the long run
 /// only (no screening, no stages).
