@@ -20,6 +20,18 @@ impl TipProfile {
         (2.0 * self.v_m_s / self.jerk_m_s3).sqrt()
     }
 
+    /// Tip speed `y'(t)` [m/s] at time `t` [s] from the trigger (never decreasing for `t > 0`).
+    pub fn speed(&self, t: f64) -> f64 {
+        if t <= 0.0 {
+            return 0.0;
+        }
+        if t < self.t1_s() {
+            0.5 * self.jerk_m_s3 * t * t
+        } else {
+            self.v_m_s
+        }
+    }
+
     /// Tip displacement `y(t)` [m] at time `t` [s] from the trigger.
     pub fn y(&self, t: f64) -> f64 {
         if t <= 0.0 {

@@ -15,7 +15,7 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use crate::error::FitError;
-use crate::lm::{LmOptions, jacobian, minimize};
+use crate::lm::{LmOptions, jacobian_columns, minimize, normal_equations};
 use crate::residual::noise_from_differences;
 
 pub use crate::prepare::{Prepared, ProfileFit};
@@ -138,6 +138,36 @@ pub fn fit_model(
     opts: &FitOptions,
     starts: &[Vec<f64>],
 ) -> Result<FitOutcome, FitError> {
+    if let Some(sub) = prep.reduced(SEARCH_SAMPLES) {
+        // a long record: search on the reduced record (every sample of the start, the rest
+        // thinned), then refine the best point on the whole record
+        let search = FitOptions {
+            profile: false,
+            ..opts.clone()
+        };
+        let found = fit_model_on(&sub, model, &search, starts, false)?;
+        let mut o = fit_model_on(prep, model, opts, std::slice::from_ref(&found.p), true)?;
+        o.starts = found.starts;
+        return Ok(o);
+    }
+    fit_model_on(prep, model, opts, starts, false)
+}
+
+/// Records longer than this many samples are searched on a reduced record of about this size
+/// ([`Prepared::reduced`]) before the refinement on the whole record: the search's cost then
+/// stops growing with the record, and the refinement, which starts next to the minimum, takes
+/// a few Levenberg-Marquardt iterations whose cost is linear in the record.
+pub const SEARCH_SAMPLES: usize = 4_000;
+
+/// [`fit_model`] on `prep` itself; with `refine_only`, `starts[0]` is refined by the long run
+/// only (no screening, no stages).
+fn fit_model_on(
+    prep: &Prepared,
+    model: &Model,
+    opts: &FitOptions,
+    starts: &[Vec<f64>],
+    refine_only: bool,
+) -> Result<FitOutcome, FitError> {
     let specs = model.specs();
     let names = model.param_names();
     let np = specs.len();
@@ -206,11 +236,12 @@ pub fn fit_model(
     // residuals over the first `n_use` samples (a time window, for continuation)
     let resid_n = |u: &[f64], start: &[f64], n_use: usize| -> Vec<f64> {
         let p = full(u, start);
-        let pred = model.predict(&p, &t[..n_use], &prep.inputs);
-        pred.iter()
-            .zip(data)
-            .map(|(m, d)| (m - d) / sigma)
-            .collect()
+        // the prediction's buffer becomes the residual: one allocation per evaluation
+        let mut r = model.predict(&p, &t[..n_use], &prep.inputs);
+        for (m, d) in r.iter_mut().zip(data) {
+            *m = (*m - d) / sigma;
+        }
+        r
     };
     let resid = |u: &[f64], start: &[f64]| -> Vec<f64> { resid_n(u, start, t.len()) };
     let (stages, long_iter, windows, also_full) = effort(model.scenario);
@@ -249,50 +280,18 @@ pub fn fit_model(
             true
         }
     });
-    // screen every start by its cost, run a short LM from the best few distinct ones
-    let screened: Vec<(usize, f64)> = starts
-        .par_iter()
-        .enumerate()
-        .map(|(si, s)| {
-            let u0: Vec<f64> = fidx
-                .iter()
-                .map(|&i| to_u(&specs[i], s[i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx)))
-                .collect();
-            let c: f64 = resid_n(&u0, s, n_window(windows[0]))
-                .iter()
-                .map(|v| v * v)
-                .sum();
-            (si, if c.is_finite() { c } else { f64::INFINITY })
-        })
-        .collect();
-    let mut sorted = screened;
-    sorted.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-    // keep the best start for each distinct starting value of the first effect's parameters
-    // (the base of the model, whose basins differ most), best first, so that one basin cannot
-    // fill every slot
-    let first_len = model.range(0).len();
-    let mut order: Vec<(usize, f64)> = Vec::new();
-    for &(si, c) in &sorted {
-        if order.len() >= SCREEN_KEEP {
-            break;
-        }
-        let key = &starts[si][..first_len];
-        if !order.iter().any(|&(sj, _)| &starts[sj][..first_len] == key) {
-            order.push((si, c));
-        }
-    }
-    // then fill up with the next best overall
-    for &(si, c) in &sorted {
-        if order.len() >= SCREEN_KEEP {
-            break;
-        }
-        if !order.iter().any(|&(sj, _)| sj == si) {
-            order.push((si, c));
-        }
-    }
-    // the cost of every start on the whole record (only needed when the stages are windowed)
-    let full_costs: Vec<(usize, f64)> = if windows[0] < 1.0 {
-        starts
+    let first: Vec<(usize, f64, Vec<f64>)> = if refine_only {
+        // the search was made on the reduced record: refine its result only
+        let u0: Vec<f64> = fidx
+            .iter()
+            .map(|&i| {
+                to_u(&specs[i], starts[0][i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
+            })
+            .collect();
+        vec![(0, f64::INFINITY, u0)]
+    } else {
+        // screen every start by its cost, run a short LM from the best few distinct ones
+        let screened: Vec<(usize, f64)> = starts
             .par_iter()
             .enumerate()
             .map(|(si, s)| {
@@ -302,104 +301,150 @@ pub fn fit_model(
                         to_u(&specs[i], s[i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
                     })
                     .collect();
-                let c: f64 = resid(&u0, s).iter().map(|v| v * v).sum();
+                let c: f64 = resid_n(&u0, s, n_window(windows[0]))
+                    .iter()
+                    .map(|v| v * v)
+                    .sum();
                 (si, if c.is_finite() { c } else { f64::INFINITY })
             })
-            .collect()
-    } else {
-        Vec::new()
-    };
-    // a windowed screen judges starts on the early record only: the best few on the whole
-    // record join them
-    let mut by_full = full_costs.clone();
-    by_full.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-    for &(si, c) in by_full.iter().take(SCREEN_FULL) {
-        if !order.iter().any(|&(sj, _)| sj == si) {
-            order.push((si, c));
+            .collect();
+        let mut sorted = screened;
+        sorted.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        // keep the best start for each distinct starting value of the first effect's parameters
+        // (the base of the model, whose basins differ most), best first, so that one basin cannot
+        // fill every slot
+        let first_len = model.range(0).len();
+        let mut order: Vec<(usize, f64)> = Vec::new();
+        for &(si, c) in &sorted {
+            if order.len() >= SCREEN_KEEP {
+                break;
+            }
+            let key = &starts[si][..first_len];
+            if !order.iter().any(|&(sj, _)| &starts[sj][..first_len] == key) {
+                order.push((si, c));
+            }
         }
-    }
-    // successive halving: a few iterations from every kept start, more from the best ones
-    let initial = |list: &[(usize, f64)]| -> Vec<(usize, f64, Vec<f64>)> {
-        list.iter()
-            .map(|&(si, c)| {
-                let u0: Vec<f64> = fidx
-                    .iter()
-                    .map(|&i| to_u(&specs[i], starts[si][i]))
-                    .collect();
-                (si, c, u0)
-            })
-            .collect()
-    };
-    let run_stages = |mut first: Vec<(usize, f64, Vec<f64>)>, windows: [f64; 2]| {
-        for (&(iters, keep), &frac) in stages.iter().zip(&windows) {
-            let n_use = n_window(frac);
-            let opts_stage = LmOptions {
-                max_iter: iters,
-                ..LmOptions::default()
-            };
-            first = first
+        // then fill up with the next best overall
+        for &(si, c) in &sorted {
+            if order.len() >= SCREEN_KEEP {
+                break;
+            }
+            if !order.iter().any(|&(sj, _)| sj == si) {
+                order.push((si, c));
+            }
+        }
+        // the cost of every start on the whole record (only needed when the stages are windowed)
+        let full_costs: Vec<(usize, f64)> = if windows[0] < 1.0 {
+            starts
                 .par_iter()
-                .map(|(si, _, u)| {
-                    let r = minimize(
-                        &|v: &[f64]| resid_n(v, &starts[*si], n_use),
-                        u,
-                        &lo,
-                        &hi,
-                        &opts_stage,
-                    );
-                    (*si, r.cost, r.u)
+                .enumerate()
+                .map(|(si, s)| {
+                    let u0: Vec<f64> = fidx
+                        .iter()
+                        .map(|&i| {
+                            to_u(&specs[i], s[i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
+                        })
+                        .collect();
+                    let c: f64 = resid(&u0, s).iter().map(|v| v * v).sum();
+                    (si, if c.is_finite() { c } else { f64::INFINITY })
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        // a windowed screen judges starts on the early record only: the best few on the whole
+        // record join them
+        let mut by_full = full_costs.clone();
+        by_full.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        for &(si, c) in by_full.iter().take(SCREEN_FULL) {
+            if !order.iter().any(|&(sj, _)| sj == si) {
+                order.push((si, c));
+            }
+        }
+        // successive halving: a few iterations from every kept start, more from the best ones
+        let initial = |list: &[(usize, f64)]| -> Vec<(usize, f64, Vec<f64>)> {
+            list.iter()
+                .map(|&(si, c)| {
+                    let u0: Vec<f64> = fidx
+                        .iter()
+                        .map(|&i| to_u(&specs[i], starts[si][i]))
+                        .collect();
+                    (si, c, u0)
+                })
+                .collect()
+        };
+        let run_stages = |mut first: Vec<(usize, f64, Vec<f64>)>, windows: [f64; 2]| {
+            for (&(iters, keep), &frac) in stages.iter().zip(&windows) {
+                let n_use = n_window(frac);
+                let opts_stage = LmOptions {
+                    max_iter: iters,
+                    ..LmOptions::default()
+                };
+                first = first
+                    .par_iter()
+                    .map(|(si, _, u)| {
+                        let r = minimize(
+                            &|v: &[f64]| resid_n(v, &starts[*si], n_use),
+                            u,
+                            &lo,
+                            &hi,
+                            &opts_stage,
+                        );
+                        (*si, r.cost, r.u)
+                    })
+                    .collect();
+                first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+                    for (si, c, u) in &first {
+                        let p = full(u, &starts[*si]);
+                        eprintln!(
+                            "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
+                            &starts[*si]
+                        );
+                    }
+                }
+                first.truncate(keep);
+            }
+            first
+        };
+        let mut first = run_stages(initial(&order), windows);
+        if windows[0] < 1.0 && also_full {
+            // and the same stages on the whole record from the starts that fit it best
+            let mut top: Vec<(usize, f64)> = Vec::new();
+            for &(si, c) in &by_full {
+                if top.len() >= SCREEN_KEEP {
+                    break;
+                }
+                top.push((si, c));
+            }
+            first.extend(run_stages(initial(&top), [1.0, 1.0]));
+        }
+        // the start that fits the whole record best also gets a full run (with a windowed screen
+        // it may have been dropped; e.g. a candidate at its null values, i.e. the baseline)
+        if windows[0] < 1.0
+            && let Some(&(si, c)) = full_costs
+                .iter()
+                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+        {
+            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+                eprintln!("best full-record start {si} {:?}: cost {c:.2}", &starts[si]);
+            }
+            // from its own values, not from where the windowed stages moved it
+            let u0: Vec<f64> = fidx
+                .iter()
+                .map(|&i| {
+                    to_u(&specs[i], starts[si][i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
                 })
                 .collect();
-            first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                for (si, c, u) in &first {
-                    let p = full(u, &starts[*si]);
-                    eprintln!(
-                        "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
-                        &starts[*si]
-                    );
-                }
-            }
-            first.truncate(keep);
+            first.push((si, c, u0));
         }
         first
     };
-    let mut first = run_stages(initial(&order), windows);
-    if windows[0] < 1.0 && also_full {
-        // and the same stages on the whole record from the starts that fit it best
-        let mut top: Vec<(usize, f64)> = Vec::new();
-        for &(si, c) in &by_full {
-            if top.len() >= SCREEN_KEEP {
-                break;
-            }
-            top.push((si, c));
-        }
-        first.extend(run_stages(initial(&top), [1.0, 1.0]));
-    }
     let long = LmOptions {
         max_iter: long_iter,
         ftol: 1e-9,
         ..LmOptions::default()
     };
-    // the start that fits the whole record best also gets a full run (with a windowed screen
-    // it may have been dropped; e.g. a candidate at its null values, i.e. the baseline)
-    if windows[0] < 1.0
-        && let Some(&(si, c)) = full_costs
-            .iter()
-            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
-    {
-        if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-            eprintln!("best full-record start {si} {:?}: cost {c:.2}", &starts[si]);
-        }
-        // from its own values, not from where the windowed stages moved it
-        let u0: Vec<f64> = fidx
-            .iter()
-            .map(|&i| {
-                to_u(&specs[i], starts[si][i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
-            })
-            .collect();
-        first.push((si, c, u0));
-    }
     let refined: Vec<(usize, f64, Vec<f64>)> = first
         .par_iter()
         .map(|(si, _, u)| {
@@ -461,7 +506,7 @@ pub fn fit_model(
     let n = data.len();
     let n_free = fidx.len();
     let r0 = resid(&u, start);
-    let j = jacobian(
+    let cols = jacobian_columns(
         &|v: &[f64]| resid(v, start),
         &u,
         &r0,
@@ -469,6 +514,8 @@ pub fn fit_model(
         &hi,
         LmOptions::default().fd_step,
     );
+    let (jtj, _) = normal_equations(&cols, &r0);
+    drop(cols);
     let raw: Vec<f64> = data.iter().zip(&pred).map(|(d, m)| d - m).collect();
     let (sig, sigma_source) = match opts.sigma {
         Some(s) => (s, "given".to_string()),
@@ -477,7 +524,7 @@ pub fn fit_model(
     // the residuals were normalised by prep.sigma: rescale chi-square and covariance
     let ratio = prep.sigma / sig;
     let chi2 = chi2 * ratio * ratio;
-    let a = j.transpose() * &j * (ratio * ratio);
+    let a = jtj * (ratio * ratio);
     let cov = invert_spd(&a);
     let chi2_red = chi2 / (n.saturating_sub(n_free)).max(1) as f64;
     let inflate = chi2_red.max(1.0);

@@ -71,6 +71,71 @@ pub fn jacobian<F: Fn(&[f64]) -> Vec<f64>>(
     j
 }
 
+/// Forward-difference Jacobian columns of `f` at `u` (`r0 = f(u)`), one vector per entry of `u`
+/// (the layout the normal equations read without a transposed copy).
+pub fn jacobian_columns<F: Fn(&[f64]) -> Vec<f64>>(
+    f: &F,
+    u: &[f64],
+    r0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    h: f64,
+) -> Vec<Vec<f64>> {
+    let mut up = u.to_vec();
+    let mut cols = Vec::with_capacity(u.len());
+    for k in 0..u.len() {
+        // step away from an active upper bound
+        let step = if u[k] + h > hi[k] && u[k] - h >= lo[k] {
+            -h
+        } else {
+            h
+        };
+        up[k] = u[k] + step;
+        let mut c = f(&up);
+        for (ci, r) in c.iter_mut().zip(r0) {
+            *ci = (*ci - r) / step;
+        }
+        cols.push(c);
+        up[k] = u[k];
+    }
+    cols
+}
+
+/// `J^T J` and `J^T r` from the columns of `J`: one pass of dot products, no `n x k` matrix
+/// (the record can hold a million samples).
+pub fn normal_equations(cols: &[Vec<f64>], r: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+    let n = cols.len();
+    let mut a = DMatrix::zeros(n, n);
+    let mut g = DVector::zeros(n);
+    for k in 0..n {
+        for l in 0..=k {
+            let d = dot(&cols[k], &cols[l]);
+            a[(k, l)] = d;
+            a[(l, k)] = d;
+        }
+        g[k] = dot(&cols[k], r);
+    }
+    (a, g)
+}
+
+/// Dot product with four partial sums (vectorises; the summation order is fixed, so results do
+/// not depend on the thread count).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut s = [0.0f64; 4];
+    let (ca, ra) = a.as_chunks::<4>();
+    let (cb, rb) = b.as_chunks::<4>();
+    for (x, y) in ca.iter().zip(cb) {
+        for i in 0..4 {
+            s[i] += x[i] * y[i];
+        }
+    }
+    let mut t = (s[0] + s[1]) + (s[2] + s[3]);
+    for (x, y) in ra.iter().zip(rb) {
+        t += x * y;
+    }
+    t
+}
+
 fn cost_of(r: &[f64]) -> f64 {
     let c: f64 = r.iter().map(|v| v * v).sum();
     if c.is_finite() { c } else { f64::INFINITY }
@@ -105,9 +170,9 @@ pub fn minimize<F: Fn(&[f64]) -> Vec<f64>>(
     let mut small = 0;
     while iterations < opts.max_iter {
         iterations += 1;
-        let j = jacobian(f, &u, &r, lo, hi, opts.fd_step);
-        let a = j.transpose() * &j;
-        let g = j.transpose() * DVector::from_column_slice(&r);
+        let cols = jacobian_columns(f, &u, &r, lo, hi, opts.fd_step);
+        let (a, g) = normal_equations(&cols, &r);
+        drop(cols);
         let diag: Vec<f64> = (0..n)
             .map(|k| a[(k, k)].max(1e-12 * (1.0 + a.max())))
             .collect();

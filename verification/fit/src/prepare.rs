@@ -203,6 +203,62 @@ impl Prepared {
         }
     }
 
+    /// A reduced copy of a record longer than `max_n` samples, for the search of a fit (screening
+    /// and first stages of [`crate::fit::fit_model`]): about `max_n / 8` pre-trigger samples
+    /// (evenly thinned, the last one kept), the first `max_n / 2` samples after the trigger, where
+    /// the contact dynamics and the ringing are, all kept, and the rest of the record evenly
+    /// thinned to the remaining budget. Noise figures, inputs, guesses and profile are those of
+    /// the whole record. `None` when the record has at most `max_n` samples.
+    pub fn reduced(&self, max_n: usize) -> Option<Prepared> {
+        let t = &self.dataset.t;
+        let n = t.len();
+        if n <= max_n || max_n < 16 {
+            return None;
+        }
+        let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(n);
+        let (b_pre, b_head) = (max_n / 8, max_n / 2);
+        let b_tail = max_n - b_pre - b_head;
+        let mut idx: Vec<usize> = Vec::with_capacity(max_n + 2);
+        // pre-trigger: evenly thinned, ending on the last sample before the trigger
+        if i0 > 0 {
+            let stride = i0.div_ceil(b_pre).max(1);
+            let mut i = (i0 - 1) % stride;
+            while i < i0 {
+                idx.push(i);
+                i += stride;
+            }
+        }
+        let head_end = (i0 + b_head).min(n);
+        idx.extend(i0..head_end);
+        if head_end < n {
+            let stride = (n - head_end).div_ceil(b_tail).max(1);
+            let mut i = head_end + stride - 1;
+            while i < n {
+                idx.push(i);
+                i += stride;
+            }
+            if idx.last() != Some(&(n - 1)) {
+                idx.push(n - 1);
+            }
+        }
+        let pick = |v: &[f64]| idx.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+        let mut dataset = self.dataset.clone();
+        dataset.t = pick(t);
+        for v in dataset.channels.values_mut() {
+            *v = pick(v);
+        }
+        Some(Prepared {
+            dataset,
+            channel: self.channel,
+            sigma: self.sigma,
+            noise: self.noise.clone(),
+            noise_source: self.noise_source.clone(),
+            inputs: self.inputs,
+            guess: self.guess,
+            profile: self.profile,
+        })
+    }
+
     /// The fitted channel's data [SI].
     pub fn data(&self) -> &[f64] {
         self.dataset.channel(self.channel)

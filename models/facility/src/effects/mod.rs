@@ -178,6 +178,41 @@ pub struct TmState<'a> {
     pub own: &'a [f64],
 }
 
+/// What a force effect may assume when the TMMF model asks whether it has let go of the TM for
+/// good ([`Effect::released`]).
+#[derive(Debug, Clone, Copy)]
+pub struct ReleaseCheck {
+    /// Tip speed `y'(t)` now [m/s]; after the trigger the profile's speed never decreases.
+    pub tip_speed_m_s: f64,
+    /// Time left to the end of the record [s].
+    pub horizon_s: f64,
+    /// TM mock-up mass [kg].
+    pub m_kg: f64,
+    /// Largest displacement of the TM [m] that the force neglected from now on may cause by the
+    /// end of the record.
+    pub tol_m: f64,
+}
+
+impl ReleaseCheck {
+    /// Largest displacement [m] of the TM over the horizon caused by a force whose remaining
+    /// impulse is at most `impulse_n_s` [N s].
+    pub fn displacement_of(&self, impulse_n_s: f64) -> f64 {
+        impulse_n_s.abs() / self.m_kg * self.horizon_s
+    }
+}
+
+/// Bound [N s] on the impulse still to come from the adhesion law [`adhesion_force`] when the
+/// elongation `e` [m] is at least `lambda` and grows at a rate of at least `rate` [m/s] > 0:
+/// `int_e^inf A1 s exp(-s/lambda) ds / rate = A1 lambda (e + lambda) exp(-e/lambda) / rate`.
+/// Infinite when the premises do not hold.
+pub fn adhesion_tail_impulse(a1: f64, lambda: f64, e: f64, rate: f64) -> f64 {
+    if e >= lambda && rate > 0.0 && lambda > 0.0 {
+        a1 * lambda * (e + lambda) * (-e / lambda).exp() / rate
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Data-driven quantities an effect may use for its starting points.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct GuessContext {
@@ -223,6 +258,17 @@ pub trait Effect: Send + Sync {
     /// effect's own states into `ds` (length [`Effect::n_states`]).
     fn force(&self, _p: &[f64], _s: &TmState, _ds: &mut [f64]) -> f64 {
         0.0
+    }
+    /// Whether the force has let go of the TM for good (`EffectKind::Force`, `tmmf-release`):
+    /// `true` only if, from state `s` on, with the TM in free flight at its present velocity
+    /// `s.v` and the tip retracting at a speed that never falls below `r.tip_speed_m_s`, the
+    /// force stays zero, or its remaining impulse moves the TM by less than `r.tol_m` by the end
+    /// of the record, whatever the effect's own states do. When every force effect of a model
+    /// says so, the model propagates the TM exactly in free flight (no integration) for the rest
+    /// of the record. The default, `false`, is always correct (the model then integrates to the
+    /// end of the record).
+    fn released(&self, _p: &[f64], _s: &TmState, _r: &ReleaseCheck) -> bool {
+        false
     }
     /// Additive distortion of the measured channel [m] at time `t` [s] and true value `x` [m].
     fn distortion(&self, _p: &[f64], _t: f64, _x: f64) -> f64 {

@@ -1,7 +1,10 @@
 //! `needle_adhesion`: adhesion between the blocking needles and the TM (physics.md section 4).
 
 use super::tip_adhesion::adhesion_starts;
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState, adhesion_force};
+use super::{
+    Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState, adhesion_force,
+    adhesion_tail_impulse,
+};
 
 /// The adhesion law of thesis eq. (adh) at the needles: for `x > x_n0` it pulls the TM back
 /// towards the needles (-x) with `A1*e*exp(-e/lambda)`, `e = x - x_n0` (thesis: negligible).
@@ -34,6 +37,11 @@ impl Effect for NeedleAdhesion {
     }
     fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
         -adhesion_force(p[0], p[1], s.needle_gap)
+    }
+    fn released(&self, p: &[f64], s: &TmState, r: &ReleaseCheck) -> bool {
+        // in free flight the gap grows at the TM's velocity
+        let imp = adhesion_tail_impulse(p[0], p[1], s.needle_gap, s.v);
+        r.displacement_of(imp) < r.tol_m
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         adhesion_starts()

@@ -1,6 +1,6 @@
 //! `needle_contact`: the fixed blocking needles of the TMMF (physics.md section 4).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
+use super::{Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState};
 
 /// Unilateral needle spring `F = k_nd*(x_n0 - x)` while `x < x_n0`, else 0, with
 /// `x_n0 = F_pre/k_nd`, so the needles push with `F_pre` before release (catapult effect,
@@ -44,6 +44,10 @@ impl Effect for NeedleContact {
     /// A grid over the thesis range of needle stiffness and over preloads from 2 mN to 300 mN
     /// (stiff blades to high load), plus the stiffness from the catapult duration
     /// `dt = (pi/2) sqrt(m/k_nd)` measured on the data.
+    fn released(&self, _p: &[f64], s: &TmState, _r: &ReleaseCheck) -> bool {
+        // replaced by a needle body, or apart with the TM moving away
+        s.needle_body || (s.needle_gap > 0.0 && s.v >= 0.0)
+    }
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
         let mut ks = vec![3e5, 6.5e5, 1.5e6, 4e6];
         if g.catapult_s > 0.0 && g.m_kg > 0.0 {

@@ -1,6 +1,6 @@
 //! `needle_mass`: the needles as a body with mass (physics.md section 4, examples README).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
+use super::{Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState};
 
 /// The needles are a body of mass `m_nd` on a spring `k_nd` and damper `c_nd` to ground,
 /// preloaded to push with `F_pre` at rest; the TM touches it through the unilateral
@@ -59,6 +59,17 @@ impl Effect for NeedleMass {
     }
     /// Body masses from 0.1 to 3 times the TM's, with spring pairs whose series stiffness is
     /// the rigid-needle stiffness fitted by the baseline (when known), and the thesis pair.
+    fn released(&self, p: &[f64], s: &TmState, _r: &ReleaseCheck) -> bool {
+        // Out of contact, the body oscillates about u_eq = F_pre/k_nd with an energy that damping
+        // only lowers: u never exceeds u_eq + A, A = sqrt((u - u_eq)^2 + m_nd du^2/k_nd). With
+        // the TM moving away (v >= 0) the contact overlap F_pre/k_tm + u - x stays negative
+        // once it is negative for u = u_eq + A.
+        let (m_nd, k_nd, k_tm) = (p[0], p[1], p[2]);
+        let (u, du) = (s.own[0], s.own[1]);
+        let u_eq = s.f_pre / k_nd;
+        let amp = ((u - u_eq).powi(2) + m_nd * du * du / k_nd).sqrt();
+        s.v >= 0.0 && s.f_pre / k_tm + u_eq + amp - s.x < 0.0
+    }
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
         let m = if g.m_kg > 0.0 { g.m_kg } else { 0.089 };
         let mut pairs = vec![(1.12e6, 2.03e6)];

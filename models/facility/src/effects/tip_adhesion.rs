@@ -1,6 +1,9 @@
 //! `tip_adhesion`: adhesion between the release tip and the TM (thesis eq. adh, physics.md s.2).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState, adhesion_force};
+use super::{
+    Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState, adhesion_force,
+    adhesion_tail_impulse,
+};
 
 /// Adds `F = A1*e*exp(-e/lambda)` for `e > 0` at the tip (pulls the TM towards the retracting
 /// tip, +x); `e` is the tip elongation of `tip_contact`. Experimental bounds (thesis):
@@ -45,6 +48,11 @@ impl Effect for TipAdhesion {
     }
     fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
         adhesion_force(p[0], p[1], s.e_tip)
+    }
+    fn released(&self, p: &[f64], s: &TmState, r: &ReleaseCheck) -> bool {
+        // the elongation grows at least at the present rate (tip speed never decreases)
+        let imp = adhesion_tail_impulse(p[0], p[1], s.e_tip, r.tip_speed_m_s - s.v);
+        r.displacement_of(imp) < r.tol_m
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         adhesion_starts()

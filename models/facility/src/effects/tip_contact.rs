@@ -1,6 +1,6 @@
 //! `tip_contact`: the compressive branch of the release-tip contact (physics.md section 4).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
+use super::{Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState};
 
 /// Linear compressive contact `F = k_c*e` for `e <= 0`, 0 for `e > 0`, with
 /// `e = (y - x) - F_pre/k_c`, so `F = -F_pre` before release (physics.md section 4).
@@ -31,6 +31,10 @@ impl Effect for TipContact {
     }
     fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
         if s.e_tip <= 0.0 { p[0] * s.e_tip } else { 0.0 }
+    }
+    fn released(&self, _p: &[f64], s: &TmState, r: &ReleaseCheck) -> bool {
+        // out of contact and the tip moving away at least as fast as the TM
+        s.e_tip > 0.0 && r.tip_speed_m_s >= s.v
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         vec![vec![4e5], vec![1e6], vec![3e6]]
