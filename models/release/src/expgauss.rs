@@ -65,11 +65,13 @@ impl Default for ExpGauss {
 
 impl ExpGauss {
     /// The Monte Carlo setting (checked against [`crate::integrator::DormandPrince::reference`]
-    /// in the tests): long steps of 8 us, short 1 us, fine 0.25 us.
+    /// in the tests): long steps of 7 us, short 1 us, fine 0.25 us. Over 2000 draws against
+    /// the rtol 1e-12 reference the worst error is 7.4 % of the 0.5 % / 0.001 um/s tolerance
+    /// (8 us: 13.5 %, 6 us: 5.6 %).
     pub fn fast() -> Self {
         Self {
-            h_long_s: 8e-6,
-            short_per_long: 8,
+            h_long_s: 7e-6,
+            short_per_long: 7,
             fine_per_short: 4,
         }
     }
