@@ -327,6 +327,7 @@ mod tests {
     /// `A V = V diag(eigenvalues)` with `A` taken from `derivatives` (unit states at fixed voltage),
     /// and the input vectors reproduce the voltage and contact-force terms.
     #[test]
+    #[allow(clippy::needless_range_loop)] // matrix algebra: rows and columns of several arrays
     fn modes_diagonalise_the_mechanism() {
         let mut params = vec![PiezoParams::nominal()];
         let mut q = PiezoParams::nominal().as_array();

@@ -20,6 +20,10 @@
 //! retaken as several steps of the next finer level. The stop rule is the model's own
 //! ([`crate::model`]), checked at step ends like Dormand-Prince does.
 
+// Index loops mirror the algebra of the tables: several arrays indexed by the same node, basis
+// function or mode.
+#![allow(clippy::needless_range_loop)]
+
 use crate::integrator::{IntegrateError, Stats};
 use crate::model::{ReleaseModel, ReleaseOutcome, T_MAX_S};
 use geodesic_contact::ContactLaw;
@@ -186,7 +190,8 @@ fn invert(
     for col in 0..n {
         let piv =
             (col..n).max_by(|&i, &j| a[i][col].norm_sqr().total_cmp(&a[j][col].norm_sqr()))?;
-        if !(a[piv][col].norm_sqr() > 1e-26) {
+        let pivot = a[piv][col].norm_sqr();
+        if pivot.is_nan() || pivot <= 1e-26 {
             return None;
         }
         a.swap(col, piv);
@@ -296,7 +301,7 @@ impl Modal {
     }
 
     /// Modal coordinates of the real state `s`.
-    fn to_modal(&self, s: &[f64; MECH_STATES]) -> [Complex64; MECH_STATES] {
+    fn modal_coordinates(&self, s: &[f64; MECH_STATES]) -> [Complex64; MECH_STATES] {
         let mut z = [Complex64::new(0.0, 0.0); MECH_STATES];
         for k in 0..self.n {
             for c in 0..MECH_STATES {
@@ -707,7 +712,10 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
         let s1: [f64; MECH_STATES] = y0[MECH_STATES..2 * MECH_STATES]
             .try_into()
             .expect("mechanism 2");
-        let z = [self.modal[0].to_modal(&s0), self.modal[1].to_modal(&s1)];
+        let z = [
+            self.modal[0].modal_coordinates(&s0),
+            self.modal[1].modal_coordinates(&s1),
+        ];
         let (x, v) = (y0[2 * MECH_STATES], y0[2 * MECH_STATES + 1]);
         let (e, de) = self.contact_state(&z, x, v);
         let mut st = State {

@@ -248,7 +248,8 @@ pub struct McResult {
     pub v_m_s: Vec<f64>,
     /// Draws ended by the fallback stopping rule (see [`crate::model`]).
     pub fallback_stops: u64,
-    /// Right-hand side evaluations over all draws (cost).
+    /// Right-hand side evaluations (Dormand-Prince) or contact-force evaluations at the
+    /// collocation nodes (exponential Gauss collocation) over all draws (cost).
     pub rhs_evals: u64,
 }
 
