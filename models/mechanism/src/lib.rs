@@ -18,7 +18,27 @@ mod command;
 mod piezo;
 
 pub use command::VoltageCommand;
+pub use num_complex::Complex64;
 pub use piezo::{PiezoMechanism, PiezoParams};
+
+/// Modal decomposition of a mechanism that is linear in its state, its command voltage and the
+/// contact force: `s' = A s + b_voltage E(t) + b_force F_c` with `A = V diag(eigenvalues) V^-1`.
+/// The release integrator of `geodesic-release` (exponential Gauss collocation) propagates the
+/// linear part exactly with it; a mechanism without one is integrated by Dormand-Prince.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Modes {
+    /// Eigenvalues of `A` [1/s], complex conjugate pairs adjacent.
+    pub eigenvalues: [Complex64; MECH_STATES],
+    /// Right eigenvectors: `vectors[i][m]` is component `i` (state order) of the eigenvector of
+    /// eigenvalue `m` (any normalisation).
+    pub vectors: [[Complex64; MECH_STATES]; MECH_STATES],
+    /// Input vector of the command voltage [state units / (s V)].
+    pub b_voltage: [f64; MECH_STATES],
+    /// Input vector of the contact force on the tip, positive compressive [state units / (s N)].
+    pub b_force: [f64; MECH_STATES],
+    /// The command voltage `E(t)`.
+    pub command: VoltageCommand,
+}
 
 /// Number of state variables of one mechanism.
 pub const MECH_STATES: usize = 5;
@@ -60,4 +80,11 @@ pub trait Mechanism: Send + Sync {
 
     /// Typical magnitudes of the state variables, for absolute error tolerances.
     fn state_scales(&self) -> [f64; MECH_STATES];
+
+    /// The modal decomposition if the mechanism is linear (see [`Modes`]); `None` (the default)
+    /// when it is not or when the decomposition failed (then the release falls back to a
+    /// general-purpose integrator).
+    fn modes(&self) -> Option<Modes> {
+        None
+    }
 }

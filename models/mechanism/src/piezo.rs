@@ -1,7 +1,8 @@
 //! The three-equation piezo mechanism model of thesis ch. 3 (physics.md §1, with its two typo
 //! fixes: `Kg*l` in the plunger equation, `y - l` in the electrical one).
 
-use crate::{MECH_STATES, Mechanism, VoltageCommand};
+use crate::{MECH_STATES, Mechanism, Modes, VoltageCommand};
+use num_complex::Complex64;
 
 /// Parameters of one mechanism (thesis Tab. "Example of estimated model parameters").
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -175,6 +176,124 @@ impl Mechanism for PiezoMechanism {
         // charge, plunger travel (~F/Kg), plunger speed, tip stroke, tip speed (~ mm/s .. 0.1 m/s)
         [p.ca_f * e + p.t_c_m * d, 1e-6, 1e-3, d, 0.05]
     }
+
+    fn modes(&self) -> Option<Modes> {
+        let p = &self.params;
+        let (m, mg, kg, b, t) = (p.m_kg, p.mg_kg, p.kg_n_m, p.b_ns_m, p.t_c_m);
+        let tau = p.r_ohm * p.ca_f;
+        let poly = self.characteristic_polynomial();
+        // starting points: electrical pole -1/(R (Ca + T^2/k)), plunger on Kg with both masses,
+        // tip on the stack stiffness k_eff (thesis ch. 3 orders of magnitude)
+        let guesses = [
+            Complex64::new(-1.0 / p.retraction_time_constant_s(), 0.0),
+            Complex64::new(-b / (2.0 * (mg + m)), (kg / (mg + m)).sqrt()),
+            Complex64::new(-b / (2.0 * m), (self.k_eff / m).sqrt()),
+        ];
+        let mut roots = [Complex64::new(0.0, 0.0); 3];
+        for (r, g) in roots.iter_mut().zip(guesses) {
+            *r = newton_root(&poly, g)?;
+        }
+        roots[0].im = 0.0;
+        let lam = [
+            roots[0],
+            roots[1],
+            roots[1].conj(),
+            roots[2],
+            roots[2].conj(),
+        ];
+        // Vieta: the sum and the product of the five roots must be those of the polynomial, or
+        // two starting points converged to the same root
+        let sum: Complex64 = lam.iter().sum();
+        let prod: Complex64 = lam.iter().product();
+        let ok = |x: Complex64, want: f64| {
+            (x.re - want).abs() <= 1e-9 * want.abs() && x.im.abs() <= 1e-9 * want.abs()
+        };
+        if !ok(sum, -poly[4] / poly[5]) || !ok(prod, -poly[0] / poly[5]) {
+            return None;
+        }
+        if roots[1].im.abs() < 1e-9 * roots[1].norm() || roots[2].im.abs() < 1e-9 * roots[2].norm()
+        {
+            return None; // a real pair: the conjugate layout does not hold
+        }
+        // eigenvector with unit stack force S d = 1 (derivation in `characteristic_polynomial`):
+        // y and -l are then sums of same-signed terms, with no cancellation even where S is small
+        let mut vectors = [[Complex64::new(0.0, 0.0); MECH_STATES]; MECH_STATES];
+        for (j, &l) in lam.iter().enumerate() {
+            let y = 1.0 / (m * l * l);
+            let lp = -1.0 / (mg * l * l + kg);
+            let q = t * (y - lp) / (1.0 + l * tau);
+            let v = [q, lp, l * lp, y, l * y];
+            if v.iter().any(|c| !c.re.is_finite() || !c.im.is_finite()) {
+                return None;
+            }
+            for i in 0..MECH_STATES {
+                vectors[i][j] = v[i];
+            }
+        }
+        Some(Modes {
+            eigenvalues: lam,
+            vectors,
+            b_voltage: [1.0 / p.r_ohm, 0.0, 0.0, 0.0, 0.0],
+            b_force: [0.0, 0.0, 0.0, 0.0, -self.inv_m],
+            command: self.command,
+        })
+    }
+}
+
+impl PiezoMechanism {
+    /// Coefficients `[c0, ..., c5]` of the characteristic polynomial of the linear system.
+    ///
+    /// An eigenvector `(q, l, l', y, y')` of eigenvalue `s` has `l' = s l`, `y' = s y`,
+    /// `q = T d / (1 + s R Ca)` with `d = y - l`, and the stack force `S(s) d` with
+    /// `S(s) = T^2 / (Ca (1 + s R Ca)) - k_eff - b s`; the tip and plunger equations give
+    /// `y = S d / (m s^2)`, `l = -S d / (Mg s^2 + Kg)`, so `1 = S (1/(m s^2) + 1/(Mg s^2 + Kg))`.
+    /// Multiplied out (`k_eff - T^2/Ca = k`):
+    /// `(1 + s tau) m s^2 (Mg s^2 + Kg) + (k + (b + k_eff tau) s + b tau s^2)((Mg + m) s^2 + Kg)`
+    /// with `tau = R Ca`; every coefficient is a sum of positive terms (no cancellation).
+    pub fn characteristic_polynomial(&self) -> [f64; 6] {
+        let p = &self.params;
+        let (m, mg, kg, b) = (p.m_kg, p.mg_kg, p.kg_n_m, p.b_ns_m);
+        let tau = p.r_ohm * p.ca_f;
+        let (alpha, beta, gamma, m2) = (p.k_n_m, b + self.k_eff * tau, b * tau, mg + m);
+        [
+            alpha * kg,
+            beta * kg,
+            m * kg + alpha * m2 + gamma * kg,
+            m * kg * tau + beta * m2,
+            m * mg + gamma * m2,
+            m * mg * tau,
+        ]
+    }
+}
+
+/// Newton's method on a real polynomial `c[0] + c[1] s + ... + c[5] s^5` from `x`; `None` when
+/// it does not converge to full precision.
+fn newton_root(c: &[f64; 6], mut x: Complex64) -> Option<Complex64> {
+    for _ in 0..60 {
+        let (mut p, mut dp) = (Complex64::new(c[5], 0.0), Complex64::new(0.0, 0.0));
+        for &ck in c[..5].iter().rev() {
+            dp = dp * x + p;
+            p = p * x + ck;
+        }
+        if dp.norm_sqr() == 0.0 {
+            return None;
+        }
+        let dx = p / dp;
+        x -= dx;
+        if !x.re.is_finite() || !x.im.is_finite() {
+            return None;
+        }
+        if dx.norm_sqr() <= 1e-24 * x.norm_sqr() {
+            // quadratic convergence: one more step reaches rounding level
+            let (mut p, mut dp) = (Complex64::new(c[5], 0.0), Complex64::new(0.0, 0.0));
+            for &ck in c[..5].iter().rev() {
+                dp = dp * x + p;
+                p = p * x + ck;
+            }
+            return Some(x - p / dp);
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -203,6 +322,72 @@ mod tests {
         assert!(ds[0].abs() < 1e-12 * s[0] * m.inv_rca, "{ds:?}");
         assert!(ds[2].abs() < 1e-9 * 0.3 / 0.019, "{ds:?}");
         assert!(ds[4].abs() < 1e-9 * 0.3 / 9e-4, "{ds:?}");
+    }
+
+    /// `A V = V diag(eigenvalues)` with `A` taken from `derivatives` (unit states at fixed voltage),
+    /// and the input vectors reproduce the voltage and contact-force terms.
+    #[test]
+    #[allow(clippy::needless_range_loop)] // matrix algebra: rows and columns of several arrays
+    fn modes_diagonalise_the_mechanism() {
+        let mut params = vec![PiezoParams::nominal()];
+        let mut q = PiezoParams::nominal().as_array();
+        for (i, f) in [0.7, 1.3, 0.8, 1.2, 0.75, 1.35, 1.25, 0.7]
+            .iter()
+            .enumerate()
+        {
+            q[i] *= f;
+        }
+        params.push(PiezoParams::from_array(q));
+        for p in params {
+            let mech = PiezoMechanism::new(p, VoltageCommand::nominal());
+            let modes = mech.modes().expect("modes");
+            let scales = mech.state_scales();
+            let d = |s: &[f64; MECH_STATES], f: f64| {
+                let mut ds = [0.0; MECH_STATES];
+                mech.derivatives(-1.0, s, f, &mut ds);
+                ds
+            };
+            let base = d(&[0.0; MECH_STATES], 0.0);
+            let mut a = [[0.0; MECH_STATES]; MECH_STATES];
+            for k in 0..MECH_STATES {
+                let mut e = [0.0; MECH_STATES];
+                e[k] = 1.0;
+                let col = d(&e, 0.0);
+                for i in 0..MECH_STATES {
+                    a[i][k] = col[i] - base[i];
+                }
+            }
+            for i in 0..MECH_STATES {
+                assert!(
+                    (base[i] - modes.b_voltage[i] * 120.0).abs()
+                        <= 1e-12 * base[i].abs().max(1e-30)
+                );
+                let f = d(&[0.0; MECH_STATES], 1.0)[i] - base[i];
+                assert!(
+                    (f - modes.b_force[i]).abs() <= 1e-12 * f.abs().max(1e-30),
+                    "{f}"
+                );
+            }
+            for m in 0..MECH_STATES {
+                let lam = modes.eigenvalues[m];
+                // residual in state scales, relative to |lambda| |v|
+                let v: Vec<Complex64> = (0..MECH_STATES)
+                    .map(|i| modes.vectors[i][m] / scales[i])
+                    .collect();
+                let vn = v.iter().map(|c| c.norm()).fold(0.0, f64::max);
+                for i in 0..MECH_STATES {
+                    let mut av = Complex64::new(0.0, 0.0);
+                    for k in 0..MECH_STATES {
+                        av += a[i][k] * modes.vectors[k][m];
+                    }
+                    let r = (av - lam * modes.vectors[i][m]) / scales[i];
+                    assert!(
+                        r.norm() <= 1e-9 * lam.norm() * vn,
+                        "mode {m} row {i}: {r} ({lam})"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

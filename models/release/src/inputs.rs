@@ -1,6 +1,7 @@
 //! The explicit inputs of one release (plain numbers) and the nominal values of physics.md.
 
-use crate::integrator::{IntegrateError, Integrator};
+use crate::expgauss::ExpGauss;
+use crate::integrator::{DormandPrince, IntegrateError, Integrator};
 use crate::model::{ReleaseModel, ReleaseOutcome};
 use geodesic_contact::{ExponentialAdhesion, Hertz, HertzAdhesion};
 use geodesic_mechanism::{PiezoMechanism, PiezoParams, VoltageCommand};
@@ -69,6 +70,17 @@ impl ReleaseInputs {
             self.tm_mass_kg,
             self.preload_n,
         )
+    }
+
+    /// Simulates the release with the exponential Gauss collocation (the Monte Carlo's
+    /// integrator; the piezo mechanism always gives its modes, Dormand-Prince
+    /// ([`DormandPrince::fast`]) takes over only if a modal decomposition failed).
+    pub fn simulate_fast(&self, cfg: &ExpGauss) -> Result<ReleaseOutcome, IntegrateError> {
+        let model = self.model();
+        match model.simulate_expgauss(cfg) {
+            Some(r) => r,
+            None => model.simulate(&DormandPrince::fast()),
+        }
     }
 
     /// Simulates the release.

@@ -69,6 +69,12 @@ pub enum IntegrateError {
         /// Time reached [s].
         t_s: f64,
     },
+    /// The collocation's fixed-point iteration for the contact forces did not converge.
+    #[error("contact forces did not converge at t = {t_s} s")]
+    NoConvergence {
+        /// Time [s].
+        t_s: f64,
+    },
     /// The state became non-finite.
     #[error("non-finite state at t = {t_s} s")]
     NonFinite {

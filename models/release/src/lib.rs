@@ -19,6 +19,7 @@
 
 pub mod budget;
 pub mod calibration;
+pub mod expgauss;
 pub mod figures;
 pub mod histogram;
 pub mod inputs;

@@ -132,15 +132,62 @@ impl<M: Mechanism, C: ContactLaw> ReleaseModel<M, C> {
         integrator: &I,
     ) -> Result<ReleaseOutcome, IntegrateError> {
         let sol = integrator.solve(self, self.initial_state(), T_MAX_S)?;
-        let e = self.elongations_m(&sol.y);
-        let de = self.elongation_rates(&sol.y);
+        Ok(self.outcome(sol.t, &sol.y, sol.stats))
+    }
+
+    /// The outcome of a release stopped at `(t, y)`.
+    pub(crate) fn outcome(
+        &self,
+        t: f64,
+        y: &[f64; RELEASE_STATES],
+        stats: Stats,
+    ) -> ReleaseOutcome {
+        self.outcome_at(
+            t,
+            self.elongations_m(y),
+            self.elongation_rates(y),
+            y[IV],
+            stats,
+        )
+    }
+
+    /// The outcome of a release stopped at `t` with elongations `e` [m], their rates `de`
+    /// [m/s] and TM velocity `v` [m/s].
+    pub(crate) fn outcome_at(
+        &self,
+        t: f64,
+        e: [f64; 2],
+        de: [f64; 2],
+        v: f64,
+        stats: Stats,
+    ) -> ReleaseOutcome {
         let primary = (0..2).all(|i| e[i] > self.open_m[i] && de[i] > 0.0);
-        Ok(ReleaseOutcome {
-            v_tm_m_s: sol.y[IV],
-            t_end_s: sol.t,
+        ReleaseOutcome {
+            v_tm_m_s: v,
+            t_end_s: t,
             fallback_stop: !primary,
-            stats: sol.stats,
+            stats,
+        }
+    }
+
+    /// The stopping rule (see the module documentation) at time `t` with elongations `e` [m]
+    /// and their rates `de` [m/s].
+    pub(crate) fn stop_rule(&self, t: f64, e: [f64; 2], de: [f64; 2]) -> bool {
+        (0..2).all(|i| {
+            (e[i] > self.open_m[i] && de[i] > 0.0)
+                || (t > FALLBACK_AFTER_S
+                    && self.contacts[i].remaining_bond_fraction(e[i]) < FALLBACK_FRACTION)
         })
+    }
+
+    /// Tip positions `y_i(0)` [m] before release.
+    pub(crate) fn tip0(&self) -> [f64; 2] {
+        self.tip0_m
+    }
+
+    /// Elongations `e0_i` [m] before release (Hertz indentation under the preload).
+    pub(crate) fn e0(&self) -> [f64; 2] {
+        self.e0_m
     }
 }
 
@@ -177,13 +224,7 @@ impl<M: Mechanism, C: ContactLaw> SwitchedSystem<RELEASE_STATES> for ReleaseMode
     }
 
     fn stop(&self, t: f64, y: &[f64; RELEASE_STATES], _dy: &[f64; RELEASE_STATES]) -> bool {
-        let e = self.elongations_m(y);
-        let de = self.elongation_rates(y);
-        (0..2).all(|i| {
-            (e[i] > self.open_m[i] && de[i] > 0.0)
-                || (t > FALLBACK_AFTER_S
-                    && self.contacts[i].remaining_bond_fraction(e[i]) < FALLBACK_FRACTION)
-        })
+        self.stop_rule(t, self.elongations_m(y), self.elongation_rates(y))
     }
 
     fn scales(&self) -> [f64; RELEASE_STATES] {

@@ -8,8 +8,11 @@
 //! exactly the values, hence the summary, of a single run.
 
 use crate::budget::Budget;
+use crate::expgauss::ExpGauss;
 use crate::inputs::ReleaseInputs;
-use crate::integrator::{DormandPrince, IntegrateError};
+#[cfg(doc)]
+use crate::integrator::DormandPrince;
+use crate::integrator::IntegrateError;
 use crate::stats::quantile_sorted;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -245,7 +248,8 @@ pub struct McResult {
     pub v_m_s: Vec<f64>,
     /// Draws ended by the fallback stopping rule (see [`crate::model`]).
     pub fallback_stops: u64,
-    /// Right-hand side evaluations over all draws (cost).
+    /// Right-hand side evaluations (Dormand-Prince) or contact-force evaluations at the
+    /// collocation nodes (exponential Gauss collocation) over all draws (cost).
     pub rhs_evals: u64,
 }
 
@@ -359,7 +363,9 @@ type ChunkResult = (Vec<f64>, u64, u64);
 /// Draws per parallel work item (also the progress granularity).
 const CHUNK: usize = 256;
 
-/// Runs the Monte Carlo with the fast integrator ([`DormandPrince::fast`]): `n` draws of `case`
+/// Runs the Monte Carlo with the exponential Gauss collocation ([`ExpGauss::fast`], exact on
+/// the linear mechanisms; [`DormandPrince::fast`] for a draw whose mechanisms give no modal
+/// decomposition): `n` draws of `case`
 /// from `budget` with `seed`, or only shard `(I, K)` of them. `progress` is called with the
 /// number of draws just finished (from worker threads).
 pub fn run(
@@ -378,7 +384,7 @@ pub fn run(
         Some((i, k)) => shard_range(n, i, k)?,
         None => 0..n,
     };
-    let integ = DormandPrince::fast();
+    let integ = ExpGauss::fast();
     let chunks: Vec<Range<usize>> = range
         .clone()
         .step_by(CHUNK)
@@ -391,7 +397,7 @@ pub fn run(
             let (mut fb, mut evals) = (0u64, 0u64);
             for i in c.clone() {
                 let r = draw_inputs(budget, case, seed, i as u64);
-                let out = r.simulate(&integ).map_err(|source| McError::Release {
+                let out = r.simulate_fast(&integ).map_err(|source| McError::Release {
                     index: i,
                     inputs: describe(&r),
                     source,
@@ -530,6 +536,8 @@ pub fn merge(mut parts: Vec<McResult>) -> Result<McResult, McError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::integrator::DormandPrince;
 
     #[test]
     fn an_extreme_draw_ends_with_a_named_failure_in_bounded_work() {

@@ -2,17 +2,24 @@
 //! draws of the default budget: |X'| within 0.5 % or 0.001 um/s, whichever is larger.
 
 use geodesic_release::budget::Budget;
+use geodesic_release::expgauss::ExpGauss;
+use geodesic_release::inputs::ReleaseInputs;
 use geodesic_release::integrator::{DormandPrince, Integrator};
+use geodesic_release::model::ReleaseOutcome;
 use geodesic_release::montecarlo::{Case, draw_inputs};
 
 fn worst<I: Integrator>(fast: &I, n: u64) -> (f64, f64) {
+    worst_of(&|r| r.simulate(fast).unwrap(), n)
+}
+
+fn worst_of(fast: &dyn Fn(&ReleaseInputs) -> ReleaseOutcome, n: u64) -> (f64, f64) {
     let b = Budget::default_budget();
     let reference = DormandPrince::reference();
     let (mut worst_ratio, mut evals) = (0.0f64, 0.0);
     for i in 0..n {
         for case in [Case::All, Case::Mechanisms] {
             let r = draw_inputs(&b, case, 11, i);
-            let f = r.simulate(fast).unwrap();
+            let f = fast(&r);
             let x = r.simulate(&reference).unwrap();
             let (vf, vr) = (f.v_tm_m_s.abs() * 1e6, x.v_tm_m_s.abs() * 1e6);
             let tol = (0.005 * vr).max(0.001);
@@ -21,6 +28,48 @@ fn worst<I: Integrator>(fast: &I, n: u64) -> (f64, f64) {
         }
     }
     (worst_ratio, evals / (2 * n) as f64)
+}
+
+fn expgauss(r: &ReleaseInputs) -> ReleaseOutcome {
+    r.model()
+        .simulate_expgauss(&ExpGauss::fast())
+        .expect("the piezo mechanism gives its modes")
+        .unwrap()
+}
+
+/// The Monte Carlo's integrator (exponential Gauss collocation) against the tight reference.
+#[test]
+fn expgauss_matches_reference_over_random_draws() {
+    let (ratio, evals) = worst_of(&expgauss, 60);
+    eprintln!("expgauss: worst error / tolerance = {ratio:.3}, mean force evaluations {evals:.0}");
+    assert!(ratio <= 1.0, "expgauss off by {ratio} x the tolerance");
+}
+
+#[test]
+#[ignore = "large sample (1000 draws x 2 cases); run with --release --ignored --nocapture"]
+fn expgauss_matches_reference_large_sample() {
+    let (ratio, evals) = worst_of(&expgauss, 1000);
+    eprintln!(
+        "expgauss, 2000 draws: worst error / tolerance = {ratio:.3}, mean force evaluations {evals:.0}"
+    );
+    assert!(ratio <= 1.0);
+}
+
+#[test]
+#[ignore = "exploration of the step sizes; run with --release --ignored --nocapture"]
+fn expgauss_step_sweep() {
+    for (h, short) in [(4e-6, 4), (6e-6, 6), (8e-6, 8), (8e-6, 16), (10e-6, 10)] {
+        let cfg = ExpGauss {
+            h_long_s: h,
+            short_per_long: short,
+            ..ExpGauss::fast()
+        };
+        let (ratio, evals) = worst_of(&|r| r.model().simulate_expgauss(&cfg).unwrap().unwrap(), 60);
+        eprintln!(
+            "{}: worst error / tolerance = {ratio:.3}, mean force evaluations {evals:.0}",
+            cfg.name()
+        );
+    }
 }
 
 #[test]

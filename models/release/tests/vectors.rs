@@ -3,6 +3,7 @@
 //! integrators must each match every case within 0.5 % or 0.001 um/s.
 
 use geodesic_mechanism::PiezoParams;
+use geodesic_release::expgauss::ExpGauss;
 use geodesic_release::inputs::ReleaseInputs;
 use geodesic_release::integrator::{DormandPrince, Integrator, Rk4Fixed};
 use serde_json::Value;
@@ -81,6 +82,31 @@ fn check<I: Integrator>(integ: &I) {
         "vectors",
         integ.name()
     );
+}
+
+#[test]
+fn exponential_collocation_matches_reference_vectors() {
+    let mut failures = Vec::new();
+    for (label, r, v_ref, t_ref) in cases() {
+        let out = r
+            .model()
+            .simulate_expgauss(&ExpGauss::fast())
+            .expect("the piezo mechanism gives its modes")
+            .unwrap();
+        let v = out.v_tm_m_s * 1e6;
+        let tol = (0.005 * v_ref.abs()).max(0.001);
+        eprintln!(
+            "{:<55} v = {v:+.6} um/s (ref {v_ref:+.6}), t_end = {:.2} us (ref {t_ref:.2}), {:?}",
+            label,
+            out.t_end_s * 1e6,
+            out.stats
+        );
+        assert!(!out.fallback_stop, "{label}: fallback stop");
+        if (v - v_ref).abs() > tol {
+            failures.push(format!("{label}: {v} vs {v_ref}"));
+        }
+    }
+    assert!(failures.is_empty(), "expgauss: {failures:#?}");
 }
 
 #[test]

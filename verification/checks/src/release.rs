@@ -83,7 +83,7 @@ pub fn mc_inputs(r: &McResult, ctx: &CheckContext) -> BTreeMap<String, Value> {
     m.insert("budget_sha256".into(), json!(ctx.inputs.budget.sha256));
     m.insert(
         "integrator".into(),
-        json!("dopri5 rtol 3e-5 with e = 0 event location"),
+        json!(geodesic_release::expgauss::ExpGauss::fast().description()),
     );
     m.insert("fallback_stops".into(), json!(r.fallback_stops));
     m
