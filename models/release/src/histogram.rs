@@ -205,14 +205,18 @@ pub fn requirement_histogram_svg(
         );
     }
     // exceedance curve: every point of the last 2000 releases, a thinned grid before
-    let mut sorted: Vec<f64> = values_um_s.iter().copied().filter(|v| v.is_finite()).collect();
+    let mut sorted: Vec<f64> = values_um_s
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .collect();
     sorted.sort_by(f64::total_cmp);
     let m = sorted.len();
     let step = (m / 2000).max(1);
     let mut pts = Vec::new();
     for (k, v) in sorted.iter().enumerate() {
         let above = (m - k) as f64 / m.max(1) as f64; // fraction >= v
-        if m - k <= 2000 || k % step == 0 {
+        if m - k <= 2000 || k.is_multiple_of(step) {
             pts.push(format!("{:.2},{:.2}", x(*v), yt(above)));
         }
     }

@@ -8,6 +8,7 @@ use geodesic_core::CheckError;
 use geodesic_release::budget::Budget;
 use geodesic_release::montecarlo::{Case, draw_inputs};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 fn perr(e: impl std::fmt::Display) -> CheckError {
@@ -52,7 +53,7 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
         let mut c = ChartBuilder::on(&root)
             .caption(
                 format!("Adhesion force-to-elongation curves: {n} draws of the Monte Carlo budget"),
-                ("sans-serif", 20),
+                ("sans-serif", 24),
             )
             .margin(14)
             .x_label_area_size(50)
@@ -62,8 +63,10 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
         c.configure_mesh()
             .x_desc("elongation e [um]")
             .y_desc("adhesion force [mN]")
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 15))
+            .x_label_formatter(&|v| format!("{v:.1}"))
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .label_style(("sans-serif", 18))
+            .axis_desc_style(("sans-serif", 19))
             .draw()
             .map_err(perr)?;
         let curve = RGBColor(70, 110, 180).mix(0.5);
@@ -88,7 +91,7 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
         }
         c.configure_series_labels()
-            .label_font(("sans-serif", 14))
+            .label_font(("sans-serif", 18))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()
@@ -116,7 +119,7 @@ fn log_tick(v: &f64) -> String {
 /// the sum, so neither curve is clipped and the boundary sits mid-plot; the legend is in the
 /// empty lower right, away from the labels of the box lines.
 pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
-    let (s_min, s_max) = (0.2, 2.6);
+    let (s_min, s_max) = (0.3, 2.6);
     let (y_min, y_max) = (1e-4, 100.0);
     let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
         (0..=240)
@@ -136,7 +139,7 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
         let root = SVGBackend::with_string(&mut out, (900, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(perr)?;
         let mut c = ChartBuilder::on(&root)
-            .caption("DFACS quartic capture criterion", ("sans-serif", 20))
+            .caption("DFACS quartic capture criterion", ("sans-serif", 24))
             .margin(14)
             .x_label_area_size(50)
             .y_label_area_size(80)
@@ -145,8 +148,8 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
         c.configure_mesh()
             .x_desc("scale s of the TM state requirement box")
             .y_desc("sum_i (x0_i / xlim_i)^4 (log)")
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 15))
+            .label_style(("sans-serif", 18))
+            .axis_desc_style(("sans-serif", 19))
             .y_label_formatter(&log_tick)
             .x_label_formatter(&|v| format!("{v:.1}"))
             .draw()
@@ -157,7 +160,9 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
         c.draw_series(LineSeries::new(corner, blue.stroke_width(2)))
             .map_err(perr)?
             .label("all 12 states at s x req")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], blue.stroke_width(2)));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], blue.stroke_width(2))
+            });
         c.draw_series(LineSeries::new(vz_only, orange.stroke_width(2)))
             .map_err(perr)?
             .label(format!(
@@ -188,20 +193,28 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
                 ))
                 .map_err(perr)?;
             if i == 0 {
-                dashed.label("requirement box and largest capturable box (s)").legend(
-                    move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK),
-                );
+                dashed
+                    .label("requirement box and largest capturable box (s)")
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK));
             }
+            // the requirement box's label left of its line, the other's right of its own: the
+            // two labels never cross a line
+            let pos = if i == 0 {
+                Pos::new(HPos::Right, VPos::Center)
+            } else {
+                Pos::new(HPos::Left, VPos::Center)
+            };
+            let style = TextStyle::from(("sans-serif", 18).into_font()).pos(pos);
             c.draw_series(std::iter::once(Text::new(
                 format!("{label} (s = {s:.2})"),
-                (s + 0.02, if i == 0 { 40.0 } else { 12.0 }),
-                ("sans-serif", 14),
+                (if i == 0 { s - 0.03 } else { s + 0.03 }, 40.0),
+                style,
             )))
             .map_err(perr)?;
         }
         c.configure_series_labels()
             .position(SeriesLabelPosition::LowerRight)
-            .label_font(("sans-serif", 14))
+            .label_font(("sans-serif", 18))
             .background_style(WHITE.mix(0.9))
             .border_style(BLACK)
             .draw()

@@ -2,7 +2,7 @@
 //! identifier and issue with the run's identification, and two runs of the same commit and
 //! inputs produce the same content apart from the date.
 //!
-//! Only the release and charge families are loaded (the facility's identification fits are slow
+//! Only the release, charge and TM-state families are loaded (the facility's identification fits are slow
 //! in the test profile): the release Monte Carlo writes the per-requirement plots.
 
 mod common;
@@ -16,7 +16,7 @@ use std::path::Path;
 fn run(d: &Path) -> (String, BTreeMap<String, String>) {
     let req = d.join("requirements");
     std::fs::create_dir_all(&req).unwrap();
-    for f in ["release.yaml", "charge.yaml"] {
+    for f in ["release.yaml", "charge.yaml", "tm-state.yaml"] {
         std::fs::copy(workspace().join("requirements").join(f), req.join(f)).unwrap();
     }
     let out = geodesic(

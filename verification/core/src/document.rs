@@ -61,13 +61,19 @@ mod tests {
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../document.yaml");
         let d = Document::from_yaml(&std::fs::read_to_string(&p).unwrap(), &p).unwrap();
         assert!(!d.id.is_empty() && !d.issue.is_empty());
-        let e = Document::from_yaml("id: A\nissue: \"\"\ntitle: t\nproject: p\n", Path::new("d.yaml"))
-            .unwrap_err()
-            .to_string();
+        let e = Document::from_yaml(
+            "id: A\nissue: \"\"\ntitle: t\nproject: p\n",
+            Path::new("d.yaml"),
+        )
+        .unwrap_err()
+        .to_string();
         assert_eq!(e, "d.yaml:2:1: document `issue` must be one non-empty line");
-        let e = Document::from_yaml("id: A\nissue: \"1\"\ntitle: t\nproject: p\nowner: x\n", Path::new("d.yaml"))
-            .unwrap_err()
-            .to_string();
+        let e = Document::from_yaml(
+            "id: A\nissue: \"1\"\ntitle: t\nproject: p\nowner: x\n",
+            Path::new("d.yaml"),
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.starts_with("d.yaml:5:") && e.contains("owner"), "{e}");
     }
 }

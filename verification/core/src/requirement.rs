@@ -754,14 +754,22 @@ requirements:
         let r = load(GOOD).unwrap();
         assert_eq!(r.items[0].level, Level::Subsystem, "release family default");
         assert_eq!(r.items[0].stage, Stage::Qualification);
-        let t = GOOD.replace("requirements:", "level: element\nrequirements:").replacen(
-            "    activity: Monte Carlo\n",
-            "    activity: Monte Carlo\n    level: equipment\n    stage: in-orbit\n",
-            1,
-        );
+        let t = GOOD
+            .replace("requirements:", "level: element\nrequirements:")
+            .replacen(
+                "    activity: Monte Carlo\n",
+                "    activity: Monte Carlo\n    level: equipment\n    stage: in-orbit\n",
+                1,
+            );
         let r = load(&t).unwrap();
-        assert_eq!((r.items[0].level, r.items[0].stage), (Level::Equipment, Stage::InOrbit));
-        assert_eq!((r.items[1].level, r.items[1].stage), (Level::Element, Stage::Qualification));
+        assert_eq!(
+            (r.items[0].level, r.items[0].stage),
+            (Level::Equipment, Stage::InOrbit)
+        );
+        assert_eq!(
+            (r.items[1].level, r.items[1].stage),
+            (Level::Element, Stage::Qualification)
+        );
         let bad = GOOD.replacen(
             "    activity: Monte Carlo\n",
             "    activity: Monte Carlo\n    stage: flight\n",

@@ -50,6 +50,22 @@ pub fn tick(v: &f64) -> String {
     }
 }
 
+/// A log-axis tick label: only the 1, 2 and 5 of each decade are labelled (no crowding).
+fn log_tick(v: &f64) -> String {
+    if *v <= 0.0 || !v.is_finite() {
+        return String::new();
+    }
+    let m = *v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|k| (m - k).abs() < 1e-6 * k)
+    {
+        tick(v)
+    } else {
+        String::new()
+    }
+}
+
 const FAIL: RGBColor = RGBColor(255, 200, 200);
 
 /// Renders data and model (top) and the residual with its +-3 sigma band (bottom), failure
@@ -74,7 +90,7 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
             report.chi2_red
         );
         let mut c = ChartBuilder::on(&top)
-            .caption(title, ("sans-serif", 20))
+            .caption(title, ("sans-serif", 24))
             .margin(12)
             .x_label_area_size(45)
             .y_label_area_size(80)
@@ -83,8 +99,8 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         c.configure_mesh()
             .x_desc("t [ms]")
             .y_desc(format!("{} [nm]", prep.channel))
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 15))
+            .label_style(("sans-serif", 18))
+            .axis_desc_style(("sans-serif", 19))
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .draw()
@@ -116,12 +132,15 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         .label("model")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], RED));
         c.configure_series_labels()
-            .label_font(("sans-serif", 14))
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font(("sans-serif", 18))
             .border_style(BLACK)
             .background_style(WHITE.mix(0.9))
             .draw()
             .map_err(perr)?;
         let (ry0, ry1) = range(r.iter().copied().chain([-s3 * 1.2, s3 * 1.2]));
+        // head room above the residual for the legend, so that it covers no data
+        let ry1 = ry1 + 0.7 * (ry1 - ry0);
         let mut c2 = ChartBuilder::on(&bottom)
             .margin(12)
             .x_label_area_size(45)
@@ -131,8 +150,8 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         c2.configure_mesh()
             .x_desc("t [ms]")
             .y_desc("residual [nm]")
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 15))
+            .label_style(("sans-serif", 18))
+            .axis_desc_style(("sans-serif", 19))
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .draw()
@@ -165,7 +184,7 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         .label("residual = data - model")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], BLACK));
         c2.configure_series_labels()
-            .label_font(("sans-serif", 14))
+            .label_font(("sans-serif", 18))
             .border_style(BLACK)
             .background_style(WHITE.mix(0.9))
             .draw()
@@ -229,9 +248,15 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
                 .chain(floor)
                 .fold(f64::INFINITY, f64::min)
                 * 0.5;
-            let hi = pos.iter().cloned().chain(floor).fold(0.0, f64::max).max(lo * 4.0) * 2.0;
+            let hi = pos
+                .iter()
+                .cloned()
+                .chain(floor)
+                .fold(0.0, f64::max)
+                .max(lo * 4.0)
+                * 2.0;
             let mut c = ChartBuilder::on(area)
-                .caption(title, ("sans-serif", 17))
+                .caption(title, ("sans-serif", 21))
                 .margin(12)
                 .x_label_area_size(45)
                 .y_label_area_size(80)
@@ -240,10 +265,10 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
             c.configure_mesh()
                 .x_labels(2 * entries.len() + 1)
                 .x_label_formatter(&label)
-                .y_label_formatter(&tick)
+                .y_label_formatter(&log_tick)
                 .disable_x_mesh()
-                .label_style(("sans-serif", 14))
-                .axis_desc_style(("sans-serif", 15))
+                .label_style(("sans-serif", 18))
+                .axis_desc_style(("sans-serif", 19))
                 .x_desc("model version (effects added)")
                 .draw()
                 .map_err(perr)?;
@@ -257,7 +282,9 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
                 ))
                 .map_err(perr)?
                 .label(l)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], green.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], green.stroke_width(2))
+                });
             }
             c.draw_series(LineSeries::new(
                 pos.iter().enumerate().map(|(i, v)| (i as f64 + 1.0, *v)),
@@ -274,7 +301,7 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
             .map_err(perr)?;
             c.configure_series_labels()
                 .position(SeriesLabelPosition::UpperRight)
-                .label_font(("sans-serif", 14))
+                .label_font(("sans-serif", 18))
                 .border_style(BLACK)
                 .background_style(WHITE.mix(0.9))
                 .draw()
@@ -296,10 +323,13 @@ mod tests {
 
     #[test]
     fn ticks_have_no_binary_noise() {
-        assert_eq!(tick(&1.0000000000000001e-9), "1e-9");
+        assert_eq!(tick(&(0.1 + 0.2 - 0.3 + 1e-9)), "1e-9");
+        assert_eq!(tick(&(3.0 * 0.1)), "0.3");
         assert_eq!(tick(&2.5e-9), "2.5e-9");
         assert_eq!(tick(&0.6000000000000001), "0.6");
         assert_eq!(tick(&120.0), "120");
+        assert_eq!(log_tick(&2e-9), "2e-9");
+        assert_eq!(log_tick(&7e-9), "");
     }
 
     #[test]
@@ -319,7 +349,12 @@ mod tests {
             e(2, &["a", "b", "c"], 1.05e-9, 1.05),
         ];
         let svg = history_svg(&h).unwrap();
-        for want in ["v1 base", "v2 +c", "noise floor: noise RMS 1e-9 m", "chi2_red = 1"] {
+        for want in [
+            "v1 base",
+            "v2 +c",
+            "noise floor: noise RMS 1e-9 m",
+            "chi2_red = 1",
+        ] {
             assert!(svg.contains(want), "{want}");
         }
         assert!(!svg.contains("0000000"), "garbled tick label");

@@ -33,7 +33,13 @@ nav.toc .dot{display:inline-block;width:.7em;height:.7em;border-radius:50%;margi
 .page{margin-left:15em}
 main{padding:1em 2em;max-width:1500px}
 h2{border-bottom:2px solid #14213d;padding-bottom:.2em;margin-top:1.6em}
-h2 .up,h3 .up{font-size:.6em;font-weight:normal;margin-left:.8em}
+h2 .up{font-size:.6em;font-weight:normal;margin-left:.8em}
+h3 .up{font-size:.75em;font-weight:normal;margin-left:.8em}
+table.vcd{table-layout:fixed}
+table.vcd col.c-id{width:8%}table.vcd col.c-req{width:20%}table.vcd col.c-lvl{width:10%}
+table.vcd col.c-ev{width:23%}table.vcd col.c-val{width:9%}table.vcd col.c-co{width:15%}
+table.vcd col.c-rem{width:10%}table.vcd col.c-rv{width:5%}
+table.vcd td{overflow-wrap:break-word}
 table{border-collapse:collapse;width:100%;margin:.6em 0 1.4em 0;font-size:.9em;background:#fff}
 th,td{border:1px solid #d8dde6;padding:.35em .5em;text-align:left;vertical-align:top}
 th{background:#eef1f6;position:sticky;top:0}
@@ -43,7 +49,8 @@ table.meta{width:auto}
 table.meta th{position:static;white-space:nowrap}
 .compliant{background:#d7f5dd}.non-compliant{background:#fbd5d5}.not-verified{background:#fff3cd}
 .dot.compliant{background:#2e9e4f}.dot.non-compliant{background:#d03030}.dot.not-verified{background:#e0a800}
-.badge{padding:.1em .5em;border-radius:.6em;font-weight:600;white-space:nowrap}
+.badge{padding:.1em .5em;border-radius:.6em;font-weight:600}
+h3 .badge{white-space:nowrap}
 section.req{background:#fff;border:1px solid #d8dde6;border-radius:6px;padding:.6em 1.2em;margin:1em 0}
 .plot{margin:.6em 0}
 .plot svg{max-width:100%;height:auto;border:1px solid #e3e6ec;background:#fff}
@@ -96,9 +103,10 @@ fn meta_table(rep: &Report) -> String {
 /// of the links to the requirement sections (`""` inside `index.html`, `index.html` outside).
 fn vcd_table(rep: &Report, link: &str) -> String {
     let mut o = String::from(
-        "<table class=\"vcd\"><thead><tr><th>ID</th><th>Requirement, source</th><th>Parent / children</th>\
-         <th>Level / stage</th><th>Method</th><th>Activity and evidence</th><th>Value</th><th>Limit</th><th>Margin</th>\
-         <th>Compliance</th><th>Close-out</th><th>Remarks</th><th>Re-verify</th></tr></thead><tbody>",
+        "<table class=\"vcd\"><colgroup><col class=\"c-id\"><col class=\"c-req\"><col class=\"c-lvl\"><col class=\"c-ev\">\
+         <col class=\"c-val\"><col class=\"c-co\"><col class=\"c-rem\"><col class=\"c-rv\"></colgroup><thead><tr><th>ID</th><th>Requirement, source, parent / children</th>\
+         <th>Level, stage, method</th><th>Activity and evidence</th><th>Value, limit, margin</th>\
+         <th>Compliance, close-out</th><th>Remarks</th><th>Re-verify</th></tr></thead><tbody>",
     );
     for (l, r) in vcd::lines(rep).iter().zip(&rep.matrix.requirements) {
         let st = r.status.as_str();
@@ -124,13 +132,13 @@ fn vcd_table(rep: &Report, link: &str) -> String {
             .collect();
         let _ = write!(
             o,
-            "<tr id=\"vcd-{id}\" data-status=\"{st}\" class=\"{st}\"><td>{idl}</td>\
-             <td><b>{title}</b><br><span class=\"small\">{text}</span><br><span class=\"small muted\">Source: {src}</span></td>\
-             <td>{parent} / {children}</td><td>{level}<br>{stage}</td><td>{method}</td>\
+            "<tr id=\"vcd-{id}\" data-status=\"{st}\" class=\"{st}\"><td><b>{idl}</b></td>\
+             <td><b>{title}</b><br><span class=\"small\">{text}</span><br><span class=\"small muted\">Source: {src}<br>Parent: {parent}; children: {children}</span></td>\
+             <td>{level}<br>{stage}<br>{method}</td>\
              <td class=\"ev\">{act}<br><b>{ev}</b> <a href=\"{link}#{id}\">§ evidence</a>\
              <details><summary>full evidence and references</summary><ul>{detail}</ul><b>References</b><ul>{refs}</ul></details></td>\
-             <td class=\"num\">{value}</td><td class=\"num\">{limit}</td><td class=\"num\">{margin}</td>\
-             <td><span class=\"badge\">{comp}</span></td><td><b>{co}</b>: {cor}{cref}</td><td class=\"small\">{rem}</td><td>{rv}</td></tr>",
+             <td>{value}<br>{limit}<br>margin {margin}<br><span class=\"small muted\">basis {basis}</span></td>\
+             <td><span class=\"badge\">{comp}</span><br><b>{co}</b>: {cor}{cref}</td><td class=\"small\">{rem}</td><td>{rv}</td></tr>",
             id = esc(&l.id),
             idl = idlink(&l.id),
             title = esc(&l.title),
@@ -148,7 +156,8 @@ fn vcd_table(rep: &Report, link: &str) -> String {
             ev = esc(&l.evidence),
             value = esc(&l.value),
             limit = esc(&l.limit),
-            margin = esc(&l.margin),
+            margin = esc(&l.margin).replace(" %", "&nbsp;%"),
+            basis = if l.basis.is_empty() { "—" } else { l.basis },
             comp = l.compliance,
             co = l.close_out,
             cor = esc(&l.close_out_reason),
@@ -163,10 +172,17 @@ fn vcd_table(rep: &Report, link: &str) -> String {
             rem = if l.remarks.is_empty() {
                 "—".to_string()
             } else {
-                esc(&l.remarks)
+                format!(
+                    "<details><summary>{}</summary>{}</details>",
+                    esc(&short(&l.remarks, 90)),
+                    esc(&l.remarks)
+                )
             },
             rv = if l.reverify {
-                format!("<b>yes</b>: {}", esc(&l.reverify_reason))
+                format!(
+                    "<details><summary><b>yes</b></summary>{}</details>",
+                    esc(&l.reverify_reason)
+                )
             } else {
                 "no".into()
             },
@@ -174,6 +190,16 @@ fn vcd_table(rep: &Report, link: &str) -> String {
     }
     o.push_str("</tbody></table>");
     o
+}
+
+/// The first `n` characters of `s` at a word boundary, with `…` when cut.
+fn short(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        return s.to_string();
+    }
+    let cut: String = s.chars().take(n).collect();
+    let cut = cut.rsplit_once(' ').map_or(cut.as_str(), |(a, _)| a);
+    format!("{cut} …")
 }
 
 /// Renders the page. Artifacts named by the evidence are searched in `artifact_dirs` in order
@@ -210,10 +236,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
             "<li><a href=\"#fidelity\">Fidelity against the thesis</a></li>"
         );
     }
-    let _ = write!(
-        o,
-        "<li><a href=\"#requirements\">Requirements</a><ol>"
-    );
+    let _ = write!(o, "<li><a href=\"#requirements\">Requirements</a><ol>");
     for r in &m.requirements {
         let st = r.status.as_str();
         let _ = write!(
@@ -241,6 +264,8 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         project = esc(&d.project),
         date = esc(&rep.run.date),
     );
+    let fid = !rep.run.fidelity.is_empty();
+    let (n_req, n_trace) = if fid { (5, 6) } else { (4, 5) };
     let _ = write!(
         o,
         "<h2 id=\"identification\">1 Document identification{UP}</h2>{}",
@@ -257,11 +282,12 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     let run = m.test_run.is_some();
     for r in &m.requirements {
         let st = r.status.as_str();
-        let checks: Vec<String> = r
+        let mut checks: Vec<String> = r
             .evidence
             .iter()
             .map(|e| format!("<code>{}</code>", esc(&e.check)))
             .collect();
+        checks.dedup();
         let _ = write!(
             o,
             "<tr id=\"matrix-{id}\" data-status=\"{st}\" class=\"{st}\"><td><a href=\"#{id}\">{id}</a></td><td>{t}</td><td>{meth}</td>\
@@ -312,7 +338,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         let _ = write!(o, "</tbody></table>");
     }
     // sections
-    let _ = write!(o, "<h2 id=\"requirements\">5 Requirements{UP}</h2>");
+    let _ = write!(o, "<h2 id=\"requirements\">{n_req} Requirements{UP}</h2>");
     for r in &m.requirements {
         let st = r.status.as_str();
         let _ = write!(
@@ -400,7 +426,8 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
                 o,
                 "<p><b>Evidence</b> <code>{}</code>{}: {} {}</p>{}",
                 esc(&e.check),
-                e.basis.map_or(String::new(), |b| format!(" [{}]", b.as_str())),
+                e.basis
+                    .map_or(String::new(), |b| format!(" [{}]", b.as_str())),
                 esc(&e.activity),
                 e.value.map_or_else(
                     || e.reason
@@ -415,7 +442,9 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
                 if inputs.is_empty() {
                     String::new()
                 } else {
-                    format!("<details><summary>inputs</summary><ul class=\"small\">{inputs}</ul></details>")
+                    format!(
+                        "<details><summary>inputs</summary><ul class=\"small\">{inputs}</ul></details>"
+                    )
                 }
             );
             for a in &e.artifacts {
@@ -432,7 +461,11 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
             }
         }
         if !r.tests.is_empty() {
-            let _ = write!(o, "<p><b>Traced tests</b> ({})</p><ul>", esc(&crate::tests_word(r, run)));
+            let _ = write!(
+                o,
+                "<p><b>Traced tests</b> ({})</p><ul>",
+                esc(&crate::tests_word(r, run))
+            );
             for t in &r.tests {
                 let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
                 let _ = write!(
@@ -453,7 +486,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     // trace views
     let _ = write!(
         o,
-        "<h2 id=\"trace\">6 Trace views{UP}</h2><h3>Checks to requirements</h3><table><thead><tr><th>Check</th><th>Verifies</th></tr></thead><tbody>"
+        "<h2 id=\"trace\">{n_trace} Trace views{UP}</h2><h3>Checks to requirements</h3><table><thead><tr><th>Check</th><th>Verifies</th></tr></thead><tbody>"
     );
     for c in &rep.run.checks {
         let ids: Vec<String> = c
@@ -489,10 +522,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         esc(&crate::id_list(&m.without_value())),
         esc(&crate::id_list(&m.without_tests()))
     );
-    let _ = writeln!(
-        o,
-        "</main></div><script>{SCRIPT}</script></body></html>"
-    );
+    let _ = writeln!(o, "</main></div><script>{SCRIPT}</script></body></html>");
     o
 }
 
@@ -528,8 +558,18 @@ mod tests {
             assert!(page.contains("&lt;= 5 um/s"));
         }
         let page = super::render(&r, &[]);
-        for anchor in ["#identification", "#matrix", "#vcd", "#requirements", "#trace", "#F-A"] {
-            assert!(page.contains(&format!("href=\"{anchor}\"")), "no link to {anchor}");
+        for anchor in [
+            "#identification",
+            "#matrix",
+            "#vcd",
+            "#requirements",
+            "#trace",
+            "#F-A",
+        ] {
+            assert!(
+                page.contains(&format!("href=\"{anchor}\"")),
+                "no link to {anchor}"
+            );
         }
         assert!(page.contains("id=\"vcd-F-B\"") && page.contains("<details>"));
     }

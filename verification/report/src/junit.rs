@@ -86,7 +86,8 @@ pub fn render(rep: &Report) -> String {
         ));
         o.push_str(&run_properties(rep));
         for r in rows {
-            let checks: Vec<&str> = r.evidence.iter().map(|e| e.check.as_str()).collect();
+            let mut checks: Vec<&str> = r.evidence.iter().map(|e| e.check.as_str()).collect();
+            checks.dedup();
             o.push_str(&format!(
                 "    <testcase classname=\"geodesic.{}\" name=\"{} {}\">\n",
                 esc(f),

@@ -96,7 +96,10 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
     let short = |h: &str| h.chars().take(16).collect::<String>();
     let d = &r.document;
     let mut v = vec![
-        ("document", format!("{} issue {}: {}", d.id, d.issue, d.title)),
+        (
+            "document",
+            format!("{} issue {}: {}", d.id, d.issue, d.title),
+        ),
         ("project", d.project.clone()),
         ("geodesic", r.tool_version.clone()),
         (

@@ -153,7 +153,7 @@ fn group(i: i64) -> String {
     let s = i.unsigned_abs().to_string();
     let mut out = String::new();
     for (k, c) in s.chars().enumerate() {
-        if k > 0 && (s.len() - k) % 3 == 0 {
+        if k > 0 && (s.len() - k).is_multiple_of(3) {
             out.push(' ');
         }
         out.push(c);
@@ -318,15 +318,14 @@ pub fn lines(rep: &Report) -> Vec<VcdLine> {
                         "value {} does not meet {}{}",
                         fmt_value(r),
                         fmt_limit(r),
-                        r.disposition.as_ref().map_or(
-                            "; no disposition".to_string(),
-                            |d| format!(
+                        r.disposition
+                            .as_ref()
+                            .map_or("; no disposition".to_string(), |d| format!(
                                 "; {} {}{}",
                                 d.kind.as_str(),
                                 d.reference,
                                 if d.expired { " (EXPIRED)" } else { " open" }
-                            )
-                        )
+                            ))
                     ),
                 ),
                 (Status::NotVerified, _) => (
@@ -556,7 +555,10 @@ mod tests {
         assert_eq!(fmt_input(&serde_json::json!(1.3999999682597337)), "1.4");
         assert_eq!(fmt_input(&serde_json::json!(100000)), "100 000");
         assert_eq!(fmt_input(&serde_json::json!(3.13e8)), "3.13e8");
-        assert_eq!(fmt_input(&serde_json::json!("a".repeat(64))), "aaaaaaaaaaaa…");
+        assert_eq!(
+            fmt_input(&serde_json::json!("a".repeat(64))),
+            "aaaaaaaaaaaa…"
+        );
         assert_eq!(
             fmt_input(&serde_json::json!([1, 2, 3, 4, 5, 6, 7])),
             "[1, 2, 3, 4, 5, 6, … (7 values)]"
@@ -599,7 +601,10 @@ mod tests {
         assert!(!a.reverify);
         let b = &ls[1];
         assert_eq!((b.compliance, b.close_out), ("no", "open"));
-        assert!(b.close_out_reason.contains("6 um/s does not meet <= 5 um/s"));
+        assert!(
+            b.close_out_reason
+                .contains("6 um/s does not meet <= 5 um/s")
+        );
         assert!(b.reverify && b.reverify_reason == "margin moved");
         let csv = csv(&r);
         assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));

@@ -45,7 +45,7 @@ pub fn render(rep: &Report) -> Result<Vec<u8>, XlsxError> {
     let mut wb = Workbook::new();
     let d = &rep.run.document;
     let mut props = DocProperties::new()
-        .set_title(&format!("{} issue {}: {}", d.id, d.issue, d.title))
+        .set_title(format!("{} issue {}: {}", d.id, d.issue, d.title))
         .set_subject("Verification Control Document (ECSS-E-ST-10-02C Annex B)")
         .set_company(&d.project)
         .set_author("geodesic verify");
@@ -163,7 +163,12 @@ mod tests {
         assert_eq!(rows[2][col("reverify")], "yes");
         let meta = wb.worksheet_range(META_SHEET).unwrap();
         let text: Vec<String> = meta.rows().map(|r| format!("{}={}", r[0], r[1])).collect();
-        for want in ["document id=DOC-1", "issue=2", "commit=c", "date (UTC)=2026-01-01T00:00:00Z"] {
+        for want in [
+            "document id=DOC-1",
+            "issue=2",
+            "commit=c",
+            "date (UTC)=2026-01-01T00:00:00Z",
+        ] {
             assert!(text.iter().any(|t| t == want), "{want} not in {text:?}");
         }
     }

@@ -358,7 +358,10 @@ fn release_checks_give_evidence() {
         let e = ev.iter().find(|e| e.requirement == id).unwrap();
         assert_eq!(e.artifacts, vec![format!("release-velocity-{id}.svg")]);
         let svg = std::fs::read_to_string(dir.join(&e.artifacts[0])).unwrap();
-        assert!(svg.contains(&format!("{id} {limit}")), "{id}: own limit drawn");
+        assert!(
+            svg.contains(&format!("{id} {limit}")),
+            "{id}: own limit drawn"
+        );
     }
     let cal = geodesic_core::Check::run(&AdhesionCalibration, &ctx).unwrap();
     let Outcome::Measured(q) = &cal[0].outcome else {
