@@ -193,8 +193,12 @@ mod tests {
         let fsvg = crate::plot::fit_svg(&prep, &o.pred, &r).unwrap();
         assert!(!r.failures.is_empty());
         assert!(
-            fsvg.to_uppercase().contains("#FFD2D2"),
+            fsvg.to_uppercase().contains("#FFC8C8"),
             "failure windows are shaded"
+        );
+        assert!(
+            fsvg.contains("failure window") && fsvg.contains("noise band"),
+            "every shaded band is in a legend"
         );
     }
 }
