@@ -296,7 +296,6 @@ impl Check for AdhesionIdentification {
         plot::write_svg(&fits.join(format!("{STEM}.history.svg")), &svg).map_err(ferr)?;
         artifacts.push(format!("fits/{STEM}.history.svg"));
 
-        let started = std::time::Instant::now();
         let rel = coverage(
             &budget.adhesion,
             COVERAGE_RELEASES,
@@ -304,7 +303,6 @@ impl Check for AdhesionIdentification {
             truth,
             &fit_opts,
         );
-        let elapsed = started.elapsed().as_secs_f64();
         let col = |f: fn(&CoverageRelease) -> f64| rel.iter().map(f).collect::<Vec<f64>>();
         let (zp, za, zl) = (col(|r| r.z_peak), col(|r| r.z_a1), col(|r| r.z_lambda));
         let (cp, ca, cl) = (coverages(&zp), coverages(&za), coverages(&zl));
@@ -394,7 +392,6 @@ impl Check for AdhesionIdentification {
             "z_peak",
             serde_json::Value::Array(zp.iter().map(|z| round(*z)).collect()),
         )
-        .with_input("coverage_seconds", (elapsed * 10.0).round() / 10.0)
         .with_input("diagnose_true_a1_n_m", a1)
         .with_input("diagnose_true_lambda_m", lambda)
         .with_input("diagnose_samples", prep.dataset.t.len())

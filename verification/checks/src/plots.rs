@@ -8,6 +8,7 @@ use geodesic_core::CheckError;
 use geodesic_release::budget::Budget;
 use geodesic_release::montecarlo::{Case, draw_inputs};
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 fn perr(e: impl std::fmt::Display) -> CheckError {
@@ -52,21 +53,30 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
         let mut c = ChartBuilder::on(&root)
             .caption(
                 format!("Adhesion force-to-elongation curves: {n} draws of the Monte Carlo budget"),
-                ("sans-serif", 18),
+                ("sans-serif", 24),
             )
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
+            .margin(14)
+            .x_label_area_size(50)
+            .y_label_area_size(70)
             .build_cartesian_2d(0.0..e_max_um, 0.0..55.0)
             .map_err(perr)?;
         c.configure_mesh()
             .x_desc("elongation e [um]")
             .y_desc("adhesion force [mN]")
+            .x_label_formatter(&|v| format!("{v:.1}"))
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .label_style(("sans-serif", 18))
+            .axis_desc_style(("sans-serif", 19))
             .draw()
             .map_err(perr)?;
-        for pts in curves {
-            c.draw_series(LineSeries::new(pts, RGBColor(70, 110, 180).mix(0.5)))
-                .map_err(perr)?;
+        let curve = RGBColor(70, 110, 180).mix(0.5);
+        for (i, pts) in curves.into_iter().enumerate() {
+            let drawn = c.draw_series(LineSeries::new(pts, curve)).map_err(perr)?;
+            if i == 0 {
+                drawn
+                    .label(format!("F(e) = A1 e exp(-e/lambda), {n} budget draws"))
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], curve));
+            }
         }
         for (level, label, color) in [
             (20.0, "TMMF mean peak pull-off 20 mN", RGBColor(0, 140, 60)),
@@ -81,6 +91,7 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
         }
         c.configure_series_labels()
+            .label_font(("sans-serif", 18))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()
@@ -90,39 +101,57 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
     Ok(out)
 }
 
+/// Tick label of a log axis: `0.001`, `0.01`, ..., `10`, `100` (no binary noise).
+fn log_tick(v: &f64) -> String {
+    let e = v.log10().round();
+    if (v.log10() - e).abs() > 1e-6 {
+        return String::new(); // only the decades are labelled
+    }
+    if e >= 0.0 {
+        format!("{}", 10f64.powi(e as i32))
+    } else {
+        format!("{:.*}", (-e) as usize, 10f64.powi(e as i32))
+    }
+}
+
 /// The quartic sum along the requirement box scaled by `s` (every state at `s req_i`), and with
-/// the z velocity alone at `s x 5 um/s`, against the capture boundary (sum = 1).
+/// the z velocity alone at `s x 5 um/s`, against the capture boundary (sum = 1). Log scale on
+/// the sum, so neither curve is clipped and the boundary sits mid-plot; the legend is in the
+/// empty lower right, away from the labels of the box lines.
 pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
-    let s_max = 2.6;
-    let corner: Vec<(f64, f64)> = (0..=260)
-        .map(|k| {
-            let s = s_max * k as f64 / 260.0;
-            (s, criterion::quartic_sum(x, &box_corner(x, s)))
-        })
-        .collect();
+    let (s_min, s_max) = (0.3, 2.6);
+    let (y_min, y_max) = (1e-4, 100.0);
+    let grid = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
+        (0..=240)
+            .map(|k| {
+                let s = s_min + (s_max - s_min) * k as f64 / 240.0;
+                (s, f(s).clamp(y_min, y_max))
+            })
+            .collect()
+    };
+    let corner = grid(&|s| criterion::quartic_sum(x, &box_corner(x, s)));
     let vz_req = x.requirement(StateName::Vz);
     let vz_lim = x.limit(StateName::Vz);
-    let vz_only: Vec<(f64, f64)> = (0..=260)
-        .map(|k| {
-            let s = s_max * k as f64 / 260.0;
-            (s, (s * vz_req / vz_lim).powi(4))
-        })
-        .collect();
+    let vz_only = grid(&|s| (s * vz_req / vz_lim).powi(4));
     let s_box = criterion::max_box_scale(x);
     let mut out = String::new();
     {
-        let root = SVGBackend::with_string(&mut out, (900, 480)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut out, (900, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(perr)?;
         let mut c = ChartBuilder::on(&root)
-            .caption("DFACS quartic capture criterion", ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..s_max, 0.0..2.0)
+            .caption("DFACS quartic capture criterion", ("sans-serif", 24))
+            .margin(14)
+            .x_label_area_size(50)
+            .y_label_area_size(80)
+            .build_cartesian_2d(s_min..s_max, (y_min..y_max).log_scale())
             .map_err(perr)?;
         c.configure_mesh()
             .x_desc("scale s of the TM state requirement box")
-            .y_desc("sum_i (x0_i / xlim_i)^4")
+            .y_desc("sum_i (x0_i / xlim_i)^4 (log)")
+            .label_style(("sans-serif", 18))
+            .axis_desc_style(("sans-serif", 19))
+            .y_label_formatter(&log_tick)
+            .x_label_formatter(&|v| format!("{v:.1}"))
             .draw()
             .map_err(perr)?;
         let blue = RGBColor(40, 90, 170);
@@ -131,39 +160,62 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
         c.draw_series(LineSeries::new(corner, blue.stroke_width(2)))
             .map_err(perr)?
             .label("all 12 states at s x req")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], blue));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], blue.stroke_width(2))
+            });
         c.draw_series(LineSeries::new(vz_only, orange.stroke_width(2)))
             .map_err(perr)?
             .label(format!(
-                "z velocity alone at s x 5 um/s (limit {:.1} um/s)",
+                "z velocity alone at s x {} um/s (xlim {:.1} um/s)",
+                geodesic_core::units::fmt_num(vz_req * 1e6),
                 vz_lim * 1e6
             ))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], orange));
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], orange.stroke_width(2))
+            });
         c.draw_series(LineSeries::new(
-            vec![(0.0, 1.0), (s_max, 1.0)],
+            vec![(s_min, 1.0), (s_max, 1.0)],
             red.stroke_width(2),
         ))
         .map_err(perr)?
         .label("capture boundary (sum = 1)")
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], red));
-        for (s, label) in [(1.0, "requirement box"), (s_box, "largest capturable box")] {
-            c.draw_series(DashedLineSeries::new(
-                vec![(s, 0.0), (s, 2.0)],
-                6,
-                4,
-                BLACK.stroke_width(1),
-            ))
-            .map_err(perr)?;
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], red.stroke_width(2)));
+        for (i, (s, label)) in [(1.0, "requirement box"), (s_box, "largest capturable box")]
+            .into_iter()
+            .enumerate()
+        {
+            let dashed = c
+                .draw_series(DashedLineSeries::new(
+                    vec![(s, y_min), (s, y_max)],
+                    6,
+                    4,
+                    BLACK.stroke_width(1),
+                ))
+                .map_err(perr)?;
+            if i == 0 {
+                dashed
+                    .label("requirement box and largest capturable box (s)")
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK));
+            }
+            // the requirement box's label left of its line, the other's right of its own: the
+            // two labels never cross a line
+            let pos = if i == 0 {
+                Pos::new(HPos::Right, VPos::Center)
+            } else {
+                Pos::new(HPos::Left, VPos::Center)
+            };
+            let style = TextStyle::from(("sans-serif", 18).into_font()).pos(pos);
             c.draw_series(std::iter::once(Text::new(
                 format!("{label} (s = {s:.2})"),
-                (s + 0.02, 1.85 - 0.12 * f64::from(u8::from(s > 1.0))),
-                ("sans-serif", 13),
+                (if i == 0 { s - 0.03 } else { s + 0.03 }, 40.0),
+                style,
             )))
             .map_err(perr)?;
         }
         c.configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
+            .position(SeriesLabelPosition::LowerRight)
+            .label_font(("sans-serif", 18))
+            .background_style(WHITE.mix(0.9))
             .border_style(BLACK)
             .draw()
             .map_err(perr)?;
@@ -182,5 +234,8 @@ mod tests {
         assert!(a.starts_with("<svg") && a.contains("48 mN"));
         let c = capture_criterion_svg(&Xlim::default_set()).unwrap();
         assert!(c.contains("capture boundary"));
+        assert_eq!(log_tick(&0.001), "0.001");
+        assert_eq!(log_tick(&100.0), "100");
+        assert_eq!(log_tick(&0.003), "");
     }
 }

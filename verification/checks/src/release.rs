@@ -1,7 +1,8 @@
 //! Checks of the `release` family (thesis ch. 3-6, physics.md §1-3):
 //!
 //! - `release-montecarlo`: runs the in-flight release Monte Carlo (case `all`, `ctx.mc_n`
-//!   draws, `ctx.seed`, the default budget), writes `release-velocity-histogram.svg` and gives
+//!   draws, `ctx.seed`, the default budget), writes `release-velocity-<ID>.svg` per requirement
+//!   (histogram and log-scaled tail with that requirement's own limit) and gives
 //!   the 99.73 % |X'| as evidence for REL-GPRM-VEL, REL-DFACS-VEL and TMS-Z-VEL (the release
 //!   axis is z in the DFACS frame);
 //! - `adhesion-calibration`: FAC-ADH-CAL, the peak pull-off distribution of the budget's
@@ -24,10 +25,11 @@ use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 
-/// GPRM release-velocity limit drawn on the histogram [um/s] (REL-GPRM-VEL).
-pub const GPRM_LIMIT_UM_S: f64 = 5.0;
-/// File name of the histogram in the reports directory.
-pub const HISTOGRAM_FILE: &str = "release-velocity-histogram.svg";
+/// File name of the release-velocity plot of requirement `id` in the reports directory (the
+/// histogram and the log-scaled tail with that requirement's own limit).
+pub fn histogram_file(id: &str) -> String {
+    format!("release-velocity-{id}.svg")
+}
 /// Draws of the adhesion calibration.
 pub const CALIBRATION_DRAWS: usize = 200_000;
 
@@ -127,11 +129,6 @@ impl Check for ReleaseMonteCarlo {
         let s = r.summary();
         std::fs::create_dir_all(&ctx.reports_dir)
             .map_err(|e| CheckError(format!("{}: {e}", ctx.reports_dir.display())))?;
-        let path = ctx.reports_dir.join(HISTOGRAM_FILE);
-        let tmp = ctx.reports_dir.join(format!(".{HISTOGRAM_FILE}.tmp"));
-        std::fs::write(&tmp, r.histogram_svg(Some(GPRM_LIMIT_UM_S)))
-            .and_then(|_| std::fs::rename(&tmp, &path))
-            .map_err(|e| CheckError(format!("{}: {e}", path.display())))?;
         let value = Quantity::new(s.p9973_um_s * 1e-6, Dim::VELOCITY);
         let activity = format!(
             "99.73 % of |X'| over {} in-flight releases (case all, seed {}): {:.3} um/s; mean {:.3}, max {:.3} um/s.",
@@ -140,8 +137,27 @@ impl Check for ReleaseMonteCarlo {
         let mut out = Vec::new();
         for id in self.verifies() {
             let mut e =
-                Evidence::measured(id, value, geodesic_core::Basis::Model, activity.clone())
-                    .with_artifact(HISTOGRAM_FILE);
+                Evidence::measured(id, value, geodesic_core::Basis::Model, activity.clone());
+            // each requirement judged on its own plot, with its own limit
+            if let Some(req) = ctx.requirements.get(id) {
+                let limit_um_s = req.limit.value * 1e6;
+                let svg = geodesic_release::histogram::requirement_histogram_svg(
+                    &r.abs_um_s(),
+                    s.p9973_um_s,
+                    0.9973,
+                    limit_um_s,
+                    id,
+                    &format!(
+                        "{id}: 99.73 % of |X'| against {} (N = {}, seed {})",
+                        req.limit_text, s.n, s.seed
+                    ),
+                );
+                e = e.with_artifact(crate::plots::write(
+                    &ctx.reports_dir,
+                    &histogram_file(id),
+                    &svg,
+                )?);
+            }
             e.inputs = mc_inputs(&r, ctx);
             if *id == "TMS-Z-VEL" {
                 e = e.with_input("axis", "release axis X = z (DFACS frame)");

@@ -10,6 +10,7 @@
 
 pub mod check;
 pub mod disposition;
+pub mod document;
 pub mod fsio;
 pub mod hash;
 pub mod matrix;

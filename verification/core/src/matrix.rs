@@ -149,8 +149,15 @@ pub struct Row {
     pub source: String,
     /// Verification method.
     pub method: String,
+    /// Verification level (ECSS-E-ST-10-02C: equipment, subsystem, element, system).
+    pub level: String,
+    /// Verification stage (qualification, acceptance, pre-launch, in-orbit, post-landing).
+    pub stage: String,
     /// Verification activity.
     pub activity: String,
+    /// The requirement's free note (a remark of the VCD), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
     /// Parent ID and margin.
     pub parent: Option<String>,
     /// Parent margin factor.
@@ -448,6 +455,9 @@ fn row(
         family: r.family.clone(),
         source: r.source.clone(),
         method: r.method.to_string(),
+        level: r.level.as_str().to_string(),
+        stage: r.stage.as_str().to_string(),
+        note: r.note.clone(),
         activity: r.activity.clone(),
         parent: r.parent.as_ref().map(|(p, _)| p.to_string()),
         parent_margin: r.parent.as_ref().map(|(_, m)| *m),

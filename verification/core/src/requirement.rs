@@ -131,12 +131,122 @@ impl Op {
     }
 }
 
+/// Verification level (ECSS-E-ST-10-02C section 4.2.3: the level of decomposition at which a
+/// requirement is verified).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Level {
+    /// Equipment (a unit: the release mechanism, a facility's instrument).
+    Equipment,
+    /// Subsystem (the GRS with its release mechanism, the charge management).
+    Subsystem,
+    /// Element (the LISA Technology Package).
+    Element,
+    /// System (the spacecraft with its DFACS).
+    System,
+}
+
+impl Level {
+    /// Every level, as written in YAML.
+    pub const NAMES: [&'static str; 4] = ["equipment", "subsystem", "element", "system"];
+
+    /// The level as written in YAML.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Level::Equipment => "equipment",
+            Level::Subsystem => "subsystem",
+            Level::Element => "element",
+            Level::System => "system",
+        }
+    }
+
+    fn parse(s: &str) -> Option<Level> {
+        Some(match s {
+            "equipment" => Level::Equipment,
+            "subsystem" => Level::Subsystem,
+            "element" => Level::Element,
+            "system" => Level::System,
+            _ => return None,
+        })
+    }
+}
+
+/// Verification stage (ECSS-E-ST-10-02C section 4.2.4: when in the programme the requirement is
+/// verified).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Stage {
+    /// Qualification: the design meets the requirement with margin (analysis, qualification tests).
+    Qualification,
+    /// Acceptance: the flight item is free of workmanship defects.
+    Acceptance,
+    /// Pre-launch, at the launch site.
+    PreLaunch,
+    /// In orbit (commissioning).
+    InOrbit,
+    /// Post-landing.
+    PostLanding,
+}
+
+impl Stage {
+    /// Every stage, as written in YAML.
+    pub const NAMES: [&'static str; 5] = [
+        "qualification",
+        "acceptance",
+        "pre-launch",
+        "in-orbit",
+        "post-landing",
+    ];
+
+    /// The stage as written in YAML.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Stage::Qualification => "qualification",
+            Stage::Acceptance => "acceptance",
+            Stage::PreLaunch => "pre-launch",
+            Stage::InOrbit => "in-orbit",
+            Stage::PostLanding => "post-landing",
+        }
+    }
+
+    fn parse(s: &str) -> Option<Stage> {
+        Some(match s {
+            "qualification" => Stage::Qualification,
+            "acceptance" => Stage::Acceptance,
+            "pre-launch" => Stage::PreLaunch,
+            "in-orbit" => Stage::InOrbit,
+            "post-landing" => Stage::PostLanding,
+            _ => return None,
+        })
+    }
+}
+
+/// The level and stage a family's requirements take when neither the requirement nor the file
+/// states them: the release mechanism and the charge are verified at subsystem level, the
+/// facility's calibration at equipment level, the TM state and its capture by the DFACS at
+/// system level; every family at the qualification stage (analysis of the design, before
+/// flight). Another family: system, qualification.
+pub fn default_level_stage(family: &str) -> (Level, Stage) {
+    let level = match family {
+        "release" | "charge" => Level::Subsystem,
+        "facility" => Level::Equipment,
+        _ => Level::System,
+    };
+    (level, Stage::Qualification)
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawFile {
     family: String,
     #[serde(default)]
     description: Option<String>,
+    /// Level of every requirement of the file that does not state its own.
+    #[serde(default)]
+    level: Option<Spanned<String>>,
+    /// Stage of every requirement of the file that does not state its own.
+    #[serde(default)]
+    stage: Option<Spanned<String>>,
     requirements: Vec<RawRequirement>,
 }
 
@@ -160,6 +270,10 @@ struct RawRequirement {
     parent: Option<RawParent>,
     #[serde(default)]
     note: Option<String>,
+    #[serde(default)]
+    level: Option<Spanned<String>>,
+    #[serde(default)]
+    stage: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -215,6 +329,11 @@ pub struct Requirement {
     pub probability: Option<String>,
     /// Verification method.
     pub method: Method,
+    /// Verification level (`level:` of the entry, else of the file, else the family default of
+    /// [`default_level_stage`]).
+    pub level: Level,
+    /// Verification stage (`stage:` of the entry, else of the file, else the family default).
+    pub stage: Stage,
     /// The verification activity that provides the evidence.
     pub activity: String,
     /// Name of the registered check that runs the activity, if any.
@@ -311,6 +430,29 @@ impl Requirements {
                 raw.family.clone(),
                 raw.description.clone().unwrap_or_default(),
             );
+            let (def_level, def_stage) = default_level_stage(&raw.family);
+            let parse_level = |s: &Spanned<String>| {
+                Level::parse(s.value.trim()).ok_or_else(|| LoadError {
+                    origin: origin_of(file, s),
+                    cause: format!(
+                        "unknown verification level `{}` ({})",
+                        s.value,
+                        Level::NAMES.join(", ")
+                    ),
+                })
+            };
+            let parse_stage = |s: &Spanned<String>| {
+                Stage::parse(s.value.trim()).ok_or_else(|| LoadError {
+                    origin: origin_of(file, s),
+                    cause: format!(
+                        "unknown verification stage `{}` ({})",
+                        s.value,
+                        Stage::NAMES.join(", ")
+                    ),
+                })
+            };
+            let file_level = raw.level.as_ref().map(parse_level).transpose()?;
+            let file_stage = raw.stage.as_ref().map(parse_stage).transpose()?;
             for r in raw.requirements {
                 let at = |s: &Spanned<String>| origin_of(file, s);
                 let err = |s: &Spanned<String>, cause: String| LoadError {
@@ -394,6 +536,14 @@ impl Requirements {
                         return Err(err(&r.id, format!("requirement {id}: `{name}` is empty")));
                     }
                 }
+                let level = match &r.level {
+                    Some(l) => parse_level(l)?,
+                    None => file_level.unwrap_or(def_level),
+                };
+                let stage = match &r.stage {
+                    Some(l) => parse_stage(l)?,
+                    None => file_stage.unwrap_or(def_stage),
+                };
                 let idx = out.items.len();
                 if let Some(p) = r.parent {
                     if !(p.margin.is_finite() && p.margin > 0.0) {
@@ -418,6 +568,8 @@ impl Requirements {
                     limit_text: r.limit.value.trim().to_string(),
                     probability: r.probability,
                     method,
+                    level,
+                    stage,
                     activity: r.activity,
                     check: r.check.as_ref().map(|c| c.value.clone()),
                     check_origin: r.check.as_ref().map(&at),
@@ -595,6 +747,39 @@ requirements:
 
     fn load(t: &str) -> Result<Requirements, LoadError> {
         Requirements::from_sources(&[(PathBuf::from("r.yaml"), t.to_string())])
+    }
+
+    #[test]
+    fn level_and_stage_come_from_the_entry_the_file_or_the_family() {
+        let r = load(GOOD).unwrap();
+        assert_eq!(r.items[0].level, Level::Subsystem, "release family default");
+        assert_eq!(r.items[0].stage, Stage::Qualification);
+        let t = GOOD
+            .replace("requirements:", "level: element\nrequirements:")
+            .replacen(
+                "    activity: Monte Carlo\n",
+                "    activity: Monte Carlo\n    level: equipment\n    stage: in-orbit\n",
+                1,
+            );
+        let r = load(&t).unwrap();
+        assert_eq!(
+            (r.items[0].level, r.items[0].stage),
+            (Level::Equipment, Stage::InOrbit)
+        );
+        assert_eq!(
+            (r.items[1].level, r.items[1].stage),
+            (Level::Element, Stage::Qualification)
+        );
+        let bad = GOOD.replacen(
+            "    activity: Monte Carlo\n",
+            "    activity: Monte Carlo\n    stage: flight\n",
+            1,
+        );
+        let e = load(&bad).unwrap_err().to_string();
+        assert!(
+            e.starts_with("r.yaml:12:") && e.contains("unknown verification stage `flight`"),
+            "{e}"
+        );
     }
 
     #[test]

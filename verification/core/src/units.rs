@@ -426,7 +426,8 @@ pub fn parse_si(text: &str, dim: Dim) -> Result<f64, String> {
     Ok(q.value)
 }
 
-/// Formats a number compactly with 4 significant digits (`5`, `1.503`, `3.1e+08`).
+/// Formats a number compactly with at most 4 significant digits, trailing zeros dropped (`5`,
+/// `1.503`, `3.13e8`, `3e8`): the same number is written the same way in every report.
 pub fn fmt_num(v: f64) -> String {
     if v == 0.0 {
         return "0".into();
@@ -443,7 +444,13 @@ pub fn fmt_num(v: f64) -> String {
             s
         }
     } else {
-        format!("{v:.3e}")
+        let s = format!("{v:.3e}");
+        match s.split_once('e') {
+            Some((m, e)) if m.contains('.') => {
+                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => s,
+        }
     }
 }
 
@@ -510,7 +517,10 @@ mod tests {
         assert_eq!(fmt_num(5.0), "5");
         assert_eq!(fmt_num(1.5034), "1.503");
         assert_eq!(fmt_num(0.0), "0");
-        assert_eq!(fmt_num(3.1e8), "3.100e8");
+        assert_eq!(fmt_num(3.1e8), "3.1e8");
+        assert_eq!(fmt_num(3e8), "3e8");
+        assert_eq!(fmt_num(3.13e8), "3.13e8");
+        assert_eq!(fmt_num(-2.5e-9), "-2.5e-9");
     }
 
     proptest::proptest! {

@@ -26,6 +26,39 @@ pub struct Entry {
     pub chi2_red: f64,
     /// BIC.
     pub bic: f64,
+    /// RMS of the measurement noise over the fitted channels [SI]: the floor the residual RMS
+    /// falls to when the model is complete (absent in histories written before it was kept).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_rms: Option<f64>,
+}
+
+impl Entry {
+    /// The version's name as the history plot and table write it: `v1 base` for the first
+    /// model, then the effects added (`+name`) and removed (`-name`) against the version before.
+    pub fn name(&self, previous: Option<&Entry>) -> String {
+        match previous {
+            None => format!("v{} base", self.version),
+            Some(p) => {
+                let mut d: Vec<String> = self
+                    .effects
+                    .iter()
+                    .filter(|e| !p.effects.contains(e))
+                    .map(|e| format!("+{e}"))
+                    .collect();
+                d.extend(
+                    p.effects
+                        .iter()
+                        .filter(|e| !self.effects.contains(e))
+                        .map(|e| format!("-{e}")),
+                );
+                if d.is_empty() {
+                    format!("v{} (same effects)", self.version)
+                } else {
+                    format!("v{} {}", self.version, d.join(" "))
+                }
+            }
+        }
+    }
 }
 
 /// Path of the history file of a dataset stem.
@@ -61,6 +94,13 @@ pub fn append(out_dir: &Path, stem: &str, r: &FitReport) -> Result<Entry, FitErr
     let prev = read(&path)?;
     let vals: Vec<f64> = r.rms.values().copied().collect();
     let rms = (vals.iter().map(|v| v * v).sum::<f64>() / vals.len().max(1) as f64).sqrt();
+    let noise: Vec<f64> = r
+        .rms
+        .keys()
+        .filter_map(|ch| r.noise.get(ch).copied())
+        .collect();
+    let noise_rms = (noise.len() == vals.len() && !noise.is_empty())
+        .then(|| (noise.iter().map(|v| v * v).sum::<f64>() / noise.len() as f64).sqrt());
     let e = Entry {
         version: prev.len() + 1,
         dataset: r.dataset.clone(),
@@ -69,6 +109,7 @@ pub fn append(out_dir: &Path, stem: &str, r: &FitReport) -> Result<Entry, FitErr
         rms,
         chi2_red: r.chi2_red,
         bic: r.bic,
+        noise_rms,
     };
     let werr = |x: std::io::Error| FitError::Write {
         path: path.display().to_string(),
@@ -160,8 +201,12 @@ mod tests {
         let fsvg = crate::plot::fit_svg(&prep, &o.pred, &r).unwrap();
         assert!(!r.failures.is_empty());
         assert!(
-            fsvg.to_uppercase().contains("#FFD2D2"),
+            fsvg.to_uppercase().contains("#FFC8C8"),
             "failure windows are shaded"
+        );
+        assert!(
+            fsvg.contains("failure window") && fsvg.contains("noise band"),
+            "every shaded band is in a legend"
         );
     }
 }

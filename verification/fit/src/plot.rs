@@ -25,6 +25,49 @@ fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// A tick label without binary noise: at most 3 significant digits, trailing zeros dropped
+/// (`0.5`, `120`, `2.5e-9`).
+pub fn tick(v: &f64) -> String {
+    let v = *v;
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if (1e-3..1e4).contains(&a) {
+        let d = (2 - a.log10().floor() as i32).max(0) as usize;
+        let t = format!("{v:.d$}");
+        if t.contains('.') {
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            t
+        }
+    } else {
+        let t = format!("{v:.2e}");
+        match t.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+            None => t,
+        }
+    }
+}
+
+/// A log-axis tick label: only the 1, 2 and 5 of each decade are labelled (no crowding).
+fn log_tick(v: &f64) -> String {
+    if *v <= 0.0 || !v.is_finite() {
+        return String::new();
+    }
+    let m = *v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|k| (m - k).abs() < 1e-6 * k)
+    {
+        tick(v)
+    } else {
+        String::new()
+    }
+}
+
+const FAIL: RGBColor = RGBColor(255, 200, 200);
+
 /// Renders data and model (top) and the residual with its +-3 sigma band (bottom), failure
 /// windows shaded, as an SVG string. Lengths in nm, time in ms.
 pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<String, FitError> {
@@ -47,23 +90,32 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
             report.chi2_red
         );
         let mut c = ChartBuilder::on(&top)
-            .caption(title, ("sans-serif", 18))
-            .margin(10)
-            .x_label_area_size(30)
-            .y_label_area_size(70)
+            .caption(title, ("sans-serif", 24))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(perr)?;
         c.configure_mesh()
             .x_desc("t [ms]")
             .y_desc(format!("{} [nm]", prep.channel))
+            .label_style(("sans-serif", 18))
+            .axis_desc_style(("sans-serif", 19))
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
             .draw()
             .map_err(perr)?;
-        for f in &report.failures {
-            c.draw_series(std::iter::once(Rectangle::new(
-                [(f.t_start * 1e3, y0), (f.t_end * 1e3, y1)],
-                RGBColor(255, 210, 210).filled(),
-            )))
-            .map_err(perr)?;
+        for (i, f) in report.failures.iter().enumerate() {
+            let band = c
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(f.t_start * 1e3, y0), (f.t_end * 1e3, y1)],
+                    FAIL.filled(),
+                )))
+                .map_err(perr)?;
+            if i == 0 {
+                band.label("failure window (residual not white)")
+                    .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 15, y + 6)], FAIL.filled()));
+            }
         }
         c.draw_series(LineSeries::new(
             t.iter().copied().zip(d.iter().copied()),
@@ -80,89 +132,180 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         .label("model")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], RED));
         c.configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font(("sans-serif", 18))
             .border_style(BLACK)
-            .background_style(WHITE)
+            .background_style(WHITE.mix(0.9))
             .draw()
             .map_err(perr)?;
         let (ry0, ry1) = range(r.iter().copied().chain([-s3 * 1.2, s3 * 1.2]));
+        // head room above the residual for the legend, so that it covers no data
+        let ry1 = ry1 + 0.7 * (ry1 - ry0);
         let mut c2 = ChartBuilder::on(&bottom)
-            .margin(10)
-            .x_label_area_size(30)
-            .y_label_area_size(70)
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(80)
             .build_cartesian_2d(x0..x1, ry0..ry1)
             .map_err(perr)?;
         c2.configure_mesh()
             .x_desc("t [ms]")
             .y_desc("residual [nm]")
+            .label_style(("sans-serif", 18))
+            .axis_desc_style(("sans-serif", 19))
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
             .draw()
             .map_err(perr)?;
-        for f in &report.failures {
-            c2.draw_series(std::iter::once(Rectangle::new(
-                [(f.t_start * 1e3, ry0), (f.t_end * 1e3, ry1)],
-                RGBColor(255, 210, 210).filled(),
-            )))
-            .map_err(perr)?;
+        let noise = RGBColor(200, 235, 200);
+        c2.draw_series(std::iter::once(Rectangle::new(
+            [(x0, -s3), (x1, s3)],
+            noise.mix(0.6).filled(),
+        )))
+        .map_err(perr)?
+        .label(format!("noise band +-3 sigma ({} nm)", tick(&s3)))
+        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 15, y + 6)], noise.filled()));
+        for (i, f) in report.failures.iter().enumerate() {
+            let band = c2
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(f.t_start * 1e3, ry0), (f.t_end * 1e3, ry1)],
+                    FAIL.mix(0.8).filled(),
+                )))
+                .map_err(perr)?;
+            if i == 0 {
+                band.label("failure window")
+                    .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 15, y + 6)], FAIL.filled()));
+            }
         }
         c2.draw_series(LineSeries::new(
             t.iter().copied().zip(r.iter().copied()),
             &BLACK,
         ))
-        .map_err(perr)?;
-        for lvl in [-s3, s3] {
-            c2.draw_series(LineSeries::new([(x0, lvl), (x1, lvl)], &GREEN))
-                .map_err(perr)?;
-        }
+        .map_err(perr)?
+        .label("residual = data - model")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], BLACK));
+        c2.configure_series_labels()
+            .label_font(("sans-serif", 18))
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.9))
+            .draw()
+            .map_err(perr)?;
         root.present().map_err(perr)?;
     }
     Ok(out)
 }
 
-/// Renders RMS and reduced chi-square per model version (log scale) as an SVG string.
+/// Renders RMS and reduced chi-square per model version (log scale) as an SVG string. Versions
+/// are named by the effects they add (`v1 base`, `v2 +tip_adhesion`); the noise floor is drawn
+/// in both panels (the noise RMS, and chi2_red = 1).
 pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
     let mut out = String::new();
+    let names: Vec<String> = entries
+        .iter()
+        .enumerate()
+        .map(|(i, e)| e.name(i.checked_sub(1).map(|j| &entries[j])))
+        .collect();
+    let base = entries
+        .first()
+        .map_or(String::new(), |e| e.effects.join(", "));
     {
-        let root = SVGBackend::with_string(&mut out, (800, 600)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut out, (900, 680)).into_drawing_area();
         root.fill(&WHITE).map_err(perr)?;
-        let (top, bottom) = root.split_vertically(300);
+        let (top, bottom) = root.split_vertically(340);
         let n = entries.len().max(1) as f64;
         let name = entries
             .first()
             .map_or("", |e| e.dataset.as_str())
             .to_string();
-        for (area, title, vals) in [
+        let noise_rms = entries.iter().rev().find_map(|e| e.noise_rms);
+        let label = |v: &f64| -> String {
+            let k = v.round();
+            if (v - k).abs() < 1e-6 && k >= 1.0 && k <= n {
+                names[k as usize - 1].clone()
+            } else {
+                String::new()
+            }
+        };
+        for (area, title, vals, floor, floor_label) in [
             (
                 &top,
-                format!("{name}: residual RMS [m] per model version"),
+                format!("{name}: residual RMS [m] per model version (v1 base: {base})"),
                 entries.iter().map(|e| e.rms).collect::<Vec<_>>(),
+                noise_rms,
+                noise_rms.map(|v| format!("noise floor: noise RMS {} m", tick(&v))),
             ),
             (
                 &bottom,
                 "reduced chi-square per model version".to_string(),
                 entries.iter().map(|e| e.chi2_red).collect(),
+                Some(1.0),
+                Some("noise floor: chi2_red = 1".to_string()),
             ),
         ] {
             let pos: Vec<f64> = vals.iter().map(|v| v.max(1e-300)).collect();
-            let lo = pos.iter().cloned().fold(f64::INFINITY, f64::min).min(1.0) * 0.5;
-            let hi = pos.iter().cloned().fold(0.0, f64::max).max(lo * 4.0) * 2.0;
+            let lo = pos
+                .iter()
+                .cloned()
+                .chain(floor)
+                .fold(f64::INFINITY, f64::min)
+                * 0.5;
+            let hi = pos
+                .iter()
+                .cloned()
+                .chain(floor)
+                .fold(0.0, f64::max)
+                .max(lo * 4.0)
+                * 2.0;
             let mut c = ChartBuilder::on(area)
-                .caption(title, ("sans-serif", 16))
-                .margin(10)
-                .x_label_area_size(30)
-                .y_label_area_size(70)
+                .caption(title, ("sans-serif", 21))
+                .margin(12)
+                .x_label_area_size(45)
+                .y_label_area_size(80)
                 .build_cartesian_2d(0.5..n + 0.5, (lo..hi).log_scale())
                 .map_err(perr)?;
-            c.configure_mesh().x_desc("version").draw().map_err(perr)?;
+            c.configure_mesh()
+                .x_labels(2 * entries.len() + 1)
+                .x_label_formatter(&label)
+                .y_label_formatter(&log_tick)
+                .disable_x_mesh()
+                .label_style(("sans-serif", 18))
+                .axis_desc_style(("sans-serif", 19))
+                .x_desc("model version (effects added)")
+                .draw()
+                .map_err(perr)?;
+            if let (Some(f), Some(l)) = (floor, floor_label) {
+                let green = RGBColor(0, 140, 60);
+                c.draw_series(DashedLineSeries::new(
+                    vec![(0.5, f), (n + 0.5, f)],
+                    8,
+                    5,
+                    green.stroke_width(2),
+                ))
+                .map_err(perr)?
+                .label(l)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], green.stroke_width(2))
+                });
+            }
             c.draw_series(LineSeries::new(
                 pos.iter().enumerate().map(|(i, v)| (i as f64 + 1.0, *v)),
-                &BLUE,
+                BLUE.stroke_width(2),
             ))
-            .map_err(perr)?;
+            .map_err(perr)?
+            .label("fit of this version")
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE.stroke_width(2)));
             c.draw_series(
                 pos.iter()
                     .enumerate()
-                    .map(|(i, v)| Circle::new((i as f64 + 1.0, *v), 4, BLUE.filled())),
+                    .map(|(i, v)| Circle::new((i as f64 + 1.0, *v), 5, BLUE.filled())),
             )
             .map_err(perr)?;
+            c.configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font(("sans-serif", 18))
+                .border_style(BLACK)
+                .background_style(WHITE.mix(0.9))
+                .draw()
+                .map_err(perr)?;
         }
         root.present().map_err(perr)?;
     }
@@ -172,4 +315,48 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
 /// Writes an SVG atomically.
 pub fn write_svg(path: &Path, svg: &str) -> Result<(), FitError> {
     write_atomic(path, svg.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_have_no_binary_noise() {
+        assert_eq!(tick(&(0.1 + 0.2 - 0.3 + 1e-9)), "1e-9");
+        assert_eq!(tick(&(3.0 * 0.1)), "0.3");
+        assert_eq!(tick(&2.5e-9), "2.5e-9");
+        assert_eq!(tick(&0.6000000000000001), "0.6");
+        assert_eq!(tick(&120.0), "120");
+        assert_eq!(log_tick(&2e-9), "2e-9");
+        assert_eq!(log_tick(&7e-9), "");
+    }
+
+    #[test]
+    fn history_names_versions_and_draws_the_noise_floor() {
+        let e = |v: usize, eff: &[&str], rms: f64, chi: f64| Entry {
+            version: v,
+            dataset: "d.yaml".into(),
+            effects: eff.iter().map(|s| s.to_string()).collect(),
+            n_free: 2,
+            rms,
+            chi2_red: chi,
+            bic: 0.0,
+            noise_rms: Some(1e-9),
+        };
+        let h = [
+            e(1, &["a", "b"], 3e-8, 72.0),
+            e(2, &["a", "b", "c"], 1.05e-9, 1.05),
+        ];
+        let svg = history_svg(&h).unwrap();
+        for want in [
+            "v1 base",
+            "v2 +c",
+            "noise floor: noise RMS 1e-9 m",
+            "chi2_red = 1",
+        ] {
+            assert!(svg.contains(want), "{want}");
+        }
+        assert!(!svg.contains("0000000"), "garbled tick label");
+    }
 }

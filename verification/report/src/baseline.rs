@@ -307,8 +307,14 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
 }
 
 fn suspects(r: &Row, o: &OldRow, out: &mut Vec<Suspect>) {
-    for e in &r.evidence {
-        match o.evidence.iter().find(|x| x.check == e.check) {
+    for (i, e) in r.evidence.iter().enumerate() {
+        // a check may give several pieces of evidence for one requirement (a value and an
+        // illustration): compare the k-th of this check with the k-th of the baseline
+        let k = r.evidence[..i]
+            .iter()
+            .filter(|x| x.check == e.check)
+            .count();
+        match o.evidence.iter().filter(|x| x.check == e.check).nth(k) {
             None => out.push(Suspect {
                 id: r.id.clone(),
                 check: e.check.clone(),
@@ -466,6 +472,20 @@ mod tests {
         let d = diff_of(&report(1.3, 2.0), &report(1.3, 2.0), 0.01);
         assert!(d.changes.is_empty() && d.suspect_evidence.is_empty());
         assert_eq!(d.regressions, 0);
+    }
+
+    #[test]
+    fn two_pieces_of_evidence_of_one_check_are_compared_in_order() {
+        // a check that gives a value and an illustration for one requirement: unchanged runs
+        // flag nothing (each is compared with its own counterpart, not with the first)
+        let mut r = report(1.3, 2.0);
+        let mut second = r.matrix.requirements[0].evidence[0].clone();
+        second.value = Some(4.0);
+        second.inputs.insert("other".into(), serde_json::json!(1));
+        r.matrix.requirements[0].evidence.push(second);
+        let d = diff_of(&r, &r, 0.01);
+        assert!(d.suspect_evidence.is_empty(), "{:?}", d.suspect_evidence);
+        assert!(crate::vcd::reverify_from(&d).is_empty());
     }
 
     #[test]

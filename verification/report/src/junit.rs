@@ -8,7 +8,7 @@
 //! Written by hand rather than with `quick-junit`: the format used here is three elements with
 //! escaped text, and the crate would add an XML writer and its dependencies to every build.
 
-use crate::{Report, fmt_margin, fmt_opt};
+use crate::{Report, fmt_limit, fmt_margin, fmt_value};
 use geodesic_core::matrix::Status;
 use std::collections::BTreeMap;
 
@@ -19,6 +19,43 @@ pub fn esc(s: &str) -> String {
         .replace('>', "&gt;")
         .replace('"', "&quot;")
         .replace('\'', "&apos;")
+}
+
+/// The run's identification as JUnit properties (every test suite carries them): document,
+/// issue, title and project, tool version, commit and dirty flag, date, command line and the
+/// SHA-256 of the requirement set and of each input file.
+fn run_properties(rep: &Report) -> String {
+    let r = &rep.run;
+    let mut p: Vec<(&str, String)> = vec![
+        ("document", r.document.id.clone()),
+        ("issue", r.document.issue.clone()),
+        ("title", r.document.title.clone()),
+        ("project", r.document.project.clone()),
+        ("tool_version", r.tool_version.clone()),
+        ("commit", r.commit.clone()),
+        ("dirty", r.dirty.to_string()),
+        ("date", r.date.clone()),
+        ("command", r.command.clone()),
+        ("requirements", r.requirements.clone()),
+        ("requirements_sha256", r.requirements_hash.clone()),
+        ("budget", r.inputs.budget.label.clone()),
+        ("budget_sha256", r.inputs.budget.sha256.clone()),
+        ("capture", r.inputs.capture.label.clone()),
+        ("capture_sha256", r.inputs.capture.sha256.clone()),
+    ];
+    if let Some(d) = &r.dispositions {
+        p.push(("dispositions", d.label.clone()));
+        p.push(("dispositions_sha256", d.sha256.clone()));
+    }
+    let mut o = String::from("    <properties>\n");
+    for (k, v) in p {
+        o.push_str(&format!(
+            "      <property name=\"{k}\" value=\"{}\"/>\n",
+            esc(&v)
+        ));
+    }
+    o.push_str("    </properties>\n");
+    o
 }
 
 /// Renders the JUnit XML document.
@@ -47,8 +84,10 @@ pub fn render(rep: &Report) -> String {
             esc(f),
             rows.len()
         ));
+        o.push_str(&run_properties(rep));
         for r in rows {
-            let checks: Vec<&str> = r.evidence.iter().map(|e| e.check.as_str()).collect();
+            let mut checks: Vec<&str> = r.evidence.iter().map(|e| e.check.as_str()).collect();
+            checks.dedup();
             o.push_str(&format!(
                 "    <testcase classname=\"geodesic.{}\" name=\"{} {}\">\n",
                 esc(f),
@@ -56,16 +95,18 @@ pub fn render(rep: &Report) -> String {
                 esc(&r.title)
             ));
             o.push_str(&format!(
-                "      <properties><property name=\"requirement\" value=\"{}\"/><property name=\"basis\" value=\"{}\"/><property name=\"method\" value=\"{}\"/></properties>\n",
+                "      <properties><property name=\"requirement\" value=\"{}\"/><property name=\"basis\" value=\"{}\"/><property name=\"method\" value=\"{}\"/><property name=\"level\" value=\"{}\"/><property name=\"stage\" value=\"{}\"/><property name=\"compliance\" value=\"{}\"/></properties>\n",
                 esc(&r.id),
                 crate::basis_word(r),
-                esc(&r.method)
+                esc(&r.method),
+                esc(&r.level),
+                esc(&r.stage),
+                crate::vcd::compliance(r)
             ));
             let detail = format!(
-                "value {} {} against `{}`, margin {}; evidence: {}",
-                fmt_opt(r.value),
-                r.unit,
-                r.limit_text,
+                "value {} against {}, margin {}; evidence: {}",
+                fmt_value(r),
+                fmt_limit(r),
                 fmt_margin(r.margin),
                 if checks.is_empty() {
                     "none".to_string()
@@ -125,6 +166,7 @@ fn traced_suite(rep: &Report, o: &mut String) {
         "  <testsuite name=\"geodesic traced tests\" tests=\"{}\" failures=\"{fails}\" skipped=\"{skips}\">\n",
         tests.len()
     ));
+    o.push_str(&run_properties(rep));
     for (name, (t, ids)) in &tests {
         let (class, short) = name.rsplit_once("::").unwrap_or(("", name));
         o.push_str(&format!(

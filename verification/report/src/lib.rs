@@ -3,7 +3,9 @@
 //! - [`markdown`]: the compliance report `compliance.md` (matrix, one section per requirement,
 //!   trace views).
 //! - [`terminal`]: the short table printed on a terminal.
-//! - [`vcd`]: the Verification Control Document (Markdown, CSV; also inside the HTML page).
+//! - [`vcd`]: the Verification Control Document with the ECSS-E-ST-10-02C Annex B fields
+//!   (Markdown, CSV; also inside the HTML page).
+//! - [`xlsx`]: the same VCD as an XLSX workbook with a metadata sheet.
 //! - [`html`]: `index.html`, self-contained, with the plots inlined.
 //! - [`junit`]: JUnit XML for CI dashboards.
 //! - [`baseline`]: change impact against a baseline `compliance.json`.
@@ -18,13 +20,20 @@ pub mod markdown;
 pub mod terminal;
 pub mod vcd;
 pub mod write;
+pub mod xlsx;
 
 use geodesic_core::matrix::Matrix;
 use serde::Serialize;
 
-/// How the verification was run (stated in every report).
+/// How the verification was run (stated in every report). Everything here is controlled
+/// content: two runs of the same commit and inputs give the same values apart from `date`
+/// (wall times are printed on standard error, never written into a report).
 #[derive(Clone, Debug, Serialize)]
 pub struct RunInfo {
+    /// The document's identifier, issue, title and project (`verification/document.yaml`).
+    pub document: geodesic_core::document::Document,
+    /// The file the document identification was read from, with its SHA-256.
+    pub document_file: geodesic_core::check::InputFile,
     /// geodesic version.
     pub geodesic_version: String,
     /// geodesic version (the contract's name for it).
@@ -49,7 +58,7 @@ pub struct RunInfo {
     pub mc_n: usize,
     /// Monte Carlo seed.
     pub seed: u64,
-    /// Checks that ran, with the requirements they verify and their wall time [s].
+    /// Checks that ran, with the requirements they verify.
     pub checks: Vec<CheckRun>,
     /// geodesic's figures against the thesis's (the fidelity table).
     pub fidelity: Vec<geodesic_core::check::ReferenceRow>,
@@ -62,8 +71,6 @@ pub struct CheckRun {
     pub name: String,
     /// Requirement IDs it declares.
     pub verifies: Vec<String>,
-    /// Wall time [s].
-    pub seconds: f64,
 }
 
 /// The compliance report: the matrix and how it was produced. Serialises to the JSON of
@@ -75,6 +82,10 @@ pub struct Report {
     pub matrix: Matrix,
     /// Run information.
     pub run: RunInfo,
+    /// Requirements a baseline comparison (`--baseline`) asks to re-verify, with why (the VCD's
+    /// re-verification flag); empty without a baseline.
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub reverify: std::collections::BTreeMap<String, String>,
 }
 
 /// The run's identification as `(label, value)` pairs, for the header of every report: tool
@@ -83,7 +94,13 @@ pub struct Report {
 pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
     let r = &rep.run;
     let short = |h: &str| h.chars().take(16).collect::<String>();
+    let d = &r.document;
     let mut v = vec![
+        (
+            "document",
+            format!("{} issue {}: {}", d.id, d.issue, d.title),
+        ),
+        ("project", d.project.clone()),
         ("geodesic", r.tool_version.clone()),
         (
             "commit",
@@ -126,7 +143,7 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
     v.push((
         "test results",
         rep.matrix.test_run.as_ref().map_or(
-            "none recorded (`cargo xtask test` records them)".into(),
+            "none recorded (cargo xtask test records them)".into(),
             |t| {
                 format!(
                     "{} (commit {}{}, {})",
@@ -144,6 +161,29 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
 /// Formats a value for a table: 4 significant digits, `—` when absent.
 pub fn fmt_opt(v: Option<f64>) -> String {
     v.map_or_else(|| "—".to_string(), geodesic_core::units::fmt_num)
+}
+
+/// The limit of a row as every report writes it: comparison, number (at most 4 significant
+/// digits, [`geodesic_core::units::fmt_num`]) and unit, `<= 3e8 e`, `>= 0.9973`.
+pub fn fmt_limit(r: &geodesic_core::matrix::Row) -> String {
+    format!(
+        "{} {} {}",
+        r.op,
+        geodesic_core::units::fmt_num(r.limit),
+        r.unit
+    )
+    .trim_end()
+    .to_string()
+}
+
+/// The deciding value of a row with its unit (`1.329 um/s`), `—` when absent.
+pub fn fmt_value(r: &geodesic_core::matrix::Row) -> String {
+    match r.value {
+        Some(v) => format!("{} {}", geodesic_core::units::fmt_num(v), r.unit)
+            .trim_end()
+            .to_string(),
+        None => "—".into(),
+    }
 }
 
 /// A list of IDs for a trace view: `None.` when empty.
@@ -275,6 +315,13 @@ requirements:
         Report {
             matrix: Matrix::build(&reqs, &ev, None, &[]),
             run: RunInfo {
+                document: geodesic_core::document::Document {
+                    id: "DOC-1".into(),
+                    issue: "2".into(),
+                    title: "T".into(),
+                    project: "P".into(),
+                },
+                document_file: geodesic_core::check::InputFile::new("d.yaml", "d"),
                 geodesic_version: "t".into(),
                 tool_version: "t".into(),
                 commit: "c".into(),
@@ -293,6 +340,7 @@ requirements:
                 checks: vec![],
                 fidelity: vec![],
             },
+            reverify: Default::default(),
         }
     }
 }
@@ -311,6 +359,7 @@ mod tests {
         let csv = crate::vcd::csv(&r);
         assert_eq!(csv.lines().count(), 3);
         assert!(csv.contains("F-B") && csv.contains(",no,open,"));
+        assert!(junit.contains("<property name=\"document\" value=\"DOC-1\"/>"));
         let html = crate::html::render(&r, &[]);
         assert!(
             html.contains("id=\"F-A\"")

@@ -2,7 +2,7 @@
 //! tests, and the trace views (check to requirements, orphan checks, requirements without
 //! evidence).
 
-use crate::{Report, fmt_margin, fmt_opt};
+use crate::{Report, fmt_limit, fmt_margin, fmt_value};
 use geodesic_core::matrix::Status;
 use geodesic_core::units::fmt_num;
 use std::fmt::Write as _;
@@ -43,9 +43,7 @@ pub fn render(rep: &Report) -> String {
     let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|");
     let run = m.test_run.is_some();
     for r in &m.requirements {
-        let value = r.value.map_or("—".to_string(), |_| {
-            format!("{} {}", fmt_opt(r.value), r.unit)
-        });
+        let value = fmt_value(r);
         let ev: Vec<String> = r
             .evidence
             .iter()
@@ -53,16 +51,14 @@ pub fn render(rep: &Report) -> String {
             .collect();
         let _ = writeln!(
             o,
-            "| [{id}](#{anchor}) | {t} | {meth} | {st} | {basis} | {value} | {op} {lim} {u} | {mg} | {ev} | {nt} |",
+            "| [{id}](#{anchor}) | {t} | {meth} | {st} | {basis} | {value} | {lim} | {mg} | {ev} | {nt} |",
             id = r.id,
             anchor = r.id.to_lowercase(),
             t = cell(&r.title),
             meth = r.method,
             st = crate::verdict(r),
             basis = crate::basis_word(r),
-            op = r.op.replace('<', "&lt;").replace('>', "&gt;"),
-            lim = fmt_num(r.limit),
-            u = r.unit,
+            lim = fmt_limit(r).replace('<', "&lt;").replace('>', "&gt;"),
             mg = fmt_margin(r.margin),
             ev = if ev.is_empty() {
                 "—".into()
@@ -101,13 +97,20 @@ pub fn render(rep: &Report) -> String {
         let _ = writeln!(o, "- Quantity: {} [{unit}]", r.quantity);
         let _ = writeln!(
             o,
-            "- Limit: `{}`{}",
-            r.limit_text,
+            "- Limit: {}{}",
+            fmt_limit(r),
             r.probability
                 .as_ref()
                 .map_or(String::new(), |p| format!(" at {p}"))
         );
-        let _ = writeln!(o, "- Method: {} — activity: {}", r.method, r.activity);
+        let _ = writeln!(
+            o,
+            "- Method: {} — level {}, stage {} — activity: {}",
+            r.method, r.level, r.stage, r.activity
+        );
+        if let Some(n) = &r.note {
+            let _ = writeln!(o, "- Remark: {}", cell(n));
+        }
         if let Some(p) = &r.parent {
             let _ = writeln!(
                 o,
@@ -153,11 +156,10 @@ pub fn render(rep: &Report) -> String {
             _ => {
                 let _ = writeln!(
                     o,
-                    "- Status: {} — value {} {} against `{}`, margin {}",
+                    "- Status: {} — value {} against {}, margin {}",
                     r.status.as_str(),
-                    fmt_opt(r.value),
-                    r.unit,
-                    r.limit_text,
+                    fmt_value(r),
+                    fmt_limit(r),
                     fmt_margin(r.margin)
                 );
             }
@@ -170,8 +172,11 @@ pub fn render(rep: &Report) -> String {
                     (None, Some(why)) => format!("not verified: {why}"),
                     (None, None) => "—".into(),
                 };
-                let inputs: Vec<String> =
-                    e.inputs.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+                let inputs: Vec<String> = e
+                    .inputs
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {}", crate::vcd::fmt_input(v)))
+                    .collect();
                 let basis = e.basis.map_or(String::new(), |b| format!(" [{b}]"));
                 let _ = writeln!(o, "- `{}`{basis}: {} — {}", e.check, e.activity, what);
                 if !inputs.is_empty() {
@@ -206,16 +211,10 @@ pub fn render(rep: &Report) -> String {
     }
     let _ = writeln!(o, "## Trace views\n");
     let _ = writeln!(o, "### Checks to requirements\n");
-    let _ = writeln!(o, "| Check | Verifies | Wall time [s] |");
-    let _ = writeln!(o, "|---|---|---|");
+    let _ = writeln!(o, "| Check | Verifies |");
+    let _ = writeln!(o, "|---|---|");
     for c in &rep.run.checks {
-        let _ = writeln!(
-            o,
-            "| `{}` | {} | {:.2} |",
-            c.name,
-            c.verifies.join(", "),
-            c.seconds
-        );
+        let _ = writeln!(o, "| `{}` | {} |", c.name, c.verifies.join(", "));
     }
     let _ = writeln!(o, "\n### Orphan checks\n");
     if m.orphan_checks.is_empty() {

@@ -1,6 +1,6 @@
 //! The short compliance table printed on a terminal by `geodesic verify`.
 
-use crate::{basis_word, fmt_margin, fmt_opt, tests_word, verdict};
+use crate::{basis_word, fmt_limit, fmt_margin, fmt_value, tests_word, verdict};
 use geodesic_core::matrix::{Matrix, Status};
 
 /// Renders the matrix as an aligned text table with a summary line.
@@ -15,16 +15,8 @@ pub fn table(m: &Matrix, color: bool) -> String {
                 r.id.clone(),
                 verdict(r),
                 basis_word(r).to_string(),
-                match r.value {
-                    Some(_) => format!("{} {}", fmt_opt(r.value), r.unit),
-                    None => "—".into(),
-                },
-                format!(
-                    "{} {} {}",
-                    r.op,
-                    geodesic_core::units::fmt_num(r.limit),
-                    r.unit
-                ),
+                fmt_value(r),
+                fmt_limit(r),
                 fmt_margin(r.margin),
                 tests_word(r, run),
             ]

@@ -1,202 +1,615 @@
-//! The Verification Control Document (ECSS-E-ST-10-02C, annex on the VCD): for every
-//! requirement, its ID and text, parent and children, verification method, the activity and its
-//! evidence (check, Monte Carlo N and seed, dataset, test names, snapshots), value, limit,
-//! margin, the basis of the verdict, compliance (yes / yes (accepted) / no / not verified) and
-//! close-out status with its reason. Exported as
-//! Markdown and CSV here, and as a section of the HTML report.
+//! The Verification Control Document with the fields of ECSS-E-ST-10-02C Annex B: for every
+//! requirement its ID, title, text and source; parent and children; verification level and
+//! stage; method; the activity and the report section that holds the evidence; the evidence and
+//! its references (report, tests, NCR, waiver, RFD); value, limit, margin and the basis of the
+//! verdict; compliance (yes / no / partial / not verified); close-out (open / closed) with its
+//! reason and reference; remarks; and the re-verification flag a baseline comparison sets.
+//!
+//! Evidence is written as an engineer writes it (rounded numbers with units, short test names);
+//! the full detail (every input of every check, the full test names and what they asserted) is
+//! in [`VcdLine::detail`], one click away in the HTML (`<details>`), and in `compliance.json`.
+//! Exported as Markdown, CSV and XLSX here, and as HTML by [`crate::html`].
 
-use crate::{Report, fmt_margin, fmt_opt};
-use geodesic_core::matrix::{Row, Status};
+use crate::{Report, fmt_limit, fmt_margin, fmt_value};
+use geodesic_core::disposition::DispositionKind;
+use geodesic_core::matrix::{EvidenceEntry, Row, Status, TestRef};
+use geodesic_core::units::fmt_num;
 use serde::Serialize;
 
-/// One VCD line.
+/// One VCD line (one requirement).
 #[derive(Clone, Debug, Serialize)]
 pub struct VcdLine {
     /// Requirement ID.
     pub id: String,
+    /// Title.
+    pub title: String,
     /// Shall statement.
     pub text: String,
-    /// Parent ID.
+    /// Where the requirement comes from.
+    pub source: String,
+    /// Parent ID (empty when none).
     pub parent: String,
-    /// Children IDs, `;`-separated.
-    pub children: String,
-    /// Verification method.
+    /// Children IDs.
+    pub children: Vec<String>,
+    /// Verification level (equipment, subsystem, element, system).
+    pub level: String,
+    /// Verification stage (qualification, acceptance, pre-launch, in-orbit, post-landing).
+    pub stage: String,
+    /// Verification method (test, analysis, review-of-design, inspection).
     pub method: String,
-    /// Verification activity.
+    /// The verification activity.
     pub activity: String,
-    /// Evidence: checks with their inputs, then tests.
+    /// The report section holding the evidence (`index.html#REL-GPRM-VEL`).
+    pub section: String,
+    /// The evidence in a few words (`release-montecarlo: 1.329 um/s, N = 100 000, seed 1`).
     pub evidence: String,
-    /// Value in the requirement's unit.
+    /// The evidence in full: each check with every input, each test with its full name, kind,
+    /// location, result and assertions; one item per line.
+    pub detail: Vec<String>,
+    /// Evidence references: the report and its section, the traced tests (short names), the
+    /// NCR, waiver or RFD.
+    pub references: Vec<String>,
+    /// Value in the requirement's unit (`—` when none).
     pub value: String,
-    /// Limit as written.
+    /// Limit (`<= 5 um/s`).
     pub limit: String,
-    /// Margin.
+    /// Margin (`73.4 %`, `—`).
     pub margin: String,
     /// What the verdict rests on: model, flow-down, accepted (empty when not verified).
     pub basis: &'static str,
-    /// yes / yes (accepted) / no / not verified.
+    /// yes / yes (accepted) / no / partial / not verified.
     pub compliance: &'static str,
-    /// closed / open.
+    /// open / closed.
     pub close_out: &'static str,
-    /// Why.
-    pub reason: String,
+    /// Why open or closed.
+    pub close_out_reason: String,
+    /// For a closed line: the document, issue, section and date that close it.
+    pub close_out_reference: String,
+    /// Remarks: the requirement's note, the disposition's reason, illustrations.
+    pub remarks: String,
+    /// Whether the line must be re-verified: a baseline comparison showed that it changed.
+    pub reverify: bool,
+    /// Why (empty when not flagged).
+    pub reverify_reason: String,
+}
+
+/// Whether `value op limit` holds for the row's comparison.
+fn holds(r: &Row, value: f64) -> bool {
+    match r.op.as_str() {
+        "<=" => value <= r.limit,
+        "<" => value < r.limit,
+        ">=" => value >= r.limit,
+        ">" => value > r.limit,
+        _ => false,
+    }
 }
 
 /// Compliance as the VCD states it (ECSS-E-ST-10-02C Annex B): `yes` (compliant on a model or
 /// flow-down), `yes (accepted)` (compliant on a cited external result), `no` (non-compliant),
-/// `not verified` (no evidence gives a value: in ECSS "partial" means partly met, which a
-/// missing verification is not).
+/// `partial` (partly met: non-compliant, yet another deciding piece of evidence for the same
+/// requirement meets the limit), `not verified` (no evidence gives a value; in ECSS "partial"
+/// means partly met, which a missing verification is not).
 pub fn compliance(r: &Row) -> &'static str {
     match (r.status, r.basis) {
         (Status::Compliant, Some(geodesic_core::Basis::Accepted)) => "yes (accepted)",
         (Status::Compliant, _) => "yes",
-        (Status::NonCompliant, _) => "no",
+        (Status::NonCompliant, _) => {
+            let deciding: Vec<f64> = r
+                .evidence
+                .iter()
+                .filter(|e| e.basis.is_some_and(|b| b.decides()))
+                .filter_map(|e| e.value)
+                .collect();
+            if deciding.len() > 1 && deciding.iter().any(|v| holds(r, *v)) {
+                "partial"
+            } else {
+                "no"
+            }
+        }
         (Status::NotVerified, _) => "not verified",
     }
 }
 
+/// A test's name without its crate and test-binary path (`release::energy_relation_holds`).
+pub fn short_test(t: &TestRef) -> String {
+    let parts: Vec<&str> = t.test.split("::").collect();
+    if parts.len() >= 2 {
+        parts[parts.len() - 2..].join("::")
+    } else {
+        t.test.clone()
+    }
+}
+
+/// A JSON input as an engineer writes it: numbers to at most 4 significant digits, lists
+/// shortened, long hashes cut to 12 characters.
+pub fn fmt_input(v: &serde_json::Value) -> String {
+    match v {
+        serde_json::Value::Number(n) => match (n.as_i64(), n.as_f64()) {
+            (Some(i), _) => group(i),
+            (None, Some(f)) => fmt_num(f),
+            _ => n.to_string(),
+        },
+        serde_json::Value::String(s) => {
+            if s.len() == 64 && s.chars().all(|c| c.is_ascii_hexdigit()) {
+                format!("{}…", &s[..12])
+            } else {
+                s.clone()
+            }
+        }
+        serde_json::Value::Array(a) => {
+            let items: Vec<String> = a.iter().take(6).map(fmt_input).collect();
+            if a.len() > 6 {
+                format!("[{}, … ({} values)]", items.join(", "), a.len())
+            } else {
+                format!("[{}]", items.join(", "))
+            }
+        }
+        other => other.to_string(),
+    }
+}
+
+/// An integer with thin groups of three digits (`100 000`).
+fn group(i: i64) -> String {
+    let s = i.unsigned_abs().to_string();
+    let mut out = String::new();
+    for (k, c) in s.chars().enumerate() {
+        if k > 0 && (s.len() - k).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    if i < 0 { format!("-{out}") } else { out }
+}
+
+/// One check's evidence in a few words: `release-montecarlo: 1.329 um/s (N = 100 000, seed 1)`.
+fn short_evidence(r: &Row, e: &EvidenceEntry) -> String {
+    let what = match (e.value, &e.reason) {
+        (Some(v), _) => format!("{} {}", fmt_num(v), r.unit).trim_end().to_string(),
+        (None, Some(_)) => "no value".into(),
+        (None, None) => "—".into(),
+    };
+    let mut key = Vec::new();
+    for (k, label) in [("n", "N"), ("seed", "seed"), ("dataset", "dataset")] {
+        if let Some(v) = e.inputs.get(k) {
+            key.push(if label == "N" {
+                format!("N = {}", fmt_input(v))
+            } else {
+                format!("{label} {}", fmt_input(v))
+            });
+        }
+    }
+    let basis = match e.basis {
+        Some(b) if !b.decides() => " (illustration)",
+        _ => "",
+    };
+    if key.is_empty() {
+        format!("{}: {what}{basis}", e.check)
+    } else {
+        format!("{}: {what}{basis} ({})", e.check, key.join(", "))
+    }
+}
+
+/// The report section of a requirement in `index.html`.
+pub fn section_of(id: &str) -> String {
+    format!("index.html#{id}")
+}
+
+/// The rows of the VCD whose re-verification a baseline comparison asks for, with why: a row
+/// that changed (status, margin, tests, disposition), or whose evidence changed.
+pub fn reverify_from(d: &crate::baseline::Diff) -> std::collections::BTreeMap<String, String> {
+    let mut m = std::collections::BTreeMap::new();
+    for c in &d.changes {
+        let why: Vec<&str> = c
+            .regressions
+            .iter()
+            .chain(&c.notes)
+            .map(String::as_str)
+            .collect();
+        m.insert(c.id.clone(), why.join("; "));
+    }
+    for s in &d.suspect_evidence {
+        let e = m.entry(s.id.clone()).or_insert_with(String::new);
+        if !e.is_empty() {
+            e.push_str("; ");
+        }
+        e.push_str(&format!("evidence of {} changed: {}", s.check, s.what));
+    }
+    for id in &d.added {
+        m.insert(id.clone(), "new since the baseline".into());
+    }
+    m
+}
+
 /// Builds the VCD lines from a report.
 pub fn lines(rep: &Report) -> Vec<VcdLine> {
+    let doc = &rep.run.document;
+    let date = rep.run.date.get(..10).unwrap_or(&rep.run.date).to_string();
+    let run = rep.matrix.test_run.is_some();
     rep.matrix
         .requirements
         .iter()
         .map(|r| {
-            let mut ev: Vec<String> = r
-                .evidence
-                .iter()
-                .map(|e| {
-                    let inputs: Vec<String> =
-                        e.inputs.iter().map(|(k, v)| format!("{k}={v}")).collect();
-                    if inputs.is_empty() {
-                        format!("check {}", e.check)
-                    } else {
-                        format!("check {} ({})", e.check, inputs.join(", "))
-                    }
-                })
-                .collect();
-            ev.extend(
-                r.tests
-                    .iter()
-                    .map(|t| format!("{} test {} ({})", t.kind, t.test, t.result.as_str())),
-            );
-            if let Some(d) = &r.disposition {
-                ev.push(format!("{} {}", d.kind.as_str(), d.reference));
+            let mut evidence: Vec<String> =
+                r.evidence.iter().map(|e| short_evidence(r, e)).collect();
+            let tests = crate::tests_word(r, run);
+            if !r.tests.is_empty() || run {
+                evidence.push(format!("tests: {tests}"));
             }
-            let basis = r.basis.map_or("", |b| b.as_str());
-            let tests = crate::tests_word(r, rep.matrix.test_run.is_some());
-            let (close_out, reason) = match r.status {
-                Status::Compliant => (
+            let mut detail = Vec::new();
+            for e in &r.evidence {
+                let inputs: Vec<String> = e
+                    .inputs
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {}", fmt_input(v)))
+                    .collect();
+                let what = match (e.value, &e.reason) {
+                    (Some(v), _) => format!("{} {}", fmt_num(v), r.unit).trim_end().to_string(),
+                    (None, Some(w)) => format!("no value: {w}"),
+                    (None, None) => "—".into(),
+                };
+                detail.push(format!(
+                    "check {} [{}]: {what}. {}{}{}",
+                    e.check,
+                    e.basis.map_or("no basis", |b| b.as_str()),
+                    e.activity,
+                    if inputs.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" Inputs: {}.", inputs.join(", "))
+                    },
+                    if e.artifacts.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" Plots: {}.", e.artifacts.join(", "))
+                    }
+                ));
+            }
+            for t in &r.tests {
+                let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
+                detail.push(format!(
+                    "test {} ({}, {}): {}, {} case(s), asserts {}",
+                    t.test,
+                    t.kind,
+                    t.location,
+                    t.result.as_str(),
+                    t.cases,
+                    if asserted.is_empty() {
+                        "nothing recorded".into()
+                    } else {
+                        asserted.join(", ")
+                    }
+                ));
+            }
+            let mut references = vec![format!("{} issue {} §{}", doc.id, doc.issue, r.id)];
+            references.extend(r.tests.iter().map(|t| format!("test {}", short_test(t))));
+            if let Some(d) = &r.disposition {
+                references.push(format!("{} {}", d.kind.as_str(), d.reference));
+            }
+            let accepted_by_waiver = r.disposition.as_ref().filter(|d| {
+                r.status == Status::NonCompliant && d.kind == DispositionKind::Waiver && !d.expired
+            });
+            let (close_out, close_out_reason) = match (r.status, accepted_by_waiver) {
+                (Status::Compliant, _) => (
                     "closed",
-                    format!("value within limit ({basis}); traced tests: {tests}"),
-                ),
-                Status::NonCompliant => (
-                    "open",
                     format!(
-                        "value {} {} violates `{}`{}",
-                        fmt_opt(r.value),
-                        r.unit,
-                        r.limit_text,
-                        r.disposition.as_ref().map_or(String::new(), |d| format!(
-                            "; {} {}{}: {}",
-                            d.kind.as_str(),
-                            d.reference,
-                            if d.expired { " (EXPIRED)" } else { "" },
-                            d.reason
-                        ))
+                        "{} {} meets {} ({}); traced tests: {tests}",
+                        if r.basis == Some(geodesic_core::Basis::Accepted) {
+                            "accepted value"
+                        } else {
+                            "value"
+                        },
+                        fmt_value(r),
+                        fmt_limit(r),
+                        crate::basis_word(r)
                     ),
                 ),
-                Status::NotVerified => (
+                (Status::NonCompliant, Some(d)) => (
+                    "closed",
+                    format!(
+                        "value {} does not meet {}; non-compliance accepted by waiver {}",
+                        fmt_value(r),
+                        fmt_limit(r),
+                        d.reference
+                    ),
+                ),
+                (Status::NonCompliant, None) => (
                     "open",
-                    r.reason.clone().unwrap_or_else(|| "no evidence".into()),
+                    format!(
+                        "value {} does not meet {}{}",
+                        fmt_value(r),
+                        fmt_limit(r),
+                        r.disposition
+                            .as_ref()
+                            .map_or("; no disposition".to_string(), |d| format!(
+                                "; {} {}{}",
+                                d.kind.as_str(),
+                                d.reference,
+                                if d.expired { " (EXPIRED)" } else { " open" }
+                            ))
+                    ),
+                ),
+                (Status::NotVerified, _) => (
+                    "open",
+                    format!(
+                        "not verified: {}",
+                        r.reason.as_deref().unwrap_or("no evidence")
+                    ),
                 ),
             };
+            let close_out_reference = if close_out == "closed" {
+                format!("{} issue {} §{}, {date}", doc.id, doc.issue, r.id)
+            } else {
+                String::new()
+            };
+            let mut remarks = Vec::new();
+            if let Some(n) = &r.note {
+                remarks.push(n.trim().to_string());
+            }
+            if let Some(d) = &r.disposition {
+                remarks.push(format!(
+                    "{} {} (owner {}, raised {}{}): {}",
+                    d.kind.as_str(),
+                    d.reference,
+                    d.owner,
+                    d.date,
+                    d.expires
+                        .as_ref()
+                        .map_or(String::new(), |e| format!(", expires {e}")),
+                    d.reason
+                ));
+            }
+            if r.status == Status::Compliant && r.basis == Some(geodesic_core::Basis::Accepted) {
+                remarks.push("value taken from the cited source, not computed".into());
+            }
+            let reverify_reason = rep.reverify.get(&r.id).cloned().unwrap_or_default();
             VcdLine {
                 id: r.id.clone(),
+                title: r.title.clone(),
                 text: r.text.clone(),
+                source: r.source.clone(),
                 parent: r.parent.clone().unwrap_or_default(),
-                children: r.children.join(";"),
+                children: r.children.clone(),
+                level: r.level.clone(),
+                stage: r.stage.clone(),
                 method: r.method.clone(),
                 activity: r.activity.clone(),
-                evidence: ev.join("; "),
-                value: r.value.map_or(String::new(), |_| {
-                    format!("{} {}", fmt_opt(r.value), r.unit)
-                }),
-                limit: r.limit_text.clone(),
+                section: section_of(&r.id),
+                evidence: evidence.join("; "),
+                detail,
+                references,
+                value: fmt_value(r),
+                limit: fmt_limit(r),
                 margin: fmt_margin(r.margin),
                 basis: r.basis.map_or("", |b| b.as_str()),
                 compliance: compliance(r),
                 close_out,
-                reason,
+                close_out_reason,
+                close_out_reference,
+                remarks: remarks.join(" "),
+                reverify: rep.reverify.contains_key(&r.id),
+                reverify_reason,
             }
         })
         .collect()
 }
 
 fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
+    if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {
         s.to_string()
     }
 }
 
-/// The VCD as CSV (RFC 4180 quoting), one header row.
+/// The column names of the CSV and XLSX exports, in order.
+pub const COLUMNS: [&str; 26] = [
+    "id",
+    "title",
+    "text",
+    "source",
+    "parent",
+    "children",
+    "level",
+    "stage",
+    "method",
+    "activity",
+    "section",
+    "evidence",
+    "evidence_detail",
+    "references",
+    "value",
+    "limit",
+    "margin",
+    "basis",
+    "compliance",
+    "close_out",
+    "close_out_reason",
+    "close_out_reference",
+    "remarks",
+    "reverify",
+    "reverify_reason",
+    "document",
+];
+
+/// The cells of a line in [`COLUMNS`] order.
+pub fn cells(rep: &Report, l: &VcdLine) -> Vec<String> {
+    vec![
+        l.id.clone(),
+        l.title.clone(),
+        l.text.clone(),
+        l.source.clone(),
+        l.parent.clone(),
+        l.children.join("; "),
+        l.level.clone(),
+        l.stage.clone(),
+        l.method.clone(),
+        l.activity.clone(),
+        l.section.clone(),
+        l.evidence.clone(),
+        l.detail.join("\n"),
+        l.references.join("; "),
+        l.value.clone(),
+        l.limit.clone(),
+        l.margin.clone(),
+        l.basis.to_string(),
+        l.compliance.to_string(),
+        l.close_out.to_string(),
+        l.close_out_reason.clone(),
+        l.close_out_reference.clone(),
+        l.remarks.clone(),
+        if l.reverify { "yes" } else { "no" }.to_string(),
+        l.reverify_reason.clone(),
+        format!("{} issue {}", rep.run.document.id, rep.run.document.issue),
+    ]
+}
+
+/// The VCD as CSV (RFC 4180 quoting), one header row; the run's identification is in the
+/// `document` column and in the other exports' headers.
 pub fn csv(rep: &Report) -> String {
-    let mut o = String::from(
-        "id,text,parent,children,method,activity,evidence,value,limit,margin,basis,compliance,close_out,reason\n",
-    );
+    let mut o = COLUMNS.join(",");
+    o.push('\n');
     for l in lines(rep) {
-        let f = [
-            &l.id,
-            &l.text,
-            &l.parent,
-            &l.children,
-            &l.method,
-            &l.activity,
-            &l.evidence,
-            &l.value,
-            &l.limit,
-            &l.margin,
-            l.basis,
-            l.compliance,
-            l.close_out,
-            &l.reason,
-        ];
-        let row: Vec<String> = f.iter().map(|s| csv_field(s)).collect();
+        let row: Vec<String> = cells(rep, &l).iter().map(|s| csv_field(s)).collect();
         o.push_str(&row.join(","));
         o.push('\n');
     }
     o
 }
 
-/// The VCD as Markdown.
+/// The VCD as Markdown: the run's identification, then one table row per requirement, then the
+/// full evidence per requirement.
 pub fn markdown(rep: &Report) -> String {
+    let c = |s: &str| s.replace('|', "\\|").replace('\n', " ");
     let mut o = String::from("# Verification Control Document\n\n");
     for (k, v) in crate::run_lines(rep) {
-        o.push_str(&format!("- {k}: {}\n", v.replace('|', "\\|")));
+        o.push_str(&format!("- {k}: {}\n", c(&v)));
     }
-    o.push('\n');
-    o.push_str("| ID | Requirement | Parent | Children | Method | Activity / evidence | Value | Limit | Margin | Basis | Compliance | Close-out |\n");
-    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-    let c = |s: &str| s.replace('|', "\\|");
-    for l in lines(rep) {
+    o.push_str("\nColumns follow ECSS-E-ST-10-02C Annex B. Compliance: yes / yes (accepted) / no / partial (partly met) / not verified. Full evidence per requirement below the table.\n\n");
+    o.push_str("| ID | Requirement | Source | Parent / children | Level / stage | Method | Activity / evidence | Value | Limit | Margin | Basis | Compliance | Close-out | Remarks | Re-verify |\n");
+    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    let lines = lines(rep);
+    for l in &lines {
         o.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {}<br>{} | {} | `{}` | {} | {} | {} | {}: {} |\n",
-            l.id,
-            c(&l.text),
-            l.parent,
-            l.children.replace(';', ", "),
-            l.method,
-            c(&l.activity),
-            c(&l.evidence),
-            l.value,
-            l.limit,
-            l.margin,
-            l.basis,
-            l.compliance,
-            l.close_out,
-            c(&l.reason)
+            "| [{id}](#{a}) | **{title}**: {text} | {src} | {par} / {ch} | {lev} / {st} | {meth} | {act}<br>{ev}<br>refs: {refs} | {val} | {lim} | {mg} | {basis} | {comp} | {co}: {cor}{cref} | {rem} | {rv} |\n",
+            id = l.id,
+            a = l.id.to_lowercase(),
+            title = c(&l.title),
+            text = c(&l.text),
+            src = c(&l.source),
+            par = if l.parent.is_empty() { "—" } else { &l.parent },
+            ch = if l.children.is_empty() {
+                "—".to_string()
+            } else {
+                l.children.join(", ")
+            },
+            lev = l.level,
+            st = l.stage,
+            meth = l.method,
+            act = c(&l.activity),
+            ev = c(&l.evidence),
+            refs = c(&l.references.join("; ")),
+            val = l.value,
+            lim = c(&l.limit),
+            mg = l.margin,
+            basis = if l.basis.is_empty() { "—" } else { l.basis },
+            comp = l.compliance,
+            co = l.close_out,
+            cor = c(&l.close_out_reason),
+            cref = if l.close_out_reference.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", c(&l.close_out_reference))
+            },
+            rem = if l.remarks.is_empty() {
+                "—".to_string()
+            } else {
+                c(&l.remarks)
+            },
+            rv = if l.reverify {
+                format!("yes: {}", c(&l.reverify_reason))
+            } else {
+                "no".into()
+            },
         ));
     }
+    o.push_str("\n## Evidence in full\n");
+    for l in &lines {
+        o.push_str(&format!("\n### {}\n\n", l.id));
+        if l.detail.is_empty() {
+            o.push_str("- none\n");
+        }
+        for d in &l.detail {
+            o.push_str(&format!("- {d}\n"));
+        }
+    }
     o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testutil::report;
+
+    #[test]
+    fn inputs_read_as_an_engineer_writes_them() {
+        assert_eq!(fmt_input(&serde_json::json!(1.3999999682597337)), "1.4");
+        assert_eq!(fmt_input(&serde_json::json!(100000)), "100 000");
+        assert_eq!(fmt_input(&serde_json::json!(3.13e8)), "3.13e8");
+        assert_eq!(
+            fmt_input(&serde_json::json!("a".repeat(64))),
+            "aaaaaaaaaaaa…"
+        );
+        assert_eq!(
+            fmt_input(&serde_json::json!([1, 2, 3, 4, 5, 6, 7])),
+            "[1, 2, 3, 4, 5, 6, … (7 values)]"
+        );
+    }
+
+    #[test]
+    fn compliance_partial_means_partly_met_and_not_verified_is_not_partial() {
+        let mut r = report(1.0, 6.0);
+        assert_eq!(compliance(&r.matrix.requirements[0]), "yes");
+        assert_eq!(compliance(&r.matrix.requirements[1]), "no");
+        // a second deciding piece of evidence for F-B that meets the limit: partly met
+        let mut met = r.matrix.requirements[1].evidence[0].clone();
+        met.value = Some(2.0);
+        met.check = "other".into();
+        r.matrix.requirements[1].evidence.push(met);
+        assert_eq!(compliance(&r.matrix.requirements[1]), "partial");
+        let row = &mut r.matrix.requirements[0];
+        row.status = Status::NotVerified;
+        row.value = None;
+        assert_eq!(compliance(row), "not verified");
+    }
+
+    #[test]
+    fn every_line_carries_the_annex_b_fields() {
+        let mut r = report(1.3, 6.0);
+        r.reverify.insert("F-B".into(), "margin moved".into());
+        let ls = lines(&r);
+        assert_eq!(ls.len(), 2);
+        let a = &ls[0];
+        assert_eq!(
+            (a.level.as_str(), a.stage.as_str()),
+            ("system", "qualification")
+        );
+        assert_eq!(a.section, "index.html#F-A");
+        assert_eq!(a.close_out, "closed");
+        assert_eq!(a.close_out_reference, "DOC-1 issue 2 §F-A, 2026-01-01");
+        assert_eq!(a.limit, "<= 5 um/s");
+        assert!(a.evidence.starts_with("mc: 1.3 um/s"), "{}", a.evidence);
+        assert!(!a.reverify);
+        let b = &ls[1];
+        assert_eq!((b.compliance, b.close_out), ("no", "open"));
+        assert!(
+            b.close_out_reason
+                .contains("6 um/s does not meet <= 5 um/s")
+        );
+        assert!(b.reverify && b.reverify_reason == "margin moved");
+        let csv = csv(&r);
+        assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));
+        assert_eq!(csv.lines().count(), 3);
+        let md = markdown(&r);
+        assert!(md.contains("document: DOC-1 issue 2: T") && !md.contains("`<="));
+    }
 }

@@ -358,7 +358,20 @@ fn release_checks_give_evidence() {
         assert_eq!(e.inputs["n"], 500);
         assert_eq!(e.inputs["seed"], 3);
     }
-    assert!(dir.join("release-velocity-histogram.svg").exists());
+    // each requirement on its own plot, with its own limit drawn
+    for (id, limit) in [
+        ("REL-GPRM-VEL", "limit: 5 um/s"),
+        ("REL-DFACS-VEL", "limit: 7.5 um/s"),
+        ("TMS-Z-VEL", "limit: 5 um/s"),
+    ] {
+        let e = ev.iter().find(|e| e.requirement == id).unwrap();
+        assert_eq!(e.artifacts, vec![format!("release-velocity-{id}.svg")]);
+        let svg = std::fs::read_to_string(dir.join(&e.artifacts[0])).unwrap();
+        assert!(
+            svg.contains(&format!("{id} {limit}")),
+            "{id}: own limit drawn"
+        );
+    }
     let cal = geodesic_core::Check::run(&AdhesionCalibration, &ctx).unwrap();
     let Outcome::Measured(q) = &cal[0].outcome else {
         panic!("not measured")

@@ -31,6 +31,10 @@ pub struct Args {
     /// ./verification/dispositions.yaml if present, else none].
     #[arg(long, value_name = "FILE.yaml")]
     pub dispositions: Option<PathBuf>,
+    /// Identification of the documents written (id, issue, title, project) [default:
+    /// ./verification/document.yaml if present, else the built-in copy].
+    #[arg(long, value_name = "FILE.yaml")]
+    pub document: Option<PathBuf>,
     /// Recorded test run read for the traced tests' results [default:
     /// ./target/geodesic/test-run.json if present, else none: `cargo xtask test` writes it].
     #[arg(long, value_name = "FILE.json")]
@@ -201,6 +205,16 @@ pub fn run(args: Args) -> CmdResult {
         .map_err(|e| CliError::bad(e.to_string()))?;
     geodesic_capture::CaptureInputs::from_yaml_str(&inputs.capture.text, &inputs.capture.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
+    let document_file = input_file(
+        args.document.as_ref(),
+        "verification/document.yaml",
+        DEFAULT_DOCUMENT_YAML,
+    )?;
+    let document = geodesic_core::document::Document::from_yaml(
+        &document_file.text,
+        std::path::Path::new(&document_file.label),
+    )
+    .map_err(|e| CliError::bad(e.to_string()))?;
     let today = geodesic_core::disposition::today();
     // the repository's default file applies to whatever subset of requirements is loaded; a file
     // given with --dispositions must name loaded requirements only
@@ -253,10 +267,15 @@ pub fn run(args: Args) -> CmdResult {
         let ev = check
             .run(&ctx)
             .map_err(|e| CliError::bad(format!("check {}: {e}", check.name())))?;
+        // wall time is not controlled content: standard error only, never in a report
+        eprintln!(
+            "geodesic: check {} took {:.1} s",
+            check.name(),
+            t0.elapsed().as_secs_f64()
+        );
         runs.push(CheckRun {
             name: check.name().to_string(),
             verifies: check.verifies().iter().map(|s| s.to_string()).collect(),
-            seconds: t0.elapsed().as_secs_f64(),
         });
         evidence.push((check.name().to_string(), ev));
         task.inc(1);
@@ -292,6 +311,8 @@ pub fn run(args: Args) -> CmdResult {
     let report = Report {
         matrix,
         run: RunInfo {
+            document,
+            document_file,
             geodesic_version: env!("CARGO_PKG_VERSION").to_string(),
             tool_version: env!("CARGO_PKG_VERSION").to_string(),
             commit,
@@ -307,6 +328,7 @@ pub fn run(args: Args) -> CmdResult {
             checks: runs,
             fidelity,
         },
+        reverify: Default::default(),
     };
     let diff = match &args.baseline {
         Some(b) => Some(
@@ -315,6 +337,10 @@ pub fn run(args: Args) -> CmdResult {
         ),
         None => None,
     };
+    let mut report = report;
+    if let Some(d) = &diff {
+        report.reverify = geodesic_report::vcd::reverify_from(d);
+    }
     let mut doc = serde_json::to_value(&report).map_err(|e| CliError::Io(e.to_string()))?;
     if let Some(d) = &diff {
         doc["baseline_diff"] = serde_json::to_value(d).map_err(|e| CliError::Io(e.to_string()))?;
@@ -331,9 +357,12 @@ pub fn run(args: Args) -> CmdResult {
     staging
         .write("vcd.csv", geodesic_report::vcd::csv(&report).as_bytes())
         .map_err(io)?;
+    let xlsx = geodesic_report::xlsx::render(&report)
+        .map_err(|e| CliError::Io(format!("vcd.xlsx: {e}")))?;
+    staging.write("vcd.xlsx", &xlsx).map_err(io)?;
     let vcd_html = geodesic_report::html::render_vcd(&report);
     staging.write("vcd.html", vcd_html.as_bytes()).map_err(io)?;
-    let page = geodesic_report::html::render(&report, &[staging.path(), args.reports.as_path()]);
+    let page = geodesic_report::html::render(&report, &[staging.path()]);
     staging.write("index.html", page.as_bytes()).map_err(io)?;
     if let Some(d) = &diff {
         let md = geodesic_report::baseline::markdown(d);
@@ -402,6 +431,9 @@ pub fn run(args: Args) -> CmdResult {
     };
     Ok(code.max(u8::from(tests_fail)))
 }
+
+/// The repository's `verification/document.yaml`, built into the binary.
+pub const DEFAULT_DOCUMENT_YAML: &str = include_str!("../../../document.yaml");
 
 /// A model input file: `path` if given, else the repository's copy at `default_rel` (relative to
 /// the current directory) if present, else the copy built into the binary.
