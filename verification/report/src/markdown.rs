@@ -53,16 +53,22 @@ pub fn render(rep: &Report) -> String {
             .collect();
         let _ = writeln!(
             o,
-            "| [{id}](#{anchor}) | {t} | {meth} | {st} | {basis} | {value} | {op} {lim} {u} | {mg} | {ev} | {nt} |",
+            "| [{id}](#{anchor}) | {t} | {meth} | {st} | {basis} | {value} | {lim} | {mg} | {ev} | {nt} |",
             id = r.id,
             anchor = r.id.to_lowercase(),
             t = cell(&r.title),
             meth = r.method,
             st = crate::verdict(r),
             basis = crate::basis_word(r),
-            op = r.op.replace('<', "&lt;").replace('>', "&gt;"),
-            lim = fmt_num(r.limit),
-            u = r.unit,
+            lim = match r.limit {
+                Some(l) => format!(
+                    "{} {} {}",
+                    r.op.replace('<', "&lt;").replace('>', "&gt;"),
+                    fmt_num(l),
+                    r.unit
+                ),
+                None => r.limit_text.clone(),
+            },
             mg = fmt_margin(r.margin),
             ev = if ev.is_empty() {
                 "—".into()

@@ -19,12 +19,10 @@ pub fn table(m: &Matrix, color: bool) -> String {
                     Some(_) => format!("{} {}", fmt_opt(r.value), r.unit),
                     None => "—".into(),
                 },
-                format!(
-                    "{} {} {}",
-                    r.op,
-                    geodesic_core::units::fmt_num(r.limit),
-                    r.unit
-                ),
+                match r.limit {
+                    Some(l) => format!("{} {} {}", r.op, geodesic_core::units::fmt_num(l), r.unit),
+                    None => r.limit_text.clone(),
+                },
                 fmt_margin(r.margin),
                 tests_word(r, run),
             ]
