@@ -87,14 +87,19 @@ pub fn requirement_box(ctx: &CheckContext) -> Result<[f64; N_STATES], String> {
             .requirements
             .get(id)
             .ok_or_else(|| format!("{id} is not in the loaded requirements: no requirement box"))?;
-        let positive = r.limit.value.is_finite() && r.limit.value > 0.0;
-        if !matches!(r.op, Op::Le | Op::Lt) || !positive {
+        let Some(l) = &r.limit else {
+            return Err(format!(
+                "{id} is a qualitative requirement (no limit): no requirement box"
+            ));
+        };
+        let positive = l.value.value.is_finite() && l.value.value > 0.0;
+        if !matches!(l.op, Op::Le | Op::Lt) || !positive {
             return Err(format!(
                 "{id} is not a positive upper bound (`{}`): no requirement box",
-                r.limit_text
+                l.text
             ));
         }
-        out[s.index()] = r.limit.value;
+        out[s.index()] = l.value.value;
     }
     Ok(out)
 }
@@ -437,7 +442,7 @@ mod tests {
             .iter_mut()
             .find(|r| r.id.as_str() == "TMS-X-VEL")
             .unwrap();
-        r.limit.value = 20e-6;
+        r.limit.as_mut().unwrap().value.value = 20e-6;
         c.requirements = Arc::new(reqs);
         let setup = CaptureSetup::of(&c).unwrap().unwrap();
         let ev = CaptureCriterion::evidence(&setup, None);

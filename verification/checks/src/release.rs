@@ -139,8 +139,10 @@ impl Check for ReleaseMonteCarlo {
             let mut e =
                 Evidence::measured(id, value, geodesic_core::Basis::Model, activity.clone());
             // each requirement judged on its own plot, with its own limit
-            if let Some(req) = ctx.requirements.get(id) {
-                let limit_um_s = req.limit.value * 1e6;
+            if let Some(req) = ctx.requirements.get(id)
+                && let Some(lim) = &req.limit
+            {
+                let limit_um_s = lim.value.value * 1e6;
                 let svg = geodesic_release::histogram::requirement_histogram_svg(
                     &r.abs_um_s(),
                     s.p9973_um_s,
@@ -149,7 +151,7 @@ impl Check for ReleaseMonteCarlo {
                     id,
                     &format!(
                         "{id}: 99.73 % of |X'| against {} (N = {}, seed {})",
-                        req.limit_text, s.n, s.seed
+                        lim.text, s.n, s.seed
                     ),
                 );
                 e = e.with_artifact(crate::plots::write(

@@ -148,13 +148,6 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
     );
     let pol = fixtures.join("polarion-sample.reqif");
     one_line(
-        &geodesic(
-            &["import", "reqif", pol.to_str().unwrap(), "--out", "o"],
-            &dir,
-        ),
-        "polarion-sample.reqif:129: requirement LOREM-818",
-    );
-    one_line(
         &geodesic(&["import", "reqif", "missing.reqif"], &dir),
         "missing.reqif",
     );
@@ -171,16 +164,26 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
         ),
         "unknown field `colour`",
     );
-    // a DOORS module with one incomplete requirement: refused, or imported without it
+    // a DOORS module whose limits have no method (the method attribute named wrongly): refused
     let doors = fixtures.join("doors-style-lpf.reqif");
     one_line(
         &geodesic(
-            &["import", "reqif", doors.to_str().unwrap(), "--out", "d"],
+            &[
+                "import",
+                "reqif",
+                doors.to_str().unwrap(),
+                "--out",
+                "d",
+                "--attribute",
+                "method=V&V Method",
+            ],
             &dir,
         ),
-        "requirement GRS-21",
+        "doors-style-lpf.reqif:83: requirement GRS-12",
     );
     assert!(!dir.join("d").exists() || std::fs::read_dir(dir.join("d")).unwrap().count() == 0);
+    // ... or imported without its qualitative requirement GRS-21 when only quantitative ones
+    // are wanted
     let out = geodesic(
         &[
             "import",
@@ -229,4 +232,100 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
         "m.json: has no row for requirement",
     );
     assert!(!dir.join("x.reqif").exists());
+}
+
+#[test]
+fn prose_requirements_of_polarion_import_and_verify_lists_them_not_verified() {
+    let dir = scratch("reqif-polarion");
+    let pol = workspace().join("verification/exchange/tests/fixtures/polarion-sample.reqif");
+    let out = geodesic(
+        &[
+            "import",
+            "reqif",
+            pol.to_str().unwrap(),
+            "--out",
+            "req",
+            "--json",
+        ],
+        &dir,
+    );
+    let v: serde_json::Value = serde_json::from_str(&ok(&out)).unwrap();
+    assert_eq!(v["requirements"], 1);
+    assert_eq!(v["qualitative"], 1);
+    assert_eq!(v["skipped"].as_array().unwrap().len(), 0);
+    let out = geodesic(
+        &[
+            "verify",
+            "--requirements",
+            "req",
+            "--no-fidelity",
+            "--mc-n",
+            "200",
+            "--json",
+            "--reports",
+            "r",
+        ],
+        &dir,
+    );
+    let code = out.status.code();
+    assert!(
+        matches!(code, Some(0 | 1)),
+        "exit {code:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("r/compliance.json")).unwrap())
+            .unwrap();
+    let rows = m["requirements"].as_array().unwrap();
+    assert_eq!(rows.len(), 1);
+    let row = &rows[0];
+    assert_eq!(row["id"], "LOREM-818");
+    assert_eq!(row["status"], "not-verified");
+    assert!(row["limit"].is_null() && row["margin"].is_null() && row["basis"].is_null());
+    assert_eq!(
+        row["reason"],
+        "qualitative requirement: no quantitative limit; close by review-of-design (no registered check)"
+    );
+    // the VCD and the Markdown matrix say it too
+    let vcd = std::fs::read_to_string(dir.join("r/vcd.md")).unwrap();
+    assert!(
+        vcd.contains("LOREM-818") && vcd.contains("qualitative requirement"),
+        "{vcd}"
+    );
+    let md = std::fs::read_to_string(dir.join("r/compliance.md")).unwrap();
+    assert!(md.contains("none (qualitative)"), "{md}");
+    // the set exports, imports and exports again unchanged
+    ok(&geodesic_at(
+        &[
+            "export",
+            "reqif",
+            "--requirements",
+            "req",
+            "--out",
+            "a.reqif",
+        ],
+        &dir,
+        "1767225600",
+    ));
+    ok(&geodesic(
+        &["import", "reqif", "a.reqif", "--out", "req2"],
+        &dir,
+    ));
+    ok(&geodesic_at(
+        &[
+            "export",
+            "reqif",
+            "--requirements",
+            "req2",
+            "--out",
+            "b.reqif",
+        ],
+        &dir,
+        "1798761600",
+    ));
+    let a = std::fs::read_to_string(dir.join("a.reqif")).unwrap();
+    let b = std::fs::read_to_string(dir.join("b.reqif")).unwrap();
+    assert_ne!(a, b, "the creation time differs");
+    assert_eq!(without_creation_time(&a), without_creation_time(&b));
+    validate(&[&dir.join("a.reqif")]);
 }

@@ -36,6 +36,17 @@ impl Status {
     }
 }
 
+/// The `limit_text` of a qualitative requirement's row (it has no limit).
+pub const QUALITATIVE_LIMIT_TEXT: &str = "none (qualitative)";
+
+/// The reason a qualitative requirement is not verified: geodesic has no value to compare, the
+/// requirement is closed by its method (review of design, inspection, ...).
+pub fn qualitative_reason(method: crate::requirement::Method) -> String {
+    format!(
+        "qualitative requirement: no quantitative limit; close by {method} (no registered check)"
+    )
+}
+
 /// One piece of evidence as shown in the matrix.
 #[derive(Clone, Debug, Serialize)]
 pub struct EvidenceEntry {
@@ -125,15 +136,15 @@ pub struct Row {
     pub disposition: Option<Disposition>,
     /// Deciding value, in `unit`.
     pub value: Option<f64>,
-    /// Limit, in `unit`.
-    pub limit: f64,
+    /// Limit, in `unit` (`None`, JSON `null`, for a qualitative requirement: no limit).
+    pub limit: Option<f64>,
     /// Margin `(limit - value) / limit` (sign-adjusted for lower bounds).
     pub margin: Option<f64>,
-    /// Unit of `value` and `limit`, as written in the requirement.
+    /// Unit of `value` and `limit`, as written in the requirement (empty when qualitative).
     pub unit: String,
-    /// Comparison (`<=`, `<`, `>=`, `>`).
+    /// Comparison (`<=`, `<`, `>=`, `>`; empty when qualitative).
     pub op: String,
-    /// Limit as written.
+    /// Limit as written ([`QUALITATIVE_LIMIT_TEXT`] when the requirement has no limit).
     pub limit_text: String,
     /// Probability level, if any.
     pub probability: Option<String>,
@@ -336,17 +347,48 @@ fn row(
     run: Option<&TestRun>,
     disposition: Option<&Disposition>,
 ) -> Row {
-    let scale = r.unit.scale;
-    let limit = r.limit.value / scale;
+    let Some(lim) = &r.limit else {
+        // qualitative: no value can decide; evidence that names it anyway is shown, not used
+        let entries = evs
+            .iter()
+            .map(|(check, e)| EvidenceEntry {
+                check: check.to_string(),
+                basis: None,
+                activity: e.activity.clone(),
+                value: None,
+                reason: Some(format!(
+                    "check {check} gave evidence for a qualitative requirement (no limit to compare with)"
+                )),
+                inputs: e.inputs.clone(),
+                artifacts: e.artifacts.clone(),
+            })
+            .collect();
+        return finish_row(
+            r,
+            reqs,
+            run,
+            disposition,
+            Verdict {
+                status: Status::NotVerified,
+                basis: None,
+                value: None,
+                margin: None,
+                reason: Some(qualitative_reason(r.method)),
+                entries,
+            },
+        );
+    };
+    let scale = lim.unit.scale;
+    let limit = lim.value.value / scale;
     let mut entries = Vec::new();
     let mut best: Option<(f64, f64, Basis)> = None; // (value in unit, margin, basis)
     let mut reasons = Vec::new();
     let mut illustrations = Vec::new();
     for (check, e) in evs {
         let (value, reason) = match &e.outcome {
-            Outcome::Measured(q) if q.dim == r.dim && !q.value.is_nan() => {
+            Outcome::Measured(q) if q.dim == lim.dim && !q.value.is_nan() => {
                 let v = q.value / scale;
-                let m = r.op.margin(v, limit);
+                let m = lim.op.margin(v, limit);
                 let basis = e.basis.unwrap_or(Basis::Illustration);
                 if basis.decides() {
                     if best.is_none_or(|(_, bm, _)| m < bm) {
@@ -357,7 +399,7 @@ fn row(
                         "illustration only (not a verdict): {} gives {} {}",
                         check,
                         crate::units::fmt_num(v),
-                        r.unit.symbol
+                        lim.unit.symbol
                     ));
                 }
                 (Some(v), None)
@@ -366,7 +408,10 @@ fn row(
                 let why = if q.value.is_nan() {
                     format!("check {check} gave no number (NaN)")
                 } else {
-                    format!("check {check} gave a {} for a {} requirement", q.dim, r.dim)
+                    format!(
+                        "check {check} gave a {} for a {} requirement",
+                        q.dim, lim.dim
+                    )
                 };
                 reasons.push(why.clone());
                 (None, Some(why))
@@ -388,7 +433,7 @@ fn row(
     }
     let (status, value, margin, reason, basis) = match best {
         Some((v, m, basis)) => {
-            let ok = r.op.holds(v, limit);
+            let ok = lim.op.holds(v, limit);
             (
                 if ok {
                     Status::Compliant
@@ -411,6 +456,48 @@ fn row(
             (Status::NotVerified, None, None, Some(why), None)
         }
     };
+    finish_row(
+        r,
+        reqs,
+        run,
+        disposition,
+        Verdict {
+            status,
+            basis,
+            value,
+            margin,
+            reason,
+            entries,
+        },
+    )
+}
+
+/// What the evidence decided for one requirement.
+struct Verdict {
+    status: Status,
+    basis: Option<Basis>,
+    value: Option<f64>,
+    margin: Option<f64>,
+    reason: Option<String>,
+    entries: Vec<EvidenceEntry>,
+}
+
+/// The row of `r` with its verdict, tests and links.
+fn finish_row(
+    r: &Requirement,
+    reqs: &Requirements,
+    run: Option<&TestRun>,
+    disposition: Option<&Disposition>,
+    v: Verdict,
+) -> Row {
+    let Verdict {
+        status,
+        basis,
+        value,
+        margin,
+        reason,
+        entries,
+    } = v;
     let tests: Vec<TestRef> = run
         .map(|run| {
             run.for_requirement(r.id.as_str())
@@ -443,11 +530,20 @@ fn row(
         basis,
         disposition: disposition.cloned(),
         value,
-        limit,
+        limit: r.limit.as_ref().map(|l| l.in_unit()),
         margin,
-        unit: r.unit.symbol.clone(),
-        op: r.op.symbol().to_string(),
-        limit_text: r.limit_text.clone(),
+        unit: r
+            .limit
+            .as_ref()
+            .map_or_else(String::new, |l| l.unit.symbol.clone()),
+        op: r
+            .limit
+            .as_ref()
+            .map_or_else(String::new, |l| l.op.symbol().to_string()),
+        limit_text: r
+            .limit
+            .as_ref()
+            .map_or_else(|| QUALITATIVE_LIMIT_TEXT.to_string(), |l| l.text.clone()),
         probability: r.probability.clone(),
         title: r.title.clone(),
         text: r.text.clone(),
@@ -556,6 +652,69 @@ requirements:
         );
         assert_eq!(m.orphan_checks.len(), 1);
         assert_eq!(m.exit_code(), 1);
+    }
+
+    #[test]
+    fn qualitative_requirement_is_not_verified_beside_the_others() {
+        let t = "family: f
+requirements:
+  - id: A-ONE
+    title: a
+    text: shall
+    source: s
+    quantity: q
+    dimension: velocity
+    limit: <= 5 um/s
+    method: analysis
+    activity: mc
+  - id: A-GROUND
+    title: g
+    text: The TM shall be grounded.
+    source: s
+    method: inspection
+    activity: inspection of the harness
+";
+        let r = Requirements::from_sources(&[(PathBuf::from("f.yaml"), t.into())]).unwrap();
+        let ev = vec![(
+            "mc".to_string(),
+            vec![
+                Evidence::measured(
+                    "A-ONE",
+                    Quantity::new(1.5e-6, Dim::VELOCITY),
+                    Basis::Model,
+                    "mc",
+                ),
+                // a check that names it anyway gives no verdict
+                Evidence::measured(
+                    "A-GROUND",
+                    Quantity::new(1.0, Dim::DIMENSIONLESS),
+                    Basis::Model,
+                    "mc",
+                ),
+            ],
+        )];
+        let m = Matrix::build(&r, &ev, None, &[]);
+        assert_eq!(m.requirements[0].status, Status::Compliant);
+        let g = &m.requirements[1];
+        assert_eq!(g.status, Status::NotVerified);
+        assert_eq!(
+            g.reason.as_deref(),
+            Some(
+                "qualitative requirement: no quantitative limit; close by inspection (no registered check)"
+            )
+        );
+        assert!(g.basis.is_none() && g.margin.is_none() && g.value.is_none());
+        assert!(g.limit.is_none() && g.op.is_empty() && g.unit.is_empty());
+        assert_eq!(g.limit_text, QUALITATIVE_LIMIT_TEXT);
+        assert_eq!(g.evidence.len(), 1);
+        assert!(g.evidence[0].value.is_none() && g.evidence[0].basis.is_none());
+        assert_eq!(m.summary.not_verified, 1);
+        assert_eq!(m.exit_code(), 0);
+        let j = serde_json::to_value(&m).unwrap();
+        assert!(j["requirements"][1]["limit"].is_null());
+        assert!(j["requirements"][1]["margin"].is_null());
+        assert!(j["requirements"][1]["basis"].is_null());
+        assert_eq!(j["requirements"][0]["limit"], serde_json::json!(5.0));
     }
 
     #[test]

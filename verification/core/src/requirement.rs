@@ -8,6 +8,12 @@
 //! optional `check` naming the registered check that runs it, and an optional `parent` with the
 //! `margin` that links them (child limit = margin x parent limit). Every error names
 //! `file:line:column` and its cause in one line.
+//!
+//! A *qualitative* requirement ("The TM shall be grounded by ...", as most requirements
+//! imported from DOORS or Polarion are) has no `limit`, and then none of what is tied to a limit:
+//! no `dimension`, `probability`, `check` nor `parent` (a margin links two limits); `quantity` is
+//! optional. It is closed by its `method` (review of design, inspection, ...) outside geodesic:
+//! `verify` reports it not verified. In [`Requirement`] its [`Requirement::limit`] is `None`.
 
 use crate::units::{Dim, Quantity, Unit, parse_quantity};
 use serde::{Deserialize, Serialize};
@@ -257,11 +263,14 @@ struct RawRequirement {
     title: String,
     text: String,
     source: String,
-    quantity: String,
-    dimension: Spanned<String>,
-    limit: Spanned<String>,
     #[serde(default)]
-    probability: Option<String>,
+    quantity: Option<Spanned<String>>,
+    #[serde(default)]
+    dimension: Option<Spanned<String>>,
+    #[serde(default)]
+    limit: Option<Spanned<String>>,
+    #[serde(default)]
+    probability: Option<Spanned<String>>,
     method: Spanned<String>,
     activity: String,
     #[serde(default)]
@@ -300,6 +309,28 @@ impl fmt::Display for Origin {
     }
 }
 
+/// The quantitative limit of a requirement: `value <op> limit` in a dimension.
+#[derive(Clone, Debug, Serialize)]
+pub struct Limit {
+    /// Dimension of the quantity (that of the limit).
+    pub dim: Dim,
+    /// Comparison.
+    pub op: Op,
+    /// Limit in SI.
+    pub value: Quantity,
+    /// The unit the limit was written in (values are reported in it).
+    pub unit: Unit,
+    /// The limit as written (`<= 5 um/s`).
+    pub text: String,
+}
+
+impl Limit {
+    /// The limit's number in its written unit (`7.5` for `<= 7.5 um/s`).
+    pub fn in_unit(&self) -> f64 {
+        self.value.value / self.unit.scale
+    }
+}
+
 /// A requirement loaded and checked.
 #[derive(Clone, Debug, Serialize)]
 pub struct Requirement {
@@ -313,18 +344,11 @@ pub struct Requirement {
     pub text: String,
     /// Source in the thesis (table or section).
     pub source: String,
-    /// What is measured or computed.
+    /// What is measured or computed (empty for a qualitative requirement that names none).
     pub quantity: String,
-    /// Dimension of the quantity.
-    pub dim: Dim,
-    /// Comparison.
-    pub op: Op,
-    /// Limit in SI.
-    pub limit: Quantity,
-    /// The unit the limit was written in (values are reported in it).
-    pub unit: Unit,
-    /// The limit as written (`<= 5 um/s`).
-    pub limit_text: String,
+    /// The quantitative limit; `None` for a qualitative requirement (no limit: closed by its
+    /// method, never by a check).
+    pub limit: Option<Limit>,
     /// Probability level the limit applies at (`99.73 %`), if any.
     pub probability: Option<String>,
     /// Verification method.
@@ -467,51 +491,48 @@ impl Requirements {
                     ));
                 }
                 seen.insert(id.to_string(), at(&r.id));
-                let dim = Dim::from_name(&r.dimension.value).ok_or_else(|| {
-                    let names: Vec<&str> = Dim::NAMED.iter().map(|(n, _)| *n).collect();
-                    err(
-                        &r.dimension,
-                        format!(
-                            "unknown dimension `{}` (known: {})",
-                            r.dimension.value,
-                            names.join(", ")
-                        ),
-                    )
-                })?;
-                let (op, rest) = parse_op(&r.limit.value).map_err(|c| err(&r.limit, c))?;
-                let (limit, unit) = parse_quantity(rest)
-                    .map_err(|e| err(&r.limit, format!("limit `{}`: {e}", r.limit.value)))?;
-                if limit.dim != dim {
-                    return Err(err(
-                        &r.limit,
-                        format!(
-                            "limit `{}` is a {} but the requirement's dimension is {}",
-                            r.limit.value, limit.dim, dim
-                        ),
-                    ));
-                }
-                if !limit.value.is_finite() {
-                    return Err(err(
-                        &r.limit,
-                        format!("limit `{}` is not a finite number", r.limit.value.trim()),
-                    ));
-                }
-                if limit.value != 0.0 && !limit.value.is_normal() {
-                    return Err(err(
-                        &r.limit,
-                        format!(
-                            "limit `{}` is subnormal (below {:e} in SI); the relative margin divides by it",
-                            r.limit.value.trim(),
-                            f64::MIN_POSITIVE
-                        ),
-                    ));
-                }
-                if limit.value == 0.0 {
-                    return Err(err(
-                        &r.limit,
-                        "a limit of zero leaves no relative margin; state a non-zero bound".into(),
-                    ));
-                }
+                let limit = match &r.limit {
+                    Some(l) => {
+                        let Some(dimension) = &r.dimension else {
+                            return Err(err(
+                                l,
+                                format!("requirement {id} has a limit but no `dimension`"),
+                            ));
+                        };
+                        if r.quantity.is_none() {
+                            return Err(err(
+                                l,
+                                format!("requirement {id} has a limit but no `quantity`"),
+                            ));
+                        }
+                        Some(parse_limit(dimension, l, &err)?)
+                    }
+                    None => {
+                        // qualitative: nothing tied to a limit may be stated
+                        let tied = [
+                            ("dimension", r.dimension.as_ref()),
+                            ("probability", r.probability.as_ref()),
+                            ("check", r.check.as_ref()),
+                        ];
+                        if let Some((name, s)) = tied.iter().find_map(|(n, s)| s.map(|s| (n, s))) {
+                            return Err(err(
+                                s,
+                                format!(
+                                    "requirement {id} has a `{name}` but no `limit` (a qualitative requirement has no dimension, probability or check)"
+                                ),
+                            ));
+                        }
+                        if let Some(p) = &r.parent {
+                            return Err(err(
+                                &p.id,
+                                format!(
+                                    "requirement {id} has a `parent` but no `limit` (a parent margin links two limits)"
+                                ),
+                            ));
+                        }
+                        None
+                    }
+                };
                 let method: Method = match r.method.value.as_str() {
                     "test" => Method::Test,
                     "analysis" => Method::Analysis,
@@ -560,13 +581,9 @@ impl Requirements {
                     title: r.title,
                     text: r.text,
                     source: r.source,
-                    quantity: r.quantity,
-                    dim,
-                    op,
+                    quantity: r.quantity.map(|q| q.value).unwrap_or_default(),
                     limit,
-                    unit,
-                    limit_text: r.limit.value.trim().to_string(),
-                    probability: r.probability,
+                    probability: r.probability.map(|p| p.value),
                     method,
                     level,
                     stage,
@@ -597,17 +614,23 @@ impl Requirements {
             if parent.id == child.id {
                 return Err(perr(format!("{} names itself as its parent", child.id)));
             }
-            if parent.dim != child.dim {
+            let (Some(pl), Some(cl)) = (&parent.limit, &child.limit) else {
+                return Err(perr(format!(
+                    "parent {} is a qualitative requirement (no limit): a margin links two limits",
+                    parent.id
+                )));
+            };
+            if pl.dim != cl.dim {
                 return Err(perr(format!(
                     "parent {} is a {} but {} is a {}",
-                    parent.id, parent.dim, child.id, child.dim
+                    parent.id, pl.dim, child.id, cl.dim
                 )));
             }
-            let expect = parent.limit.value * margin;
-            if (child.limit.value - expect).abs() > 1e-9 * expect.abs() {
+            let expect = pl.value.value * margin;
+            if (cl.value.value - expect).abs() > 1e-9 * expect.abs() {
                 return Err(perr(format!(
                     "{} limit {} is not margin {} x parent {} limit {}",
-                    child.id, child.limit_text, margin, parent.id, parent.limit_text
+                    child.id, cl.text, margin, parent.id, pl.text
                 )));
             }
             out.items[idx].parent = Some((parent_id, margin));
@@ -671,6 +694,66 @@ impl Requirements {
         }
         Ok(())
     }
+}
+
+/// Parses `dimension` and `limit` of a quantitative requirement.
+fn parse_limit(
+    dimension: &Spanned<String>,
+    l: &Spanned<String>,
+    err: &dyn Fn(&Spanned<String>, String) -> LoadError,
+) -> Result<Limit, LoadError> {
+    let dim = Dim::from_name(&dimension.value).ok_or_else(|| {
+        let names: Vec<&str> = Dim::NAMED.iter().map(|(n, _)| *n).collect();
+        err(
+            dimension,
+            format!(
+                "unknown dimension `{}` (known: {})",
+                dimension.value,
+                names.join(", ")
+            ),
+        )
+    })?;
+    let (op, rest) = parse_op(&l.value).map_err(|c| err(l, c))?;
+    let (value, unit) =
+        parse_quantity(rest).map_err(|e| err(l, format!("limit `{}`: {e}", l.value)))?;
+    if value.dim != dim {
+        return Err(err(
+            l,
+            format!(
+                "limit `{}` is a {} but the requirement's dimension is {}",
+                l.value, value.dim, dim
+            ),
+        ));
+    }
+    if !value.value.is_finite() {
+        return Err(err(
+            l,
+            format!("limit `{}` is not a finite number", l.value.trim()),
+        ));
+    }
+    if value.value != 0.0 && !value.value.is_normal() {
+        return Err(err(
+            l,
+            format!(
+                "limit `{}` is subnormal (below {:e} in SI); the relative margin divides by it",
+                l.value.trim(),
+                f64::MIN_POSITIVE
+            ),
+        ));
+    }
+    if value.value == 0.0 {
+        return Err(err(
+            l,
+            "a limit of zero leaves no relative margin; state a non-zero bound".into(),
+        ));
+    }
+    Ok(Limit {
+        dim,
+        op,
+        value,
+        unit,
+        text: l.value.trim().to_string(),
+    })
 }
 
 fn parse_op(s: &str) -> Result<(Op, &str), String> {
@@ -787,7 +870,7 @@ requirements:
         let r = load(GOOD).unwrap();
         assert_eq!(r.items.len(), 2);
         assert_eq!(r.items[1].parent.as_ref().unwrap().0.as_str(), "REL-A");
-        assert!((r.items[0].limit.value - 5e-6).abs() < 1e-18);
+        assert!((r.items[0].limit.as_ref().unwrap().value.value - 5e-6).abs() < 1e-18);
         assert_eq!(r.children("REL-A").len(), 1);
     }
 
@@ -862,6 +945,97 @@ requirements:
         let e = Requirements::load_dir(&dir).unwrap_err().to_string();
         assert!(e.contains("a.yaml:15:") && e.contains("UTF-8"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    const QUAL: &str = "  - id: REL-G
+    title: Grounding
+    text: The TM shall be grounded by a wire until release.
+    source: Thesis ch. 2
+    method: review-of-design
+    activity: design review
+";
+
+    #[test]
+    fn qualitative_requirements_load_without_a_limit() {
+        let r = load(&format!("{GOOD}{QUAL}")).unwrap();
+        assert_eq!(r.items.len(), 3);
+        let g = r.get("REL-G").unwrap();
+        assert!(g.limit.is_none());
+        assert_eq!(g.quantity, "");
+        assert_eq!(g.method, Method::ReviewOfDesign);
+        assert!(g.check.is_none() && g.parent.is_none() && g.probability.is_none());
+        // the quantitative ones are unchanged
+        let a = r.items[0].limit.as_ref().unwrap();
+        assert_eq!(
+            (a.op, a.text.as_str(), a.in_unit()),
+            (Op::Le, "<= 5 um/s", 5.0)
+        );
+        // a quantity may name what the prose is about
+        let q = load(&format!(
+            "{GOOD}{}",
+            QUAL.replace("    method:", "    quantity: grounding\n    method:")
+        ))
+        .unwrap();
+        assert_eq!(q.get("REL-G").unwrap().quantity, "grounding");
+    }
+
+    #[test]
+    fn qualitative_requirements_state_nothing_tied_to_a_limit() {
+        let with = |extra: &str| err_of(&format!("{GOOD}{QUAL}{extra}"));
+        // the qualitative entry starts at line 22; added fields are at line 28
+        for (extra, word) in [
+            ("    dimension: velocity\n", "`dimension` but no `limit`"),
+            ("    probability: 99.73 %\n", "`probability` but no `limit`"),
+            ("    check: release-velocity\n", "`check` but no `limit`"),
+            (
+                "    parent: {id: REL-A, margin: 1}\n",
+                "`parent` but no `limit`",
+            ),
+        ] {
+            let e = with(extra);
+            assert!(e.starts_with("r.yaml:28:") && e.contains(word), "{e}");
+            assert!(!e.contains('\n'));
+        }
+        // a quantitative child cannot hang from a qualitative parent by a margin
+        let e = err_of(&format!(
+            "{GOOD}{QUAL}  - id: REL-H
+    title: H
+    text: The thing shall be slower.
+    source: Thesis ch. 7
+    quantity: velocity
+    dimension: velocity
+    limit: <= 4 um/s
+    method: analysis
+    activity: Monte Carlo
+    parent: {{id: REL-G, margin: 2}}
+"
+        ));
+        assert!(
+            e.starts_with("r.yaml:37:") && e.contains("REL-G is a qualitative requirement"),
+            "{e}"
+        );
+        // a limit still needs its dimension, its quantity and a method
+        let e = err_of(&GOOD.replace(
+            "    dimension: velocity\n    limit: <= 5",
+            "    limit: <= 5",
+        ));
+        assert!(
+            e.starts_with("r.yaml:8:") && e.contains("no `dimension`"),
+            "{e}"
+        );
+        let e = err_of(&GOOD.replace(
+            "    quantity: velocity\n    dimension: velocity\n    limit: <= 5",
+            "    dimension: velocity\n    limit: <= 5",
+        ));
+        assert!(
+            e.starts_with("r.yaml:8:") && e.contains("no `quantity`"),
+            "{e}"
+        );
+        let e = err_of(&format!(
+            "{GOOD}{}",
+            QUAL.replace("    method: review-of-design\n", "")
+        ));
+        assert!(e.contains("method"), "{e}");
     }
 
     #[test]

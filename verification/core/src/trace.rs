@@ -60,15 +60,18 @@ pub fn assert_limit(id: &str, value_si: f64) -> f64 {
     let r = requirements()
         .get(id)
         .unwrap_or_else(|| panic!("assert_limit: unknown requirement {id}"));
-    let (v, l) = (value_si / r.unit.scale, r.limit.value / r.unit.scale);
+    let lim = r.limit.as_ref().unwrap_or_else(|| {
+        panic!("assert_limit: {id} is a qualitative requirement (no limit to assert)")
+    });
+    let (v, l) = (value_si / lim.unit.scale, lim.in_unit());
     assert!(
-        value_si.is_finite() && r.op.holds(v, l),
+        value_si.is_finite() && lim.op.holds(v, l),
         "{id}: {v} {} does not meet its limit {}",
-        r.unit.symbol,
-        r.limit_text
+        lim.unit.symbol,
+        lim.text
     );
     record_assertion(id, crate::testrun::Assertion::Limit);
-    r.op.margin(v, l)
+    lim.op.margin(v, l)
 }
 
 /// Asserts that `value` agrees with an independent `reference` (named, e.g. "thesis Tab. 6.2" or

@@ -154,10 +154,16 @@ impl StatusSet {
                     r.id
                 )));
             };
-            if !row.limit_text.is_empty() && row.limit_text != r.limit_text {
+            let limit_text = r
+                .limit
+                .as_ref()
+                .map_or(geodesic_core::matrix::QUALITATIVE_LIMIT_TEXT, |l| {
+                    l.text.as_str()
+                });
+            if !row.limit_text.is_empty() && row.limit_text != limit_text {
                 return Err(err(format!(
                     "{}: the matrix judged limit `{}` but the requirement set says `{}` (run geodesic verify again)",
-                    r.id, row.limit_text, r.limit_text
+                    r.id, row.limit_text, limit_text
                 )));
             }
         }

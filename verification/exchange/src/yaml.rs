@@ -15,9 +15,16 @@ fn entry(o: &mut String, r: &ImportedRequirement) {
     o.push_str(&format!("    title: {}\n", q(&r.title)));
     o.push_str(&format!("    text: {}\n", q(&r.text)));
     o.push_str(&format!("    source: {}\n", q(&r.source)));
-    o.push_str(&format!("    quantity: {}\n", q(&r.quantity)));
-    o.push_str(&format!("    dimension: {}\n", q(&r.dimension)));
-    o.push_str(&format!("    limit: {}\n", q(&r.limit)));
+    if r.limit.is_empty() {
+        // qualitative: no limit, nor the dimension tied to it
+        if !r.quantity.is_empty() {
+            o.push_str(&format!("    quantity: {}\n", q(&r.quantity)));
+        }
+    } else {
+        o.push_str(&format!("    quantity: {}\n", q(&r.quantity)));
+        o.push_str(&format!("    dimension: {}\n", q(&r.dimension)));
+        o.push_str(&format!("    limit: {}\n", q(&r.limit)));
+    }
     if let Some(p) = &r.probability {
         o.push_str(&format!("    probability: {}\n", q(p)));
     }

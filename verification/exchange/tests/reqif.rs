@@ -166,7 +166,7 @@ fn export_with_the_matrix_carries_the_vcd_status() {
 
     // a matrix of another requirement set is refused
     let mut other = reqs.clone();
-    other.items[0].limit_text = "< 2".into();
+    other.items[0].limit.as_mut().unwrap().text = "< 2".into();
     let e = st.check_against(&mp, &other).unwrap_err().to_string();
     assert!(
         e.contains("CAP-QUARTIC") && e.contains("verify again"),
@@ -180,18 +180,20 @@ fn export_with_the_matrix_carries_the_vcd_status() {
 #[test]
 fn doors_module_imports_with_headings_prefixes_enumerations_and_links() {
     let (name, text) = fixture("doors-style-lpf.reqif");
-    // GRS-21 has no limit and no method: refused by default, naming file, line and requirement
-    let e = reqif::import(&name, &text, &ImportOptions::default())
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.starts_with("fixtures/doors-style-lpf.reqif:123: requirement GRS-21"),
-        "{e}"
+    // GRS-21 has no limit and no method: a qualitative requirement, closed by review of design
+    let (imp, set) = import_to_set(&name, &text, &ImportOptions::default());
+    assert!(imp.skipped.is_empty());
+    assert_eq!(imp.qualitative, 1);
+    let ids: Vec<&str> = set.items.iter().map(|r| r.id.as_str()).collect();
+    assert_eq!(ids, ["GRS-12", "GRS-13", "GRS-20", "GRS-21"]);
+    let g21 = set.get("GRS-21").unwrap();
+    assert!(g21.limit.is_none() && g21.check.is_none() && g21.parent.is_none());
+    assert_eq!(g21.method.to_string(), "review-of-design");
+    assert_eq!(
+        g21.text,
+        "The charge management shall be described in the design justification file."
     );
-    assert!(
-        e.contains("no limit") && e.contains("no verification method"),
-        "{e}"
-    );
+    // --skip-incomplete keeps the quantitative ones only, listing the qualitative one
     let o = ImportOptions {
         skip_incomplete: true,
         ..ImportOptions::default()
@@ -200,6 +202,9 @@ fn doors_module_imports_with_headings_prefixes_enumerations_and_links() {
     assert_eq!(imp.source_tool, "IBM Rational DOORS");
     assert_eq!(imp.skipped.len(), 1);
     assert_eq!(imp.skipped[0].id, "GRS-21");
+    assert_eq!(imp.skipped[0].line, 123);
+    assert!(imp.skipped[0].missing[0].contains("qualitative"));
+    assert_eq!(imp.qualitative, 0);
     assert_eq!(imp.headings, 2);
     let ids: Vec<&str> = set.items.iter().map(|r| r.id.as_str()).collect();
     assert_eq!(ids, ["GRS-12", "GRS-13", "GRS-20"]);
@@ -222,8 +227,9 @@ fn doors_module_imports_with_headings_prefixes_enumerations_and_links() {
         "The GPRM shall release the TM with a velocity along the release axis below 5 µm/s\nwith 99.73 % probability."
     );
     assert_eq!(r12.source, "LPF-RS-0340 Tab. 4");
-    assert_eq!(r12.limit_text, "<= 5 µm/s");
-    assert_eq!(r12.dim.name(), Some("velocity"));
+    let l12 = r12.limit.as_ref().unwrap();
+    assert_eq!(l12.text, "<= 5 µm/s");
+    assert_eq!(l12.dim.name(), Some("velocity"));
     assert_eq!(r12.method.to_string(), "analysis");
     assert_eq!(r12.activity, "not stated in the ReqIF file");
     assert!(r12.check.is_none(), "verify reports it not verified");
@@ -259,35 +265,69 @@ fn attribute_names_can_be_given() {
     o.attribute.remove(&Field::Limit);
     let (_, set) = import_to_set(&name, &text, &o);
     assert_eq!(set.get("GRS-12").unwrap().title, "jdoe");
+    // a limit without a method is never given one: refused at its requirement's line
+    let mut o = ImportOptions::default();
+    o.attribute.insert(Field::Method, "V&V Method".into());
+    let e = reqif::import(&name, &text, &o).unwrap_err().to_string();
+    assert!(
+        e.starts_with("fixtures/doors-style-lpf.reqif:")
+            && e.contains(":83: requirement GRS-12 ")
+            && e.contains("no verification method (attribute `V&V Method`)"),
+        "{e}"
+    );
+}
+
+/// Imports `text`, loads the YAML, exports it, imports and exports again: the two exports are
+/// the same apart from the creation time and the two loaded sets are the same.
+fn assert_round_trip(name: &Path, text: &str, o: &ImportOptions) -> Requirements {
+    let (_, set) = import_to_set(name, text, o);
+    let first = reqif::export(&set, &opts("2026-01-01T00:00:00Z", None));
+    let (imp2, back) = import_to_set(Path::new("set.reqif"), &first, &ImportOptions::default());
+    assert!(imp2.skipped.is_empty());
+    assert_eq!(content(&back), content(&set));
+    let second = reqif::export(&back, &opts("2027-06-30T12:00:00Z", None));
+    assert_eq!(
+        without_creation_time(&first),
+        without_creation_time(&second)
+    );
+    set
 }
 
 #[test]
-fn polarion_and_doors_exports_without_limits_are_refused_by_requirement() {
-    // real files: no limit, no method; the message names the file, the line and the
-    // requirement as the tool identifies it
+fn polarion_doors_and_rmf_exports_without_limits_import_as_qualitative() {
+    // real files: prose requirements, no limit, no method
     let (name, text) = fixture("polarion-sample.reqif");
-    let e = reqif::import(&name, &text, &ImportOptions::default())
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.starts_with("fixtures/polarion-sample.reqif:129: requirement LOREM-818 "),
-        "{e}"
-    );
-    assert!(e.contains("no limit"), "{e}");
+    let (imp, set) = import_to_set(&name, &text, &ImportOptions::default());
+    assert_eq!(imp.count(), 1);
+    assert_eq!(imp.qualitative, 1);
+    let r = &set.items[0];
+    assert_eq!(r.id.as_str(), "LOREM-818");
+    assert!(r.limit.is_none());
+    assert_eq!(r.method.to_string(), "review-of-design");
+    assert!(!r.text.trim().is_empty());
+    assert_round_trip(&name, &text, &ImportOptions::default());
+    // only quantitative ones wanted: nothing to import, each listed
     let o = ImportOptions {
         skip_incomplete: true,
         ..ImportOptions::default()
     };
     let e = reqif::import(&name, &text, &o).unwrap_err().to_string();
-    assert!(e.contains("none of its 1 requirements"), "{e}");
+    assert!(
+        e.starts_with("fixtures/polarion-sample.reqif:129: ")
+            && e.contains("none of its 1 requirements"),
+        "{e}"
+    );
 
     let (name, text) = fixture("doors-capella-sample.reqif");
-    let e = reqif::import(&name, &text, &ImportOptions::default())
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains(":68: requirement PUID-1 "), "{e}");
+    let (imp, set) = import_to_set(&name, &text, &ImportOptions::default());
+    assert_eq!(imp.source_tool, "IBM Rational DOORS");
+    assert_eq!(imp.qualitative, imp.count());
+    assert_eq!(set.items[0].id.as_str(), "PUID-1");
+    assert!(set.items.iter().all(|r| r.limit.is_none()));
+    assert_round_trip(&name, &text, &ImportOptions::default());
 
     // RIF/ReqIF 1.0.1 namespace: read; its objects have no text, so nothing is a requirement
+    // until the attribute that holds one is named
     let (name, text) = fixture("rmf-spec-relation.reqif");
     let e = reqif::import(&name, &text, &ImportOptions::default())
         .unwrap_err()
@@ -295,11 +335,25 @@ fn polarion_and_doors_exports_without_limits_are_refused_by_requirement() {
     assert!(e.contains("no requirement in this file"), "{e}");
     let mut o = ImportOptions::default();
     o.attribute.insert(Field::Text, "Author".into());
-    let e = reqif::import(&name, &text, &o).unwrap_err().to_string();
+    let (imp, set) = import_to_set(&name, &text, &o);
+    assert_eq!(imp.count(), 2);
     assert!(
-        e.contains("requirement REQ-2C84E85A-59D1-11DA-8EF5-AFDBD01C7A79"),
-        "{e}"
+        set.get("REQ-2C84E85A-59D1-11DA-8EF5-AFDBD01C7A79")
+            .is_some_and(|r| r.limit.is_none() && r.text == "Max Mustermann")
     );
+    assert_round_trip(&name, &text, &o);
+
+    // Eclipse RMF / ProR: names in XHTML `ReqIF.Name`, the prose in a string attribute `A1`
+    let (name, text) = fixture("rmf-pror-sample.reqif");
+    let mut o = ImportOptions::default();
+    o.attribute.insert(Field::Text, "A1".into());
+    let (imp, set) = import_to_set(&name, &text, &o);
+    assert_eq!(imp.count(), 6);
+    assert_eq!(imp.qualitative, 6);
+    assert!(set.items.iter().all(|r| r.limit.is_none()
+        && r.method.to_string() == "review-of-design"
+        && !r.title.trim().is_empty()));
+    assert_round_trip(&name, &text, &o);
 }
 
 #[test]

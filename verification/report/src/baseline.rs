@@ -221,7 +221,7 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
                 o.status,
                 val(r.value, unit),
                 r.op,
-                val(Some(r.limit), unit)
+                val(r.limit, unit)
             ));
         } else if o.value.is_some() && r.value.is_none() {
             reg.push(format!(

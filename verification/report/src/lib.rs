@@ -166,14 +166,13 @@ pub fn fmt_opt(v: Option<f64>) -> String {
 /// The limit of a row as every report writes it: comparison, number (at most 4 significant
 /// digits, [`geodesic_core::units::fmt_num`]) and unit, `<= 3e8 e`, `>= 0.9973`.
 pub fn fmt_limit(r: &geodesic_core::matrix::Row) -> String {
-    format!(
-        "{} {} {}",
-        r.op,
-        geodesic_core::units::fmt_num(r.limit),
-        r.unit
-    )
-    .trim_end()
-    .to_string()
+    match r.limit {
+        Some(l) => format!("{} {} {}", r.op, geodesic_core::units::fmt_num(l), r.unit)
+            .trim_end()
+            .to_string(),
+        // a qualitative requirement: no quantitative limit
+        None => r.limit_text.clone(),
+    }
 }
 
 /// The deciding value of a row with its unit (`1.329 um/s`), `—` when absent.

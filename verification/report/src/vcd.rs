@@ -75,11 +75,14 @@ pub struct VcdLine {
 
 /// Whether `value op limit` holds for the row's comparison.
 fn holds(r: &Row, value: f64) -> bool {
+    let Some(limit) = r.limit else {
+        return false; // a qualitative requirement: no value decides it
+    };
     match r.op.as_str() {
-        "<=" => value <= r.limit,
-        "<" => value < r.limit,
-        ">=" => value >= r.limit,
-        ">" => value > r.limit,
+        "<=" => value <= limit,
+        "<" => value < limit,
+        ">=" => value >= limit,
+        ">" => value > limit,
         _ => false,
     }
 }

@@ -232,7 +232,7 @@ fn drift_flow_downs_meet_their_limits() {
         let Outcome::Measured(q) = &e.outcome else {
             panic!()
         };
-        let want = 15.0 * reqs.get(rate).unwrap().limit.value;
+        let want = 15.0 * reqs.get(rate).unwrap().limit.as_ref().unwrap().value.value;
         geodesic_core::trace::assert_reference(id, "15 s x the rate limit", q.value, want, 1e-12);
         geodesic_core::trace::assert_limit(id, q.value);
     }

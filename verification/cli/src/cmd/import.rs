@@ -30,8 +30,10 @@ pub struct ReqifArgs {
     /// Directory the YAML files are written to (created; must hold no YAML file yet).
     #[arg(long, value_name = "DIR", default_value = "imported-requirements")]
     pub out: PathBuf,
-    /// Leave out the requirements that lack a limit or a verification method (listed on
-    /// standard error) instead of failing.
+    /// Import only complete quantitative requirements: leave out those with a limit but no
+    /// verification method (or one that cannot be read) instead of failing, and the qualitative
+    /// ones (no limit; imported by default, method review-of-design unless the file states
+    /// one). Each is listed on standard error.
     #[arg(long = "skip-incomplete")]
     pub skip_incomplete: bool,
     /// The attribute (its LONG-NAME) that holds a field, e.g. `limit=Max Value` or
@@ -171,18 +173,20 @@ fn reqif(a: ReqifArgs) -> CmdResult {
             "headings": imported.headings,
             "other_objects": imported.other_objects,
             "relations": imported.relations,
+            "qualitative": imported.qualitative,
         });
         println!("{v}");
     } else {
         println!(
-            "imported {} requirements ({} headings, {} relations{}) into {}/{{{}}}",
+            "imported {} requirements ({} qualitative, {} headings, {} relations{}) into {}/{{{}}}",
             imported.count(),
+            imported.qualitative,
             imported.headings,
             imported.relations,
             if imported.skipped.is_empty() {
                 String::new()
             } else {
-                format!(", {} skipped as incomplete", imported.skipped.len())
+                format!(", {} skipped", imported.skipped.len())
             },
             a.out.display(),
             files.join(",")

@@ -376,30 +376,35 @@ fn write_enum(w: &mut Writer, id: &str, name: &str, values: &[&str]) {
     w.close("DATATYPE-DEFINITION-ENUMERATION");
 }
 
-/// The limit's number in its written unit, for `geodesic.LimitValue`.
-fn limit_in_unit(r: &Requirement) -> f64 {
-    r.limit.in_unit(&r.unit)
-}
-
 fn requirement_values(r: &Requirement, st: Option<&RowStatus>) -> Vec<(&'static str, Val)> {
     let mut v: Vec<(&'static str, Val)> = vec![
         ("geodesic-ad-req-foreign-id", Val::Str(r.id.to_string())),
         ("geodesic-ad-req-name", Val::Str(r.title.clone())),
         ("geodesic-ad-req-text", Val::Xhtml(r.text.clone())),
         ("geodesic-ad-req-source", Val::Str(r.source.clone())),
-        ("geodesic-ad-req-quantity", Val::Str(r.quantity.clone())),
-        (
-            "geodesic-ad-req-dimension",
-            Val::Str(
-                r.dim
-                    .name()
-                    .map_or_else(|| r.dim.to_string(), str::to_string),
-            ),
-        ),
-        ("geodesic-ad-req-limit", Val::Str(r.limit_text.clone())),
-        ("geodesic-ad-req-limit-value", Val::Real(limit_in_unit(r))),
-        ("geodesic-ad-req-unit", Val::Str(r.unit.symbol.clone())),
     ];
+    match &r.limit {
+        Some(l) => v.extend([
+            ("geodesic-ad-req-quantity", Val::Str(r.quantity.clone())),
+            (
+                "geodesic-ad-req-dimension",
+                Val::Str(
+                    l.dim
+                        .name()
+                        .map_or_else(|| l.dim.to_string(), str::to_string),
+                ),
+            ),
+            ("geodesic-ad-req-limit", Val::Str(l.text.clone())),
+            // the limit's number in its written unit
+            ("geodesic-ad-req-limit-value", Val::Real(l.in_unit())),
+            ("geodesic-ad-req-unit", Val::Str(l.unit.symbol.clone())),
+        ]),
+        // qualitative: no limit, dimension nor unit (the importer reads their absence back)
+        None if !r.quantity.is_empty() => {
+            v.push(("geodesic-ad-req-quantity", Val::Str(r.quantity.clone())));
+        }
+        None => {}
+    }
     if let Some(p) = &r.probability {
         v.push(("geodesic-ad-req-probability", Val::Str(p.clone())));
     }

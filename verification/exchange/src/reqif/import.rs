@@ -18,16 +18,21 @@
 //! | source | `geodesic.Source`, `Source` | the file, its specification and the object |
 //! | quantity | `geodesic.Quantity`, `Quantity` | empty |
 //! | dimension | `geodesic.Dimension`, `Dimension` | the dimension of the limit's unit |
-//! | limit | `geodesic.Limit`, `Limit` | **incomplete** |
+//! | limit | `geodesic.Limit`, `Limit` | none: a *qualitative* requirement (closed by its method) |
 //! | probability | `geodesic.Probability`, `Probability` | none |
-//! | method | `geodesic.Method`, `Verification Method`, `Verification Methods`, `Method` | **incomplete** |
+//! | method | `geodesic.Method`, `Verification Method`, `Verification Methods`, `Method` | `review-of-design` for a qualitative requirement; **incomplete** for one with a limit |
 //! | activity | `geodesic.Activity`, `Verification Activity`, `Activity` | "not stated in the ReqIF file" |
 //! | check | `geodesic.Check` | none (verify reports the requirement not verified) |
 //! | note | `geodesic.Note`, `Note`, `Comment`, `Comments` | none |
 //!
-//! A requirement without a limit or a method cannot be judged by geodesic and is never given
-//! an invented one: the import fails naming each such requirement (file and line), or with
-//! `ImportOptions::skip_incomplete` leaves them out and lists them in `Imported::skipped`.
+//! A requirement without a limit (the prose requirements of most DOORS and Polarion modules) is
+//! imported as *qualitative*: no limit, dimension, probability, check nor parent (its
+//! derivation links are kept in the note), method `review-of-design` (ECSS-E-ST-10-02C review
+//! of design) unless the file states one; `verify` reports it not verified. A requirement
+//! with a limit but no method, or with a limit, method or check geodesic cannot read, is never
+//! given an invented one: the import fails naming each such requirement (file and line), or
+//! with `ImportOptions::skip_incomplete` leaves them out, with the qualitative ones, and lists
+//! them in `Imported::skipped`.
 
 use super::{CHAPTER_NAME, DESCRIPTION, FOREIGN_ID, NAME, PREFIX, TEXT, xhtml_to_text};
 use crate::yaml;
@@ -164,8 +169,9 @@ impl Field {
 /// How to import.
 #[derive(Clone, Debug, Default)]
 pub struct ImportOptions {
-    /// Leave out requirements without a limit or a method (listed in [`Imported::skipped`])
-    /// instead of failing.
+    /// Import only complete quantitative requirements: leave out the incomplete ones (a limit
+    /// without a method, a limit or method that cannot be read) instead of failing, and the
+    /// qualitative ones (no limit); all are listed in [`Imported::skipped`].
     pub skip_incomplete: bool,
     /// The attribute (LONG-NAME) that supplies a field, replacing the built-in list.
     pub attribute: BTreeMap<Field, String>,
@@ -184,9 +190,9 @@ pub struct ImportedRequirement {
     pub source: String,
     /// Quantity.
     pub quantity: String,
-    /// Dimension name.
+    /// Dimension name (empty when qualitative).
     pub dimension: String,
-    /// Limit as written.
+    /// Limit as written (empty: a qualitative requirement).
     pub limit: String,
     /// Probability level.
     pub probability: Option<String>,
@@ -219,7 +225,8 @@ pub struct ImportedFamily {
     pub yaml: String,
 }
 
-/// A requirement left out because a field geodesic needs is missing.
+/// A requirement left out because a field geodesic needs is missing (or, with
+/// [`ImportOptions::skip_incomplete`], because it is qualitative).
 #[derive(Clone, Debug)]
 pub struct Skipped {
     /// geodesic ID it would have had.
@@ -237,6 +244,8 @@ pub struct Imported {
     pub families: Vec<ImportedFamily>,
     /// Requirements left out (only with `skip_incomplete`).
     pub skipped: Vec<Skipped>,
+    /// Requirements imported as qualitative (no limit).
+    pub qualitative: usize,
     /// `SOURCE-TOOL-ID` of the header.
     pub source_tool: String,
     /// Heading objects read.
@@ -570,6 +579,9 @@ struct Pending {
     ident: String,
     family: (String, Option<String>),
     missing: Vec<String>,
+    /// No limit in the file: imported as a qualitative requirement (`missing` says why not
+    /// quantitative, for `skip_incomplete`).
+    qualitative: Option<String>,
     limit_si: Option<Quantity>,
     extra_notes: Vec<String>,
 }
@@ -756,6 +768,7 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
             str::to_string,
         );
         let mut missing = Vec::new();
+        let mut qualitative = None;
         let (limit, limit_si, dim_from_limit) = match o.get(Field::Limit, opts) {
             Some(l) => match parse_limit(l) {
                 Ok((q, d)) => (l.to_string(), Some(q), Some(d)),
@@ -765,8 +778,8 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                 }
             },
             None => {
-                missing.push(format!(
-                    "no limit (attribute {})",
+                qualitative = Some(format!(
+                    "no limit (attribute {}): qualitative",
                     attr_names(Field::Limit, opts)
                 ));
                 (String::new(), None, None)
@@ -780,6 +793,9 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                     String::new()
                 }
             },
+            // a qualitative requirement is closed by review of design unless the file says
+            // otherwise; a limit without a method is not given one
+            None if qualitative.is_some() => "review-of-design".to_string(),
             None => {
                 missing.push(format!(
                     "no verification method (attribute {})",
@@ -788,11 +804,29 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                 String::new()
             }
         };
-        let dimension = o
+        let mut dimension = o
             .get(Field::Dimension, opts)
             .map(str::to_string)
             .or(dim_from_limit)
             .unwrap_or_default();
+        let mut probability = o.get(Field::Probability, opts).map(str::to_string);
+        let check = o.get(Field::Check, opts).map(str::to_string);
+        if qualitative.is_some() {
+            // what is tied to a limit cannot be kept without one: said in the note
+            if !dimension.is_empty() {
+                notes.push(format!("dimension '{dimension}' stated without a limit"));
+                dimension.clear();
+            }
+            if let Some(p) = probability.take() {
+                notes.push(format!("probability '{p}' stated without a limit"));
+            }
+            if let Some(c) = &check {
+                missing.push(format!(
+                    "check `{c}` named but no limit (attribute {}) to judge its value against",
+                    attr_names(Field::Limit, opts)
+                ));
+            }
+        }
         let family = place
             .family
             .clone()
@@ -809,13 +843,13 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                 quantity: o.get(Field::Quantity, opts).unwrap_or("").to_string(),
                 dimension,
                 limit,
-                probability: o.get(Field::Probability, opts).map(str::to_string),
+                probability,
                 method,
                 activity: o
                     .get(Field::Activity, opts)
                     .unwrap_or("not stated in the ReqIF file")
                     .to_string(),
-                check: o.get(Field::Check, opts).map(str::to_string),
+                check,
                 parent: None,
                 note,
                 line: o.line,
@@ -823,6 +857,7 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
             ident: o.ident.clone(),
             family,
             missing,
+            qualitative,
             limit_si,
             extra_notes: notes,
         });
@@ -862,7 +897,10 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                 .map(|v| v.text.trim().to_string());
             let is_parent = PARENT_RELATIONS.iter().any(|p| norm(p) == norm(&type_name));
             let target_id = pending[ti].req.id.clone();
-            let mut as_note = !is_parent || pending[si].req.parent.is_some();
+            // a margin links two limits: a qualitative end keeps the link in its note
+            let both_limits =
+                pending[si].qualitative.is_none() && pending[ti].qualitative.is_none();
+            let mut as_note = !is_parent || !both_limits || pending[si].req.parent.is_some();
             if !as_note {
                 let margin = match margin_attr {
                     Some(m) => Some(m.parse::<f64>().map_err(|_| {
@@ -918,25 +956,27 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
             ),
         });
     }
-    let skipped: Vec<Skipped> = incomplete
+    // with skip_incomplete, only complete quantitative requirements are kept
+    let left_out =
+        |p: &Pending| !p.missing.is_empty() || (opts.skip_incomplete && p.qualitative.is_some());
+    let skipped: Vec<Skipped> = pending
         .iter()
+        .filter(|p| left_out(p))
         .map(|p| Skipped {
             id: p.req.id.clone(),
             line: p.req.line,
-            missing: p.missing.clone(),
+            missing: p.qualitative.iter().chain(&p.missing).cloned().collect(),
         })
         .collect();
     let skipped_ids: HashSet<String> = skipped.iter().map(|s| s.id.clone()).collect();
-    let mut kept: Vec<Pending> = pending
-        .into_iter()
-        .filter(|p| p.missing.is_empty())
-        .collect();
+    let mut kept: Vec<Pending> = pending.into_iter().filter(|p| !left_out(p)).collect();
+    let qualitative = kept.iter().filter(|p| p.qualitative.is_some()).count();
     for p in &mut kept {
         if let Some((pid, _)) = &p.req.parent
             && skipped_ids.contains(pid)
         {
             p.extra_notes.push(format!(
-                "parent {pid} not imported (incomplete in the ReqIF file)"
+                "parent {pid} not imported (incomplete or qualitative in the ReqIF file)"
             ));
             p.req.parent = None;
         }
@@ -1047,6 +1087,7 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
     Ok(Imported {
         families: fams,
         skipped,
+        qualitative,
         source_tool,
         headings,
         other_objects,
