@@ -26,4 +26,5 @@ pub mod inputs;
 pub mod integrator;
 pub mod model;
 pub mod montecarlo;
+pub mod parts;
 pub mod stats;

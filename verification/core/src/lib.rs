@@ -17,6 +17,7 @@ pub mod matrix;
 pub mod output;
 pub mod requirement;
 pub mod testrun;
+pub mod text;
 pub mod trace;
 pub mod units;
 

@@ -10,6 +10,7 @@
 //! compared with `2 mm`.
 
 use serde::{Deserialize, Serialize};
+use crate::text::one_line;
 use std::fmt;
 
 /// Elementary charge [C] (exact, SI 2019).
@@ -86,20 +87,22 @@ impl Dim {
         Dim::NAMED.iter().find(|(_, d)| *d == self).map(|(n, _)| *n)
     }
 
-    fn mul(self, o: Dim) -> Dim {
+    /// The product's dimension (`None`: an exponent beyond the range of `i8`).
+    fn mul(self, o: Dim) -> Option<Dim> {
         let mut r = self.0;
         for (a, b) in r.iter_mut().zip(o.0) {
-            *a += b;
+            *a = a.checked_add(b)?;
         }
-        Dim(r)
+        Some(Dim(r))
     }
 
-    fn pow(self, p: i8) -> Dim {
+    /// The power's dimension (`None`: an exponent beyond the range of `i8`).
+    fn pow(self, p: i8) -> Option<Dim> {
         let mut r = self.0;
         for a in r.iter_mut() {
-            *a *= p;
+            *a = a.checked_mul(p)?;
         }
-        Dim(r)
+        Some(Dim(r))
     }
 }
 
@@ -145,7 +148,7 @@ pub struct Unit {
 #[non_exhaustive]
 pub enum UnitError {
     /// The unit text has a symbol that is not known.
-    #[error("unknown unit `{unit}` (symbol `{symbol}`)")]
+    #[error("unknown unit `{}` (symbol `{}`)", one_line(.unit), one_line(.symbol))]
     UnknownSymbol {
         /// The whole unit text.
         unit: String,
@@ -153,11 +156,14 @@ pub enum UnitError {
         symbol: String,
     },
     /// The quantity has no leading number.
-    #[error("`{0}` is not a number followed by a unit (e.g. `5 um/s`)")]
+    #[error("`{}` is not a number followed by a unit (e.g. `5 um/s`)", one_line(.0))]
     NotAQuantity(String),
     /// The number is NaN or infinite.
-    #[error("`{0}` is not a finite number")]
+    #[error("`{}` is not a finite number", one_line(.0))]
     NotFinite(String),
+    /// A power of a dimension beyond +-127, or a scale beyond the range of f64.
+    #[error("unit `{}`: a power or a scale out of range", one_line(.0))]
+    PowerOutOfRange(String),
     /// Empty unit text.
     #[error("empty unit")]
     Empty,
@@ -292,9 +298,13 @@ pub fn parse_unit(text: &str) -> Result<Unit, UnitError> {
                 unit: text.to_string(),
                 symbol: base.to_string(),
             })?;
-            let p = pow * sign;
+            let too_large = || UnitError::PowerOutOfRange(text.to_string());
+            let p = pow.checked_mul(sign).ok_or_else(too_large)?;
             scale *= sc.powi(p as i32);
-            dim = dim.mul(d.pow(p));
+            dim = d.pow(p).and_then(|d| dim.mul(d)).ok_or_else(too_large)?;
+            if !(scale.is_finite() && scale > 0.0) {
+                return Err(too_large());
+            }
         }
         Ok(())
     };
@@ -387,7 +397,12 @@ pub fn parse_quantity(text: &str) -> Result<(Quantity, Unit), UnitError> {
     } else {
         parse_unit(rest)?
     };
-    Ok((Quantity::new(value * unit.scale, unit.dim), unit))
+    let si = value * unit.scale;
+    if !si.is_finite() {
+        // e.g. `1e308 km`: finite as written, beyond f64 in SI
+        return Err(UnitError::NotFinite(text.to_string()));
+    }
+    Ok((Quantity::new(si, unit.dim), unit))
 }
 
 /// Parses a value of dimension `dim` as given on a command line or in a file: a bare number is
@@ -415,13 +430,14 @@ pub fn parse_si(text: &str, dim: Dim) -> Result<f64, String> {
     }
     if q.dim != dim {
         return Err(format!(
-            "`{text}`: unit `{}` is not {} (give SI units or a unit of that dimension)",
-            unit.symbol,
+            "`{}`: unit `{}` is not {} (give SI units or a unit of that dimension)",
+            one_line(text),
+            one_line(&unit.symbol),
             want()
         ));
     }
     if !q.value.is_finite() {
-        return Err(format!("`{text}`: not a finite number"));
+        return Err(format!("`{}`: not a finite number", one_line(text)));
     }
     Ok(q.value)
 }

@@ -2,9 +2,10 @@
 //! --out PART.json` into the summary of the whole run, identical to an unsharded run with the
 //! same N and seed (interface.md). Missing, duplicate or foreign shards are bad input (exit 2).
 
-use crate::cmd::montecarlo::{CHECKSUM_KEY, print_text, summary_json, write_histogram};
+use crate::cmd::montecarlo::{print_text, summary_json, write_histogram};
 use crate::error::{CliError, CmdResult};
 use geodesic_release::montecarlo::{self, McResult};
+use geodesic_release::parts;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -22,66 +23,13 @@ pub struct Args {
     pub json: bool,
 }
 
-/// Reads one partial result, refusing anything that is not exactly what `montecarlo --shard`
-/// wrote: a non-regular or oversized file, malformed JSON, a missing or wrong checksum, a
-/// count beyond its maximum, an empty shard or a non-finite velocity. Errors name the file.
+/// Reads one partial result, refusing a non-regular or oversized file and anything that is not
+/// exactly what `montecarlo --shard` wrote ([`parts::parse_part`]). Errors name the file.
 fn read_part(p: &Path) -> Result<McResult, CliError> {
     let file = p.display().to_string();
     let text = geodesic_core::fsio::read_text(p, MAX_PART_BYTES)
         .map_err(|e| CliError::bad(format!("{file}: {e}")))?;
-    let mut v: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
-        CliError::bad(format!(
-            "{file}:{}: not a geodesic montecarlo partial result: {e}",
-            e.line()
-        ))
-    })?;
-    let Some(obj) = v.as_object_mut() else {
-        return Err(CliError::bad(format!(
-            "{file}: not a geodesic montecarlo partial result (not a JSON object)"
-        )));
-    };
-    let Some(sum) = obj.remove(CHECKSUM_KEY) else {
-        return Err(CliError::bad(format!(
-            "{file}: no `{CHECKSUM_KEY}` checksum (write partial results with this geodesic's montecarlo --shard)"
-        )));
-    };
-    let body = serde_json::to_vec(&v).map_err(|e| CliError::Io(e.to_string()))?;
-    if sum.as_str() != Some(geodesic_core::hash::sha256_hex(&body).as_str()) {
-        return Err(CliError::bad(format!(
-            "{file}: checksum mismatch: the partial result was changed or damaged after it was written"
-        )));
-    }
-    let r: McResult = serde_json::from_value(v).map_err(|e| {
-        CliError::bad(format!(
-            "{file}: not a geodesic montecarlo partial result: {e}"
-        ))
-    })?;
-    let (i, k) = r.shard.unwrap_or((1, 1));
-    montecarlo::check_size(r.n, Some(k)).map_err(|e| CliError::bad(format!("{file}: {e}")))?;
-    let expect =
-        montecarlo::shard_range(r.n, i, k).map_err(|e| CliError::bad(format!("{file}: {e}")))?;
-    if r.v_m_s.is_empty() {
-        return Err(CliError::bad(format!(
-            "{file}: shard {i}/{k} holds no draws"
-        )));
-    }
-    if r.start != expect.start || r.v_m_s.len() != expect.len() {
-        return Err(CliError::bad(format!(
-            "{file}: shard {i}/{k} holds draws {}..{}, expected {}..{}",
-            r.start,
-            r.start + r.v_m_s.len(),
-            expect.start,
-            expect.end
-        )));
-    }
-    if let Some(j) = r.v_m_s.iter().position(|x| !x.is_finite()) {
-        return Err(CliError::bad(format!(
-            "{file}: draw {} has a non-finite velocity {}",
-            r.start + j,
-            r.v_m_s[j]
-        )));
-    }
-    Ok(r)
+    parts::parse_part(&file, &text).map_err(CliError::bad)
 }
 
 /// Largest partial result read [bytes]: 20 digits per draw of the largest run, plus slack.

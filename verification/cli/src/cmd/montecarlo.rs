@@ -55,16 +55,9 @@ pub fn check_threads(t: Option<usize>) -> Result<(), CliError> {
     }
 }
 
-/// Field of a partial result holding the SHA-256 of the rest of its JSON.
-pub const CHECKSUM_KEY: &str = "sha256";
-
-/// The JSON text of a partial result with the SHA-256 of its content (the JSON without the
-/// checksum field) added, so that `geodesic merge` detects any change to it.
+/// The JSON text of a partial result, sealed with its checksum (`geodesic_release::parts::sealed_json`).
 pub fn sealed_json(r: &McResult) -> Result<Vec<u8>, CliError> {
-    let mut v = serde_json::to_value(r).map_err(|e| CliError::Io(e.to_string()))?;
-    let body = serde_json::to_vec(&v).map_err(|e| CliError::Io(e.to_string()))?;
-    v[CHECKSUM_KEY] = serde_json::json!(geodesic_core::hash::sha256_hex(&body));
-    serde_json::to_vec(&v).map_err(|e| CliError::Io(e.to_string()))
+    geodesic_release::parts::sealed_json(r).map_err(CliError::Io)
 }
 
 /// Parses `I/K`.

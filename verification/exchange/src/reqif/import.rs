@@ -48,7 +48,7 @@ pub const MAX_NODES: u32 = 20_000_000;
 
 /// Why a ReqIF file was refused. Display is one line: `file:line: cause`.
 #[derive(Debug, Clone, thiserror::Error)]
-#[error("{file}:{line}: {cause}")]
+#[error("{file}:{line}: {}", geodesic_core::text::one_line(.cause))]
 pub struct ImportError {
     /// The ReqIF file.
     pub file: String,
