@@ -9,7 +9,8 @@ use geodesic_fuzz::run::{CURRENT, save};
 use geodesic_fuzz::targets::Ctx;
 use geodesic_fuzz::{Options, TARGETS, Target, find, fuzz, replay};
 
-const USAGE: &str = "usage: geodesic-fuzz TARGET|all [--iterations N | --seconds S] [--seed S] [--hang-seconds S]
+const USAGE: &str =
+    "usage: geodesic-fuzz TARGET|all [--iterations N | --seconds S] [--seed S] [--hang-seconds S]
        geodesic-fuzz replay TARGET FILE|DIR...
        geodesic-fuzz list
 Fuzzes geodesic's parsers (default: 60 s per target, seed 1, hang threshold 2 s). Failing
@@ -54,7 +55,11 @@ fn main() -> ExitCode {
     } else {
         match find(first) {
             Some(t) => vec![t],
-            None => return usage(&format!("unknown target `{first}` (see `geodesic-fuzz list`)")),
+            None => {
+                return usage(&format!(
+                    "unknown target `{first}` (see `geodesic-fuzz list`)"
+                ));
+            }
         }
     };
     let mut opts = Options {

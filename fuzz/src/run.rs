@@ -105,13 +105,24 @@ pub struct Stats {
 static LAST_PANIC: Mutex<Option<String>> = Mutex::new(None);
 static HOOK: Once = Once::new();
 
-/// Replaces the panic hook by one that records the panic instead of printing it (once per
-/// process: the fuzzer expects panics).
+thread_local! {
+    /// Whether this thread is running a fuzz input (its panics are findings, not failures).
+    static IN_TARGET: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Installs (once per process) a panic hook that records the panics of fuzz inputs instead of
+/// printing them, and hands every other panic (a failing assertion of a test, a bug of the
+/// harness) to the hook that was there before.
 pub fn silence_panics() {
     HOOK.call_once(|| {
-        std::panic::set_hook(Box::new(|info| {
-            if let Ok(mut g) = LAST_PANIC.lock() {
-                *g = Some(info.to_string().replace('\n', " "));
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if IN_TARGET.with(|f| f.get()) {
+                if let Ok(mut g) = LAST_PANIC.lock() {
+                    *g = Some(info.to_string().replace('\n', " "));
+                }
+            } else {
+                previous(info);
             }
         }));
     });
@@ -120,7 +131,10 @@ pub fn silence_panics() {
 /// Runs one input; `Err` is the panic's message.
 pub fn run_one(t: &Target, ctx: &Ctx, data: &[u8]) -> Result<Outcome, String> {
     silence_panics();
-    match catch_unwind(AssertUnwindSafe(|| (t.run)(ctx, data))) {
+    IN_TARGET.with(|f| f.set(true));
+    let outcome = catch_unwind(AssertUnwindSafe(|| (t.run)(ctx, data)));
+    IN_TARGET.with(|f| f.set(false));
+    match outcome {
         Ok(o) => Ok(o),
         Err(payload) => {
             let recorded = LAST_PANIC.lock().ok().and_then(|mut g| g.take());
@@ -239,7 +253,11 @@ pub fn fuzz(t: &'static Target, ctx: &Ctx, root: &Path, opts: &Options) -> Stats
         {
             found.push((
                 FindingKind::Hang,
-                format!("took {:.1} s (threshold {:.1} s)", took.as_secs_f64(), h.as_secs_f64()),
+                format!(
+                    "took {:.1} s (threshold {:.1} s)",
+                    took.as_secs_f64(),
+                    h.as_secs_f64()
+                ),
             ));
         }
         match &outcome {
@@ -255,7 +273,10 @@ pub fn fuzz(t: &'static Target, ctx: &Ctx, root: &Path, opts: &Options) -> Stats
             if !reported.insert(key) {
                 continue;
             }
-            let saved = opts.crash_dir.as_deref().and_then(|d| save(d, t.name, &data));
+            let saved = opts
+                .crash_dir
+                .as_deref()
+                .and_then(|d| save(d, t.name, &data));
             let f = Finding {
                 target: t.name,
                 kind,

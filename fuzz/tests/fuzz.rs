@@ -7,7 +7,10 @@ use geodesic_fuzz::run::run_one;
 use geodesic_fuzz::{Ctx, Options, Outcome, TARGETS, fuzz, replay};
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
 }
 
 #[test]
@@ -25,25 +28,44 @@ fn every_target_survives_a_fixed_run() {
     let mut failures = Vec::new();
     for t in TARGETS {
         let st = fuzz(t, &ctx, &root, &opts);
-        assert!(st.iterations >= 400, "{}: {} inputs run", t.name, st.iterations);
-        assert!(st.refused > 0, "{}: the mutations never reached an error", t.name);
+        assert!(
+            st.iterations >= 400,
+            "{}: {} inputs run",
+            t.name,
+            st.iterations
+        );
+        assert!(
+            st.refused > 0,
+            "{}: the mutations never reached an error",
+            t.name
+        );
         failures.extend(st.findings.iter().map(|f| f.to_string()));
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]
-fn the_seeds_are_accepted() {
-    // the harness reaches the parsers' success path: every real file given as a seed is valid
+fn the_seeds_reach_the_success_path() {
+    // every real file given as a seed keeps the parser's contract, and each target has seeds
+    // the parser accepts (the harness reaches the success path). Some seeds are refused by
+    // design: a ReqIF sample that needs `--attribute`, a shard that is merged only with its
+    // siblings.
     let root = root();
     let ctx = Ctx::new(&root).unwrap();
     for t in TARGETS {
         let seeds = (t.seeds)(&root);
         assert!(!seeds.is_empty(), "{}: no seed", t.name);
+        let mut accepted = 0;
         for (i, s) in seeds.iter().enumerate() {
             let o = run_one(t, &ctx, s).unwrap_or_else(|p| panic!("{} seed {i}: {p}", t.name));
-            assert_eq!(o, Outcome::Accepted, "{} seed {i}", t.name);
+            assert!(
+                !matches!(o, Outcome::Violation(_)),
+                "{} seed {i}: {o:?}",
+                t.name
+            );
+            accepted += usize::from(o == Outcome::Accepted);
         }
+        assert!(accepted > 0, "{}: no seed accepted", t.name);
     }
 }
 
@@ -85,5 +107,8 @@ fn the_same_seed_gives_the_same_run() {
     };
     let a = fuzz(t, &ctx, &root, &opts);
     let b = fuzz(t, &ctx, &root, &opts);
-    assert_eq!((a.accepted, a.refused, a.corpus), (b.accepted, b.refused, b.corpus));
+    assert_eq!(
+        (a.accepted, a.refused, a.corpus),
+        (b.accepted, b.refused, b.corpus)
+    );
 }

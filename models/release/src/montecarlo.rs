@@ -482,16 +482,16 @@ pub fn merge(mut parts: Vec<McResult>) -> Result<McResult, McError> {
         if let Some(j) = p.v_m_s.iter().position(|v| !v.is_finite()) {
             return Err(McError::Merge(format!(
                 "shard {idx}/{k}: draw {} has a non-finite velocity {}",
-                p.start + j,
+                p.start.saturating_add(j),
                 p.v_m_s[j]
             )));
         }
         let expect = shard_range(p.n, idx, k)?;
         if p.start != expect.start || p.v_m_s.len() != expect.len() {
             return Err(McError::Merge(format!(
-                "shard {idx}/{k} holds draws {}..{}, expected {}..{}",
+                "shard {idx}/{k} holds {} draws from draw {}, expected draws {}..{}",
+                p.v_m_s.len(),
                 p.start,
-                p.start + p.v_m_s.len(),
                 expect.start,
                 expect.end
             )));

@@ -58,14 +58,14 @@ pub fn parse_part(file: &str, text: &str) -> Result<McResult, String> {
     }
     if r.start != expect.start || r.v_m_s.len() != expect.len() {
         return Err(format!(
-            "{file}: shard {i}/{k} holds draws {}..{}, expected {}..{}",
+            "{file}: shard {i}/{k} holds {} draws from draw {}, expected draws {}..{}",
+            r.v_m_s.len(),
             r.start,
-            r.start + r.v_m_s.len(),
             expect.start,
             expect.end
         ));
     }
-    if let Some(j) = r.v_m_s.iter().position(|x| !(x.abs() <= MAX_SPEED_M_S)) {
+    if let Some(j) = r.v_m_s.iter().position(|x| !x.is_finite() || x.abs() > MAX_SPEED_M_S) {
         return Err(format!(
             "{file}: draw {} has a velocity {:e} m/s that is not finite or faster than light",
             r.start + j,

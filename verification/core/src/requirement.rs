@@ -305,7 +305,8 @@ pub struct Origin {
 
 impl fmt::Display for Origin {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}", self.file.display(), self.line, self.column)
+        let file = crate::text::one_line(&self.file.display().to_string());
+        write!(f, "{file}:{}:{}", self.line, self.column)
     }
 }
 
@@ -375,7 +376,7 @@ pub struct Requirement {
 
 /// Why a requirements directory was refused. Display is one line: `file:line:column: cause`.
 #[derive(Debug, Clone, thiserror::Error)]
-#[error("{origin}: {cause}")]
+#[error("{origin}: {}", crate::text::one_line(.cause))]
 pub struct LoadError {
     /// Where.
     pub origin: Origin,

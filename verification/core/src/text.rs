@@ -18,3 +18,20 @@ pub fn one_line(s: &str) -> String {
     }
     out
 }
+
+/// [`one_line`] of `s`, cut after `max` characters with `…` and the count of what was left out,
+/// for input echoed in an error message (a header line, a value) that may be arbitrarily long.
+///
+/// ```
+/// use geodesic_core::text::clip;
+/// assert_eq!(clip("ab\ncd", 10), "ab\\ncd");
+/// assert_eq!(clip("abcdef", 3), "abc… (3 more characters)");
+/// ```
+pub fn clip(s: &str, max: usize) -> String {
+    let n = s.chars().count();
+    if n <= max {
+        return one_line(s);
+    }
+    let head: String = s.chars().take(max).collect();
+    format!("{}… ({} more characters)", one_line(&head), n - max)
+}

@@ -9,8 +9,8 @@
 //! its dimension. The radian is kept as its own base dimension so that `2 mrad` cannot be
 //! compared with `2 mm`.
 
-use serde::{Deserialize, Serialize};
 use crate::text::one_line;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// Elementary charge [C] (exact, SI 2019).

@@ -285,7 +285,7 @@ fn read_csv(
                 1,
                 format!(
                     "no column `{name}` in the header ({})",
-                    headers.iter().collect::<Vec<_>>().join(",")
+                    geodesic_core::text::clip(&headers.iter().collect::<Vec<_>>().join(","), 200)
                 ),
             )
         })

@@ -1,5 +1,7 @@
 //! Errors of dataset loading, fitting and report writing, each naming file and line.
 
+use geodesic_core::text::one_line;
+
 /// A failure of the fit crate, with the data a user needs to fix the input.
 #[derive(Debug, thiserror::Error)]
 pub enum FitError {
@@ -14,7 +16,7 @@ pub enum FitError {
         cause: String,
     },
     /// Writing an output failed.
-    #[error("{path}: cannot write: {cause}")]
+    #[error("{}: cannot write: {}", one_line(.path), one_line(.cause))]
     Write {
         /// The output path.
         path: String,
@@ -24,6 +26,8 @@ pub enum FitError {
 }
 
 fn fmt_at(file: &str, line: usize, cause: &str) -> String {
+    // a file name or a quoted input may hold a line break: the message stays on one line
+    let (file, cause) = (one_line(file), one_line(cause));
     if line > 0 {
         format!("{file}:{line}: {cause}")
     } else {
