@@ -65,7 +65,11 @@ pub fn parse_part(file: &str, text: &str) -> Result<McResult, String> {
             expect.end
         ));
     }
-    if let Some(j) = r.v_m_s.iter().position(|x| !x.is_finite() || x.abs() > MAX_SPEED_M_S) {
+    if let Some(j) = r
+        .v_m_s
+        .iter()
+        .position(|x| !x.is_finite() || x.abs() > MAX_SPEED_M_S)
+    {
         return Err(format!(
             "{file}: draw {} has a velocity {:e} m/s that is not finite or faster than light",
             r.start + j,

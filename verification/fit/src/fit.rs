@@ -15,7 +15,9 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 
 use crate::error::FitError;
-use crate::lm::{LmOptions, jacobian_columns, minimize, normal_equations};
+use crate::lm::{
+    LmOptions, fd_steps, jacobian_columns, minimize, minimize_with_steps, normal_equations,
+};
 use crate::residual::noise_from_differences;
 
 pub use crate::prepare::{Prepared, ProfileFit};
@@ -145,12 +147,12 @@ pub fn fit_model(
             profile: false,
             ..opts.clone()
         };
-        let found = fit_model_on(&sub, model, &search, starts, false)?;
-        let mut o = fit_model_on(prep, model, opts, std::slice::from_ref(&found.p), true)?;
+        let found = fit_model_on(&sub, model, &search, starts, false, 0)?;
+        let mut o = fit_model_on(prep, model, opts, std::slice::from_ref(&found.p), true, 0)?;
         o.starts = found.starts;
         return Ok(o);
     }
-    fit_model_on(prep, model, opts, starts, false)
+    fit_model_on(prep, model, opts, starts, false, 0)
 }
 
 /// Records longer than this many samples are searched on a reduced record of about this size
@@ -167,6 +169,7 @@ fn fit_model_on(
     opts: &FitOptions,
     starts: &[Vec<f64>],
     refine_only: bool,
+    depth: usize,
 ) -> Result<FitOutcome, FitError> {
     let specs = model.specs();
     let names = model.param_names();
@@ -194,6 +197,17 @@ fn fit_model_on(
             FitError::input(&prep.dataset.name, 0, format!("--bound {k}={bl}:{bh}: {c}"))
         })?;
     }
+    let clock = std::time::Instant::now();
+    let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
+    let lap = |what: &str| {
+        if debug {
+            eprintln!(
+                "[{:.2} s] {what} ({} samples)",
+                clock.elapsed().as_secs_f64(),
+                prep.dataset.t.len()
+            );
+        }
+    };
     let superseded = model.superseded();
     let mut free = vec![true; np];
     for i in superseded {
@@ -449,9 +463,16 @@ fn fit_model_on(
         .par_iter()
         .map(|(si, _, u)| {
             let r = minimize(&|v: &[f64]| resid(v, &starts[*si]), u, &lo, &hi, &long);
+            if debug {
+                eprintln!(
+                    "long run from start {si}: {} iterations, cost {:.3}",
+                    r.iterations, r.cost
+                );
+            }
             (*si, r.cost, r.u)
         })
         .collect();
+    lap("long Levenberg-Marquardt runs");
     let (si, chi2, u) = refined
         .into_iter()
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
@@ -501,19 +522,15 @@ fn fit_model_on(
             break;
         }
     }
+    lap("canonical forms");
     let p = full(&u, start);
     let pred = model.predict(&p, t, &prep.inputs);
     let n = data.len();
     let n_free = fidx.len();
     let r0 = resid(&u, start);
-    let cols = jacobian_columns(
-        &|v: &[f64]| resid(v, start),
-        &u,
-        &r0,
-        &lo,
-        &hi,
-        LmOptions::default().fd_step,
-    );
+    let f = |v: &[f64]| resid(v, start);
+    let steps = fd_steps(&f, &u, &r0, &lo, &hi, LmOptions::default().fd_step);
+    let cols = jacobian_columns(&f, &u, &r0, &lo, &hi, &steps);
     let (jtj, _) = normal_equations(&cols, &r0);
     drop(cols);
     let raw: Vec<f64> = data.iter().zip(&pred).map(|(d, m)| d - m).collect();
@@ -544,6 +561,7 @@ fn fit_model_on(
             corr[(k, l)] = if d > 0.0 { cov[(k, l)] / d } else { 0.0 };
         }
     }
+    lap("covariance");
     if opts.profile && n_free > 0 {
         // profile likelihood: move each free parameter away from the best fit, refit the others
         // and widen its 1-sigma to where chi-square has risen by max(1, chi2_red); only ever
@@ -551,33 +569,72 @@ fn fit_model_on(
         let target = inflate;
         let r2 = ratio * ratio;
         let cost_best = chi2 / r2;
-        let widths: Vec<[f64; 2]> = (0..n_free)
+        let stop = std::sync::atomic::AtomicBool::new(false);
+        #[allow(clippy::type_complexity)]
+        let widths: Vec<([f64; 2], Option<(f64, Vec<f64>)>)> = (0..n_free)
             .into_par_iter()
             .map(|k| {
                 let su = (cov[(k, k)].max(0.0) * inflate).sqrt();
                 let mut out = [su, su];
+                // the lowest point met below the best fit (by more than 0.01 in chi-square)
+                let mut lowest: Option<(f64, Vec<f64>)> = None;
                 if !(su.is_finite() && su > 0.0) {
-                    return out;
+                    return (out, lowest);
                 }
                 let others: Vec<usize> = (0..n_free).filter(|&j| j != k).collect();
                 let lo2: Vec<f64> = others.iter().map(|&j| lo[j]).collect();
                 let hi2: Vec<f64> = others.iter().map(|&j| hi[j]).collect();
+                let steps2: Vec<f64> = others.iter().map(|&j| steps[j]).collect();
+                // where the others' optimum moves per unit of u_k, to first order: the
+                // regression slope of the covariance, cov(j, k) / cov(k, k). Each profile
+                // point starts from the previous one moved along it, next to its optimum, so
+                // the refit of the others takes a few iterations instead of a crawl along the
+                // valley.
+                let slope: Vec<f64> = others
+                    .iter()
+                    .map(|&j| {
+                        let s = cov[(j, k)] / cov[(k, k)];
+                        if s.is_finite() { s } else { 0.0 }
+                    })
+                    .collect();
                 for (side, sgn) in [1.0f64, -1.0].into_iter().enumerate() {
                     let mut step = su;
                     let mut v0: Vec<f64> = others.iter().map(|&j| u[j]).collect();
+                    let mut uk_prev = u[k];
                     for _ in 0..PROFILE_DOUBLINGS {
                         let uk = (u[k] + sgn * step).clamp(lo[k], hi[k]);
                         let at_bound = uk != u[k] + sgn * step;
+                        for (i, v) in v0.iter_mut().enumerate() {
+                            *v = (*v + slope[i] * (uk - uk_prev)).clamp(lo2[i], hi2[i]);
+                        }
+                        uk_prev = uk;
                         let f = |v: &[f64]| {
                             let mut w = v.to_vec();
                             w.insert(k, uk);
                             resid(&w, start)
                         };
+                        // chi-square to 1 % of a unit: the profile compares it with `target`,
+                        // at least one unit
                         let opts_p = LmOptions {
                             max_iter: 60,
+                            atol: 0.01 / r2,
                             ..LmOptions::default()
                         };
-                        let r = minimize(&f, &v0, &lo2, &hi2, &opts_p);
+                        if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                            break;
+                        }
+                        let r = minimize_with_steps(&f, &v0, &lo2, &hi2, &opts_p, Some(&steps2));
+                        if r.cost < cost_best - 0.01 / r2
+                            && lowest.as_ref().is_none_or(|(c, _)| r.cost < *c)
+                        {
+                            let mut w = r.u.clone();
+                            w.insert(k, uk);
+                            lowest = Some((r.cost, w));
+                            // the fit is refined from here and profiled again: stop profiling
+                            if depth < PROFILE_RESTARTS {
+                                stop.store(true, std::sync::atomic::Ordering::Relaxed);
+                            }
+                        }
                         let dchi = ((r.cost - cost_best) * r2).max(0.0);
                         let reach = (uk - u[k]).abs();
                         if dchi >= target {
@@ -592,9 +649,30 @@ fn fit_model_on(
                         step *= 2.0;
                     }
                 }
-                out
+                (out, lowest)
             })
             .collect();
+        // a profile that went below the best fit shows that the refinement stopped short of
+        // the optimum (a sloppy valley): refine again from the lowest point met, so that the
+        // fit reported, and every comparison of models made from it, is an optimum
+        let lowest = widths
+            .iter()
+            .filter_map(|(_, l)| l.as_ref())
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((c, w)) = lowest
+            && depth < PROFILE_RESTARTS
+        {
+            if debug {
+                eprintln!(
+                    "a profile met chi-square {:.3} below the best fit: refining from there",
+                    (cost_best - c) * r2
+                );
+            }
+            let mut o = fit_model_on(prep, model, opts, &[full(w, start)], true, depth + 1)?;
+            o.starts = starts.len();
+            return Ok(o);
+        }
+        let widths: Vec<[f64; 2]> = widths.into_iter().map(|(w, _)| w).collect();
         for (k, &i) in fidx.iter().enumerate() {
             let up = (from_u(&specs[i], u[k] + widths[k][0]) - p[i]).abs();
             let down = (p[i] - from_u(&specs[i], u[k] - widths[k][1])).abs();
@@ -604,6 +682,7 @@ fn fit_model_on(
             }
         }
     }
+    lap("profiles");
     let finite = chi2.is_finite()
         && sig.is_finite()
         && sig > 0.0
@@ -700,6 +779,9 @@ fn effort(s: Scenario) -> ([(usize, usize); 2], usize, [f64; 2], bool) {
         Scenario::RtRetraction => (STAGES_RT, 4 * LONG_ITER, [0.2, 0.5], false),
     }
 }
+/// Most refinements restarted from a point a profile found below the best fit.
+const PROFILE_RESTARTS: usize = 2;
+
 /// Iterations of the refinement of the best three.
 const LONG_ITER: usize = 200;
 
