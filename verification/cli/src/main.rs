@@ -103,6 +103,10 @@ Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
     Export(cmd::export::Args),
     /// Import requirements from another tool's format (reqif) into requirement YAML.
     Import(cmd::import::Args),
+    /// The release tip's trajectory from high-speed camera frames (threshold crossings)
+    Tiptrack(cmd::tiptrack::Args),
+    /// Register two surface height maps (before and after contact) and compare them
+    Surfaces(cmd::surfaces::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -198,6 +202,8 @@ fn main() -> ExitCode {
         Command::Effects(a) => cmd::effects::run(a),
         Command::Export(a) => cmd::export::run(a),
         Command::Import(a) => cmd::import::run(a),
+        Command::Tiptrack(a) => cmd::tiptrack::run(a),
+        Command::Surfaces(a) => cmd::surfaces::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),

@@ -10,5 +10,7 @@ pub mod history;
 pub mod import;
 pub mod merge;
 pub mod montecarlo;
+pub mod surfaces;
 pub mod synth;
+pub mod tiptrack;
 pub mod verify;
