@@ -53,6 +53,12 @@ pub struct DiagnoseReport {
     pub missing: Option<String>,
     /// The threshold used on delta BIC.
     pub delta_bic_threshold: f64,
+    /// Whether the model (with `missing` added when one is named) leaves a residual consistent
+    /// with the noise: chi2_red within `1 + 5 sqrt(2/nu)` and white (`discover::is_explained`).
+    /// A `missing` effect with `explained: false` improves the fit but does not explain it.
+    pub explained: bool,
+    /// Why `explained` is what it is.
+    pub explained_reason: String,
 }
 
 /// Runs the diagnosis; returns the report and the baseline outcome (for plots and history).
@@ -144,6 +150,17 @@ pub fn diagnose(
         .first()
         .filter(|c| c.delta_bic < DELTA_BIC_STRONG)
         .map(|c| c.effect.clone());
+    let (explained, explained_reason) = match &missing {
+        Some(m) => {
+            let (_, o) = fits
+                .iter()
+                .find(|(n, _)| n == m)
+                .expect("a fitted candidate");
+            let (e, why) = crate::discover::is_explained(&FitReport::new(prep, o));
+            (e, format!("with {m}: {why}"))
+        }
+        None => crate::discover::is_explained(&base_report),
+    };
     Ok((
         DiagnoseReport {
             dataset: prep.dataset.name.clone(),
@@ -152,6 +169,8 @@ pub fn diagnose(
             candidates,
             missing,
             delta_bic_threshold: DELTA_BIC_STRONG,
+            explained,
+            explained_reason,
         },
         base,
     ))

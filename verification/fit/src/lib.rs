@@ -13,6 +13,7 @@
 
 pub mod dataset;
 pub mod diagnose;
+pub mod discover;
 pub mod error;
 pub mod fit;
 pub mod history;

@@ -55,6 +55,16 @@ pub fn run(args: Args) -> CmdResult {
                 -report.delta_bic_threshold
             ),
         }
+        println!(
+            "explained: {} ({})",
+            report.explained, report.explained_reason
+        );
+        if report.missing.is_some() && !report.explained {
+            println!(
+                "  the named effect improves the fit but does not explain it: run `geodesic discover` \
+                 to add effects round after round and describe what is left"
+            );
+        }
     }
     Ok(0)
 }

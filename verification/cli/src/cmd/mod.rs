@@ -3,6 +3,7 @@
 pub mod capture;
 pub mod charge;
 pub mod diagnose;
+pub mod discover;
 pub mod effects;
 pub mod export;
 pub mod fit;

@@ -1,0 +1,148 @@
+//! `geodesic discover DATASET.yaml --effects BASELINE`: the discovery loop (issue 13,
+//! interface.md): round after round, diagnose, add the effect the evidence supports, refit, test
+//! removing earlier additions; stop when the residual is noise or nothing is justified; then say
+//! whether the model explains the data and describe what is left. Thin: the loop is in
+//! `geodesic_fit::discover`.
+
+use crate::cmd::fit::{effect_list, fits_under, load, options, outputs, summary};
+use crate::error::{CliError, CmdResult};
+use geodesic_fit::discover::{DiscoverOptions, discover};
+use std::path::PathBuf;
+
+/// Flags of `geodesic discover`.
+#[derive(clap::Args, Debug)]
+#[command(
+    after_help = "Examples:\n  geodesic discover data/examples/tmmf-adhesion.yaml --effects needle_contact,tip_contact\n  geodesic discover data/examples/rt-plunger.yaml --effects piezo --json\n\
+Each round's fit goes into the fit history (geodesic history) and its plot into DIR/fits/.\n\
+explained: true when the final residual is consistent with the noise (chi2_red within\n\
+1 + 5 sqrt(2/nu) and a white residual); otherwise no catalogue effect is named and the\n\
+residual is described (windows, spectral peaks, correlations with the model's states, terms)."
+)]
+pub struct Args {
+    /// Dataset YAML.
+    pub dataset: PathBuf,
+    /// The baseline model's effects, comma separated.
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub effects: Vec<String>,
+    /// Most rounds that add an effect.
+    #[arg(long, default_value_t = 4)]
+    pub max_rounds: usize,
+    /// Hold a parameter fixed: effect.param=VALUE (SI or with a unit), repeatable.
+    #[arg(long = "fix", value_name = "NAME=VALUE")]
+    pub fix: Vec<String>,
+    /// Bound a parameter: effect.param=LO:HI, repeatable.
+    #[arg(long = "bound", value_name = "NAME=LO:HI")]
+    pub bound: Vec<String>,
+    /// Reports folder: plots and the history go into DIR/fits/.
+    #[arg(long, value_name = "DIR", default_value = "reports")]
+    pub reports: PathBuf,
+    /// Print exactly one JSON document on standard output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> CmdResult {
+    let fits = fits_under(&args.reports, None)?;
+    let fit = options(&args.fix, &args.bound)?;
+    let prep = load(&args.dataset)?;
+    let effects = effect_list(&args.effects);
+    let mut task = crate::progress::Task::spinner(
+        args.json,
+        &format!(
+            "discover: {} samples from {}",
+            prep.dataset.t.len(),
+            effects.join("+")
+        ),
+    );
+    let opts = DiscoverOptions {
+        fit,
+        max_rounds: args.max_rounds,
+    };
+    let r = discover(&prep, &effects, &opts, |m| {
+        task.set_label(&format!("discover: {m}"))
+    })
+    .map_err(|e| CliError::bad(e.to_string()));
+    task.finish();
+    let (mut report, last, all) = r?;
+    // every round's fit into the history and its plot, in order
+    for o in &all {
+        let mut fr = geodesic_fit::FitReport::new(&prep, o);
+        outputs(&prep, &o.pred, &mut fr, &fits)?;
+    }
+    let mut fr = report.final_fit.clone();
+    let svg = geodesic_fit::plot::fit_svg(&prep, &last.pred, &fr)
+        .map_err(|e| CliError::Io(e.to_string()))?;
+    let path = fits.join(format!("{}.discover.svg", prep.dataset.stem()));
+    geodesic_fit::plot::write_svg(&path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
+    fr.svg = Some(path.display().to_string());
+    report.final_fit = fr;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string(&report).map_err(|e| CliError::Io(e.to_string()))?
+        );
+        return Ok(0);
+    }
+    println!(
+        "round  model                                        chi2_red    delta_bic   margin  added / removed"
+    );
+    for (k, r) in report.rounds.iter().enumerate() {
+        let fmt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+        println!(
+            "{k:>5}  {:<44} {:>9.4} {:>12} {:>8}  {}{}",
+            r.effects.join("+"),
+            r.chi2_red,
+            fmt(r.delta_bic),
+            fmt(r.margin),
+            r.added.as_deref().unwrap_or("-"),
+            if r.removed.is_empty() {
+                String::new()
+            } else {
+                format!(" / removed {}", r.removed.join(", "))
+            }
+        );
+    }
+    print!("{}", summary(&report.final_fit));
+    println!("explained: {} ({})", report.explained, report.reason);
+    for i in &report.improves {
+        println!(
+            "  {} improves the fit (delta BIC {:.1}, chi2_red {:.3}) but does not explain it",
+            i.effect, i.delta_bic, i.chi2_red
+        );
+    }
+    let d = &report.residual;
+    for w in &d.windows {
+        println!(
+            "  window {} {:.4e}..{:.4e} s ({}): peak {:.3e} ({:.1} sigma)",
+            w.failure.channel,
+            w.failure.t_start,
+            w.failure.t_end,
+            w.phase,
+            w.failure.peak,
+            w.failure.peak_sigma
+        );
+    }
+    for p in &d.peaks {
+        println!(
+            "  peak {} {:.4e} Hz, amplitude {:.3e}, {:.0} x the floor",
+            p.channel, p.hz, p.amplitude, p.over_floor
+        );
+    }
+    for c in d.correlations.iter().take(3) {
+        println!("  correlation with {}: r = {:+.3}", c.state, c.r);
+    }
+    for t in &d.terms {
+        println!(
+            "  term {}: {:+.3e} +- {:.2e} m/s^2 per unit",
+            t.term, t.coefficient, t.sigma
+        );
+    }
+    for t in &report.thresholds {
+        println!(
+            "  {} not detected: {} would be seen above {:.3e} {}",
+            t.effect, t.parameter, t.detectable_above, t.unit
+        );
+    }
+    Ok(0)
+}

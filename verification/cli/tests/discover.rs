@@ -1,0 +1,94 @@
+//! `geodesic discover` and the `explained` field of `diagnose` on the public retraction example
+//! (`data/examples/rt-plunger.yaml`: the truth is piezo + plunger_compliance): the contract's
+//! keys, the missing effect added in round 1 with the residual explained, every round's fit in
+//! the history that `geodesic history` reads.
+
+mod common;
+use common::{geodesic, scratch, workspace};
+
+use serde_json::Value;
+
+#[test]
+fn discover_adds_the_plunger_and_explains_the_retraction_example() {
+    let d = scratch("discover");
+    let yaml = workspace().join("data/examples/rt-plunger.yaml");
+    let out = geodesic(
+        &[
+            "discover",
+            yaml.to_str().unwrap(),
+            "--effects",
+            "piezo",
+            "--json",
+            "--reports",
+            "r",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in [
+        "dataset",
+        "rounds",
+        "final",
+        "explained",
+        "reason",
+        "residual",
+        "thresholds",
+    ] {
+        assert!(doc.get(key).is_some(), "{key}");
+    }
+    for key in ["windows", "peaks", "correlations", "terms"] {
+        assert!(doc["residual"][key].is_array(), "residual.{key}");
+    }
+    let rounds = doc["rounds"].as_array().unwrap();
+    assert_eq!(rounds.len(), 2, "{rounds:?}");
+    assert_eq!(rounds[0]["added"], Value::Null);
+    assert_eq!(rounds[1]["added"], "plunger_compliance");
+    for key in [
+        "effects",
+        "removed",
+        "chi2_red",
+        "rms",
+        "delta_bic",
+        "margin",
+    ] {
+        assert!(rounds[1].get(key).is_some(), "rounds[].{key}");
+    }
+    assert!(rounds[1]["delta_bic"].as_f64().unwrap() < -10.0);
+    assert_eq!(doc["explained"], Value::Bool(true), "{}", doc["reason"]);
+    assert!(doc["final"]["chi2_red"].as_f64().unwrap() < 1.2);
+    // the ledger is in the fit history
+    let hist = geodesic(
+        &[
+            "history",
+            yaml.to_str().unwrap(),
+            "--reports",
+            "r",
+            "--json",
+        ],
+        &d,
+    );
+    let h = String::from_utf8_lossy(&hist.stdout);
+    assert!(h.contains("plunger_compliance"), "{h}");
+    // diagnose keeps its fields and adds `explained`
+    let out = geodesic(
+        &[
+            "diagnose",
+            yaml.to_str().unwrap(),
+            "--effects",
+            "piezo",
+            "--json",
+            "--reports",
+            "r",
+        ],
+        &d,
+    );
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["missing"], "plunger_compliance");
+    assert_eq!(doc["explained"], Value::Bool(true));
+}

@@ -1,0 +1,775 @@
+//! `discover`: the loop that `diagnose` is one round of. Round after round it diagnoses the
+//! current model, adds the effect the evidence supports, refits, tests removing each earlier
+//! addition, and stops when the residual is consistent with noise or no candidate is justified.
+//!
+//! Honesty rules (issue 13):
+//!
+//! * **Explained** means the final model's residual is consistent with the noise: reduced
+//!   chi-square within `1 + 5 sqrt(2 / nu)` (five standard deviations of chi-square's
+//!   distribution for `nu` degrees of freedom) and the Ljung-Box whiteness test passed at 1 %.
+//! * A catalogue effect is reported as added only when the sequence of additions ends explained.
+//!   When it does not, the ledger keeps round 0 only, `explained` is false, the additions tried
+//!   are listed as "improves the fit but does not explain it" (`improves`), and the residual of
+//!   the baseline is described for the user who will write the missing effect.
+//! * Every comparison is between optima: after a round adds an effect, the previous model is
+//!   refitted from the new solution (the added effect's parameters dropped); when that lowers
+//!   its chi-square, the previous round is replaced before the delta BIC is taken.
+//!
+//! The description of what is left ([`describe`]): failure windows of the residual, its spectral
+//! peaks against the noise floor (Hann-windowed periodogram; a peak is a local maximum above 20
+//! times the median power, a false-alarm rate near 1e-6 per bin for white noise), its correlation
+//! with the model's states (time since the trigger, the fitted position, its velocity, and for
+//! `tmmf-release` the tip and the tip-TM gap), and a sparse regression of the residual on the
+//! double time integrals of a library of terms (so that each coefficient is an acceleration, the
+//! missing force per unit mass) with sequential thresholding at |t| > 3.
+
+use std::collections::BTreeMap;
+
+use geodesic_facility::effects::Scenario;
+use nalgebra::{DMatrix, DVector};
+use rustfft::{FftPlanner, num_complex::Complex};
+use serde::{Deserialize, Serialize};
+
+use crate::diagnose::{DELTA_BIC_STRONG, diagnose};
+use crate::error::FitError;
+use crate::fit::{FitOptions, FitOutcome, FitReport, Prepared, fit_model, model_for};
+use crate::residual::Failure;
+
+/// One round of the ledger (interface.md `rounds[]`).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Round {
+    /// The model's effects after this round.
+    pub effects: Vec<String>,
+    /// The effect added in this round (null in round 0).
+    pub added: Option<String>,
+    /// Earlier additions removed in this round (the evidence no longer supported them).
+    pub removed: Vec<String>,
+    /// Reduced chi-square.
+    pub chi2_red: f64,
+    /// RMS of the residual per channel [SI].
+    pub rms: BTreeMap<String, f64>,
+    /// BIC of this round's model minus the previous round's (null in round 0).
+    pub delta_bic: Option<f64>,
+    /// Delta BIC of the runner-up candidate minus that of the effect added (null when none).
+    pub margin: Option<f64>,
+    /// BIC of this round's model.
+    pub bic: f64,
+    /// How the optimum was confirmed.
+    pub confirmed: String,
+}
+
+/// A candidate that lowers BIC without explaining the residual.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Improvement {
+    /// The effect.
+    pub effect: String,
+    /// Its delta BIC against the model it was added to.
+    pub delta_bic: f64,
+    /// Reduced chi-square with it.
+    pub chi2_red: f64,
+}
+
+/// A spectral peak of the residual.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Peak {
+    /// Channel.
+    pub channel: String,
+    /// Frequency [Hz].
+    pub hz: f64,
+    /// Amplitude of the equivalent sinusoid [channel unit, SI].
+    pub amplitude: f64,
+    /// Power over the median power of the periodogram.
+    pub over_floor: f64,
+}
+
+/// Correlation of the residual with a state of the model.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct StateCorrelation {
+    /// The state.
+    pub state: String,
+    /// Pearson correlation coefficient.
+    pub r: f64,
+}
+
+/// A term of the sparse regression.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Term {
+    /// The term (an acceleration per unit of it).
+    pub term: String,
+    /// Coefficient [m/s^2 per unit of the term].
+    pub coefficient: f64,
+    /// Its 1-sigma.
+    pub sigma: f64,
+}
+
+/// What the residual still holds.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
+pub struct Description {
+    /// Windows where the residual leaves the noise band, with their phase (`pre-trigger`,
+    /// `early` = first tenth of the record after the trigger, `late`).
+    pub windows: Vec<Window>,
+    /// Spectral peaks, strongest first.
+    pub peaks: Vec<Peak>,
+    /// Correlations with the model's states, strongest first.
+    pub correlations: Vec<StateCorrelation>,
+    /// The few terms that carry the residual.
+    pub terms: Vec<Term>,
+}
+
+/// A failure window with its phase.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Window {
+    /// The window.
+    #[serde(flatten)]
+    pub failure: Failure,
+    /// `pre-trigger`, `early` or `late`.
+    pub phase: String,
+}
+
+/// The smallest amplitude of an undetected candidate's main parameter this record would detect.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Threshold {
+    /// The effect.
+    pub effect: String,
+    /// Its main parameter (`effect.param`).
+    pub parameter: String,
+    /// Detectable above this value [SI].
+    pub detectable_above: f64,
+    /// Unit.
+    pub unit: String,
+}
+
+/// The discover object of interface.md.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct DiscoverReport {
+    /// Dataset YAML file name.
+    pub dataset: String,
+    /// The ledger, one row a round.
+    pub rounds: Vec<Round>,
+    /// Fit of the final model.
+    #[serde(rename = "final")]
+    pub final_fit: FitReport,
+    /// Whether the final residual is consistent with the noise.
+    pub explained: bool,
+    /// Why (one sentence).
+    pub reason: String,
+    /// What the final residual still holds.
+    pub residual: Description,
+    /// Candidates that lowered BIC without explaining the residual.
+    pub improves: Vec<Improvement>,
+    /// Detection thresholds of the candidates not in the final model.
+    pub thresholds: Vec<Threshold>,
+}
+
+/// The residual is consistent with noise: chi2_red within 5 sigma of 1 and white.
+pub fn is_explained(r: &FitReport) -> (bool, String) {
+    let nu = (r.n_samples.saturating_sub(r.n_free)).max(1) as f64;
+    let bound = 1.0 + 5.0 * (2.0 / nu).sqrt();
+    if r.chi2_red > bound {
+        (
+            false,
+            format!(
+                "chi2_red {:.3} is above {bound:.3} (1 + 5 sqrt(2/nu)): structure is left in the residual",
+                r.chi2_red
+            ),
+        )
+    } else if !r.whiteness.white {
+        (
+            false,
+            format!(
+                "the residual is not white (Ljung-Box Q {:.1} above {:.1} for {} lags at 1 %)",
+                r.whiteness.q, r.whiteness.threshold, r.whiteness.lags
+            ),
+        )
+    } else {
+        (
+            true,
+            format!(
+                "chi2_red {:.3} within {bound:.3} and a white residual (Ljung-Box Q {:.1} <= {:.1})",
+                r.chi2_red, r.whiteness.q, r.whiteness.threshold
+            ),
+        )
+    }
+}
+
+/// Options of [`discover`].
+#[derive(Debug, Clone)]
+pub struct DiscoverOptions {
+    /// Fit options.
+    pub fit: FitOptions,
+    /// Most rounds that add an effect.
+    pub max_rounds: usize,
+}
+
+/// Refits `effects` from `from` (a fit of a larger model): the shared parameters start where
+/// the larger model ended. Returns the better of `current` and the refit.
+fn confirm(
+    prep: &Prepared,
+    effects: &[&str],
+    current: FitOutcome,
+    from: &FitOutcome,
+    opts: &FitOptions,
+) -> Result<(FitOutcome, String), FitError> {
+    let model = model_for(prep, effects)?;
+    let mut p = model.nominal();
+    for (i, n) in model.param_names().iter().enumerate() {
+        if let Some(j) = from.model.index(n) {
+            p[i] = from.p[j];
+        }
+    }
+    let mut again = fit_model(prep, &model, opts, &[p])?;
+    again.rescale(current.sigma, &current.sigma_source);
+    if again.chi2 < current.chi2 - 0.01 {
+        let note = format!(
+            "refitted from the next round's solution: chi-square {:.2} lower",
+            current.chi2 - again.chi2
+        );
+        Ok((again, note))
+    } else {
+        Ok((current, "confirmed from the next round's solution".into()))
+    }
+}
+
+fn round_of(
+    prep: &Prepared,
+    o: &FitOutcome,
+    added: Option<String>,
+    prev_bic: Option<f64>,
+) -> Round {
+    let r = FitReport::new(prep, o);
+    Round {
+        effects: r.effects.clone(),
+        added,
+        removed: Vec::new(),
+        chi2_red: r.chi2_red,
+        rms: r.rms.clone(),
+        delta_bic: prev_bic.map(|b| r.bic - b),
+        margin: None,
+        bic: r.bic,
+        confirmed: format!("multi-start: {} starts", o.starts),
+    }
+}
+
+/// Runs the loop (see the module documentation). Returns the report and the final outcome.
+pub fn discover(
+    prep: &Prepared,
+    baseline: &[&str],
+    opts: &DiscoverOptions,
+    mut progress: impl FnMut(&str),
+) -> Result<(DiscoverReport, FitOutcome, Vec<FitOutcome>), FitError> {
+    let mut effects: Vec<String> = baseline.iter().map(|s| s.to_string()).collect();
+    let mut added_so_far: Vec<String> = Vec::new();
+    let mut fits: Vec<FitOutcome> = Vec::new();
+    let mut rounds: Vec<Round> = Vec::new();
+    let mut improves = Vec::new();
+    let mut fit_opts = opts.fit.clone();
+    for k in 0..=opts.max_rounds {
+        let owned = effects.clone();
+        let names: Vec<&str> = owned.iter().map(String::as_str).collect();
+        progress(&format!("round {k}: diagnosing {}", names.join("+")));
+        let (report, base) = diagnose(prep, &names, &fit_opts)?;
+        // one noise figure for the whole ledger, so that BICs compare across rounds
+        if fit_opts.sigma.is_none() {
+            fit_opts.sigma = Some(base.sigma);
+        }
+        if k == 0 {
+            rounds.push(round_of(prep, &base, None, None));
+            fits.push(base.clone());
+        } else {
+            // every comparison between optima: the previous model refitted from this one
+            let prev_names: Vec<&str> = rounds[k - 1].effects.iter().map(String::as_str).collect();
+            let prev = fits[k - 1].clone();
+            let (prev, note) = confirm(prep, &prev_names, prev, &base, &fit_opts)?;
+            let prev_bic = FitReport::new(prep, &prev).bic;
+            rounds[k - 1].bic = prev_bic;
+            rounds[k - 1].chi2_red = FitReport::new(prep, &prev).chi2_red;
+            rounds[k - 1].confirmed = format!("{}; {note}", rounds[k - 1].confirmed);
+            if k >= 2 {
+                let b2 = rounds[k - 2].bic;
+                rounds[k - 1].delta_bic = Some(prev_bic - b2);
+            }
+            fits[k - 1] = prev;
+            let mut row = round_of(prep, &base, added_so_far.last().cloned(), Some(prev_bic));
+            row.margin = rounds[k - 1].margin;
+            rounds[k - 1].margin = None;
+            // test removing each earlier addition
+            for e in added_so_far.clone().iter().rev().skip(1) {
+                let without: Vec<&str> = names.iter().copied().filter(|n| n != e).collect();
+                let m = model_for(prep, &without)?;
+                let mut p = m.nominal();
+                for (i, n) in m.param_names().iter().enumerate() {
+                    if let Some(j) = base.model.index(n) {
+                        p[i] = base.p[j];
+                    }
+                }
+                let o = fit_model(prep, &m, &fit_opts, &[p])?;
+                let bic_without = FitReport::new(prep, &o).bic;
+                if bic_without - row.bic < -DELTA_BIC_STRONG {
+                    // the evidence no longer supports `e` (less than strong): remove it
+                    row.removed.push(e.clone());
+                    added_so_far.retain(|a| a != e);
+                    effects.retain(|a| a != e);
+                }
+            }
+            if !row.removed.is_empty() {
+                progress(&format!("round {k}: removing {}", row.removed.join(", ")));
+                let names: Vec<&str> = effects.iter().map(String::as_str).collect();
+                let o = crate::fit::fit(prep, &names, &fit_opts)?;
+                let mut r2 = round_of(prep, &o, row.added.clone(), Some(prev_bic));
+                r2.removed = row.removed.clone();
+                r2.margin = row.margin;
+                row = r2;
+                rounds.push(row);
+                fits.push(o);
+                continue;
+            }
+            rounds.push(row);
+            fits.push(base.clone());
+        }
+        let (explained, _) = is_explained(&report.fit);
+        if explained {
+            break;
+        }
+        let Some(best) = report.missing.clone() else {
+            break;
+        };
+        if k == opts.max_rounds {
+            break;
+        }
+        let best_c = &report.candidates[0];
+        improves.push(Improvement {
+            effect: best.clone(),
+            delta_bic: best_c.delta_bic,
+            chi2_red: best_c.chi2_red,
+        });
+        let margin = report
+            .candidates
+            .get(1)
+            .map(|c| c.delta_bic - best_c.delta_bic);
+        rounds.last_mut().expect("a round").margin = margin;
+        effects.push(best.clone());
+        added_so_far.push(best);
+    }
+    let last = fits.last().expect("round 0").clone();
+    let final_report = FitReport::new(prep, &last);
+    let (explained, reason) = is_explained(&final_report);
+    let (rounds, final_fit, final_outcome, reason) = if explained || rounds.len() == 1 {
+        let reason = if !explained && !improves.is_empty() {
+            format!("{reason}; no catalogue effect brings it to the noise")
+        } else {
+            reason
+        };
+        (rounds, final_report, last, reason)
+    } else {
+        // the additions did not explain the residual: none is named; describe the baseline's
+        let base = fits[0].clone();
+        (
+            vec![rounds[0].clone()],
+            FitReport::new(prep, &base),
+            base,
+            format!(
+                "{reason}; {} improve the fit but do not explain it: the missing physics is not in the catalogue",
+                improves
+                    .iter()
+                    .map(|i| i.effect.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        )
+    };
+    let kept: Vec<&str> = final_fit.effects.iter().map(String::as_str).collect();
+    progress("detection thresholds of the candidates not in the model");
+    let thresholds = thresholds(prep, &final_outcome, &kept, &fit_opts)?;
+    let residual = describe(prep, &final_outcome, &final_fit);
+    Ok((
+        DiscoverReport {
+            dataset: prep.dataset.name.clone(),
+            rounds,
+            final_fit,
+            explained,
+            reason,
+            residual,
+            improves: if explained { Vec::new() } else { improves },
+            thresholds,
+        },
+        final_outcome,
+        fits,
+    ))
+}
+
+/// Detection thresholds of the candidates not in the final model.
+///
+/// For each candidate, its main parameter `A` (the first amplitude: the first parameter whose
+/// null value is zero or its lower bound, e.g. `tip_adhesion.A1`, `interferometer_cyclic.b1`,
+/// `drift.p0`, `plunger_compliance.Mg`) is fitted with the candidate's other parameters held at
+/// their catalogue nominal values (at a vanishing amplitude they are not identified: the
+/// adhesion's range trades against its strength) and every parameter of the final model free;
+/// `sigma_A` is its 1-sigma from the Fisher information (covariance) of that fit. An amplitude
+/// `A` lowers chi-square by about `(A / sigma_A)^2`, which beats the BIC penalty of the effect's
+/// `k` parameters and the strong-evidence threshold when
+/// `A > sigma_A sqrt(k ln N - DELTA_BIC_STRONG)`: that is `detectable_above`. An effect whose
+/// main parameter vanishes elsewhere (`voltage_ramp`: a step is an infinite slope) or that has
+/// no null (`needle_mass`) gets no threshold.
+pub fn thresholds(
+    prep: &Prepared,
+    final_outcome: &FitOutcome,
+    kept: &[&str],
+    opts: &FitOptions,
+) -> Result<Vec<Threshold>, FitError> {
+    let mut out = Vec::new();
+    let n = final_outcome.n as f64;
+    for cand in geodesic_facility::effects::of_scenario(prep.dataset.scenario) {
+        if kept.contains(&cand.name()) {
+            continue;
+        }
+        let params = cand.params();
+        let Some(null) = cand.null_params() else {
+            continue;
+        };
+        let Some(main) = (0..params.len()).find(|&i| null[i] == 0.0 || null[i] == params[i].lower)
+        else {
+            continue;
+        };
+        let mut list: Vec<&str> = kept.to_vec();
+        list.push(cand.name());
+        let model = model_for(prep, &list)?;
+        let mut fo = opts.clone();
+        fo.profile = false;
+        fo.sigma = Some(final_outcome.sigma);
+        for (i, p) in params.iter().enumerate() {
+            if i != main {
+                fo.fixed
+                    .insert(format!("{}.{}", cand.name(), p.name), p.nominal);
+            }
+        }
+        let mut start = model.nominal();
+        for (i, name) in model.param_names().iter().enumerate() {
+            if let Some(j) = final_outcome.model.index(name) {
+                start[i] = final_outcome.p[j];
+            }
+        }
+        let ci = model
+            .effects
+            .iter()
+            .position(|e| e.name() == cand.name())
+            .expect("candidate in model");
+        let r = model.range(ci);
+        start[r.start + main] = params[main].nominal;
+        let o = fit_model(prep, &model, &fo, &[start])?;
+        let sigma_a = o.sigma_cov[r.start + main];
+        let k = params.len() as f64;
+        let a = sigma_a * (k * n.ln() - DELTA_BIC_STRONG).sqrt();
+        if a.is_finite() && a > 0.0 {
+            out.push(Threshold {
+                effect: cand.name().to_string(),
+                parameter: format!("{}.{}", cand.name(), params[main].name),
+                detectable_above: a,
+                unit: params[main].unit.to_string(),
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Pearson correlation.
+fn pearson(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len()) as f64;
+    if n < 3.0 {
+        return 0.0;
+    }
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for (x, y) in a.iter().zip(b) {
+        sab += (x - ma) * (y - mb);
+        saa += (x - ma) * (x - ma);
+        sbb += (y - mb) * (y - mb);
+    }
+    if saa > 0.0 && sbb > 0.0 {
+        sab / (saa * sbb).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Spectral peaks of `r` sampled every `dt` [s].
+pub fn peaks(channel: &str, r: &[f64], dt: f64) -> Vec<Peak> {
+    let n = r.len();
+    if n < 16 || dt.is_nan() || dt <= 0.0 {
+        return Vec::new();
+    }
+    let mean = r.iter().sum::<f64>() / n as f64;
+    let w: Vec<f64> = (0..n)
+        .map(|i| 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / (n - 1) as f64).cos())
+        .collect();
+    let sw: f64 = w.iter().sum();
+    let mut buf: Vec<Complex<f64>> = r
+        .iter()
+        .zip(&w)
+        .map(|(v, w)| Complex::new((v - mean) * w, 0.0))
+        .collect();
+    FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+    let m = n / 2;
+    let power: Vec<f64> = buf[..=m].iter().map(|c| c.norm_sqr()).collect();
+    let mut sorted: Vec<f64> = power[1..].to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2].max(1e-300);
+    let mut out = Vec::new();
+    for k in 2..m {
+        let p = power[k];
+        if p > 20.0 * median && p >= power[k - 1] && p >= power[k + 1] {
+            // parabolic interpolation of the peak on log power
+            let (a, b, c) = (power[k - 1].ln(), p.ln(), power[k + 1].ln());
+            let den = a - 2.0 * b + c;
+            let delta = if den.abs() > 0.0 {
+                0.5 * (a - c) / den
+            } else {
+                0.0
+            };
+            let hz = (k as f64 + delta.clamp(-0.5, 0.5)) / (n as f64 * dt);
+            out.push(Peak {
+                channel: channel.to_string(),
+                hz,
+                amplitude: 2.0 * p.sqrt() / sw,
+                over_floor: p / median,
+            });
+        }
+    }
+    out.sort_by(|a, b| b.over_floor.total_cmp(&a.over_floor));
+    out.truncate(5);
+    out
+}
+
+/// Describes what the residual of `o` still holds (see the module documentation).
+pub fn describe(prep: &Prepared, o: &FitOutcome, r: &FitReport) -> Description {
+    let t = &prep.dataset.t;
+    let data = prep.data();
+    let resid: Vec<f64> = data.iter().zip(&o.pred).map(|(d, m)| d - m).collect();
+    let n = resid.len();
+    let t_end = t.last().copied().unwrap_or(0.0);
+    let windows = r
+        .failures
+        .iter()
+        .map(|f| Window {
+            failure: f.clone(),
+            phase: if f.t_end < 0.0 {
+                "pre-trigger".into()
+            } else if f.t_start < 0.1 * t_end {
+                "early".into()
+            } else {
+                "late".into()
+            },
+        })
+        .collect();
+    let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    dts.sort_by(f64::total_cmp);
+    let dt = dts.get(dts.len() / 2).copied().unwrap_or(0.0);
+    let channel = prep.channel;
+    let peaks = peaks(channel, &resid, dt);
+    // states
+    let vel: Vec<f64> = (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            if b > a {
+                (o.pred[b] - o.pred[a]) / (t[b] - t[a])
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let mut states: Vec<(String, Vec<f64>)> = vec![
+        ("time since the trigger [s]".into(), t.clone()),
+        (format!("{channel} (model) [m]"), o.pred.clone()),
+        (format!("d{channel}/dt (model) [m/s]"), vel.clone()),
+    ];
+    if prep.dataset.scenario == Scenario::TmmfRelease
+        && let Some(y) = prep.dataset.channels.get("y")
+    {
+        states.push(("tip y [m]".into(), y.clone()));
+        states.push((
+            "tip-TM gap y - x (model) [m]".into(),
+            y.iter().zip(&o.pred).map(|(y, x)| y - x).collect(),
+        ));
+    }
+    let mut correlations: Vec<StateCorrelation> = states
+        .iter()
+        .map(|(name, v)| StateCorrelation {
+            state: name.clone(),
+            r: pearson(&resid, v),
+        })
+        .collect();
+    correlations.sort_by(|a, b| b.r.abs().total_cmp(&a.r.abs()));
+    let terms = sparse_terms(t, &resid, &o.pred, &vel, &peaks, &states, o.sigma);
+    Description {
+        windows,
+        peaks,
+        correlations,
+        terms,
+    }
+}
+
+/// Sparse regression of the residual on the double time integrals (from the trigger) of a
+/// library of terms, with a free offset and slope (the initial conditions), sequentially
+/// thresholded at |coefficient / sigma| > 3.
+fn sparse_terms(
+    t: &[f64],
+    resid: &[f64],
+    pos: &[f64],
+    vel: &[f64],
+    peaks: &[Peak],
+    states: &[(String, Vec<f64>)],
+    sigma: f64,
+) -> Vec<Term> {
+    let idx: Vec<usize> = (0..t.len()).filter(|&i| t[i] >= 0.0).collect();
+    if idx.len() < 20 {
+        return Vec::new();
+    }
+    let tt: Vec<f64> = idx.iter().map(|&i| t[i]).collect();
+    let t_end = *tt.last().expect("samples");
+    let mut lib: Vec<(String, Vec<f64>)> = vec![
+        ("1".into(), vec![1.0; idx.len()]),
+        ("t".into(), tt.clone()),
+        ("x (position)".into(), idx.iter().map(|&i| pos[i]).collect()),
+        ("v (velocity)".into(), idx.iter().map(|&i| vel[i]).collect()),
+    ];
+    for f in peaks.iter().take(3) {
+        let w = std::f64::consts::TAU * f.hz;
+        lib.push((
+            format!("sin(2 pi {:.4e} Hz t)", f.hz),
+            tt.iter().map(|t| (w * t).sin()).collect(),
+        ));
+        lib.push((
+            format!("cos(2 pi {:.4e} Hz t)", f.hz),
+            tt.iter().map(|t| (w * t).cos()).collect(),
+        ));
+    }
+    for frac in [0.03, 0.1, 0.3] {
+        let tau = frac * t_end;
+        lib.push((
+            format!("exp(-t / {tau:.3e} s)"),
+            tt.iter().map(|t| (-t / tau).exp()).collect(),
+        ));
+    }
+    if let Some((_, gap)) = states.iter().find(|(n, _)| n.starts_with("tip-TM gap")) {
+        for lambda in [1e-7, 1e-6] {
+            lib.push((
+                format!("exp(-gap / {lambda:e} m)"),
+                idx.iter()
+                    .map(|&i| (-gap[i].max(0.0) / lambda).exp())
+                    .collect(),
+            ));
+        }
+    }
+    // double integrals from the trigger (trapezoids)
+    let integ = |v: &[f64]| -> Vec<f64> {
+        let mut out = vec![0.0; v.len()];
+        for i in 1..v.len() {
+            out[i] = out[i - 1] + 0.5 * (v[i] + v[i - 1]) * (tt[i] - tt[i - 1]);
+        }
+        out
+    };
+    let cols: Vec<(String, Vec<f64>)> = lib
+        .into_iter()
+        .map(|(n, v)| (n, integ(&integ(&v))))
+        .collect();
+    let y: Vec<f64> = idx.iter().map(|&i| resid[i]).collect();
+    let base = [vec![1.0; idx.len()], tt.clone()];
+    let mut active: Vec<usize> = (0..cols.len()).collect();
+    for _ in 0..cols.len() {
+        let Some((coef, sig)) = lstsq(&base, &cols, &active, &y, sigma) else {
+            return Vec::new();
+        };
+        let weakest = (0..active.len())
+            .filter(|&j| coef[j].is_nan() || coef[j].abs() <= 3.0 * sig[j])
+            .min_by(|&a, &b| (coef[a].abs() / sig[a]).total_cmp(&(coef[b].abs() / sig[b])));
+        match weakest {
+            Some(j) => {
+                active.remove(j);
+            }
+            None => {
+                let mut terms: Vec<Term> = active
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &c)| Term {
+                        term: cols[c].0.clone(),
+                        coefficient: coef[j],
+                        sigma: sig[j],
+                    })
+                    .collect();
+                terms.sort_by(|a, b| {
+                    (b.coefficient.abs() / b.sigma).total_cmp(&(a.coefficient.abs() / a.sigma))
+                });
+                terms.truncate(5);
+                return terms;
+            }
+        }
+        if active.is_empty() {
+            break;
+        }
+    }
+    Vec::new()
+}
+
+/// Least squares of `y` on the base columns and the active library columns (each scaled to unit
+/// norm for conditioning); coefficients and 1-sigma (noise `sigma`) of the active columns.
+fn lstsq(
+    base: &[Vec<f64>],
+    cols: &[(String, Vec<f64>)],
+    active: &[usize],
+    y: &[f64],
+    sigma: f64,
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    let n = y.len();
+    let mut all: Vec<&Vec<f64>> = base.iter().collect();
+    all.extend(active.iter().map(|&c| &cols[c].1));
+    let k = all.len();
+    let scale: Vec<f64> = all
+        .iter()
+        .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-300))
+        .collect();
+    let a = DMatrix::from_fn(n, k, |i, j| all[j][i] / scale[j]);
+    let svd = a.clone().svd(true, true);
+    let sol = svd.solve(&DVector::from_column_slice(y), 1e-12).ok()?;
+    let ata = a.transpose() * &a;
+    let cov = ata.try_inverse()?;
+    let nb = base.len();
+    let coef: Vec<f64> = (nb..k).map(|j| sol[j] / scale[j]).collect();
+    let sig: Vec<f64> = (nb..k)
+        .map(|j| sigma * cov[(j, j)].max(0.0).sqrt() / scale[j])
+        .collect();
+    Some((coef, sig))
+}
+
+/// The scenario's effect names not in `effects`.
+pub fn missing_candidates(s: Scenario, effects: &[&str]) -> Vec<&'static str> {
+    geodesic_facility::effects::of_scenario(s)
+        .iter()
+        .map(|e| e.name())
+        .filter(|n| !effects.contains(n))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sinusoid_in_noise_is_a_peak_at_its_frequency_and_amplitude() {
+        let dt = 1e-4;
+        let n = 4000;
+        let mut s = 12345u64;
+        let mut noise = || {
+            // a small LCG, enough for a test signal
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2.0
+        };
+        let r: Vec<f64> = (0..n)
+            .map(|i| 3.0 * (std::f64::consts::TAU * 137.0 * i as f64 * dt).sin() + 0.5 * noise())
+            .collect();
+        let p = peaks("x", &r, dt);
+        assert!(!p.is_empty());
+        assert!((p[0].hz - 137.0).abs() < 0.5, "{:?}", p[0]);
+        assert!((p[0].amplitude - 3.0).abs() < 0.3, "{:?}", p[0]);
+    }
+}
