@@ -27,4 +27,5 @@ pub mod integrator;
 pub mod model;
 pub mod montecarlo;
 pub mod parts;
+pub mod sensitivity;
 pub mod stats;

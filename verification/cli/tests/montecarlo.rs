@@ -102,3 +102,19 @@ fn bad_input_exits_2_with_one_line() {
         );
     }
 }
+
+#[test]
+fn sensitivity_prints_the_contract_groups() {
+    let (code, out, err) = geodesic(&["sensitivity", "--n", "200", "--seed", "3", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let doc: Value = serde_json::from_str(&out).unwrap();
+    let groups = doc["groups"].as_array().unwrap();
+    assert_eq!(groups.len(), 7);
+    for g in groups {
+        for key in ["group", "first", "first_ci", "total", "total_ci", "p9973_shift_um_s"] {
+            assert!(g.get(key).is_some(), "{key}");
+        }
+    }
+    let (code, _, err) = geodesic(&["sensitivity", "--n", "5"]);
+    assert_eq!(code, 2, "{err}");
+}

@@ -11,6 +11,7 @@ pub mod history;
 pub mod import;
 pub mod merge;
 pub mod montecarlo;
+pub mod sensitivity;
 pub mod surfaces;
 pub mod synth;
 pub mod tiptrack;
