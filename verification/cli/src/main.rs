@@ -103,6 +103,8 @@ Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
     Export(cmd::export::Args),
     /// Import requirements from another tool's format (reqif) into requirement YAML.
     Import(cmd::import::Args),
+    /// Fit every release of a campaign, tabulate P_x, F_peak, dt and estimate the adhesion population
+    Campaign(cmd::campaign::Args),
     /// What drives the release velocity: Saltelli/Jansen indices per uncertainty group
     Sensitivity(cmd::sensitivity::Args),
     /// The discovery loop: diagnose, add the supported effect, refit, until the residual is noise
@@ -208,6 +210,7 @@ fn main() -> ExitCode {
         Command::Import(a) => cmd::import::run(a),
         Command::Discover(a) => cmd::discover::run(a),
         Command::Sensitivity(a) => cmd::sensitivity::run(a),
+        Command::Campaign(a) => cmd::campaign::run(a),
         Command::Tiptrack(a) => cmd::tiptrack::run(a),
         Command::Surfaces(a) => cmd::surfaces::run(a),
     };

@@ -111,7 +111,14 @@ fn sensitivity_prints_the_contract_groups() {
     let groups = doc["groups"].as_array().unwrap();
     assert_eq!(groups.len(), 7);
     for g in groups {
-        for key in ["group", "first", "first_ci", "total", "total_ci", "p9973_shift_um_s"] {
+        for key in [
+            "group",
+            "first",
+            "first_ci",
+            "total",
+            "total_ci",
+            "p9973_shift_um_s",
+        ] {
             assert!(g.get(key).is_some(), "{key}");
         }
     }

@@ -11,6 +11,7 @@
 //! - [`history`]: per-dataset fit history (JSON lines) and its table.
 //! - [`plot`]: SVGs of data, model and residual, and of the history.
 
+pub mod campaign;
 pub mod dataset;
 pub mod diagnose;
 pub mod discover;

@@ -13,11 +13,25 @@ use crate::error::{CliError, CmdResult};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Scenario: tmmf-release or rt-retraction.
-    #[arg(long)]
-    pub scenario: String,
+    #[arg(long, required_unless_present = "campaign")]
+    pub scenario: Option<String>,
     /// Truth effects, comma separated.
-    #[arg(long, value_delimiter = ',', required = true)]
+    #[arg(long, value_delimiter = ',', required_unless_present = "campaign")]
     pub effects: Vec<String>,
+    /// Write a campaign of N TMMF releases (needle_contact, tip_contact, tip_adhesion) into the
+    /// folder --out, A1 and lambda drawn from a known population (--a1, --lambda, --rho), the
+    /// preload, tip speed and noise varying; writes campaign.yaml and truth.json there.
+    #[arg(long, value_name = "N")]
+    pub campaign: Option<usize>,
+    /// Campaign population of A1: MEAN:SD [N/m].
+    #[arg(long, value_name = "MEAN:SD")]
+    pub a1: Option<String>,
+    /// Campaign population of lambda: MEAN:SD [m].
+    #[arg(long, value_name = "MEAN:SD")]
+    pub lambda: Option<String>,
+    /// Campaign population correlation of A1 and lambda.
+    #[arg(long, allow_hyphen_values = true)]
+    pub rho: Option<f64>,
     /// Truth parameter: effect.param=VALUE (SI), repeatable; others are nominal.
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub param: Vec<String>,
@@ -71,10 +85,13 @@ fn pairs(
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let scenario = Scenario::from_name(&args.scenario).ok_or_else(|| {
+    if let Some(n) = args.campaign {
+        return campaign(&args, n);
+    }
+    let scenario_name = args.scenario.clone().unwrap_or_default();
+    let scenario = Scenario::from_name(&scenario_name).ok_or_else(|| {
         CliError::bad(format!(
-            "unknown scenario `{}` (tmmf-release, rt-retraction)",
-            args.scenario
+            "unknown scenario `{scenario_name}` (tmmf-release, rt-retraction)"
         ))
     })?;
     let effects: Vec<&str> = args.effects.iter().map(|s| s.trim()).collect();
@@ -122,6 +139,121 @@ pub fn run(args: Args) -> CmdResult {
                 .map(|f| f.display().to_string())
                 .collect::<Vec<_>>()
                 .join(", ")
+        );
+    }
+    Ok(0)
+}
+
+fn mean_sd(flag: &str, v: &Option<String>, default: (f64, f64)) -> Result<(f64, f64), CliError> {
+    let Some(v) = v else { return Ok(default) };
+    let bad = || {
+        CliError::bad(format!(
+            "--{flag} {v}: expected MEAN:SD, two finite numbers in SI, SD >= 0"
+        ))
+    };
+    let (a, b) = v.split_once(':').ok_or_else(bad)?;
+    let (m, s): (f64, f64) = (
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    );
+    if !(m.is_finite() && s.is_finite() && m > 0.0 && s >= 0.0) {
+        return Err(bad());
+    }
+    Ok((m, s))
+}
+
+/// `synth --campaign N --out DIR`: N TMMF releases from a known adhesion population.
+fn campaign(args: &Args, n: usize) -> CmdResult {
+    use geodesic_fit::campaign::{TruePopulation, draw_release};
+    if n == 0 || n > 10_000 {
+        return Err(CliError::bad(format!(
+            "--campaign {n}: between 1 and 10 000 releases"
+        )));
+    }
+    if args
+        .scenario
+        .as_deref()
+        .is_some_and(|s| s != "tmmf-release")
+    {
+        return Err(CliError::bad(
+            "--campaign writes tmmf-release campaigns (the thesis's ch. 5)",
+        ));
+    }
+    let d = TruePopulation::default();
+    let (a1_mean, a1_sd) = mean_sd("a1", &args.a1, (d.a1_mean, d.a1_sd))?;
+    let (lambda_mean, lambda_sd) = mean_sd("lambda", &args.lambda, (d.lambda_mean, d.lambda_sd))?;
+    let rho = args.rho.unwrap_or(0.0);
+    if !(rho.is_finite() && (-1.0..=1.0).contains(&rho)) {
+        return Err(CliError::bad(format!(
+            "--rho {rho}: a correlation in [-1, 1]"
+        )));
+    }
+    let pop = TruePopulation {
+        a1_mean,
+        a1_sd,
+        lambda_mean,
+        lambda_sd,
+        rho,
+    };
+    let dir = &args.out;
+    if dir.exists() && !dir.is_dir() {
+        return Err(CliError::bad(format!(
+            "--out {}: with --campaign, a folder",
+            dir.display()
+        )));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| CliError::Io(format!("{}: {e}", dir.display())))?;
+    let effects = ["needle_contact", "tip_contact", "tip_adhesion"];
+    let task = crate::progress::Task::counter(args.json, "synth: campaign releases", n as u64);
+    let mut names = Vec::new();
+    let mut truth = Vec::new();
+    for i in 0..n {
+        let (a1, lambda, f_pre, v, noise) = draw_release(&pop, args.seed, i as u64);
+        let mut spec = SynthSpec::defaults(Scenario::TmmfRelease, &effects);
+        spec.params.insert("tip_adhesion.A1".into(), a1);
+        spec.params.insert("tip_adhesion.lambda".into(), lambda);
+        spec.params.insert("needle_contact.F_pre".into(), f_pre);
+        spec.noise.insert("x".into(), noise);
+        spec.seed = args.seed.wrapping_mul(1_000_003).wrapping_add(i as u64);
+        spec.fs_hz = args.fs.unwrap_or(1e5);
+        spec.pre_s = args.pre.unwrap_or(5e-4);
+        spec.post_s = args.post.unwrap_or(4e-3);
+        spec.profile = TipProfile {
+            jerk_m_s3: args.jerk.unwrap_or(spec.profile.jerk_m_s3),
+            v_m_s: v,
+        };
+        let name = format!("release-{:03}.yaml", i + 1);
+        let ds = generate(&spec, &name).map_err(|e| CliError::bad(e.to_string()))?;
+        write(&ds, &spec, &dir.join(&name)).map_err(|e| CliError::Io(e.to_string()))?;
+        truth.push(serde_json::json!({
+            "file": name, "tip_adhesion.A1": a1, "tip_adhesion.lambda": lambda,
+            "needle_contact.F_pre": f_pre, "tip_speed_m_s": v, "noise_x_m": noise,
+        }));
+        names.push(name);
+        task.inc(1);
+    }
+    task.finish();
+    let list = format!(
+        "description: synthetic TMMF campaign of {n} releases (geodesic synth --campaign, seed {})\nreleases:\n{}",
+        args.seed,
+        names
+            .iter()
+            .map(|n| format!("  - {n}\n"))
+            .collect::<String>()
+    );
+    crate::cmd::montecarlo::write_atomic(&dir.join("campaign.yaml"), list.as_bytes())?;
+    let doc = serde_json::json!({"population": pop, "seed": args.seed, "releases": truth});
+    let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+    crate::cmd::montecarlo::write_atomic(&dir.join("truth.json"), text.as_bytes())?;
+    if args.json {
+        println!(
+            "{}",
+            serde_json::json!({"campaign": dir.join("campaign.yaml").display().to_string(), "releases": n, "truth": dir.join("truth.json").display().to_string()})
+        );
+    } else {
+        println!(
+            "wrote {n} releases, campaign.yaml and truth.json into {}",
+            dir.display()
         );
     }
     Ok(0)

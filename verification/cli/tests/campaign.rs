@@ -1,0 +1,132 @@
+//! `geodesic synth --campaign` and `geodesic campaign` end to end on a synthetic campaign of 8
+//! short TMMF releases drawn from a known adhesion population (issue 14). Asserted: the
+//! contract's keys; no release skipped; each release's A1 and lambda within 4 sigma of its truth;
+//! the population mean of A1 and lambda within 3 `mean_sigma` of the mean of the drawn values;
+//! P_x from the model and from the data agree within their spread; a bad release is reported
+//! with its file and exit 2.
+
+mod common;
+use common::{geodesic, scratch};
+
+use serde_json::Value;
+
+#[test]
+fn a_synthetic_campaign_recovers_its_population() {
+    let d = scratch("campaign");
+    let out = geodesic(
+        &[
+            "synth",
+            "--campaign",
+            "8",
+            "--out",
+            "camp",
+            "--seed",
+            "4",
+            "-q",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = geodesic(
+        &[
+            "campaign",
+            "camp/campaign.yaml",
+            "--effects",
+            "needle_contact,tip_contact,tip_adhesion",
+            "--json",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let truth: Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("camp/truth.json")).unwrap()).unwrap();
+    let releases = doc["releases"].as_array().unwrap();
+    assert_eq!(releases.len(), 8);
+    assert!(doc["failed"].as_array().unwrap().is_empty());
+    for key in ["P_x_kg_m_s", "F_peak_N", "dt_s"] {
+        for stat in ["mean", "sd", "sd_mean", "min", "max"] {
+            assert!(
+                doc["table"][key]["model"][stat].as_f64().is_some(),
+                "{key}.{stat}"
+            );
+        }
+    }
+    let px = &doc["table"]["P_x_kg_m_s"];
+    let (pm, pd) = (
+        px["model"]["mean"].as_f64().unwrap(),
+        px["data"]["mean"].as_f64().unwrap(),
+    );
+    assert!(
+        (pm - pd).abs() < px["model"]["sd"].as_f64().unwrap(),
+        "P_x model {pm} data {pd}"
+    );
+    for name in ["tip_adhesion.A1", "tip_adhesion.lambda"] {
+        let mut drawn = Vec::new();
+        for r in releases {
+            let file = r["file"].as_str().unwrap();
+            let t = truth["releases"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|t| file.ends_with(t["file"].as_str().unwrap()))
+                .unwrap();
+            let want = t[name].as_f64().unwrap();
+            let got = r["params"][name]["value"].as_f64().unwrap();
+            let sigma = r["params"][name]["sigma"].as_f64().unwrap();
+            assert!(
+                (got - want).abs() < 4.0 * sigma,
+                "{file} {name}: {got} +- {sigma} vs {want}"
+            );
+            drawn.push(want);
+        }
+        let p = &doc["population"][name];
+        for key in ["mean", "mean_sigma", "sd", "sd_sigma"] {
+            assert!(p[key].as_f64().is_some(), "population.{name}.{key}");
+        }
+        let mean_drawn = drawn.iter().sum::<f64>() / drawn.len() as f64;
+        let (m, s) = (
+            p["mean"].as_f64().unwrap(),
+            p["mean_sigma"].as_f64().unwrap(),
+        );
+        assert!(
+            (m - mean_drawn).abs() < 3.0 * s,
+            "{name}: {m} +- {s} vs drawn mean {mean_drawn}"
+        );
+    }
+    assert!(doc["population"]["correlation"].is_object());
+    // a damaged release: reported with its file, the others still fitted, exit 2
+    std::fs::write(d.join("camp/release-003.csv"), "t,x,y\n0,1\n").unwrap();
+    let out = geodesic(
+        &[
+            "campaign",
+            "camp",
+            "--effects",
+            "needle_contact,tip_contact,tip_adhesion",
+            "--json",
+        ],
+        &d,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["releases"].as_array().unwrap().len(), 7);
+    let failed = doc["failed"].as_array().unwrap();
+    assert_eq!(failed.len(), 1);
+    assert!(
+        failed[0]["file"]
+            .as_str()
+            .unwrap()
+            .ends_with("release-003.yaml")
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("release-003"));
+}
