@@ -162,11 +162,13 @@ impl TestRun {
     pub fn load(path: &Path) -> Result<TestRun, String> {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
         serde_json::from_str(&text).map_err(|e| {
+            // serde quotes the offending input, which may hold a line break: keep one line
             format!(
-                "{}:{}:{}: not a recorded test run: {e}",
-                path.display(),
+                "{}:{}:{}: not a recorded test run: {}",
+                crate::text::one_line(&path.display().to_string()),
                 e.line(),
-                e.column()
+                e.column(),
+                crate::text::clip(&e.to_string(), 300)
             )
         })
     }

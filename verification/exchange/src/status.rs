@@ -60,8 +60,9 @@ impl StatusSet {
         };
         let v: Value = serde_json::from_str(text).map_err(|e| {
             err(format!(
-                "line {}: not a JSON compliance matrix: {e}",
-                e.line()
+                "line {}: not a JSON compliance matrix: {}",
+                e.line(),
+                geodesic_core::text::clip(&e.to_string(), 300)
             ))
         })?;
         let rows = v

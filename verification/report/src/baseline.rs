@@ -160,9 +160,11 @@ pub fn diff_text(
 ) -> Result<Diff, BaselineError> {
     let old: OldReport = serde_json::from_str(text).map_err(|e| {
         BaselineError(format!(
-            "{label}:{}:{}: not a geodesic compliance.json: {e}",
+            "{}:{}:{}: not a geodesic compliance.json: {}",
+            geodesic_core::text::one_line(label),
             e.line(),
-            e.column()
+            e.column(),
+            geodesic_core::text::clip(&e.to_string(), 300)
         ))
     })?;
     let old_by: BTreeMap<&str, &OldRow> = old
