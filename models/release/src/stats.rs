@@ -58,3 +58,65 @@ mod tests {
         assert_eq!(quantile_sorted(&d, 0.99), 99.0);
     }
 }
+
+/// Distribution-free 95 % confidence interval of the `q` quantile from sorted data: the order
+/// statistics whose ranks bound the binomial count `Binomial(n, q)` of draws below the true
+/// quantile at 2.5 % and 97.5 % (normal approximation of the binomial; Hahn and Meeker,
+/// "Statistical Intervals", 1991, section 5.2). It measures the Monte Carlo's sampling
+/// uncertainty only.
+pub fn quantile_interval_sorted(sorted: &[f64], q: f64) -> [f64; 2] {
+    let n = sorted.len();
+    if n == 0 {
+        return [f64::NAN; 2];
+    }
+    let (m, sd) = (n as f64 * q, (n as f64 * q * (1.0 - q)).sqrt());
+    let lo = ((m - 1.96 * sd).floor() as isize).clamp(1, n as isize) as usize;
+    let hi = ((m + 1.96 * sd).ceil() as isize + 1).clamp(1, n as isize) as usize;
+    [sorted[lo - 1], sorted[hi - 1]]
+}
+
+/// Probability that the true `q` quantile lies at or below `limit`, given `exceed` of `n` draws
+/// above it: the exceedance probability `p = 1 - F(limit)` has the posterior `Beta(exceed + 1,
+/// n - exceed + 1)` (uniform prior), close to `Gamma(exceed + 1, n)` for small `p`, so
+/// `P(p <= 1 - q) = P(Poisson(n (1 - q)) >= exceed + 1)`. Monte Carlo sampling uncertainty only.
+pub fn probability_quantile_below(n: usize, exceed: usize, q: f64) -> f64 {
+    let mu = n as f64 * (1.0 - q);
+    if mu <= 0.0 {
+        return f64::NAN;
+    }
+    // P(Poisson(mu) <= exceed), summed in log space
+    let mut log_term = -mu;
+    let mut cdf = log_term.exp();
+    for i in 1..=exceed {
+        log_term += mu.ln() - (i as f64).ln();
+        cdf += log_term.exp();
+    }
+    (1.0 - cdf).clamp(0.0, 1.0)
+}
+
+#[cfg(test)]
+mod interval_tests {
+    use super::*;
+
+    #[test]
+    fn quantile_interval_brackets_the_quantile_and_narrows_with_n() {
+        let small: Vec<f64> = (1..=1000).map(f64::from).collect();
+        let big: Vec<f64> = (1..=100_000).map(|i| f64::from(i) / 100.0).collect();
+        let a = quantile_interval_sorted(&small, 0.9973);
+        let b = quantile_interval_sorted(&big, 0.9973);
+        assert!(a[0] <= 997.3 && 997.3 <= a[1], "{a:?}");
+        assert!(b[0] <= 997.3 && 997.3 <= b[1], "{b:?}");
+        assert!(b[1] - b[0] < a[1] - a[0]);
+    }
+
+    #[test]
+    fn probability_below_follows_the_poisson_tail() {
+        // no exceedance in 1000 draws: 1 - exp(-2.7)
+        let p = probability_quantile_below(1000, 0, 0.9973);
+        assert!((p - (1.0 - (-2.7f64).exp())).abs() < 1e-12, "{p}");
+        // the expected count of exceedances (270 of 1e5) gives about one half
+        let p = probability_quantile_below(100_000, 270, 0.9973);
+        assert!((p - 0.5).abs() < 0.05, "{p}");
+        assert!(probability_quantile_below(100_000, 0, 0.9973) > 1.0 - 1e-12);
+    }
+}

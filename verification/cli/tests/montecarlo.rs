@@ -125,3 +125,17 @@ fn sensitivity_prints_the_contract_groups() {
     let (code, _, err) = geodesic(&["sensitivity", "--n", "5"]);
     assert_eq!(code, 2, "{err}");
 }
+
+#[test]
+fn montecarlo_reports_the_interval_of_its_9973_point_and_the_probability_met() {
+    let (code, out, err) = geodesic(&["montecarlo", "--n", "2000", "--seed", "2", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let doc: Value = serde_json::from_str(&out).unwrap();
+    let p = doc["p9973_um_s"].as_f64().unwrap();
+    let iv = doc["p9973_interval_um_s"].as_array().unwrap();
+    let (lo, hi) = (iv[0].as_f64().unwrap(), iv[1].as_f64().unwrap());
+    assert!(lo <= p && p <= hi && lo < hi, "{lo} {p} {hi}");
+    // no draw of the built-in budget comes near 5 um/s: P(Poisson(2000 * 0.0027) >= 1)
+    let pm = doc["probability_met"].as_f64().unwrap();
+    assert!((pm - (1.0 - (-5.4f64).exp())).abs() < 1e-9, "{pm}");
+}

@@ -81,7 +81,9 @@ pub fn run(args: Args) -> CmdResult {
     let seconds = t0.elapsed().as_secs_f64();
     let summary = merged.summary();
     if args.json {
-        println!("{}", summary_json(&summary, seconds));
+        let mut v = summary_json(&summary, seconds);
+        crate::cmd::montecarlo::add_uncertainty(&mut v, &merged);
+        println!("{v}");
     } else {
         print_text(&summary, seconds);
     }

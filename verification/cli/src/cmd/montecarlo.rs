@@ -109,6 +109,26 @@ pub fn summary_json(s: &Summary, seconds: f64) -> serde_json::Value {
     v
 }
 
+/// REL-GPRM-VEL's limit on |X'| [um/s], against which `probability_met` is judged.
+pub const LIMIT_UM_S: f64 = 5.0;
+
+/// Adds interface.md's `p9973_interval_um_s` (95 % distribution-free interval of the 99.73 %
+/// point) and `probability_met` (probability that the 99.73 % point is at or below 5 um/s) to a
+/// summary; both measure the Monte Carlo's sampling uncertainty only (the adhesion budget is
+/// taken as known: the identification uncertainty of a campaign is not propagated yet).
+pub fn add_uncertainty(v: &mut serde_json::Value, r: &McResult) {
+    use geodesic_release::stats::{probability_quantile_below, quantile_interval_sorted};
+    let mut abs = r.abs_um_s();
+    abs.sort_by(f64::total_cmp);
+    let exceed = abs.iter().filter(|x| **x > LIMIT_UM_S).count();
+    v["p9973_interval_um_s"] = serde_json::json!(quantile_interval_sorted(&abs, 0.9973));
+    v["probability_met"] = serde_json::json!(probability_quantile_below(abs.len(), exceed, 0.9973));
+    v["limit_um_s"] = serde_json::json!(LIMIT_UM_S);
+    v["uncertainty"] = serde_json::json!(
+        "Monte Carlo sampling only (adhesion identification uncertainty not propagated)"
+    );
+}
+
 /// Prints a summary as text.
 pub fn print_text(s: &Summary, seconds: f64) {
     println!(
@@ -190,6 +210,7 @@ pub fn run(args: Args) -> CmdResult {
     let summary = result.summary();
     if args.json {
         let mut v = summary_json(&summary, seconds);
+        add_uncertainty(&mut v, &result);
         if let Some((i, k)) = shard {
             v["shard"] = serde_json::json!(format!("{i}/{k}"));
             v["draws"] = serde_json::json!(result.v_m_s.len());
