@@ -18,6 +18,7 @@
 
 mod adhesion;
 mod classic;
+pub mod figures;
 mod hertz;
 
 pub use adhesion::ExponentialAdhesion;
