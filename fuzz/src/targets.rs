@@ -94,6 +94,8 @@ impl Ctx {
                 inputs: ModelInputs {
                     budget: InputFile::new("budget.yaml", ""),
                     capture: InputFile::new("capture.yaml", ""),
+                    design: None,
+                    series: Default::default(),
                 },
                 dispositions: None,
                 mc_n: 1,

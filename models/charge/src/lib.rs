@@ -20,6 +20,7 @@
 pub mod budget;
 pub mod capacitance;
 pub mod neutralise;
+pub mod plunger;
 
 pub use budget::{
     COVERAGE_2SIGMA, ChargeInputs, ChargeMonteCarlo, ELEMENTARY_CHARGE_C, monte_carlo,

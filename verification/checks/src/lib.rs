@@ -10,10 +10,13 @@
 
 pub mod capture;
 pub mod charge;
+pub mod dfc;
 pub mod facility;
 pub mod fidelity;
 pub mod plots;
+pub mod plunger;
 pub mod release;
+pub mod spectral;
 pub mod tm_state;
 
 use geodesic_core::check::{InputFile, ModelInputs};
@@ -33,6 +36,8 @@ pub fn builtin_inputs() -> ModelInputs {
             "<built-in>/models/capture/capture.yaml",
             geodesic_capture::DEFAULT_CAPTURE_YAML,
         ),
+        design: None,
+        series: Default::default(),
     }
 }
 
@@ -82,7 +87,20 @@ pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<d
     all.extend(charge::checks());
     all.extend(tm_state::checks_with(Some(release::vz_source(mc))));
     all.extend(facility::checks());
+    all.extend(plunger::checks());
+    all.extend(dfc::checks());
+    all.extend(spectral::checks());
     all
+}
+
+/// Whether `check` has work in a requirement set: one of the IDs it declares is loaded, or a
+/// loaded requirement names it in `check:` (a generic check such as `spectral-asd`).
+pub fn is_wanted(check: &dyn Check, reqs: &Requirements) -> bool {
+    check.verifies().iter().any(|id| reqs.get(id).is_some())
+        || reqs
+            .items
+            .iter()
+            .any(|r| r.check.as_deref() == Some(check.name()))
 }
 
 /// Names of the registered checks.

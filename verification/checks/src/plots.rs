@@ -17,8 +17,10 @@ fn perr(e: impl std::fmt::Display) -> CheckError {
 
 /// Writes `svg` to `dir/name` (the directory is the staging directory of `geodesic verify`).
 pub fn write(dir: &Path, name: &str, svg: &str) -> Result<String, CheckError> {
-    std::fs::create_dir_all(dir).map_err(|e| CheckError(format!("{}: {e}", dir.display())))?;
     let p = dir.join(name);
+    let parent = p.parent().unwrap_or(dir);
+    std::fs::create_dir_all(parent)
+        .map_err(|e| CheckError(format!("{}: {e}", parent.display())))?;
     std::fs::write(&p, svg).map_err(|e| CheckError(format!("{}: {e}", p.display())))?;
     Ok(name.to_string())
 }

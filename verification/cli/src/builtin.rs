@@ -16,6 +16,14 @@ pub const REQUIREMENTS: &[(&str, &str)] = &[
         include_str!("../../../requirements/facility.yaml"),
     ),
     (
+        "performance.yaml",
+        include_str!("../../../requirements/performance.yaml"),
+    ),
+    (
+        "plunger.yaml",
+        include_str!("../../../requirements/plunger.yaml"),
+    ),
+    (
         "release.yaml",
         include_str!("../../../requirements/release.yaml"),
     ),

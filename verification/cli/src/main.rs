@@ -113,6 +113,8 @@ Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
     Tiptrack(cmd::tiptrack::Args),
     /// Register two surface height maps (before and after contact) and compare them
     Surfaces(cmd::surfaces::Args),
+    /// Amplitude spectral density of a time series judged against a spectral requirement
+    Asd(cmd::asd::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -212,6 +214,7 @@ fn main() -> ExitCode {
         Command::Sensitivity(a) => cmd::sensitivity::run(a),
         Command::Campaign(a) => cmd::campaign::run(a),
         Command::Tiptrack(a) => cmd::tiptrack::run(a),
+        Command::Asd(a) => cmd::asd::run(a),
         Command::Surfaces(a) => cmd::surfaces::run(a),
     };
     match result {

@@ -57,6 +57,14 @@ pub struct ModelInputs {
     pub budget: InputFile,
     /// The capture inputs: xlim and the state sources (`models/capture/capture.yaml` format).
     pub capture: InputFile,
+    /// A mission's design inputs read by its checks (e.g. the Drag-Free CubeSat housing:
+    /// `missions/drag-free-cubesat/design.yaml`); `None`: the checks use their built-in copy.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub design: Option<InputFile>,
+    /// Time series judged by the spectral check, by requirement ID (the series YAML; its CSV's
+    /// hash is in the evidence).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub series: BTreeMap<String, InputFile>,
 }
 
 /// What a check is given to run.
@@ -90,8 +98,8 @@ pub enum Outcome {
 
 /// What a measured value rests on: the first thing an auditor asks of a verdict.
 ///
-/// Only [`Basis::Model`] and [`Basis::FlowDown`] evidence can make a requirement plainly
-/// compliant; [`Basis::Accepted`] gives a verdict that reads "accepted" everywhere, and
+/// Only [`Basis::Model`], [`Basis::FlowDown`] and [`Basis::Measurement`] evidence can make a
+/// requirement plainly compliant; [`Basis::Accepted`] gives a verdict that reads "accepted" everywhere, and
 /// [`Basis::Illustration`] is shown beside the row but never decides it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -101,6 +109,9 @@ pub enum Basis {
     /// Computed at run time from the loaded requirements and other rows' evidence (never from
     /// constants).
     FlowDown,
+    /// Computed from measured data supplied at run time (a test record, e.g. a time series
+    /// whose spectrum a check judges).
+    Measurement,
     /// A result taken from a cited external source (e.g. the thesis's E2E simulation).
     Accepted,
     /// A what-if, shown beside the row, never a verdict.
@@ -108,11 +119,13 @@ pub enum Basis {
 }
 
 impl Basis {
-    /// The basis as written in JSON (`model`, `flow-down`, `accepted`, `illustration`).
+    /// The basis as written in JSON (`model`, `flow-down`, `measurement`, `accepted`,
+    /// `illustration`).
     pub fn as_str(self) -> &'static str {
         match self {
             Basis::Model => "model",
             Basis::FlowDown => "flow-down",
+            Basis::Measurement => "measurement",
             Basis::Accepted => "accepted",
             Basis::Illustration => "illustration",
         }

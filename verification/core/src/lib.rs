@@ -16,6 +16,7 @@ pub mod hash;
 pub mod matrix;
 pub mod output;
 pub mod requirement;
+pub mod spectrum;
 pub mod testrun;
 pub mod text;
 pub mod trace;

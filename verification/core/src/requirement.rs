@@ -270,6 +270,8 @@ struct RawRequirement {
     #[serde(default)]
     limit: Option<Spanned<String>>,
     #[serde(default)]
+    spectrum: Option<RawSpectrum>,
+    #[serde(default)]
     probability: Option<Spanned<String>>,
     method: Spanned<String>,
     activity: String,
@@ -283,6 +285,13 @@ struct RawRequirement {
     level: Option<Spanned<String>>,
     #[serde(default)]
     stage: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSpectrum {
+    band: Spanned<String>,
+    shape: Spanned<String>,
 }
 
 #[derive(Deserialize)]
@@ -350,6 +359,9 @@ pub struct Requirement {
     /// The quantitative limit; `None` for a qualitative requirement (no limit: closed by its
     /// method, never by a check).
     pub limit: Option<Limit>,
+    /// For a limit that is a curve over frequency (an amplitude spectral density bound): its band
+    /// and shape; the limit is then `limit x shape(f)` over the band (see [`crate::spectrum`]).
+    pub spectrum: Option<crate::spectrum::Spectrum>,
     /// Probability level the limit applies at (`99.73 %`), if any.
     pub probability: Option<String>,
     /// Verification method.
@@ -506,10 +518,18 @@ impl Requirements {
                                 format!("requirement {id} has a limit but no `quantity`"),
                             ));
                         }
-                        Some(parse_limit(dimension, l, &err)?)
+                        Some(parse_limit(dimension, l, r.spectrum.is_some(), &err)?)
                     }
                     None => {
                         // qualitative: nothing tied to a limit may be stated
+                        if let Some(sp) = &r.spectrum {
+                            return Err(err(
+                                &sp.band,
+                                format!(
+                                    "requirement {id} has a `spectrum` but no `limit` (the limit is the curve's level)"
+                                ),
+                            ));
+                        }
                         let tied = [
                             ("dimension", r.dimension.as_ref()),
                             ("probability", r.probability.as_ref()),
@@ -566,6 +586,13 @@ impl Requirements {
                     Some(l) => parse_stage(l)?,
                     None => file_stage.unwrap_or(def_stage),
                 };
+                let spectrum = match &r.spectrum {
+                    Some(sp) => Some(
+                        crate::spectrum::Spectrum::parse(&sp.band.value, &sp.shape.value)
+                            .map_err(|c| err(&sp.band, format!("requirement {id}: {c}")))?,
+                    ),
+                    None => None,
+                };
                 let idx = out.items.len();
                 if let Some(p) = r.parent {
                     if !(p.margin.is_finite() && p.margin > 0.0) {
@@ -584,6 +611,7 @@ impl Requirements {
                     source: r.source,
                     quantity: r.quantity.map(|q| q.value).unwrap_or_default(),
                     limit,
+                    spectrum,
                     probability: r.probability.map(|p| p.value),
                     method,
                     level,
@@ -701,6 +729,7 @@ impl Requirements {
 fn parse_limit(
     dimension: &Spanned<String>,
     l: &Spanned<String>,
+    spectral: bool,
     err: &dyn Fn(&Spanned<String>, String) -> LoadError,
 ) -> Result<Limit, LoadError> {
     let dim = Dim::from_name(&dimension.value).ok_or_else(|| {
@@ -715,8 +744,39 @@ fn parse_limit(
         )
     })?;
     let (op, rest) = parse_op(&l.value).map_err(|c| err(l, c))?;
-    let (value, unit) =
+    // an ASD limit: the unit ends in a per-root-hertz marker, stripped here; the dimension is
+    // that of the quantity whose spectral density is bounded
+    let stripped;
+    let rest = match (spectral, crate::spectrum::strip_asd_unit(rest)) {
+        (true, Some(s)) => {
+            stripped = s;
+            stripped.as_str()
+        }
+        (true, None) => {
+            return Err(err(
+                l,
+                format!(
+                    "limit `{}` has a `spectrum`: write its unit as an amplitude spectral density, ending in Hz^-1/2 (e.g. `<= 3e-14 m s^-2 Hz^-1/2`)",
+                    l.value.trim()
+                ),
+            ));
+        }
+        (false, Some(_)) => {
+            return Err(err(
+                l,
+                format!(
+                    "limit `{}` is a spectral density: state its band and shape under `spectrum`",
+                    l.value.trim()
+                ),
+            ));
+        }
+        (false, None) => rest,
+    };
+    let (value, mut unit) =
         parse_quantity(rest).map_err(|e| err(l, format!("limit `{}`: {e}", l.value)))?;
+    if spectral {
+        unit.symbol = format!("{} Hz^-1/2", unit.symbol);
+    }
     if value.dim != dim {
         return Err(err(
             l,

@@ -39,6 +39,35 @@ pub const KNOWN_REQUIREMENT_IDS: &[&str] =
 pub const REQUIREMENT_SOURCES: &[(&str, &str)] =
     include!(concat!(env!("OUT_DIR"), "/requirement_sources.rs"));
 
+/// The other missions' requirement files, `(mission, [(path, text)])`, from
+/// `missions/<mission>/requirements/*.yaml` (e.g. the Drag-Free CubeSat).
+pub const MISSION_SOURCES: &[(&str, &[(&str, &str)])] =
+    include!(concat!(env!("OUT_DIR"), "/mission_sources.rs"));
+
+/// The embedded requirement set of `mission` (parsed once per call site's need), or `None`.
+pub fn mission_requirements(mission: &str) -> Option<crate::Requirements> {
+    let (_, files) = MISSION_SOURCES.iter().find(|(m, _)| *m == mission)?;
+    let src: Vec<(std::path::PathBuf, String)> = files
+        .iter()
+        .map(|(p, t)| (std::path::PathBuf::from(p), t.to_string()))
+        .collect();
+    Some(
+        crate::Requirements::from_sources(&src)
+            .unwrap_or_else(|e| panic!("embedded requirements of {mission}: {e}")),
+    )
+}
+
+/// A requirement of the built-in set or of any mission's set.
+fn any_requirement(id: &str) -> Option<crate::requirement::Requirement> {
+    if let Some(r) = requirements().get(id) {
+        return Some(r.clone());
+    }
+    MISSION_SOURCES
+        .iter()
+        .filter_map(|(m, _)| mission_requirements(m))
+        .find_map(|reqs| reqs.get(id).cloned())
+}
+
 /// The embedded requirement set (parsed once).
 pub fn requirements() -> &'static crate::Requirements {
     static REQS: std::sync::OnceLock<crate::Requirements> = std::sync::OnceLock::new();
@@ -57,9 +86,7 @@ pub fn requirements() -> &'static crate::Requirements {
 /// assertion names the requirement, the value and the limit in the requirement's unit.
 #[track_caller]
 pub fn assert_limit(id: &str, value_si: f64) -> f64 {
-    let r = requirements()
-        .get(id)
-        .unwrap_or_else(|| panic!("assert_limit: unknown requirement {id}"));
+    let r = any_requirement(id).unwrap_or_else(|| panic!("assert_limit: unknown requirement {id}"));
     let lim = r.limit.as_ref().unwrap_or_else(|| {
         panic!("assert_limit: {id} is a qualitative requirement (no limit to assert)")
     });

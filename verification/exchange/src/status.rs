@@ -87,7 +87,7 @@ impl StatusSet {
             if let Some(b) = &basis
                 && !matches!(
                     b.as_str(),
-                    "model" | "flow-down" | "accepted" | "illustration"
+                    "model" | "flow-down" | "measurement" | "accepted" | "illustration"
                 )
             {
                 return Err(err(format!("{id}: unknown basis `{b}`")));

@@ -28,6 +28,19 @@ fn entry(o: &mut String, r: &ImportedRequirement) {
     if let Some(p) = &r.probability {
         o.push_str(&format!("    probability: {}\n", q(p)));
     }
+    if let Some((band, shape)) = &r.spectrum {
+        o.push_str(&format!(
+            "    spectrum: {{band: {}, shape: {}}}\n",
+            q(band),
+            q(shape)
+        ));
+    }
+    if let Some(l) = &r.level {
+        o.push_str(&format!("    level: {}\n", q(l)));
+    }
+    if let Some(st) = &r.stage {
+        o.push_str(&format!("    stage: {}\n", q(st)));
+    }
     o.push_str(&format!("    method: {}\n", r.method));
     o.push_str(&format!("    activity: {}\n", q(&r.activity)));
     if let Some(c) = &r.check {

@@ -262,6 +262,17 @@ fn short(s: &str) -> String {
 
 type Columns = (Vec<f64>, BTreeMap<String, Vec<f64>>);
 
+/// Reads the time column and the named channels (scaled by nothing: values as written) of a
+/// CSV, with the dataset format's checks (finite numbers, strictly increasing time, file and
+/// line in every error); used by the spectral series reader too.
+pub(crate) fn read_csv_columns(
+    path: &Path,
+    time_col: &str,
+    channels: &BTreeMap<String, f64>,
+) -> Result<Columns, FitError> {
+    read_csv(path, time_col, channels)
+}
+
 fn read_csv(
     path: &Path,
     time_col: &str,

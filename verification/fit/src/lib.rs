@@ -23,6 +23,7 @@ pub mod plot;
 pub mod prepare;
 pub mod report;
 pub mod residual;
+pub mod spectral;
 pub mod synth;
 
 pub use dataset::Dataset;

@@ -127,7 +127,7 @@ fn rank(s: &str) -> u8 {
 
 fn basis_rank(b: Option<&str>) -> u8 {
     match b {
-        Some("model") => 0,
+        Some("model") | Some("measurement") => 0,
         Some("flow-down") => 1,
         Some("accepted") => 2,
         _ => 3,

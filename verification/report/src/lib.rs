@@ -133,6 +133,28 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
             ),
         ),
         (
+            "mission design inputs",
+            r.inputs
+                .design
+                .as_ref()
+                .map_or("built-in (or none used)".into(), |d| {
+                    format!("{} (sha256 {})", d.label, short(&d.sha256))
+                }),
+        ),
+        (
+            "time series (spectral checks)",
+            if r.inputs.series.is_empty() {
+                "none".into()
+            } else {
+                r.inputs
+                    .series
+                    .iter()
+                    .map(|(id, f)| format!("{id}: {} (sha256 {})", f.label, short(&f.sha256)))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            },
+        ),
+        (
             "dispositions",
             r.dispositions.as_ref().map_or("none".into(), |d| {
                 format!("{} (sha256 {})", d.label, short(&d.sha256))
@@ -332,6 +354,8 @@ requirements:
                 inputs: geodesic_core::check::ModelInputs {
                     budget: geodesic_core::check::InputFile::new("b.yaml", "b"),
                     capture: geodesic_core::check::InputFile::new("c.yaml", "c"),
+                    design: None,
+                    series: Default::default(),
                 },
                 dispositions: None,
                 mc_n: 1,

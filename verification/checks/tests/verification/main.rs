@@ -6,4 +6,7 @@ mod capture;
 mod charge;
 mod fit;
 mod framework;
+mod housing;
+mod plunger;
 mod release;
+mod spectral;

@@ -1,5 +1,6 @@
 //! One module per `geodesic` command; each owns its clap `Args` and a `run` function.
 
+pub mod asd;
 pub mod campaign;
 pub mod capture;
 pub mod charge;

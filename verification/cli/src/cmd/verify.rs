@@ -32,6 +32,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE.yaml")]
     pub dispositions: Option<PathBuf>,
     /// Identification of the documents written (id, issue, title, project) [default:
+    /// `document.yaml` beside the --requirements folder if present, else
     /// ./verification/document.yaml if present, else the built-in copy].
     #[arg(long, value_name = "FILE.yaml")]
     pub document: Option<PathBuf>,
@@ -70,6 +71,14 @@ pub struct Args {
     /// Skip the fidelity table (figures against the thesis; runs two more Monte Carlo cases).
     #[arg(long = "no-fidelity")]
     pub no_fidelity: bool,
+    /// A time series judged against a spectral requirement: `ID=FILE.yaml` (repeatable; the
+    /// series format is in docs/spectra.md).
+    #[arg(long = "series", value_name = "ID=FILE.yaml")]
+    pub series: Vec<String>,
+    /// A mission's design inputs read by its checks [default: `design.yaml` beside the
+    /// requirements directory if present, else the checks' built-in copy].
+    #[arg(long, value_name = "FILE.yaml")]
+    pub design: Option<PathBuf>,
     /// Print only the JSON compliance matrix on standard output.
     #[arg(long)]
     pub json: bool,
@@ -197,16 +206,72 @@ pub fn run(args: Args) -> CmdResult {
         .map_err(|e| CliError::bad(e.to_string()))?;
 
     // model inputs, read and checked before anything runs
+    let mut series = std::collections::BTreeMap::new();
+    for s in &args.series {
+        let Some((id, file)) = s.split_once('=') else {
+            return Err(CliError::bad(format!(
+                "--series {s}: write ID=FILE.yaml (e.g. --series LPF-DA-ASD=data/spectra/da.yaml)"
+            )));
+        };
+        let Some(r) = reqs.get(id.trim()) else {
+            return Err(CliError::bad(format!(
+                "--series {s}: no requirement {id} is loaded"
+            )));
+        };
+        if r.spectrum.is_none() {
+            return Err(CliError::bad(format!(
+                "--series {s}: {id} is not a spectral requirement (it has no `spectrum`)"
+            )));
+        }
+        let f = geodesic_core::check::InputFile::read(std::path::Path::new(file.trim()))
+            .map_err(|e| CliError::bad(format!("--series {e}")))?;
+        // read and checked before anything runs: a bad series is exit 2 with its file and line
+        geodesic_fit::spectral::Series::load(std::path::Path::new(file.trim()))
+            .map_err(|e| CliError::bad(e.to_string()))?;
+        if series.insert(r.id.to_string(), f).is_some() {
+            return Err(CliError::bad(format!("--series: {id} given twice")));
+        }
+    }
+    let design = match &args.design {
+        Some(p) => Some(geodesic_core::check::InputFile::read(p).map_err(CliError::bad)?),
+        None => args
+            .requirements
+            .as_ref()
+            .and_then(|d| {
+                let p = d
+                    .parent()
+                    .unwrap_or(std::path::Path::new("."))
+                    .join("design.yaml");
+                p.is_file().then_some(p)
+            })
+            .map(|p| geodesic_core::check::InputFile::read(&p).map_err(CliError::bad))
+            .transpose()?,
+    };
+    if let Some(f) = &design {
+        // read and checked before anything runs (exit 2, nothing written)
+        geodesic_housing::Design::from_yaml(&f.text, &f.label).map_err(CliError::bad)?;
+    }
     let inputs = geodesic_core::check::ModelInputs {
         budget: budget_file(args.budget.as_ref())?,
         capture: capture_file(args.capture.as_ref())?,
+        design,
+        series,
     };
     geodesic_release::budget::Budget::from_yaml(&inputs.budget.text, &inputs.budget.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
     geodesic_capture::CaptureInputs::from_yaml_str(&inputs.capture.text, &inputs.capture.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
+    // a mission folder (`missions/<name>/requirements/` given with --requirements) may carry
+    // its own document identification beside its requirements
+    let mission_document = args.requirements.as_ref().and_then(|d| {
+        let p = d
+            .parent()
+            .unwrap_or(std::path::Path::new("."))
+            .join("document.yaml");
+        p.is_file().then_some(p)
+    });
     let document_file = input_file(
-        args.document.as_ref(),
+        args.document.as_ref().or(mission_document.as_ref()),
         "verification/document.yaml",
         DEFAULT_DOCUMENT_YAML,
     )?;
@@ -252,14 +317,14 @@ pub fn run(args: Args) -> CmdResult {
     );
     let to_run = registry
         .iter()
-        .filter(|c| c.verifies().iter().any(|id| reqs.get(id).is_some()))
+        .filter(|c| geodesic_checks::is_wanted(c.as_ref(), &reqs))
         .count()
-        + usize::from(!args.no_fidelity);
+        + usize::from(!args.no_fidelity && reqs.items.iter().any(|r| r.family == "release"));
     let mut task = crate::progress::Task::counter(args.json, "verify", to_run as u64);
     let mut evidence = Vec::new();
     let mut runs = Vec::new();
     for check in &registry {
-        if !check.verifies().iter().any(|id| reqs.get(id).is_some()) {
+        if !geodesic_checks::is_wanted(check.as_ref(), &reqs) {
             continue; // none of its requirements is loaded: listed as an orphan check below
         }
         task.set_label(&format!("verify: check {}", check.name()));
@@ -273,9 +338,15 @@ pub fn run(args: Args) -> CmdResult {
             check.name(),
             t0.elapsed().as_secs_f64()
         );
+        let mut verifies: Vec<String> = check.verifies().iter().map(|s| s.to_string()).collect();
+        for e in &ev {
+            if !verifies.contains(&e.requirement) {
+                verifies.push(e.requirement.clone());
+            }
+        }
         runs.push(CheckRun {
             name: check.name().to_string(),
-            verifies: check.verifies().iter().map(|s| s.to_string()).collect(),
+            verifies,
         });
         evidence.push((check.name().to_string(), ev));
         task.inc(1);
@@ -288,7 +359,7 @@ pub fn run(args: Args) -> CmdResult {
         &dispositions,
     );
     for check in &registry {
-        if !check.verifies().iter().any(|id| reqs.get(id).is_some()) {
+        if !geodesic_checks::is_wanted(check.as_ref(), &reqs) {
             for id in check.verifies() {
                 matrix.orphan_checks.push(geodesic_core::matrix::Orphan {
                     check: check.name().to_string(),
@@ -297,7 +368,10 @@ pub fn run(args: Args) -> CmdResult {
             }
         }
     }
-    let fidelity = if args.no_fidelity {
+    // the fidelity table compares the LISA Pathfinder release with the thesis: only for a
+    // requirement set that has the release family
+    let lpf = reqs.items.iter().any(|r| r.family == "release");
+    let mut fidelity = if args.no_fidelity || !lpf {
         Vec::new()
     } else {
         task.set_label("verify: fidelity table (Monte Carlo cases adhesion and mechanisms)");
@@ -306,6 +380,13 @@ pub fn run(args: Args) -> CmdResult {
         task.inc(1);
         t
     };
+    // the Drag-Free CubeSat housing's figures, when its requirements are loaded
+    if !args.no_fidelity && reqs.items.iter().any(|r| r.family == "housing") {
+        fidelity.extend(
+            geodesic_checks::fidelity::dfc_table(&ctx)
+                .map_err(|e| CliError::bad(format!("fidelity table: {e}")))?,
+        );
+    }
     task.finish();
     let (commit, dirty) = git_state();
     let report = Report {

@@ -159,6 +159,30 @@ const REQ_ATTRS: &[Attr] = &[
         "probability level the limit applies at",
     ),
     attr(
+        "geodesic-ad-req-level",
+        "geodesic.Level",
+        Kind::String,
+        "ECSS-E-ST-10-02C verification level (equipment, subsystem, element, system)",
+    ),
+    attr(
+        "geodesic-ad-req-stage",
+        "geodesic.Stage",
+        Kind::String,
+        "ECSS-E-ST-10-02C verification stage (qualification, acceptance, pre-launch, in-orbit, post-landing)",
+    ),
+    attr(
+        "geodesic-ad-req-spectrum-band",
+        "geodesic.SpectrumBand",
+        Kind::String,
+        "band of a spectral limit (F1 .. F2); the limit is its level x geodesic.SpectrumShape over it",
+    ),
+    attr(
+        "geodesic-ad-req-spectrum-shape",
+        "geodesic.SpectrumShape",
+        Kind::String,
+        "shape of a spectral limit over frequency f (1 + (f / 3 mHz)^2)",
+    ),
+    attr(
         "geodesic-ad-req-method",
         "geodesic.Method",
         Kind::Enum(DT_METHOD),
@@ -238,7 +262,13 @@ const REL_ATTRS: &[Attr] = &[attr(
 
 const METHODS: &[&str] = &["test", "analysis", "review-of-design", "inspection"];
 const STATUSES: &[&str] = &["compliant", "non-compliant", "not-verified"];
-const BASES: &[&str] = &["model", "flow-down", "accepted", "illustration"];
+const BASES: &[&str] = &[
+    "model",
+    "flow-down",
+    "measurement",
+    "accepted",
+    "illustration",
+];
 const CLOSE_OUTS: &[&str] = &["closed", "open"];
 
 /// A value written for one attribute.
@@ -407,6 +437,18 @@ fn requirement_values(r: &Requirement, st: Option<&RowStatus>) -> Vec<(&'static 
     }
     if let Some(p) = &r.probability {
         v.push(("geodesic-ad-req-probability", Val::Str(p.clone())));
+    }
+    v.push(("geodesic-ad-req-level", Val::Str(r.level.as_str().into())));
+    v.push(("geodesic-ad-req-stage", Val::Str(r.stage.as_str().into())));
+    if let Some(sp) = &r.spectrum {
+        v.push((
+            "geodesic-ad-req-spectrum-band",
+            Val::Str(sp.band_text.clone()),
+        ));
+        v.push((
+            "geodesic-ad-req-spectrum-shape",
+            Val::Str(sp.shape_text.clone()),
+        ));
     }
     v.push((
         "geodesic-ad-req-method",

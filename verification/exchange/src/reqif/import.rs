@@ -77,6 +77,14 @@ pub enum Field {
     Limit,
     /// `probability`
     Probability,
+    /// `level` (ECSS verification level)
+    Level,
+    /// `stage` (ECSS verification stage)
+    Stage,
+    /// `spectrum.band`
+    SpectrumBand,
+    /// `spectrum.shape`
+    SpectrumShape,
     /// `method`
     Method,
     /// `activity`
@@ -89,7 +97,7 @@ pub enum Field {
 
 impl Field {
     /// Every field, in YAML order.
-    pub const ALL: [Field; 12] = [
+    pub const ALL: [Field; 16] = [
         Field::Id,
         Field::Title,
         Field::Text,
@@ -98,6 +106,10 @@ impl Field {
         Field::Dimension,
         Field::Limit,
         Field::Probability,
+        Field::SpectrumBand,
+        Field::SpectrumShape,
+        Field::Level,
+        Field::Stage,
         Field::Method,
         Field::Activity,
         Field::Check,
@@ -115,6 +127,10 @@ impl Field {
             Field::Dimension => "dimension",
             Field::Limit => "limit",
             Field::Probability => "probability",
+            Field::Level => "level",
+            Field::Stage => "stage",
+            Field::SpectrumBand => "spectrum-band",
+            Field::SpectrumShape => "spectrum-shape",
             Field::Method => "method",
             Field::Activity => "activity",
             Field::Check => "check",
@@ -153,6 +169,10 @@ impl Field {
             Field::Dimension => &["geodesic.Dimension", "Dimension"],
             Field::Limit => &["geodesic.Limit", "Limit"],
             Field::Probability => &["geodesic.Probability", "Probability"],
+            Field::Level => &["geodesic.Level", "Verification Level"],
+            Field::Stage => &["geodesic.Stage", "Verification Stage"],
+            Field::SpectrumBand => &["geodesic.SpectrumBand", "Spectrum Band"],
+            Field::SpectrumShape => &["geodesic.SpectrumShape", "Spectrum Shape"],
             Field::Method => &[
                 "geodesic.Method",
                 "Verification Method",
@@ -196,6 +216,12 @@ pub struct ImportedRequirement {
     pub limit: String,
     /// Probability level.
     pub probability: Option<String>,
+    /// Band and shape of a spectral limit.
+    pub spectrum: Option<(String, String)>,
+    /// ECSS verification level, if stated.
+    pub level: Option<String>,
+    /// ECSS verification stage, if stated.
+    pub stage: Option<String>,
     /// Method (test, analysis, review-of-design, inspection).
     pub method: String,
     /// Verification activity.
@@ -551,6 +577,10 @@ fn parse_limit(s: &str) -> Result<(Quantity, String), String> {
     let t = s.trim();
     for sym in ["<=", "≤", ">=", "≥", "<", ">"] {
         if let Some(rest) = t.strip_prefix(sym) {
+            // an amplitude spectral density limit (`... Hz^-1/2`): the dimension is that of the
+            // quantity whose spectrum is bounded
+            let stripped = geodesic_core::spectrum::strip_asd_unit(rest.trim());
+            let rest = stripped.as_deref().unwrap_or(rest);
             let (q, _) = parse_quantity(rest.trim()).map_err(|e| format!("limit `{t}`: {e}"))?;
             let dim = q
                 .dim
@@ -811,7 +841,25 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
             .unwrap_or_default();
         let mut probability = o.get(Field::Probability, opts).map(str::to_string);
         let check = o.get(Field::Check, opts).map(str::to_string);
+        let mut spectrum = match (
+            o.get(Field::SpectrumBand, opts),
+            o.get(Field::SpectrumShape, opts),
+        ) {
+            (Some(b), Some(sh)) => Some((b.to_string(), sh.to_string())),
+            (None, None) => None,
+            _ => {
+                missing.push(format!(
+                    "a spectral limit needs both {} and {}",
+                    attr_names(Field::SpectrumBand, opts),
+                    attr_names(Field::SpectrumShape, opts)
+                ));
+                None
+            }
+        };
         if qualitative.is_some() {
+            if let Some((b, sh)) = spectrum.take() {
+                notes.push(format!("spectrum '{b}', '{sh}' stated without a limit"));
+            }
             // what is tied to a limit cannot be kept without one: said in the note
             if !dimension.is_empty() {
                 notes.push(format!("dimension '{dimension}' stated without a limit"));
@@ -844,6 +892,9 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                 dimension,
                 limit,
                 probability,
+                spectrum,
+                level: o.get(Field::Level, opts).map(str::to_string),
+                stage: o.get(Field::Stage, opts).map(str::to_string),
                 method,
                 activity: o
                     .get(Field::Activity, opts)

@@ -1,0 +1,88 @@
+//! Traced tests of the generic spectral check (`spectral-asd`, issue 16 item 3) on synthetic
+//! series whose spectrum is known analytically: the check's value, worst frequency and verdict
+//! against the independent reference, and the requirement's own limit curve.
+
+use geodesic_checks::spectral::SpectralAsd;
+use geodesic_core::trace::assert_reference;
+use geodesic_core::{Basis, Check, Outcome};
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+use std::fmt::Write;
+use std::path::Path;
+
+/// Writes a series of white noise with one-sided ASD `asd` [m s^-2 Hz^-1/2] at `fs` [Hz].
+fn white_series(dir: &Path, asd: f64, fs: f64, n: usize, seed: u64) -> std::path::PathBuf {
+    let sd = asd / (2.0 / fs).sqrt();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let nd = Normal::new(0.0, sd).unwrap();
+    let mut csv = String::from("t,a\n");
+    for i in 0..n {
+        let _ = writeln!(csv, "{},{:e}", i as f64 / fs, nd.sample(&mut rng));
+    }
+    std::fs::write(dir.join("s.csv"), csv).unwrap();
+    let y = dir.join("s.yaml");
+    std::fs::write(&y, "data: s.csv\nchannel: a\nunit: m/s^2\n").unwrap();
+    y
+}
+
+fn run(series: &Path, dir: &Path) -> geodesic_core::Evidence {
+    let mut inputs = geodesic_checks::builtin_inputs();
+    inputs.series.insert(
+        "LPF-DA-ASD".into(),
+        geodesic_core::check::InputFile::read(series).unwrap(),
+    );
+    let reqs = geodesic_core::trace::requirements().clone();
+    let ctx = geodesic_checks::context(reqs, inputs, dir.to_path_buf(), 10, 1, true);
+    let ev = SpectralAsd.run(&ctx).unwrap();
+    ev.into_iter()
+        .find(|e| e.requirement == "LPF-DA-ASD")
+        .unwrap()
+}
+
+#[test]
+fn white_noise_is_judged_at_the_bottom_of_the_band() {
+    geodesic_core::verifies!("LPF-DA-ASD");
+    let tmp = tempfile::tempdir().unwrap();
+    // flat 2e-14 m s^-2 Hz^-1/2 against 3e-14 (1 + (f / 3 mHz)^2): worst near 1 mHz, where the
+    // limit is 3.33e-14: ratio about 0.6
+    let a = 2e-14;
+    let y = white_series(tmp.path(), a, 0.1, 32_768, 3);
+    let e = run(&y, tmp.path());
+    assert_eq!(e.basis, Some(Basis::Measurement));
+    let Outcome::Measured(q) = &e.outcome else {
+        panic!("{:?}", e.outcome)
+    };
+    let f = e.inputs["worst_frequency_hz"].as_f64().unwrap();
+    let dof = e.inputs["dof_per_bin"].as_f64().unwrap();
+    assert!(f < 2e-3, "worst at {f} Hz");
+    // the reference: the flat level over the limit at that frequency, within 4 sd of a Welch
+    // ASD bin (relative sd of the ASD sqrt(1 / (2 nu)))
+    let truth = a / (3e-14 * (1.0 + (f / 3e-3).powi(2)));
+    let ratio = e.inputs["worst_ratio"].as_f64().unwrap();
+    assert_reference(
+        "LPF-DA-ASD",
+        "flat ASD over the analytic limit curve",
+        ratio,
+        truth,
+        4.0 * (1.0 / (2.0 * dof)).sqrt(),
+    );
+    // the value is the ratio referred to the level, so the matrix margin is 1 - ratio
+    assert!((q.value - ratio * 3e-14).abs() < 1e-27);
+    assert!(tmp.path().join("spectra/LPF-DA-ASD.svg").is_file());
+}
+
+#[test]
+fn noise_above_the_curve_is_not_met() {
+    geodesic_core::verifies!("LPF-DA-ASD");
+    let tmp = tempfile::tempdir().unwrap();
+    let y = white_series(tmp.path(), 6e-14, 0.1, 16_384, 4);
+    let e = run(&y, tmp.path());
+    let ratio = e.inputs["worst_ratio"].as_f64().unwrap();
+    // 6e-14 / 3.33e-14 = 1.8 at 1 mHz: above the limit, and the matrix will say so
+    assert!(ratio > 1.4, "{ratio}");
+    let r = geodesic_core::trace::requirements()
+        .get("LPF-DA-ASD")
+        .unwrap();
+    let lim = r.limit.as_ref().unwrap();
+    assert!(!lim.op.holds(ratio * lim.value.value, lim.value.value));
+}

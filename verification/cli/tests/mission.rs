@@ -1,0 +1,285 @@
+//! A second mission and spectral requirements end to end (issue 16, items 3 and 4):
+//! `geodesic verify --requirements missions/drag-free-cubesat/requirements` produces the
+//! mission's own matrix and document; its verdicts move with its design file; `geodesic asd`
+//! and `geodesic verify --series` judge a time series against a spectral requirement, with
+//! exit 0 / 1 / 2.
+
+mod common;
+use common::{geodesic, scratch, workspace};
+use serde_json::Value;
+use std::fmt::Write;
+use std::path::Path;
+
+fn json_of(out: &std::process::Output) -> Value {
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!("{e}: {}", String::from_utf8_lossy(&out.stderr));
+    })
+}
+
+fn row<'a>(doc: &'a Value, id: &str) -> &'a Value {
+    doc["requirements"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["id"] == id)
+        .unwrap_or_else(|| panic!("no row {id}"))
+}
+
+#[test]
+fn drag_free_cubesat_has_its_own_matrix_and_document() {
+    let d = scratch("dfc");
+    let ws = workspace();
+    let reqs = ws.join("missions/drag-free-cubesat/requirements");
+    let out = geodesic(
+        &[
+            "verify",
+            "--requirements",
+            reqs.to_str().unwrap(),
+            "--json",
+            "--reports",
+            "r",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc = json_of(&out);
+    assert_eq!(doc["run"]["document"]["id"], "GEO-DFC-HSG-VCD-001");
+    let s = &doc["summary"];
+    assert_eq!(
+        (s["total"].as_u64(), s["compliant"].as_u64()),
+        (Some(7), Some(4))
+    );
+    assert_eq!(row(&doc, "DFC-MAG-SHIELD")["basis"], "model");
+    assert_eq!(row(&doc, "DFC-MODE-1")["basis"], "accepted");
+    assert_eq!(row(&doc, "DFC-ACC-ASD")["status"], "not-verified");
+    // the LISA Pathfinder fidelity rows are absent, the housing's present
+    let fid = doc["run"]["fidelity"].as_array().unwrap();
+    assert!(
+        fid.iter()
+            .any(|r| r["figure"].as_str().unwrap().contains("Al6061"))
+    );
+    assert!(
+        !fid.iter()
+            .any(|r| r["figure"].as_str().unwrap().contains("99.73"))
+    );
+    assert!(d.join("r/index.html").is_file() && d.join("r/vcd.xlsx").is_file());
+}
+
+#[test]
+fn the_shield_verdict_moves_with_the_design_file() {
+    let d = scratch("dfc-design");
+    let ws = workspace();
+    let text = std::fs::read_to_string(ws.join("missions/drag-free-cubesat/design.yaml"))
+        .unwrap()
+        .replace("thickness_mm: 0.1", "thickness_mm: 0.02");
+    std::fs::write(d.join("thin.yaml"), text).unwrap();
+    let reqs = ws.join("missions/drag-free-cubesat/requirements");
+    let out = geodesic(
+        &[
+            "verify",
+            "--requirements",
+            reqs.to_str().unwrap(),
+            "--design",
+            "thin.yaml",
+            "--json",
+            "--reports",
+            "r",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc = json_of(&out);
+    let r = row(&doc, "DFC-MAG-SHIELD");
+    assert_eq!(r["status"], "non-compliant");
+    assert!(r["value"].as_f64().unwrap() > 0.01);
+    assert_eq!(doc["run"]["inputs"]["design"]["label"], "thin.yaml");
+    // a broken design file is exit 2 with its name
+    std::fs::write(d.join("bad.yaml"), "caging_load_n: [\n").unwrap();
+    let out = geodesic(
+        &[
+            "verify",
+            "--requirements",
+            reqs.to_str().unwrap(),
+            "--design",
+            "bad.yaml",
+            "--reports",
+            "r2",
+        ],
+        &d,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.yaml"), "{err}");
+    assert!(!d.join("r2").exists());
+}
+
+/// White noise of one-sided ASD `asd` [SI / sqrt(Hz)] at `fs` [Hz], in `unit` scaled by `k`.
+fn series(dir: &Path, name: &str, asd: f64, fs: f64, n: usize, unit: &str, k: f64) -> String {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Normal};
+    let sd = asd / (2.0 / fs).sqrt();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+    let nd = Normal::new(0.0, sd).unwrap();
+    let mut csv = String::from("t,v\n");
+    for i in 0..n {
+        let _ = writeln!(csv, "{},{:e}", i as f64 / fs, nd.sample(&mut rng) / k);
+    }
+    std::fs::write(dir.join(format!("{name}.csv")), csv).unwrap();
+    std::fs::write(
+        dir.join(format!("{name}.yaml")),
+        format!("data: {name}.csv\nchannel: v\nunit: \"{unit}\"\n"),
+    )
+    .unwrap();
+    format!("{name}.yaml")
+}
+
+#[test]
+fn asd_judges_a_series_with_exit_0_1_2() {
+    let d = scratch("asd");
+    let low = series(&d, "low", 1e-14, 0.1, 8192, "fm/s^2", 1e-15);
+    let out = geodesic(
+        &[
+            "asd",
+            &low,
+            "--requirement",
+            "LPF-DA-ASD",
+            "--json",
+            "--plot",
+            "p.svg",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc = json_of(&out);
+    assert_eq!(doc["met"], true);
+    let f = doc["worst_frequency_hz"].as_f64().unwrap();
+    let truth = 1e-14 / (3e-14 * (1.0 + (f / 3e-3).powi(2)));
+    let dof = doc["dof_per_bin"].as_f64().unwrap();
+    let r = doc["worst_ratio"].as_f64().unwrap();
+    assert!(
+        (r / truth - 1.0).abs() < 4.0 * (1.0 / (2.0 * dof)).sqrt(),
+        "{r} vs {truth}"
+    );
+    assert!(d.join("p.svg").is_file());
+    let high = series(&d, "high", 8e-14, 0.1, 8192, "m/s^2", 1.0);
+    let out = geodesic(&["asd", &high, "--requirement", "LPF-DA-ASD"], &d);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("NOT MET"));
+    // wrong dimension, non-spectral requirement, unknown ID, too short, non-uniform: exit 2
+    let volts = series(&d, "volts", 1e-14, 0.1, 8192, "V", 1.0);
+    for (args, needle) in [
+        (
+            vec!["asd", volts.as_str(), "--requirement", "LPF-DA-ASD"],
+            "bounds a acceleration",
+        ),
+        (
+            vec!["asd", low.as_str(), "--requirement", "REL-GPRM-VEL"],
+            "not a spectral requirement",
+        ),
+        (
+            vec!["asd", low.as_str(), "--requirement", "NOPE-1"],
+            "no such requirement",
+        ),
+    ] {
+        let out = geodesic(&args, &d);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(needle) && err.lines().count() == 1, "{err}");
+    }
+    let short = series(&d, "short", 1e-14, 0.1, 80, "m/s^2", 1.0);
+    let out = geodesic(&["asd", &short, "--requirement", "LPF-DA-ASD"], &d);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("coarser than the band's bottom"));
+    std::fs::write(d.join("gap.csv"), "t,v\n0,1\n10,2\n20,3\n35,4\n40,5\n50,6\n60,7\n70,8\n80,9\n90,1\n100,2\n110,3\n120,4\n130,5\n140,6\n150,7\n160,8\n").unwrap();
+    std::fs::write(
+        d.join("gap.yaml"),
+        "data: gap.csv\nchannel: v\nunit: m/s^2\n",
+    )
+    .unwrap();
+    let out = geodesic(&["asd", "gap.yaml", "--requirement", "LPF-DA-ASD"], &d);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("gap.csv:5:") && err.contains("not uniform"),
+        "{err}"
+    );
+}
+
+#[test]
+fn verify_series_gives_a_measured_verdict() {
+    let d = scratch("verify-series");
+    let ws = workspace();
+    std::fs::create_dir_all(d.join("reqs")).unwrap();
+    std::fs::copy(
+        ws.join("requirements/performance.yaml"),
+        d.join("reqs/performance.yaml"),
+    )
+    .unwrap();
+    let s = series(&d, "da", 1e-14, 0.1, 8192, "m/s^2", 1.0);
+    let arg = format!("LPF-DA-ASD={s}");
+    let out = geodesic(
+        &[
+            "verify",
+            "--requirements",
+            "reqs",
+            "--series",
+            &arg,
+            "--json",
+            "--reports",
+            "r",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc = json_of(&out);
+    let r = row(&doc, "LPF-DA-ASD");
+    assert_eq!(
+        (r["status"].as_str(), r["basis"].as_str()),
+        (Some("compliant"), Some("measurement"))
+    );
+    assert_eq!(row(&doc, "LPF-IFO-ASD")["status"], "not-verified");
+    assert!(
+        row(&doc, "LPF-IFO-ASD")["reason"]
+            .as_str()
+            .unwrap()
+            .contains("--series LPF-IFO-ASD=")
+    );
+    assert!(d.join("r/spectra/LPF-DA-ASD.svg").is_file());
+    assert!(doc["run"]["inputs"]["series"]["LPF-DA-ASD"]["sha256"].is_string());
+    // a series for a requirement that is not spectral, or not loaded, is exit 2
+    for bad in ["REL-GPRM-VEL=da.yaml", "LPF-DA-ASD"] {
+        let out = geodesic(
+            &[
+                "verify",
+                "--requirements",
+                "reqs",
+                "--series",
+                bad,
+                "--reports",
+                "r3",
+            ],
+            &d,
+        );
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+    }
+}
