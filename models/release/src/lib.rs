@@ -29,3 +29,4 @@ pub mod montecarlo;
 pub mod parts;
 pub mod sensitivity;
 pub mod stats;
+pub mod tipradius;

@@ -63,6 +63,7 @@ pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceR
     let budget = crate::release::budget_of(ctx)?;
     rows.extend(contact_rows(&budget));
     rows.extend(plunger_rows(ctx)?);
+    rows.extend(tip_radius_rows(&budget, ctx)?);
     let all = mc.get(ctx)?.summary();
     let note = format!(
         "N = {}, seed = {}, budget {} (sha256 {})",
@@ -268,6 +269,40 @@ fn plunger_rows(ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
             "differs: with a continuous retraction faster than the TM the gap never closes; the thesis's stepped retraction (\"the actual distance depends on step size\") can leave the plunger near the TM, which is not modelled",
         ),
     ])
+}
+
+/// The tip-radius trade-off of thesis ch. 6 (issue 16, item 2).
+fn tip_radius_rows(
+    budget: &geodesic_release::budget::Budget,
+    ctx: &CheckContext,
+) -> Result<Vec<ReferenceRow>, CheckError> {
+    use geodesic_release::tipradius::{ESTIMATES, monte_carlo_at, optimum_radius_m};
+    let i = crate::tipradius::simple_inputs(budget);
+    let (b, u) = (
+        optimum_radius_m(&i, &ESTIMATES[0]),
+        optimum_radius_m(&i, &ESTIMATES[1]),
+    );
+    let n = (ctx.mc_n / 5).max(1000);
+    let mc = |r: f64| {
+        monte_carlo_at(budget, r, n, ctx.seed)
+            .map(|p| p.p9973_um_s)
+            .map_err(|e| CheckError(format!("tip-radius Monte Carlo: {e}")))
+    };
+    let (m1, m10) = (mc(1e-3)?, mc(10e-3)?);
+    Ok(vec![row(
+        "optimum tip radius of the simple worst-case estimates (bottom 0.2 N, 180 mm/s; upper 0.4 N, 45 mm/s)",
+        format!(
+            "bottom {:.2} mm, upper {:.2} mm; Monte Carlo 99.73 %: {m1:.3} um/s at 1 mm, {m10:.3} um/s at 10 mm",
+            b * 1e3,
+            u * 1e3
+        ),
+        "about 1 mm, against today's 10 mm (thesis ch. 6)".into(),
+        pct(b * 1e3, 1.0),
+        &format!(
+            "jerk {:.3e} m/s^3 from the mechanism model (not printed in the thesis); gold 120 MPa and bond 0.8 um ASSUMED; Monte Carlo {n} draws per radius with A1 scaled as the contact area (R / 10 mm)^(2/3)",
+            i.jerk_m_s3
+        ),
+    )])
 }
 
 /// The Drag-Free CubeSat housing's figures against the thesis (ch. 8), from the run's design

@@ -17,6 +17,7 @@ pub mod plots;
 pub mod plunger;
 pub mod release;
 pub mod spectral;
+pub mod tipradius;
 pub mod tm_state;
 
 use geodesic_core::check::{InputFile, ModelInputs};
@@ -88,6 +89,7 @@ pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<d
     all.extend(tm_state::checks_with(Some(release::vz_source(mc))));
     all.extend(facility::checks());
     all.extend(plunger::checks());
+    all.extend(tipradius::checks());
     all.extend(dfc::checks());
     all.extend(spectral::checks());
     all

@@ -241,3 +241,126 @@ mod tests {
         assert_eq!(log_tick(&0.003), "");
     }
 }
+
+/// Worst-case release velocity against tip radius: the thesis's simple bottom and upper
+/// estimates (push, adhesion and total) on log-log axes, with the release Monte Carlo's
+/// 99.73 % point at a handful of radii as the cross-check (thesis ch. 6, "Lesson Learned").
+pub fn tip_radius_svg(
+    curves: &[(String, Vec<geodesic_release::tipradius::Worst>)],
+    mc: &[geodesic_release::tipradius::McPoint],
+    current_radius_m: f64,
+) -> Result<String, CheckError> {
+    let (x0, x1) = (0.05, 50.0); // mm
+    let mut ys: Vec<f64> = curves
+        .iter()
+        .flat_map(|(_, w)| {
+            w.iter()
+                .flat_map(|p| [p.push_m_s, p.adhesion_m_s, p.total_m_s])
+        })
+        .map(|v| v * 1e6)
+        .chain(mc.iter().map(|p| p.p9973_um_s))
+        .filter(|v| *v > 0.0)
+        .collect();
+    ys.push(5.0);
+    let y0 = ys.iter().copied().fold(f64::INFINITY, f64::min) / 2.0;
+    let y1 = ys.iter().copied().fold(0.0f64, f64::max) * 2.0;
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (900, 540)).into_drawing_area();
+        root.fill(&WHITE).map_err(perr)?;
+        let mut c = ChartBuilder::on(&root)
+            .caption(
+                "Worst-case release velocity against tip radius",
+                ("sans-serif", 22),
+            )
+            .margin(14)
+            .x_label_area_size(50)
+            .y_label_area_size(80)
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(perr)?;
+        c.configure_mesh()
+            .x_desc("tip radius [mm] (log)")
+            .y_desc("|X'| [um/s] (log)")
+            .label_style(("sans-serif", 16))
+            .x_label_formatter(&log_tick)
+            .y_label_formatter(&log_tick)
+            .draw()
+            .map_err(perr)?;
+        let colours = [RGBColor(40, 90, 170), RGBColor(200, 30, 30)];
+        for (i, (name, w)) in curves.iter().enumerate() {
+            let col = colours[i % 2];
+            let total: Vec<(f64, f64)> = w
+                .iter()
+                .map(|p| (p.radius_m * 1e3, p.total_m_s * 1e6))
+                .collect();
+            c.draw_series(LineSeries::new(total, col.stroke_width(2)))
+                .map_err(perr)?
+                .label(format!("{name}: push + adhesion"))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 24, y)], col.stroke_width(2))
+                });
+            for (k, sel) in [0usize, 1].into_iter().enumerate() {
+                let pts: Vec<(f64, f64)> = w
+                    .iter()
+                    .map(|p| {
+                        (
+                            p.radius_m * 1e3,
+                            if sel == 0 { p.push_m_s } else { p.adhesion_m_s } * 1e6,
+                        )
+                    })
+                    .collect();
+                let s = c
+                    .draw_series(DashedLineSeries::new(
+                        pts,
+                        3 + 3 * k as u32,
+                        3,
+                        col.stroke_width(1),
+                    ))
+                    .map_err(perr)?;
+                if i == 0 {
+                    s.label(if sel == 0 {
+                        "push (catapult) term, dashed"
+                    } else {
+                        "adhesion term, long dashes"
+                    })
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK));
+                }
+            }
+        }
+        c.draw_series(
+            mc.iter()
+                .map(|p| Circle::new((p.radius_m * 1e3, p.p9973_um_s), 5, BLACK.filled())),
+        )
+        .map_err(perr)?
+        .label("release Monte Carlo, 99.73 % (A1 scaled with contact area)")
+        .legend(|(x, y)| Circle::new((x + 12, y), 5, BLACK.filled()));
+        c.draw_series(DashedLineSeries::new(
+            vec![(x0, 5.0), (x1, 5.0)],
+            8,
+            4,
+            RGBColor(120, 120, 120).stroke_width(1),
+        ))
+        .map_err(perr)?
+        .label("requirement 5 um/s")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], RGBColor(120, 120, 120)));
+        let r = current_radius_m * 1e3;
+        c.draw_series(DashedLineSeries::new(
+            vec![(r, y0), (r, y1)],
+            4,
+            4,
+            BLACK.stroke_width(1),
+        ))
+        .map_err(perr)?
+        .label(format!("today's radius {r:.0} mm"))
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK));
+        c.configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .position(SeriesLabelPosition::LowerRight)
+            .draw()
+            .map_err(perr)?;
+        root.present().map_err(perr)?;
+    }
+    Ok(out)
+}

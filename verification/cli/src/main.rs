@@ -115,6 +115,9 @@ Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
     Surfaces(cmd::surfaces::Args),
     /// Amplitude spectral density of a time series judged against a spectral requirement
     Asd(cmd::asd::Args),
+    /// The tip-radius trade-off: worst-case release velocity against tip radius
+    #[command(name = "tip-radius")]
+    TipRadius(cmd::tipradius::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -215,6 +218,7 @@ fn main() -> ExitCode {
         Command::Campaign(a) => cmd::campaign::run(a),
         Command::Tiptrack(a) => cmd::tiptrack::run(a),
         Command::Asd(a) => cmd::asd::run(a),
+        Command::TipRadius(a) => cmd::tipradius::run(a),
         Command::Surfaces(a) => cmd::surfaces::run(a),
     };
     match result {

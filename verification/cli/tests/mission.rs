@@ -283,3 +283,48 @@ fn verify_series_gives_a_measured_verdict() {
         assert_eq!(out.status.code(), Some(2), "{bad}");
     }
 }
+
+#[test]
+fn tip_radius_trade_off_and_its_cross_check() {
+    let d = scratch("tip-radius");
+    let out = geodesic(
+        &[
+            "tip-radius",
+            "--radii",
+            "1,5,10",
+            "--mc-n",
+            "3000",
+            "--json",
+            "--plot",
+            "t.svg",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc = json_of(&out);
+    let est = doc["estimates"].as_array().unwrap();
+    assert_eq!(est.len(), 2);
+    for e in est {
+        // the optimum is a minimum of the curve the command prints
+        let opt = e["at_optimum_um_s"].as_f64().unwrap();
+        for p in e["curve"].as_array().unwrap() {
+            assert!(p["total_um_s"].as_f64().unwrap() >= opt * (1.0 - 1e-9));
+        }
+    }
+    // the Monte Carlo grows with the radius when A1 grows with the contact area
+    let mc: Vec<f64> = doc["monte_carlo"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["p9973_um_s"].as_f64().unwrap())
+        .collect();
+    assert!(mc[0] < mc[1] && mc[1] < mc[2], "{mc:?}");
+    assert!(d.join("t.svg").is_file());
+    let out = geodesic(&["tip-radius", "--radii", "0,1"], &d);
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -87,7 +87,7 @@ fn builtin_set_exports_validates_imports_and_exports_again_unchanged() {
     let v: serde_json::Value = serde_json::from_str(&s).unwrap();
     assert_eq!(v["requirements"], 26);
     assert_eq!(v["source_tool"], "geodesic");
-    assert_eq!(v["families"].as_array().unwrap().len(), 5);
+    assert_eq!(v["families"].as_array().unwrap().len(), 7);
 
     let s = ok(&geodesic_at(
         &[

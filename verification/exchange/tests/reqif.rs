@@ -74,6 +74,8 @@ fn export_import_export_is_lossless() {
             "capture.yaml",
             "charge.yaml",
             "facility.yaml",
+            "performance.yaml",
+            "plunger.yaml",
             "release.yaml",
             "tm-state.yaml"
         ]

@@ -16,5 +16,6 @@ pub mod montecarlo;
 pub mod sensitivity;
 pub mod surfaces;
 pub mod synth;
+pub mod tipradius;
 pub mod tiptrack;
 pub mod verify;
