@@ -226,22 +226,6 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
     Ok(out)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn plots_render() {
-        let a = adhesion_curves_svg(&Budget::default_budget(), 5, 1).unwrap();
-        assert!(a.starts_with("<svg") && a.contains("48 mN"));
-        let c = capture_criterion_svg(&Xlim::default_set()).unwrap();
-        assert!(c.contains("capture boundary"));
-        assert_eq!(log_tick(&0.001), "0.001");
-        assert_eq!(log_tick(&100.0), "100");
-        assert_eq!(log_tick(&0.003), "");
-    }
-}
-
 /// Worst-case release velocity against tip radius: the thesis's simple bottom and upper
 /// estimates (push, adhesion and total) on log-log axes, with the release Monte Carlo's
 /// 99.73 % point at a handful of radii as the cross-check (thesis ch. 6, "Lesson Learned").
@@ -363,4 +347,20 @@ pub fn tip_radius_svg(
         root.present().map_err(perr)?;
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plots_render() {
+        let a = adhesion_curves_svg(&Budget::default_budget(), 5, 1).unwrap();
+        assert!(a.starts_with("<svg") && a.contains("48 mN"));
+        let c = capture_criterion_svg(&Xlim::default_set()).unwrap();
+        assert!(c.contains("capture boundary"));
+        assert_eq!(log_tick(&0.001), "0.001");
+        assert_eq!(log_tick(&100.0), "100");
+        assert_eq!(log_tick(&0.003), "");
+    }
 }

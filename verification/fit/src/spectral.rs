@@ -201,7 +201,7 @@ pub fn welch(x: &[f64], fs_hz: f64, opt: WelchOptions) -> Result<Asd, String> {
         }
         fft.process(&mut buf);
         for (j, p) in psd.iter_mut().enumerate() {
-            let double = if j == 0 || (n % 2 == 0 && j == n / 2) {
+            let double = if j == 0 || (n.is_multiple_of(2) && j == n / 2) {
                 1.0
             } else {
                 2.0
