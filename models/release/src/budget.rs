@@ -328,6 +328,10 @@ pub struct Budget {
     pub tm_mass_kg: Dist,
     /// Initial command voltage [V].
     pub e0_v: Dist,
+    /// A campaign result (`geodesic campaign --json`, path relative to the budget file) whose
+    /// adhesion population replaces `adhesion` (`crate::population::resolve`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub adhesion_from: Option<String>,
 }
 
 type S = Spanned<Dist>;
@@ -378,6 +382,8 @@ struct RawBudget {
     e_star_pa: S,
     tm_mass_kg: S,
     e0_v: S,
+    #[serde(default)]
+    adhesion_from: Option<Spanned<String>>,
 }
 
 /// Largest physically plausible value of a budget field [SI] (generous: 100 to 10^5 times the
@@ -487,6 +493,7 @@ impl Budget {
             e_star_pa: non_negative("e_star_pa", &raw.e_star_pa)?,
             tm_mass_kg: non_negative("tm_mass_kg", &raw.tm_mass_kg)?,
             e0_v: non_negative("e0_v", &raw.e0_v)?,
+            adhesion_from: raw.adhesion_from.map(|a| a.value),
         })
     }
 

@@ -27,6 +27,7 @@ pub mod integrator;
 pub mod model;
 pub mod montecarlo;
 pub mod parts;
+pub mod population;
 pub mod sensitivity;
 pub mod stats;
 pub mod tipradius;

@@ -105,6 +105,70 @@ fn a_synthetic_campaign_recovers_its_population() {
         );
     }
     assert!(doc["population"]["correlation"].is_object());
+
+    // closing the loop (issue 14 item 3): the Monte Carlo takes its adhesion from the campaign;
+    // its 99.73 % interval, which carries the identification uncertainty, holds the 99.73 % point
+    // of the population the campaign actually sampled (the drawn values' mean and spread)
+    std::fs::write(d.join("campaign.json"), &out.stdout).unwrap();
+    let mc = |args: &[&str]| -> Value {
+        let mut a = vec!["montecarlo", "--n", "4000", "--seed", "3", "--json", "-q"];
+        a.extend_from_slice(args);
+        let o = geodesic(&a, &d);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let est = mc(&[
+        "--adhesion-from",
+        "campaign.json",
+        "--population-draws",
+        "12",
+    ]);
+    let iv: Vec<f64> = est["p9973_interval_um_s"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!(
+        est["uncertainty"]
+            .as_str()
+            .unwrap()
+            .contains("identification")
+    );
+    assert!((0.0..=1.0).contains(&est["probability_met"].as_f64().unwrap()));
+    let moments = |name: &str| {
+        let v: Vec<f64> = truth["releases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| t[name].as_f64().unwrap())
+            .collect();
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        let sd = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt();
+        serde_json::json!({"mean": m, "mean_sigma": 0.0, "sd": sd, "sd_sigma": 0.0})
+    };
+    let sample = serde_json::json!({"population": {
+        "tip_adhesion.A1": moments("tip_adhesion.A1"),
+        "tip_adhesion.lambda": moments("tip_adhesion.lambda")}});
+    std::fs::write(d.join("sample.json"), sample.to_string()).unwrap();
+    let p = mc(&["--adhesion-from", "sample.json", "--population-draws", "1"])["p9973_um_s"]
+        .as_f64()
+        .unwrap();
+    assert!(iv[0] <= p && p <= iv[1], "{p} outside {iv:?}");
+    // the budget key does the same as the flag
+    let budget = format!(
+        "{}\nadhesion_from: campaign.json\n",
+        geodesic_release::budget::DEFAULT_BUDGET_YAML.trim_end()
+    );
+    std::fs::write(d.join("b.yaml"), budget).unwrap();
+    let via_key = mc(&["--budget", "b.yaml", "--population-draws", "12"]);
+    assert_eq!(via_key["p9973_um_s"], est["p9973_um_s"]);
+    assert_eq!(via_key["p9973_interval_um_s"], est["p9973_interval_um_s"]);
     // a damaged release: reported with its file, the others still fitted, exit 2
     std::fs::write(d.join("camp/release-003.csv"), "t,x,y\n0,1\n").unwrap();
     let out = geodesic(

@@ -31,6 +31,15 @@ pub struct Args {
     /// Write the (partial) result to this JSON file for `geodesic merge`.
     #[arg(long, value_name = "PART.json")]
     pub out: Option<PathBuf>,
+    /// Take the adhesion from a campaign result (`geodesic campaign --json`): its population of
+    /// A1 and lambda replaces the budget's adhesion, and `p9973_interval_um_s` and
+    /// `probability_met` then include the population's identification uncertainty.
+    #[arg(long = "adhesion-from", value_name = "CAMPAIGN.json")]
+    pub adhesion_from: Option<PathBuf>,
+    /// Runs drawn from the population's identification uncertainty (with --adhesion-from or a
+    /// budget's adhesion_from), each of N / 10 releases.
+    #[arg(long = "population-draws", default_value_t = 20)]
+    pub population_draws: usize,
     /// Write an SVG histogram of |X'| to this file.
     #[arg(long, value_name = "FILE.svg")]
     pub histogram: Option<PathBuf>,
@@ -78,8 +87,27 @@ fn parse_shard(s: &str) -> Result<(usize, usize), CliError> {
     Ok((i, k))
 }
 
-/// Loads the budget named by `--budget`, or the embedded default.
+/// Loads the budget named by `--budget`, or the embedded default, with its `adhesion_from`
+/// applied (the campaign's population; path relative to the budget file).
 pub fn load_budget(path: Option<&Path>) -> Result<Budget, CliError> {
+    Ok(load_budget_with_population(path)?.0)
+}
+
+/// [`load_budget`], also returning the campaign population the budget names, if any.
+pub fn load_budget_with_population(
+    path: Option<&Path>,
+) -> Result<
+    (
+        Budget,
+        Option<geodesic_release::population::AdhesionPopulation>,
+    ),
+    CliError,
+> {
+    let b = load_budget_raw(path)?;
+    geodesic_release::population::resolve(b, path).map_err(CliError::bad)
+}
+
+fn load_budget_raw(path: Option<&Path>) -> Result<Budget, CliError> {
     match path {
         None => Ok(Budget::default_budget()),
         Some(p) => {
@@ -176,7 +204,31 @@ pub fn run(args: Args) -> CmdResult {
         montecarlo::check_size(args.n, Some(k))
             .map_err(|e| CliError::bad(format!("--shard: {e}")))?;
     }
-    let budget = load_budget(args.budget.as_deref())?;
+    let (mut budget, mut population) = load_budget_with_population(args.budget.as_deref())?;
+    if let Some(p) = &args.adhesion_from {
+        let text =
+            geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_CSV_BYTES).map_err(|e| {
+                CliError::bad(format!("--adhesion-from {}: {}", p.display(), e.cause()))
+            })?;
+        let pop = geodesic_release::population::AdhesionPopulation::from_campaign_json(
+            &text,
+            &p.display().to_string(),
+        )
+        .map_err(CliError::bad)?;
+        budget = pop.apply(&budget).map_err(CliError::bad)?;
+        population = Some(pop);
+    }
+    if population.is_some() && shard.is_some() {
+        return Err(CliError::bad(
+            "--shard with a campaign population: run the identification-uncertainty draws unsharded",
+        ));
+    }
+    if population.is_some() && !(1..=1000).contains(&args.population_draws) {
+        return Err(CliError::bad(format!(
+            "--population-draws {}: between 1 and 1000",
+            args.population_draws
+        )));
+    }
     let draws = match shard {
         Some((i, k)) => montecarlo::shard_range(args.n, i, k)
             .map_err(|e| CliError::bad(e.to_string()))?
@@ -208,9 +260,30 @@ pub fn run(args: Args) -> CmdResult {
     }
     write_histogram(&result, args.histogram.as_deref())?;
     let summary = result.summary();
+    // the identification uncertainty of a campaign population: repeated runs, each with a
+    // population drawn from it (seeded from the run's seed; deterministic)
+    let identification = match &population {
+        Some(pop) => Some(identification_runs(pop, &budget, case, &args)?),
+        None => None,
+    };
     if args.json {
         let mut v = summary_json(&summary, seconds);
         add_uncertainty(&mut v, &result);
+        if let (Some(pop), Some(id)) = (&population, &identification) {
+            v["p9973_interval_um_s"] = serde_json::json!(id.interval);
+            v["probability_met"] = serde_json::json!(id.probability_met);
+            v["uncertainty"] = serde_json::json!(format!(
+                "adhesion identification (the campaign population's mean and spread drawn {} times from their sigmas, N / 10 releases each) and Monte Carlo sampling",
+                id.p9973.len()
+            ));
+            v["adhesion_from"] = serde_json::json!({
+                "source": pop.source,
+                "population": pop,
+                "correlation_used": false,
+                "draws_p9973_um_s": id.p9973,
+                "releases_per_draw": id.n_each,
+            });
+        }
         if let Some((i, k)) = shard {
             v["shard"] = serde_json::json!(format!("{i}/{k}"));
             v["draws"] = serde_json::json!(result.v_m_s.len());
@@ -228,11 +301,104 @@ pub fn run(args: Args) -> CmdResult {
             );
         }
         print_text(&summary, seconds);
+        if let (Some(pop), Some(id)) = (&population, &identification) {
+            println!(
+                "  adhesion from {}: A1 {:.4e} +- {:.2e} (spread {:.3e}), lambda {:.4e} +- {:.2e} (spread {:.3e})",
+                pop.source,
+                pop.a1.mean,
+                pop.a1.mean_sigma,
+                pop.a1.sd,
+                pop.lambda.mean,
+                pop.lambda.mean_sigma,
+                pop.lambda.sd
+            );
+            println!(
+                "  99.73 % with identification uncertainty: 95 % interval [{:.4}, {:.4}] um/s over {} population draws; P(<= {LIMIT_UM_S} um/s) = {:.3}",
+                id.interval[0],
+                id.interval[1],
+                id.p9973.len(),
+                id.probability_met
+            );
+            if let Some(r) = pop.rho {
+                println!(
+                    "  (the campaign's A1-lambda correlation {r:+.2} is not used: draws are independent)"
+                );
+            }
+        }
         if let Some(out) = &args.out {
             println!("  partial result written to {}", out.display());
         }
     }
     Ok(0)
+}
+
+/// The 99.73 % points of runs with populations drawn from a campaign's identification
+/// uncertainty.
+pub struct Identification {
+    /// 99.73 % point of each run [um/s].
+    pub p9973: Vec<f64>,
+    /// 2.5 % and 97.5 % of them [um/s].
+    pub interval: [f64; 2],
+    /// Fraction of runs whose 99.73 % point is at or below the limit.
+    pub probability_met: f64,
+    /// Releases per run.
+    pub n_each: usize,
+}
+
+fn identification_runs(
+    pop: &geodesic_release::population::AdhesionPopulation,
+    budget: &Budget,
+    case: Case,
+    args: &Args,
+) -> Result<Identification, CliError> {
+    use rand::SeedableRng;
+    let m = args.population_draws;
+    let n_each = (args.n / 10).max(1000);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed ^ 0x5eed_0f_a0d1_e51c);
+    let bar = crate::progress::Task::counter(
+        args.json,
+        "montecarlo: population draws",
+        (m * n_each) as u64,
+    );
+    let mut p = Vec::with_capacity(m);
+    for k in 0..m {
+        let b = pop.draw(&mut rng).apply(budget).map_err(CliError::bad)?;
+        let go = || {
+            montecarlo::run(
+                &b,
+                case,
+                n_each,
+                args.seed.wrapping_add(1 + k as u64),
+                None,
+                &|d| bar.inc(d),
+            )
+        };
+        let r = match args.threads {
+            Some(t) => rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .map_err(|e| CliError::bad(format!("--threads: {e}")))?
+                .install(go),
+            None => go(),
+        }
+        .map_err(|e| CliError::bad(format!("montecarlo (population draw {k}): {e}")))?;
+        p.push(r.summary().p9973_um_s);
+    }
+    bar.finish();
+    let mut s = p.clone();
+    s.sort_by(f64::total_cmp);
+    let q = |f: f64| {
+        let x = f * (s.len() - 1) as f64;
+        let (i, w) = (x.floor() as usize, x - x.floor());
+        s[i] * (1.0 - w) + s[(i + 1).min(s.len() - 1)] * w
+    };
+    let met = p.iter().filter(|v| **v <= LIMIT_UM_S).count() as f64 / p.len() as f64;
+    Ok(Identification {
+        interval: [q(0.025), q(0.975)],
+        probability_met: met,
+        p9973: p,
+        n_each,
+    })
 }
 
 #[cfg(test)]

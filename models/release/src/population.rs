@@ -1,0 +1,225 @@
+//! The adhesion population of a campaign of measured releases as the Monte Carlo's adhesion
+//! (issue 14, item 3: "the release Monte Carlo takes its adhesion from a campaign result").
+//!
+//! A campaign result (`geodesic campaign --json`) states, for `tip_adhesion.A1` and
+//! `tip_adhesion.lambda`, the population mean and spread with the measurement errors removed,
+//! each with its own 1-sigma (`mean_sigma`, `sd_sigma`). [`AdhesionPopulation::apply`] puts a
+//! population into a budget: each parameter Normal(mean, sd) truncated to be non-negative, drawn
+//! independently (the budget has no correlated draws: the campaign's A1-lambda correlation is
+//! reported, not used). [`AdhesionPopulation::draw`] draws a population from its identification
+//! uncertainty (mean ~ Normal(mean, mean_sigma), sd ~ |Normal(sd, sd_sigma)|), so that repeated
+//! Monte Carlo runs carry the campaign's finite size into the flight prediction.
+
+use crate::budget::{Budget, Dist};
+use rand::Rng;
+use rand_distr::{Distribution, StandardNormal};
+
+/// One population parameter with its identification uncertainty [SI].
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PopParam {
+    /// Population mean.
+    pub mean: f64,
+    /// 1-sigma of the mean.
+    pub mean_sigma: f64,
+    /// Population spread (1-sigma).
+    pub sd: f64,
+    /// 1-sigma of the spread.
+    pub sd_sigma: f64,
+}
+
+/// The adhesion population of a campaign.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct AdhesionPopulation {
+    /// `A1` [N/m].
+    pub a1: PopParam,
+    /// `lambda` [m].
+    pub lambda: PopParam,
+    /// The campaign's A1-lambda correlation, if it states one (not used in the draws).
+    pub rho: Option<f64>,
+    /// Releases the population rests on (the smaller of the two counts), if stated.
+    pub releases: Option<u64>,
+    /// Where it came from.
+    pub source: String,
+}
+
+fn param(v: &serde_json::Value, name: &str, label: &str) -> Result<PopParam, String> {
+    let p = v.get(name).ok_or_else(|| {
+        format!("{label}: no population.{name} (run geodesic campaign with --effects including tip_adhesion)")
+    })?;
+    let get = |k: &str| -> Result<f64, String> {
+        let x = p
+            .get(k)
+            .and_then(serde_json::Value::as_f64)
+            .ok_or_else(|| format!("{label}: population.{name}.{k} is missing or not a number"))?;
+        if !x.is_finite() || x < 0.0 {
+            return Err(format!(
+                "{label}: population.{name}.{k} = {x} must be a finite non-negative number"
+            ));
+        }
+        Ok(x)
+    };
+    let out = PopParam {
+        mean: get("mean")?,
+        mean_sigma: get("mean_sigma")?,
+        sd: get("sd")?,
+        sd_sigma: get("sd_sigma")?,
+    };
+    if out.mean <= 0.0 {
+        return Err(format!("{label}: population.{name}.mean must be positive"));
+    }
+    Ok(out)
+}
+
+impl AdhesionPopulation {
+    /// Reads the population from a campaign result's JSON text (`label` names it in errors).
+    pub fn from_campaign_json(text: &str, label: &str) -> Result<Self, String> {
+        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| {
+            format!(
+                "{label}:{}: not a campaign result (JSON: {})",
+                e.line(),
+                geodesic_core_text(&e.to_string())
+            )
+        })?;
+        let pop = v.get("population").ok_or_else(|| {
+            format!("{label}: no `population` (a `geodesic campaign --json` result is expected)")
+        })?;
+        let a1 = param(pop, "tip_adhesion.A1", label)?;
+        let lambda = param(pop, "tip_adhesion.lambda", label)?;
+        let rho = pop
+            .get("correlation")
+            .and_then(|c| c.get("tip_adhesion.A1~tip_adhesion.lambda"))
+            .and_then(serde_json::Value::as_f64);
+        let releases = ["tip_adhesion.A1", "tip_adhesion.lambda"]
+            .iter()
+            .filter_map(|n| {
+                pop.get(*n)
+                    .and_then(|p| p.get("n"))
+                    .and_then(serde_json::Value::as_u64)
+            })
+            .min();
+        Ok(AdhesionPopulation {
+            a1,
+            lambda,
+            rho,
+            releases,
+            source: label.to_string(),
+        })
+    }
+
+    /// `budget` with its adhesion replaced by this population (independent truncated normals).
+    pub fn apply(&self, budget: &Budget) -> Result<Budget, String> {
+        let normal = |p: &PopParam, what: &str| -> Result<Dist, String> {
+            let d = if p.sd > 0.0 {
+                Dist::Normal {
+                    mean: p.mean,
+                    sd: Some(p.sd),
+                    rel_sd: None,
+                    min: Some(0.0),
+                    max: None,
+                    clip_sd: None,
+                }
+            } else {
+                Dist::Fixed(p.mean)
+            };
+            d.validate()
+                .map_err(|e| format!("{}: {what}: {e}", self.source))?;
+            Ok(d)
+        };
+        let mut b = budget.clone();
+        b.adhesion.A1_n_m = normal(&self.a1, "A1")?;
+        b.adhesion.lambda_m = normal(&self.lambda, "lambda")?;
+        b.description = format!(
+            "{} [adhesion from campaign {}]",
+            budget.description, self.source
+        );
+        Ok(b)
+    }
+
+    /// A population drawn from this one's identification uncertainty.
+    pub fn draw<R: Rng + ?Sized>(&self, rng: &mut R) -> AdhesionPopulation {
+        let mut one = |p: &PopParam| {
+            let z1: f64 = StandardNormal.sample(rng);
+            let z2: f64 = StandardNormal.sample(rng);
+            PopParam {
+                // a mean drawn below zero would be unphysical: kept a hair above it
+                mean: (p.mean + p.mean_sigma * z1).max(p.mean * 1e-3),
+                mean_sigma: 0.0,
+                sd: (p.sd + p.sd_sigma * z2).abs(),
+                sd_sigma: 0.0,
+            }
+        };
+        AdhesionPopulation {
+            a1: one(&self.a1),
+            lambda: one(&self.lambda),
+            rho: self.rho,
+            releases: self.releases,
+            source: self.source.clone(),
+        }
+    }
+}
+
+/// Applies a budget's `adhesion_from` (a path relative to `budget_path`'s folder; the working
+/// directory for a built-in budget): the budget with the campaign's adhesion population, and the
+/// population. A budget without the key is returned unchanged.
+pub fn resolve(
+    budget: Budget,
+    budget_path: Option<&std::path::Path>,
+) -> Result<(Budget, Option<AdhesionPopulation>), String> {
+    let Some(rel) = budget.adhesion_from.clone() else {
+        return Ok((budget, None));
+    };
+    let base = budget_path
+        .and_then(|p| p.parent())
+        .unwrap_or(std::path::Path::new("."));
+    let path = base.join(&rel);
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("adhesion_from {}: {e}", path.display()))?;
+    let pop = AdhesionPopulation::from_campaign_json(&text, &path.display().to_string())?;
+    Ok((pop.apply(&budget)?, Some(pop)))
+}
+
+fn geodesic_core_text(s: &str) -> String {
+    let l = s.lines().next().unwrap_or("").trim();
+    if l.chars().count() > 160 {
+        let c: String = l.chars().take(160).collect();
+        format!("{c}...")
+    } else {
+        l.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    const JSON: &str = r#"{"population": {"tip_adhesion.A1": {"mean": 70000, "mean_sigma": 5000, "sd": 30000, "sd_sigma": 4000, "n": 30},
+        "tip_adhesion.lambda": {"mean": 6e-7, "mean_sigma": 2e-8, "sd": 1e-7, "sd_sigma": 1.5e-8, "n": 29},
+        "correlation": {"tip_adhesion.A1~tip_adhesion.lambda": -0.2}}}"#;
+
+    #[test]
+    fn reads_and_applies_a_campaign_population() {
+        let p = AdhesionPopulation::from_campaign_json(JSON, "c.json").unwrap();
+        assert_eq!(p.releases, Some(29));
+        assert_eq!(p.rho, Some(-0.2));
+        let b = p.apply(&Budget::default_budget()).unwrap();
+        assert!((b.adhesion.A1_n_m.mean() - 70000.0).abs() < 200.0);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        let d = p.draw(&mut rng);
+        assert!(d.a1.mean != p.a1.mean && d.a1.sd >= 0.0);
+    }
+
+    #[test]
+    fn refuses_what_is_not_a_campaign() {
+        let e = AdhesionPopulation::from_campaign_json("{\"x\": 1}", "c.json").unwrap_err();
+        assert!(e.contains("no `population`"), "{e}");
+        let e = AdhesionPopulation::from_campaign_json("{\n oops", "c.json").unwrap_err();
+        assert!(e.starts_with("c.json:2:"), "{e}");
+        let e = AdhesionPopulation::from_campaign_json(
+            &JSON.replace("\"mean\": 70000", "\"mean\": -5"),
+            "c.json",
+        )
+        .unwrap_err();
+        assert!(e.contains("A1.mean"), "{e}");
+    }
+}
