@@ -92,3 +92,46 @@ fn discover_adds_the_plunger_and_explains_the_retraction_example() {
     assert_eq!(doc["missing"], "plunger_compliance");
     assert_eq!(doc["explained"], Value::Bool(true));
 }
+
+#[test]
+fn fit_posterior_holds_the_truth_of_the_example() {
+    // interface.md: `fit ... --posterior --json` adds posterior.PARAM.{median, lo68, hi68,
+    // lo95, hi95}; on the public example every true parameter lies inside its 95 % interval and
+    // the intervals are ordered
+    let d = common::scratch("posterior");
+    let ws = common::workspace();
+    let yaml = ws.join("data/examples/tmmf-adhesion.yaml");
+    let out = common::geodesic(
+        &[
+            "fit",
+            yaml.to_str().unwrap(),
+            "--effects",
+            "needle_contact,tip_contact,tip_adhesion",
+            "--posterior",
+            "--json",
+            "--reports",
+            "r",
+        ],
+        &d,
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let truth: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(ws.join("data/examples/tmmf-adhesion.truth.json")).unwrap(),
+    )
+    .unwrap();
+    let post = doc["posterior"].as_object().unwrap();
+    assert_eq!(post.len(), 5);
+    for (name, p) in post {
+        let g = |k: &str| p[k].as_f64().unwrap();
+        assert!(g("lo95") <= g("lo68") && g("lo68") <= g("median"));
+        assert!(g("median") <= g("hi68") && g("hi68") <= g("hi95"));
+        let t = truth["params"][name].as_f64().unwrap();
+        assert!(g("lo95") <= t && t <= g("hi95"), "{name}: {t} outside 95 %");
+    }
+}

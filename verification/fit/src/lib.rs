@@ -20,6 +20,7 @@ pub mod fit;
 pub mod history;
 pub mod lm;
 pub mod plot;
+pub mod posterior;
 pub mod prepare;
 pub mod report;
 pub mod residual;

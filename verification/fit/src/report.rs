@@ -76,6 +76,9 @@ pub struct FitReport {
     /// SVG of data, model and residual, when written.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub svg: Option<String>,
+    /// Marginal posterior of each free parameter (`fit --posterior`; `crate::posterior`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub posterior: Option<BTreeMap<String, crate::posterior::Posterior>>,
 }
 
 impl FitReport {
@@ -152,6 +155,7 @@ impl FitReport {
             tip_profile: prep.profile,
             starts: o.starts,
             svg: None,
+            posterior: None,
         }
     }
 }

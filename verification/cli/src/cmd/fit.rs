@@ -30,6 +30,10 @@ pub struct Args {
     /// Not a flag of this command (`--out` names one output file everywhere in geodesic).
     #[arg(long, hide = true)]
     pub out: Option<PathBuf>,
+    /// Add each free parameter's marginal posterior (median, 68 % and 95 % intervals): the
+    /// Laplace approximation at the best fit with flat priors over the parameter's range.
+    #[arg(long)]
+    pub posterior: bool,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
@@ -155,6 +159,15 @@ pub fn summary(r: &FitReport) -> String {
             f.channel, f.t_start, f.t_end, f.peak, f.peak_sigma
         );
     }
+    if let Some(post) = &r.posterior {
+        s += "  posterior (Laplace at the best fit, flat priors on the range): median [68 %] [95 %]\n";
+        for (n, p) in post {
+            s += &format!(
+                "    {n}: {:.6e} [{:.6e}, {:.6e}] [{:.6e}, {:.6e}]\n",
+                p.median, p.lo68, p.hi68, p.lo95, p.hi95
+            );
+        }
+    }
     if let Some(svg) = &r.svg {
         s += &format!("  plot: {svg}\n");
     }
@@ -192,6 +205,9 @@ pub fn run(args: Args) -> CmdResult {
     task.finish();
     let o = o?;
     let mut report = FitReport::new(&prep, &o);
+    if args.posterior {
+        report.posterior = Some(geodesic_fit::posterior::of_fit(&o, &opts.bounds));
+    }
     outputs(&prep, &o.pred, &mut report, &fits)?;
     if args.json {
         println!(

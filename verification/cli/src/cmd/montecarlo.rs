@@ -354,7 +354,7 @@ fn identification_runs(
     use rand::SeedableRng;
     let m = args.population_draws;
     let n_each = (args.n / 10).max(1000);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed ^ 0x5eed_0f_a0d1_e51c);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed ^ 0x005e_ed0f_a0d1_e51c);
     let bar = crate::progress::Task::counter(
         args.json,
         "montecarlo: population draws",
