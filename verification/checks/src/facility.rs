@@ -24,7 +24,7 @@ use geodesic_fit::diagnose::diagnose;
 use geodesic_fit::fit::{FitOptions, FitOutcome, FitReport, Prepared, fit};
 use geodesic_fit::synth::{SynthSpec, generate};
 use geodesic_fit::{history, plot};
-use geodesic_release::budget::{AdhesionBudget, Budget};
+use geodesic_release::budget::AdhesionBudget;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -266,7 +266,7 @@ impl Check for AdhesionIdentification {
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
         let input = &ctx.inputs.budget;
-        let budget = Budget::from_yaml(&input.text, &input.label).map_err(ferr)?;
+        let budget = crate::release::budget_of(ctx)?;
         let truth = TruthModel::DIFFERENT;
         let (a1, lambda) = (
             budget.adhesion.A1_n_m.mean(),

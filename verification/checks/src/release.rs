@@ -43,7 +43,13 @@ pub struct SharedMonteCarlo {
 /// The budget of a run: the budget file of `ctx` parsed (errors name the file and line).
 pub fn budget_of(ctx: &CheckContext) -> Result<Budget, CheckError> {
     let f = &ctx.inputs.budget;
-    Budget::from_yaml(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))
+    let b = Budget::from_yaml(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))?;
+    // a budget's `adhesion_from` (a campaign result, relative to the budget file) is applied
+    // here, so that every check sees the same adhesion
+    let path = (!f.label.starts_with("<built-in>")).then(|| std::path::Path::new(&f.label));
+    geodesic_release::population::resolve(b, path)
+        .map(|(b, _)| b)
+        .map_err(CheckError)
 }
 
 impl SharedMonteCarlo {
@@ -210,8 +216,7 @@ impl Check for AdhesionCalibration {
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
         let input = &ctx.inputs.budget;
-        let b = Budget::from_yaml(&input.text, &input.label)
-            .map_err(|e| CheckError(format!("adhesion calibration: {e}")))?;
+        let b = budget_of(ctx).map_err(|e| CheckError(format!("adhesion calibration: {e}")))?;
         let cmp = |c| {
             compare(&b.adhesion, c, CALIBRATION_DRAWS, ctx.seed)
                 .map_err(|e| CheckError(format!("adhesion calibration: {e}")))

@@ -194,3 +194,74 @@ fn a_synthetic_campaign_recovers_its_population() {
     );
     assert!(String::from_utf8_lossy(&out.stderr).contains("release-003"));
 }
+
+#[test]
+fn verify_takes_the_adhesion_of_a_budgets_campaign() {
+    // a budget naming a campaign result: every check sees the campaign's adhesion (here a
+    // population far weaker than the built-in budget's), and a missing campaign file is exit 2
+    // with nothing written
+    let d = scratch("verify-campaign");
+    let ws = common::workspace();
+    std::fs::create_dir_all(d.join("reqs")).unwrap();
+    for f in ["release.yaml", "tm-state.yaml"] {
+        std::fs::copy(ws.join("requirements").join(f), d.join("reqs").join(f)).unwrap();
+    }
+    let pop = serde_json::json!({"population": {
+        "tip_adhesion.A1": {"mean": 2.0e4, "mean_sigma": 2.0e3, "sd": 5.0e3, "sd_sigma": 1.0e3},
+        "tip_adhesion.lambda": {"mean": 3.0e-7, "mean_sigma": 2.0e-8, "sd": 5.0e-8, "sd_sigma": 1.0e-8}}});
+    std::fs::write(d.join("weak.json"), pop.to_string()).unwrap();
+    let budget = |camp: &str| {
+        format!(
+            "{}\nadhesion_from: {camp}\n",
+            geodesic_release::budget::DEFAULT_BUDGET_YAML.trim_end()
+        )
+    };
+    std::fs::write(d.join("b.yaml"), budget("weak.json")).unwrap();
+    std::fs::write(d.join("missing.yaml"), budget("nowhere.json")).unwrap();
+    let run = |b: Option<&str>, reports: &str| {
+        let mut a = vec![
+            "verify",
+            "--requirements",
+            "reqs",
+            "--mc-n",
+            "2000",
+            "--no-fidelity",
+            "--json",
+            "--reports",
+            reports,
+        ];
+        if let Some(b) = b {
+            a.extend_from_slice(&["--budget", b]);
+        }
+        geodesic(&a, &d)
+    };
+    let value = |o: &std::process::Output| -> f64 {
+        let doc: Value = serde_json::from_slice(&o.stdout).unwrap();
+        doc["requirements"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["id"] == "REL-GPRM-VEL")
+            .unwrap()["value"]
+            .as_f64()
+            .unwrap()
+    };
+    let base = run(None, "r1");
+    let weak = run(Some("b.yaml"), "r2");
+    assert_eq!(
+        weak.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&weak.stderr)
+    );
+    assert!(
+        value(&weak) < 0.5 * value(&base),
+        "{} vs {}",
+        value(&weak),
+        value(&base)
+    );
+    let bad = run(Some("missing.yaml"), "r3");
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("nowhere.json"));
+    assert!(!d.join("r3").exists());
+}

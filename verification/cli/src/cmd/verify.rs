@@ -257,8 +257,13 @@ pub fn run(args: Args) -> CmdResult {
         design,
         series,
     };
-    geodesic_release::budget::Budget::from_yaml(&inputs.budget.text, &inputs.budget.label)
+    let b = geodesic_release::budget::Budget::from_yaml(&inputs.budget.text, &inputs.budget.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
+    if !inputs.budget.label.starts_with("<built-in>") {
+        // its adhesion_from (a campaign result) must load before anything runs
+        geodesic_release::population::resolve(b, Some(std::path::Path::new(&inputs.budget.label)))
+            .map_err(CliError::bad)?;
+    }
     geodesic_capture::CaptureInputs::from_yaml_str(&inputs.capture.text, &inputs.capture.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
     // a mission folder (`missions/<name>/requirements/` given with --requirements) may carry
