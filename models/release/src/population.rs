@@ -204,8 +204,8 @@ mod tests {
         assert_eq!(p.rho, Some(-0.2));
         let b = p.apply(&Budget::default_budget()).unwrap();
         // Normal(7e4, 3e4) truncated at 0: mean 7e4 + 3e4 phi(7/3) / Phi(7/3) = 70 795 N/m
-        let z = 7.0 / 3.0;
-        let phi = (-0.5 * z * z as f64).exp() / (2.0 * std::f64::consts::PI).sqrt();
+        let z: f64 = 7.0 / 3.0;
+        let phi = (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt();
         let expect = 7e4 + 3e4 * phi / 0.990_185;
         assert!(
             (b.adhesion.A1_n_m.mean() - expect).abs() < 5.0,
