@@ -13,6 +13,7 @@ pub mod charge;
 pub mod dfc;
 pub mod facility;
 pub mod fidelity;
+pub mod images;
 pub mod plots;
 pub mod plunger;
 pub mod release;
@@ -88,6 +89,7 @@ pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<d
     all.extend(charge::checks());
     all.extend(tm_state::checks_with(Some(release::vz_source(mc))));
     all.extend(facility::checks());
+    all.extend(images::checks());
     all.extend(plunger::checks());
     all.extend(tipradius::checks());
     all.extend(dfc::checks());

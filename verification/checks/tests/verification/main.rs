@@ -7,6 +7,7 @@ mod charge;
 mod fit;
 mod framework;
 mod housing;
+mod images;
 mod plunger;
 mod release;
 mod spectral;
