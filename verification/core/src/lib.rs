@@ -14,6 +14,7 @@ pub mod document;
 pub mod fsio;
 pub mod hash;
 pub mod matrix;
+pub mod normal;
 pub mod output;
 pub mod requirement;
 pub mod spectrum;

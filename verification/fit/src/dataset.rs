@@ -66,18 +66,24 @@ fn channel_dim(name: &str) -> Option<Dim> {
     }
 }
 
+/// Reads a YAML file (size-limited) into `T`; a read or parse error is `file:line: cause`.
+pub(crate) fn read_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, FitError> {
+    let file = path.display().to_string();
+    let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
+        .map_err(|e| FitError::input(&file, e.line(), e.cause()))?;
+    serde_saphyr::from_str(&text).map_err(|e| {
+        let line = e.location().map_or(0, |l| l.line() as usize);
+        let msg = e.to_string();
+        let first = msg.lines().next().unwrap_or("malformed YAML").to_string();
+        FitError::input(&file, line, format!("malformed YAML: {first}"))
+    })
+}
+
 impl Dataset {
     /// Loads the YAML at `path` and its CSV.
     pub fn load(path: &Path) -> Result<Dataset, FitError> {
         let file = path.display().to_string();
-        let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
-            .map_err(|e| FitError::input(&file, e.line(), e.cause()))?;
-        let meta: Meta = serde_saphyr::from_str(&text).map_err(|e| {
-            let line = e.location().map_or(0, |l| l.line() as usize);
-            let msg = e.to_string();
-            let first = msg.lines().next().unwrap_or("malformed YAML").to_string();
-            FitError::input(&file, line, format!("malformed YAML: {first}"))
-        })?;
+        let meta: Meta = read_yaml(path)?;
         let scenario = Scenario::from_name(&meta.scenario.value).ok_or_else(|| {
             FitError::input(
                 &file,

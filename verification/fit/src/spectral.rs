@@ -67,14 +67,7 @@ impl Series {
     /// and its CSV.
     pub fn load(path: &Path) -> Result<Series, FitError> {
         let file = path.display().to_string();
-        let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
-            .map_err(|e| FitError::input(&file, e.line(), e.cause()))?;
-        let meta: SeriesMeta = serde_saphyr::from_str(&text).map_err(|e| {
-            let line = e.location().map_or(0, |l| l.line() as usize);
-            let msg = e.to_string();
-            let first = msg.lines().next().unwrap_or("malformed YAML").to_string();
-            FitError::input(&file, line, format!("malformed YAML: {first}"))
-        })?;
+        let meta: SeriesMeta = crate::dataset::read_yaml(path)?;
         let line = |s: &Spanned<String>| s.referenced.line() as usize;
         let unit = parse_unit(meta.unit.value.trim())
             .map_err(|e| FitError::input(&file, line(&meta.unit), format!("unit: {e}")))?;
