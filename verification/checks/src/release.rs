@@ -42,15 +42,29 @@ pub struct SharedMonteCarlo {
 
 /// The budget of a run: the budget file of `ctx` parsed (errors name the file and line).
 pub fn budget_of(ctx: &CheckContext) -> Result<Budget, CheckError> {
+    Ok(budget_and_population(ctx)?.0)
+}
+
+/// The run's budget with its `adhesion_from` applied (a campaign result, relative to the
+/// budget file, so that every check sees the same adhesion), and that campaign's population.
+pub fn budget_and_population(
+    ctx: &CheckContext,
+) -> Result<
+    (
+        Budget,
+        Option<geodesic_release::population::AdhesionPopulation>,
+    ),
+    CheckError,
+> {
     let f = &ctx.inputs.budget;
     let b = Budget::from_yaml(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))?;
-    // a budget's `adhesion_from` (a campaign result, relative to the budget file) is applied
-    // here, so that every check sees the same adhesion
     let path = (!f.label.starts_with("<built-in>")).then(|| std::path::Path::new(&f.label));
-    geodesic_release::population::resolve(b, path)
-        .map(|(b, _)| b)
-        .map_err(CheckError)
+    geodesic_release::population::resolve(b, path).map_err(CheckError)
 }
+
+/// Population draws of the identification uncertainty in `verify` (a budget with
+/// `adhesion_from`).
+pub const POPULATION_DRAWS: usize = 20;
 
 impl SharedMonteCarlo {
     /// An empty cache.
@@ -140,10 +154,35 @@ impl Check for ReleaseMonteCarlo {
             "99.73 % of |X'| over {} in-flight releases (case all, seed {}): {:.3} um/s; mean {:.3}, max {:.3} um/s.",
             s.n, s.seed, s.p9973_um_s, s.mean_um_s, s.max_um_s
         );
+        // the uncertainty of the 99.73 % point: the Monte Carlo's sampling alone, or with a
+        // campaign's adhesion population also its identification (population draws)
+        let (budget, population) = budget_and_population(ctx)?;
+        let identification = match &population {
+            Some(pop) => Some(
+                geodesic_release::population::identification(
+                    pop,
+                    &budget,
+                    Case::All,
+                    (ctx.mc_n / 10).max(1000),
+                    POPULATION_DRAWS,
+                    ctx.seed,
+                    &|_| {},
+                )
+                .map_err(CheckError)?,
+            ),
+            None => None,
+        };
+        let mut abs = r.abs_um_s();
+        abs.sort_by(f64::total_cmp);
         let mut out = Vec::new();
         for id in self.verifies() {
             let mut e =
                 Evidence::measured(id, value, geodesic_core::Basis::Model, activity.clone());
+            let limit_um_s = ctx
+                .requirements
+                .get(id)
+                .and_then(|r| r.limit.as_ref())
+                .map(|l| l.value.value * 1e6);
             // each requirement judged on its own plot, with its own limit
             if let Some(req) = ctx.requirements.get(id)
                 && let Some(lim) = &req.limit
@@ -167,6 +206,41 @@ impl Check for ReleaseMonteCarlo {
                 )?);
             }
             e.inputs = mc_inputs(&r, ctx);
+            if let Some(lim) = limit_um_s {
+                use geodesic_release::stats::{
+                    probability_quantile_below, quantile_interval_sorted,
+                };
+                match (&identification, &population) {
+                    (Some(idf), Some(pop)) => {
+                        e = e
+                            .with_input("p9973_interval_um_s", json!(idf.interval_um_s))
+                            .with_input("probability_met", idf.probability_met(lim))
+                            .with_input(
+                                "uncertainty",
+                                format!(
+                                    "adhesion identification ({POPULATION_DRAWS} populations drawn from campaign {}, {} releases each) and Monte Carlo sampling",
+                                    pop.source, idf.n_each
+                                ),
+                            );
+                    }
+                    _ => {
+                        let exceed = abs.iter().filter(|x| **x > lim).count();
+                        e = e
+                            .with_input(
+                                "p9973_interval_um_s",
+                                json!(quantile_interval_sorted(&abs, 0.9973)),
+                            )
+                            .with_input(
+                                "probability_met",
+                                probability_quantile_below(abs.len(), exceed, 0.9973),
+                            )
+                            .with_input(
+                                "uncertainty",
+                                "Monte Carlo sampling only (the budget's adhesion taken as known)",
+                            );
+                    }
+                }
+            }
             if *id == "TMS-Z-VEL" {
                 e = e.with_input("axis", "release axis X = z (DFACS frame)");
             }

@@ -260,6 +260,43 @@ fn verify_takes_the_adhesion_of_a_budgets_campaign() {
         value(&weak),
         value(&base)
     );
+    // REL-GPRM-VEL states its uncertainty: sampling only with the budget's own adhesion, the
+    // campaign's identification too with adhesion_from
+    let inputs = |o: &std::process::Output| -> Value {
+        let doc: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let row = doc["requirements"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["id"] == "REL-GPRM-VEL")
+            .unwrap()
+            .clone();
+        row["evidence"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|e| e["check"] == "release-montecarlo")
+            .unwrap()["inputs"]
+            .clone()
+    };
+    let (bi, wi) = (inputs(&base), inputs(&weak));
+    assert!(
+        bi["uncertainty"]
+            .as_str()
+            .unwrap()
+            .contains("sampling only"),
+        "{bi}"
+    );
+    assert!(
+        wi["uncertainty"]
+            .as_str()
+            .unwrap()
+            .contains("identification"),
+        "{wi}"
+    );
+    let iv = wi["p9973_interval_um_s"].as_array().unwrap();
+    let (lo, hi) = (iv[0].as_f64().unwrap(), iv[1].as_f64().unwrap());
+    assert!(lo < hi && (0.0..=1.0).contains(&wi["probability_met"].as_f64().unwrap()));
     let bad = run(Some("missing.yaml"), "r3");
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("nowhere.json"));

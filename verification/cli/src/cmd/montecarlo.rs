@@ -270,17 +270,17 @@ pub fn run(args: Args) -> CmdResult {
         let mut v = summary_json(&summary, seconds);
         add_uncertainty(&mut v, &result);
         if let (Some(pop), Some(id)) = (&population, &identification) {
-            v["p9973_interval_um_s"] = serde_json::json!(id.interval);
-            v["probability_met"] = serde_json::json!(id.probability_met);
+            v["p9973_interval_um_s"] = serde_json::json!(id.interval_um_s);
+            v["probability_met"] = serde_json::json!(id.probability_met(LIMIT_UM_S));
             v["uncertainty"] = serde_json::json!(format!(
                 "adhesion identification (the campaign population's mean and spread drawn {} times from their sigmas, N / 10 releases each) and Monte Carlo sampling",
-                id.p9973.len()
+                id.p9973_um_s.len()
             ));
             v["adhesion_from"] = serde_json::json!({
                 "source": pop.source,
                 "population": pop,
                 "correlation_used": false,
-                "draws_p9973_um_s": id.p9973,
+                "draws_p9973_um_s": id.p9973_um_s,
                 "releases_per_draw": id.n_each,
             });
         }
@@ -314,10 +314,10 @@ pub fn run(args: Args) -> CmdResult {
             );
             println!(
                 "  99.73 % with identification uncertainty: 95 % interval [{:.4}, {:.4}] um/s over {} population draws; P(<= {LIMIT_UM_S} um/s) = {:.3}",
-                id.interval[0],
-                id.interval[1],
-                id.p9973.len(),
-                id.probability_met
+                id.interval_um_s[0],
+                id.interval_um_s[1],
+                id.p9973_um_s.len(),
+                id.probability_met(LIMIT_UM_S)
             );
             if let Some(r) = pop.rho {
                 println!(
@@ -332,73 +332,40 @@ pub fn run(args: Args) -> CmdResult {
     Ok(0)
 }
 
-/// The 99.73 % points of runs with populations drawn from a campaign's identification
-/// uncertainty.
-pub struct Identification {
-    /// 99.73 % point of each run [um/s].
-    pub p9973: Vec<f64>,
-    /// 2.5 % and 97.5 % of them [um/s].
-    pub interval: [f64; 2],
-    /// Fraction of runs whose 99.73 % point is at or below the limit.
-    pub probability_met: f64,
-    /// Releases per run.
-    pub n_each: usize,
-}
-
 fn identification_runs(
     pop: &geodesic_release::population::AdhesionPopulation,
     budget: &Budget,
     case: Case,
     args: &Args,
-) -> Result<Identification, CliError> {
-    use rand::SeedableRng;
-    let m = args.population_draws;
+) -> Result<geodesic_release::population::Identification, CliError> {
     let n_each = (args.n / 10).max(1000);
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(args.seed ^ 0x005e_ed0f_a0d1_e51c);
     let bar = crate::progress::Task::counter(
         args.json,
         "montecarlo: population draws",
-        (m * n_each) as u64,
+        (args.population_draws * n_each) as u64,
     );
-    let mut p = Vec::with_capacity(m);
-    for k in 0..m {
-        let b = pop.draw(&mut rng).apply(budget).map_err(CliError::bad)?;
-        let go = || {
-            montecarlo::run(
-                &b,
-                case,
-                n_each,
-                args.seed.wrapping_add(1 + k as u64),
-                None,
-                &|d| bar.inc(d),
-            )
-        };
-        let r = match args.threads {
-            Some(t) => rayon::ThreadPoolBuilder::new()
-                .num_threads(t)
-                .build()
-                .map_err(|e| CliError::bad(format!("--threads: {e}")))?
-                .install(go),
-            None => go(),
-        }
-        .map_err(|e| CliError::bad(format!("montecarlo (population draw {k}): {e}")))?;
-        p.push(r.summary().p9973_um_s);
-    }
-    bar.finish();
-    let mut s = p.clone();
-    s.sort_by(f64::total_cmp);
-    let q = |f: f64| {
-        let x = f * (s.len() - 1) as f64;
-        let (i, w) = (x.floor() as usize, x - x.floor());
-        s[i] * (1.0 - w) + s[(i + 1).min(s.len() - 1)] * w
+    let go = || {
+        geodesic_release::population::identification(
+            pop,
+            budget,
+            case,
+            n_each,
+            args.population_draws,
+            args.seed,
+            &|d| bar.inc(d),
+        )
     };
-    let met = p.iter().filter(|v| **v <= LIMIT_UM_S).count() as f64 / p.len() as f64;
-    Ok(Identification {
-        interval: [q(0.025), q(0.975)],
-        probability_met: met,
-        p9973: p,
-        n_each,
-    })
+    let r = match args.threads {
+        Some(t) => rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .map_err(|e| CliError::bad(format!("--threads: {e}")))?
+            .install(go),
+        None => go(),
+    }
+    .map_err(CliError::bad)?;
+    bar.finish();
+    Ok(r)
 }
 
 #[cfg(test)]
