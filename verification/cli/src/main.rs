@@ -115,6 +115,8 @@ Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
     Surfaces(cmd::surfaces::Args),
     /// Amplitude spectral density of a time series judged against a spectral requirement
     Asd(cmd::asd::Args),
+    /// The plungers' attraction on the charged TM in the 25 s after the release
+    Plunger(cmd::plunger::Args),
     /// The tip-radius trade-off: worst-case release velocity against tip radius
     #[command(name = "tip-radius")]
     TipRadius(cmd::tipradius::Args),
@@ -219,6 +221,7 @@ fn main() -> ExitCode {
         Command::Tiptrack(a) => cmd::tiptrack::run(a),
         Command::Asd(a) => cmd::asd::run(a),
         Command::TipRadius(a) => cmd::tipradius::run(a),
+        Command::Plunger(a) => cmd::plunger::run(a),
         Command::Surfaces(a) => cmd::surfaces::run(a),
     };
     match result {

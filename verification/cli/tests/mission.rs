@@ -328,3 +328,53 @@ fn tip_radius_trade_off_and_its_cross_check() {
     let out = geodesic(&["tip-radius", "--radii", "0,1"], &d);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn plunger_command_reports_each_case_and_a_touch() {
+    let d = scratch("plunger");
+    let out = geodesic(&["plunger", "--json", "--plot", "p.svg"], &d);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc = json_of(&out);
+    let cases = doc["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 8);
+    for c in cases {
+        // the step convergence check: half the step changes nothing that matters
+        let (a, b) = (
+            c["extra_velocity_um_s"].as_f64().unwrap(),
+            c["extra_velocity_half_step_um_s"].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() <= 1e-6 * a.abs().max(1e-9), "{c}");
+        assert!(c["touched_at_s"].is_null());
+    }
+    assert!(d.join("p.svg").is_file());
+    // a retraction slower than the TM: it touches, and says when
+    let out = geodesic(
+        &[
+            "plunger",
+            "--voltage",
+            "2",
+            "--retraction",
+            "100:25",
+            "--v0",
+            "7.5um/s",
+            "--json",
+        ],
+        &d,
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let t = json_of(&out)["cases"][0]["touched_at_s"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 3.7, "{t}");
+    for bad in [
+        ["--retraction", "10:5"],
+        ["--capacitance", "cube:3"],
+        ["--v0", "3 m"],
+    ] {
+        let out = geodesic(&["plunger", bad[0], bad[1]], &d);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+    }
+}

@@ -13,6 +13,7 @@ pub mod history;
 pub mod import;
 pub mod merge;
 pub mod montecarlo;
+pub mod plunger;
 pub mod sensitivity;
 pub mod surfaces;
 pub mod synth;
