@@ -13,7 +13,9 @@
 //!
 //! The jerk is not printed in the thesis: it is taken from geodesic's own mechanism model (the
 //! nominal piezo mechanism's unloaded retraction, `J = 6 x / t^3` when the tip has moved
-//! `JERK_DISTANCE_M`), so it moves with the mechanism parameters. The bond elongation `delta` is
+//! `JERK_DISTANCE_M`), so it moves with the mechanism parameters. The model's jerk is only
+//! roughly constant: 2.13e9, 2.88e9, 3.34e9 m/s^3 over 5, 20, 50 nm, which moves the push term
+//! (as `J^(-1/3)`) by at most 11 %. The bond elongation `delta` is
 //! the experimental upper bound of `lambda` (0.8 um) and the rupture strength that of annealed
 //! gold (120 MPa): both stated assumptions.
 //!
@@ -35,6 +37,11 @@ pub const JERK_DISTANCE_M: f64 = 20e-9;
 /// The initial jerk [m/s^3] of a mechanism's unloaded retraction: `6 x / t^3` when the tip has
 /// retracted `JERK_DISTANCE_M` (RK4, 0.5 ns steps).
 pub fn initial_jerk_m_s3(params: PiezoParams, command: VoltageCommand) -> f64 {
+    jerk_over_m_s3(params, command, JERK_DISTANCE_M)
+}
+
+/// `6 x / t^3` when the tip has retracted `distance_m` [m] (unloaded, RK4, 0.5 ns steps).
+pub fn jerk_over_m_s3(params: PiezoParams, command: VoltageCommand, distance_m: f64) -> f64 {
     let mech = PiezoMechanism::new(params, command);
     let mut s = mech.initial_state(0.0);
     let y0 = s[3];
@@ -62,7 +69,7 @@ pub fn initial_jerk_m_s3(params: PiezoParams, command: VoltageCommand) -> f64 {
         }
         t += h;
         let x = y0 - s[3];
-        if x >= JERK_DISTANCE_M {
+        if x >= distance_m {
             return 6.0 * x / (t * t * t);
         }
     }
@@ -226,10 +233,17 @@ mod tests {
     }
 
     #[test]
-    fn jerk_is_constant_in_the_first_tens_of_nm() {
-        // constant jerk: the estimate hardly depends on the distance it is taken over
-        let j = inputs().jerk_m_s3;
-        assert!(j.is_finite() && j > 0.0, "{j}");
+    fn jerk_is_only_roughly_constant_in_the_first_tens_of_nm() {
+        // the thesis's constant-jerk assumption, measured on the mechanism model: 6 x / t^3 over
+        // 5, 20 and 50 nm is 2.13e9, 2.88e9 and 3.34e9 m/s^3 (-26 %, +16 % about the 20 nm
+        // value used); the push term goes as J^(-1/3), so it moves by at most 11 %
+        let (p, c) = (PiezoParams::nominal(), VoltageCommand::nominal());
+        let j = [5e-9, 20e-9, 50e-9].map(|d| jerk_over_m_s3(p, c, d));
+        assert!(j[0] < j[1] && j[1] < j[2], "{j:?}");
+        for v in j {
+            assert!((v / j[1] - 1.0).abs() < 0.3, "{j:?}");
+            assert!(((v / j[1]).powf(-1.0 / 3.0) - 1.0).abs() < 0.11, "{j:?}");
+        }
     }
 
     #[test]
