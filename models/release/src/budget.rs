@@ -197,6 +197,30 @@ impl Dist {
         }
     }
 
+    /// The value of this distribution at normal score `z`: its quantile at `Phi(z)` (the map
+    /// of a Gaussian copula). An untruncated normal gives `mean + sd z` exactly; a truncated
+    /// one inverts its CDF, `mean + sd Phi^-1(Phi(a) + Phi(z) (Phi(b) - Phi(a)))`.
+    pub fn at_score(&self, z: f64) -> f64 {
+        use geodesic_core::normal::normal_quantile;
+        match *self {
+            Dist::Fixed(v) => v,
+            Dist::Uniform { min, max } => min + (max - min) * normal_cdf(z),
+            Dist::Normal { mean, .. } => {
+                let s = self.sd();
+                let (lo, hi) = self.bounds();
+                if s == 0.0 {
+                    return mean.clamp(lo, hi);
+                }
+                if lo == f64::NEG_INFINITY && hi == f64::INFINITY {
+                    return mean + s * z;
+                }
+                let (pa, pb) = (normal_cdf((lo - mean) / s), normal_cdf((hi - mean) / s));
+                let p = (pa + normal_cdf(z) * (pb - pa)).clamp(1e-300, 1.0 - 1e-16);
+                (mean + s * normal_quantile(p)).clamp(lo, hi)
+            }
+        }
+    }
+
     /// Mean of the (truncated) distribution.
     pub fn mean(&self) -> f64 {
         match *self {
@@ -305,6 +329,27 @@ pub struct AdhesionBudget {
     pub A1_n_m: Dist,
     /// `lambda` [m].
     pub lambda_m: Dist,
+    /// Correlation of `A1` and `lambda` within one contact (a Gaussian copula: the two normal
+    /// scores correlated, each mapped through its own distribution); `None` draws them
+    /// independently. YAML key `adhesion.A1_lambda_correlation`, in [-1, 1].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub A1_lambda_correlation: Option<f64>,
+}
+
+impl AdhesionBudget {
+    /// Draws `(A1 [N/m], lambda [m])` of one contact. Without a correlation (or with 0) the two
+    /// are drawn independently, as before the correlation existed (same random stream).
+    pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R) -> (f64, f64) {
+        match self.A1_lambda_correlation {
+            Some(rho) if rho != 0.0 => {
+                let z1: f64 = StandardNormal.sample(rng);
+                let z2: f64 = StandardNormal.sample(rng);
+                let z2 = rho * z1 + (1.0 - rho * rho).max(0.0).sqrt() * z2;
+                (self.A1_n_m.at_score(z1), self.lambda_m.at_score(z2))
+            }
+            _ => (self.A1_n_m.sample(rng), self.lambda_m.sample(rng)),
+        }
+    }
 }
 
 /// A checked uncertainty budget.
@@ -367,6 +412,8 @@ struct RawMechanism {
 struct RawAdhesion {
     A1_n_m: S,
     lambda_m: S,
+    #[serde(default)]
+    A1_lambda_correlation: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -489,6 +536,17 @@ impl Budget {
             adhesion: AdhesionBudget {
                 A1_n_m: non_negative("adhesion.A1_n_m", &raw.adhesion.A1_n_m)?,
                 lambda_m: non_negative("adhesion.lambda_m", &raw.adhesion.lambda_m)?,
+                A1_lambda_correlation: match &raw.adhesion.A1_lambda_correlation {
+                    Some(r) if !(-1.0..=1.0).contains(&r.value) => {
+                        return Err(BudgetError::Invalid {
+                            file: file.to_string(),
+                            line: r.referenced.line(),
+                            field: "adhesion.A1_lambda_correlation".into(),
+                            cause: format!("{} is not a correlation in [-1, 1]", r.value),
+                        });
+                    }
+                    r => r.as_ref().map(|r| r.value),
+                },
             },
             e_star_pa: non_negative("e_star_pa", &raw.e_star_pa)?,
             tm_mass_kg: non_negative("tm_mass_kg", &raw.tm_mass_kg)?,
@@ -618,5 +676,119 @@ mod tests {
         );
         let e = Budget::from_yaml(&text, "b.yaml").unwrap_err().to_string();
         assert!(e.contains("adhesion.lambda_m"), "{e}");
+    }
+
+    /// The copula keeps each marginal (its mean, checked against the truncated-normal closed
+    /// form of `Dist::mean`) and gives the pair the stated correlation; without a correlation
+    /// the draws are those of the independent path, number for number.
+    #[test]
+    fn correlated_adhesion_keeps_marginals_and_has_the_stated_correlation() {
+        let mut a = Budget::default_budget().adhesion;
+        a.A1_n_m = Dist::Normal {
+            mean: 1e5,
+            sd: Some(2.5e4),
+            rel_sd: None,
+            min: Some(0.0),
+            max: None,
+            clip_sd: None,
+        };
+        a.lambda_m = Dist::Normal {
+            mean: 6e-7,
+            sd: Some(3e-7),
+            rel_sd: None,
+            min: Some(0.0),
+            max: Some(8e-7),
+            clip_sd: None,
+        };
+        let n = 200_000;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        a.A1_lambda_correlation = Some(-0.8);
+        let v: Vec<(f64, f64)> = (0..n).map(|_| a.sample(&mut rng)).collect();
+        let (ma, ml) = (
+            v.iter().map(|x| x.0).sum::<f64>() / n as f64,
+            v.iter().map(|x| x.1).sum::<f64>() / n as f64,
+        );
+        let sd = |m: f64, f: &dyn Fn(&(f64, f64)) -> f64| {
+            (v.iter().map(|x| (f(x) - m).powi(2)).sum::<f64>() / n as f64).sqrt()
+        };
+        let (sa, sl) = (sd(ma, &|x| x.0), sd(ml, &|x| x.1));
+        // 4 standard errors of the sample mean
+        assert!(
+            (ma - a.A1_n_m.mean()).abs() < 4.0 * sa / (n as f64).sqrt(),
+            "{ma}"
+        );
+        assert!(
+            (ml - a.lambda_m.mean()).abs() < 4.0 * sl / (n as f64).sqrt(),
+            "{ml}"
+        );
+        assert!(v.iter().all(|x| x.0 >= 0.0 && (0.0..=8e-7).contains(&x.1)));
+        // the normal scores are correlated -0.8; the heavily truncated lambda keeps most of it
+        let r = v.iter().map(|x| (x.0 - ma) * (x.1 - ml)).sum::<f64>() / n as f64 / (sa * sl);
+        assert!((-0.8..=-0.6).contains(&r), "{r}");
+        // with both marginals untruncated the Pearson correlation is the copula's
+        let mut u = a;
+        u.lambda_m = Dist::Normal {
+            mean: 6e-7,
+            sd: Some(9e-8),
+            rel_sd: None,
+            min: None,
+            max: None,
+            clip_sd: None,
+        };
+        u.A1_n_m = Dist::Normal {
+            mean: 1e5,
+            sd: Some(2.5e4),
+            rel_sd: None,
+            min: None,
+            max: None,
+            clip_sd: None,
+        };
+        let w: Vec<(f64, f64)> = (0..n).map(|_| u.sample(&mut rng)).collect();
+        let (ma, ml) = (
+            w.iter().map(|x| x.0).sum::<f64>() / n as f64,
+            w.iter().map(|x| x.1).sum::<f64>() / n as f64,
+        );
+        let c = w.iter().map(|x| (x.0 - ma) * (x.1 - ml)).sum::<f64>();
+        let ss = |f: &dyn Fn(&(f64, f64)) -> f64, m: f64| {
+            w.iter().map(|x| (f(x) - m).powi(2)).sum::<f64>().sqrt()
+        };
+        let r = c / (ss(&|x| x.0, ma) * ss(&|x| x.1, ml));
+        // standard error of r near -0.8: (1 - r^2) / sqrt(n) = 8e-4; 5 of them
+        assert!((r + 0.8).abs() < 4e-3, "{r}");
+        // no correlation: the independent path's numbers
+        a.A1_lambda_correlation = None;
+        let (mut r1, mut r2) = (
+            rand_chacha::ChaCha8Rng::seed_from_u64(9),
+            rand_chacha::ChaCha8Rng::seed_from_u64(9),
+        );
+        for _ in 0..100 {
+            let (x, y) = a.sample(&mut r1);
+            assert_eq!(x, a.A1_n_m.sample(&mut r2));
+            assert_eq!(y, a.lambda_m.sample(&mut r2));
+        }
+    }
+
+    #[test]
+    fn a_correlation_outside_minus_one_one_is_refused_with_its_line() {
+        let text = DEFAULT_BUDGET_YAML.replace(
+            "  lambda_m: {normal:",
+            "  A1_lambda_correlation: 1.5\n  lambda_m: {normal:",
+        );
+        let e = Budget::from_yaml(&text, "b.yaml").unwrap_err().to_string();
+        assert!(e.contains("adhesion.A1_lambda_correlation"), "{e}");
+        assert!(e.contains("b.yaml:35"), "{e}");
+        let ok = DEFAULT_BUDGET_YAML.replace(
+            "  lambda_m: {normal:",
+            "  A1_lambda_correlation: -0.3\n  lambda_m: {normal:",
+        );
+        let b = Budget::from_yaml(&ok, "b.yaml").unwrap();
+        assert_eq!(b.adhesion.A1_lambda_correlation, Some(-0.3));
+        // an existing budget's hash does not move (the field is skipped when absent)
+        assert_eq!(
+            Budget::default_budget().hash_hex(),
+            Budget::from_yaml(DEFAULT_BUDGET_YAML, "x")
+                .unwrap()
+                .hash_hex()
+        );
     }
 }

@@ -228,8 +228,7 @@ pub fn draw_pull_offs(adhesion: &AdhesionBudget, n: usize, seed: u64) -> (Vec<f6
     let mut f = Vec::with_capacity(n);
     let mut p = Vec::with_capacity(n);
     for _ in 0..n {
-        let a1 = adhesion.A1_n_m.sample(&mut rng);
-        let lam = adhesion.lambda_m.sample(&mut rng);
+        let (a1, lam) = adhesion.sample(&mut rng);
         f.push(a1 * lam / std::f64::consts::E * 1e3);
         p.push(a1 * lam * lam / TIP_SPEED_M_S * 1e6);
     }

@@ -130,8 +130,8 @@ pub fn draw_inputs(budget: &Budget, case: Case, seed: u64, index: u64) -> Releas
     ];
     let f0 = budget.preload_n.sample(&mut rng);
     let a = &budget.adhesion;
-    let (a1_1, lam_1) = (a.A1_n_m.sample(&mut rng), a.lambda_m.sample(&mut rng));
-    let (a1_2, lam_2) = (a.A1_n_m.sample(&mut rng), a.lambda_m.sample(&mut rng));
+    let (a1_1, lam_1) = a.sample(&mut rng);
+    let (a1_2, lam_2) = a.sample(&mut rng);
     let mut r = ReleaseInputs {
         mech,
         em_v_s: em,

@@ -2,8 +2,9 @@
 //! short TMMF releases drawn from a known adhesion population (issue 14). Asserted: the
 //! contract's keys; no release skipped; each release's A1 and lambda within 4 sigma of its truth;
 //! the population mean of A1 and lambda within 3 `mean_sigma` of the mean of the drawn values;
-//! P_x from the model and from the data agree within their spread; a bad release is reported
-//! with its file and exit 2.
+//! P_x from the model and from the data agree within their spread; the correlation's interval
+//! holds its estimate; the page (Markdown table, JSON, histograms, adhesion scatter) is written
+//! under reports/campaign; a bad release is reported with its file and exit 2.
 
 mod common;
 use common::{geodesic, scratch};
@@ -105,6 +106,39 @@ fn a_synthetic_campaign_recovers_its_population() {
         );
     }
     assert!(doc["population"]["correlation"].is_object());
+    // the correlation's bootstrap interval holds the estimate
+    let key = "tip_adhesion.A1~tip_adhesion.lambda";
+    if let Some(r) = doc["population"]["correlation"][key].as_f64() {
+        let ci = &doc["correlation_ci95"][key];
+        let (lo, hi) = (ci[0].as_f64().unwrap(), ci[1].as_f64().unwrap());
+        assert!(
+            lo <= r && r <= hi && -1.0 <= lo && hi <= 1.0,
+            "{r} in [{lo}, {hi}]"
+        );
+    }
+    // the page: written whole under reports/campaign, the JSON identical to stdout, the table
+    // in the thesis's form, every release listed, both plots with their legends
+    let page = d.join("reports/campaign");
+    let json = std::fs::read(page.join("campaign.json")).unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&json).trim(),
+        String::from_utf8_lossy(&out.stdout).trim()
+    );
+    let md = std::fs::read_to_string(page.join("campaign.md")).unwrap();
+    for want in [
+        "| quantity | unit | source | mean | sd | sd of the mean | min | max |",
+        "| P_x_kg_m_s | kg m/s | model |",
+        "| tip_adhesion.A1 | N/m |",
+        "A1-lambda correlation",
+        "![adhesion.svg](adhesion.svg)",
+    ] {
+        assert!(md.contains(want), "campaign.md lacks {want}");
+    }
+    assert_eq!(md.matches("| camp/release-").count(), 8);
+    let svg = std::fs::read_to_string(page.join("adhesion.svg")).unwrap();
+    assert!(svg.contains("population 1-sigma") && svg.contains("error ellipse"));
+    let svg = std::fs::read_to_string(page.join("histograms.svg")).unwrap();
+    assert!(svg.contains("from the fitted model") && svg.contains("from the data"));
 
     // closing the loop (issue 14 item 3): the Monte Carlo takes its adhesion from the campaign;
     // its 99.73 % interval, which carries the identification uncertainty, holds the 99.73 % point

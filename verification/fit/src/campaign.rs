@@ -15,7 +15,12 @@
 //!   `mean_sigma`, the spread `sd` = `tau`), `sd_sigma` from a bootstrap over releases (500
 //!   resamples, a fixed ChaCha stream), and the correlation of A1 and lambda across the
 //!   population: the covariance of the estimates minus the mean within-release covariance
-//!   (from each fit's correlation matrix), over `sd_A1 sd_lambda`, clipped to [-1, 1].
+//!   (from each fit's correlation matrix), over `sd_A1 sd_lambda`, clipped to [-1, 1], with a
+//!   95 % percentile interval from a bootstrap over releases (`correlation_ci95`). On
+//!   campaigns of 30 releases whose measurement errors are half the population spread and
+//!   correlated -0.95 within a release, the estimate's bias is +0.01 to +0.04 (the naive
+//!   correlation of the estimates is off by up to -0.3) and the interval covers 87-94 % of the
+//!   time (tests below).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -164,6 +169,10 @@ pub struct CampaignReport {
     pub table: BTreeMap<String, BTreeMap<String, Option<Stats>>>,
     /// Population of the adhesion parameters, with `correlation`.
     pub population: serde_json::Value,
+    /// 95 % interval of each population correlation (a bootstrap over releases), by the key
+    /// it has in `population.correlation`.
+    #[serde(default)]
+    pub correlation_ci95: BTreeMap<String, [f64; 2]>,
 }
 
 /// The release datasets of a campaign: a folder (every `*.yaml` that is a dataset, sorted) or a
@@ -343,37 +352,36 @@ pub fn run(
         }
     }
     // correlation across the population, within-release covariance removed
-    let pairs: Vec<(f64, f64, f64)> = releases
+    let pairs: Vec<Pair> = releases
         .iter()
         .filter_map(|r| {
             let a = r.params.get("tip_adhesion.A1")?;
             let l = r.params.get("tip_adhesion.lambda")?;
-            Some((
-                a.value,
-                l.value,
-                r.corr_a1_lambda.unwrap_or(0.0) * a.sigma * l.sigma,
-            ))
+            let usable = |p: &crate::report::ParamOut| {
+                !p.fixed && p.sigma > 0.0 && p.value.is_finite() && p.sigma.is_finite()
+            };
+            (usable(a) && usable(l)).then(|| Pair {
+                a: a.value,
+                sa: a.sigma,
+                l: l.value,
+                sl: l.sigma,
+                corr: r.corr_a1_lambda.unwrap_or(0.0),
+            })
         })
         .collect();
-    if pairs.len() >= 3
-        && let (Some(sa), Some(sl)) = (sds.get("tip_adhesion.A1"), sds.get("tip_adhesion.lambda"))
-    {
-        let k = pairs.len() as f64;
-        let (ma, ml) = (
-            pairs.iter().map(|p| p.0).sum::<f64>() / k,
-            pairs.iter().map(|p| p.1).sum::<f64>() / k,
-        );
-        let cov = pairs.iter().map(|p| (p.0 - ma) * (p.1 - ml)).sum::<f64>() / (k - 1.0);
-        let within = pairs.iter().map(|p| p.2).sum::<f64>() / k;
-        let rho = if *sa > 0.0 && *sl > 0.0 {
-            ((cov - within) / (sa * sl)).clamp(-1.0, 1.0)
-        } else {
-            f64::NAN
-        };
+    let mut correlation_ci95 = BTreeMap::new();
+    if pairs.len() >= 3 {
+        let rho = deconvolved_rho(&pairs);
         pop.insert(
             "correlation".into(),
-            serde_json::json!({"tip_adhesion.A1~tip_adhesion.lambda": if rho.is_finite() { serde_json::json!(rho) } else { serde_json::Value::Null }}),
+            serde_json::json!({PAIR: if rho.is_finite() { serde_json::json!(rho) } else { serde_json::Value::Null }}),
         );
+        if rho.is_finite() {
+            let ci = bootstrap_rho_ci95(&pairs, seed.wrapping_add(2));
+            if ci.iter().all(|c| c.is_finite()) {
+                correlation_ci95.insert(PAIR.to_string(), ci);
+            }
+        }
     } else {
         pop.insert("correlation".into(), serde_json::json!({}));
     }
@@ -382,7 +390,59 @@ pub fn run(
         failed,
         table,
         population: serde_json::Value::Object(pop),
+        correlation_ci95,
     }
+}
+
+/// The key of the A1-lambda correlation in `population.correlation` and `correlation_ci95`.
+pub const PAIR: &str = "tip_adhesion.A1~tip_adhesion.lambda";
+
+/// One release's A1 and lambda estimates with their 1-sigma and within-fit correlation.
+#[derive(Debug, Clone, Copy)]
+struct Pair {
+    a: f64,
+    sa: f64,
+    l: f64,
+    sl: f64,
+    corr: f64,
+}
+
+/// The A1-lambda correlation across the population: the covariance of the estimates minus the
+/// mean within-release covariance, over the product of the DerSimonian-Laird spreads, clipped
+/// to [-1, 1]; NaN when a spread is 0 (no population spread to correlate).
+fn deconvolved_rho(p: &[Pair]) -> f64 {
+    let k = p.len() as f64;
+    let (xa, sa): (Vec<f64>, Vec<f64>) = p.iter().map(|q| (q.a, q.sa)).unzip();
+    let (xl, sl): (Vec<f64>, Vec<f64>) = p.iter().map(|q| (q.l, q.sl)).unzip();
+    let (ta, tl) = (dersimonian_laird(&xa, &sa).2, dersimonian_laird(&xl, &sl).2);
+    let (ma, ml) = (xa.iter().sum::<f64>() / k, xl.iter().sum::<f64>() / k);
+    let cov = p.iter().map(|q| (q.a - ma) * (q.l - ml)).sum::<f64>() / (k - 1.0);
+    let within = p.iter().map(|q| q.corr * q.sa * q.sl).sum::<f64>() / k;
+    if ta > 0.0 && tl > 0.0 {
+        ((cov - within) / (ta * tl)).clamp(-1.0, 1.0)
+    } else {
+        f64::NAN
+    }
+}
+
+/// 95 % percentile interval of [`deconvolved_rho`] from a bootstrap over releases (500
+/// resamples, ChaCha8 `seed`; resamples without a population spread are skipped).
+fn bootstrap_rho_ci95(p: &[Pair], seed: u64) -> [f64; 2] {
+    let n = p.len();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut v: Vec<f64> = (0..500)
+        .map(|_| {
+            let b: Vec<Pair> = (0..n).map(|_| p[rng.random_range(0..n)]).collect();
+            deconvolved_rho(&b)
+        })
+        .filter(|r| r.is_finite())
+        .collect();
+    if v.len() < 100 {
+        return [f64::NAN; 2];
+    }
+    v.sort_by(f64::total_cmp);
+    let q = |f: f64| v[((f * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
+    [q(0.025), q(0.975)]
 }
 
 /// A population to draw a synthetic campaign from (normal, truncated positive).
@@ -431,4 +491,73 @@ pub fn draw_release(pop: &TruePopulation, seed: u64, i: u64) -> (f64, f64, f64, 
     let v = 3e-3 * (1.0 + 0.15 * g()).clamp(0.5, 1.5);
     let noise = 8e-10 * (1.0 + 0.3 * g().abs());
     (a1, lambda, f_pre, v, noise)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand_distr::{Distribution, StandardNormal};
+
+    /// `k` campaigns of `n` releases whose (A1, lambda) come from a population with correlation
+    /// `rho`, each estimate off by a measurement error as large as half the population spread
+    /// and correlated -0.95 within the release (as the fits' A1 and lambda are): the naive
+    /// correlation of the estimates is pulled towards -0.95 (to -0.19 at rho = 0), the
+    /// deconvolved one is not, and its bootstrap interval holds the truth about 95 % of the time.
+    fn campaigns(rho: f64, k: usize, n: usize, seed: u64) -> (f64, f64, usize) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let (ta, tl) = (2.5e4, 9e-8);
+        let mut sum = 0.0;
+        let mut naive = 0.0;
+        let mut covered = 0;
+        for c in 0..k {
+            let p: Vec<Pair> = (0..n)
+                .map(|_| {
+                    let mut z = || -> f64 { StandardNormal.sample(&mut rng) };
+                    let (z1, z2) = (z(), z());
+                    let a = 1e5 + ta * z1;
+                    let l = 6e-7 + tl * (rho * z1 + (1.0 - rho * rho).sqrt() * z2);
+                    let (sa, sl, w) = (0.5 * ta, 0.5 * tl, -0.95);
+                    let (e1, e2) = (z(), z());
+                    Pair {
+                        a: a + sa * e1,
+                        sa,
+                        l: l + sl * (w * e1 + (1.0 - w * w).sqrt() * e2),
+                        sl,
+                        corr: w,
+                    }
+                })
+                .collect();
+            let r = deconvolved_rho(&p);
+            sum += r;
+            let m = |f: &dyn Fn(&Pair) -> f64| p.iter().map(f).sum::<f64>() / n as f64;
+            let (ma, ml) = (m(&|q| q.a), m(&|q| q.l));
+            naive += m(&|q| (q.a - ma) * (q.l - ml))
+                / (m(&|q| (q.a - ma).powi(2)) * m(&|q| (q.l - ml).powi(2))).sqrt();
+            let [lo, hi] = bootstrap_rho_ci95(&p, seed + c as u64);
+            if (lo..=hi).contains(&rho) {
+                covered += 1;
+            }
+        }
+        (sum / k as f64, naive / k as f64, covered)
+    }
+
+    #[test]
+    fn the_population_correlation_is_deconvolved_and_its_interval_covers() {
+        for (rho, seed) in [(0.0, 11), (-0.6, 12), (0.5, 13)] {
+            let (mean, naive, covered) = campaigns(rho, 400, 30, seed);
+            // the mean of 400 estimates: standard error about 0.2 / 20 = 0.01; the estimator's
+            // own bias (a ratio with noisy spreads) measured +0.006 to +0.04 over 5 x 400
+            assert!((mean - rho).abs() < 0.05, "rho {rho}: mean estimate {mean}");
+            // the naive correlation is where the closed form puts it: (rho tau^2 - 0.95 s^2) /
+            // (tau^2 + s^2) with s = tau / 2, i.e. -0.19 at 0, -0.67 at -0.6, 0.21 at 0.5
+            let want = (rho - 0.25 * 0.95) / 1.25;
+            assert!(
+                (naive - want).abs() < 0.05,
+                "rho {rho}: naive {naive}, want {want}"
+            );
+            // 95 % nominal; a percentile bootstrap of 30 releases under-covers a little
+            // (measured 87-94 %)
+            assert!(covered >= 340, "rho {rho}: covered {covered} of 400");
+        }
+    }
 }

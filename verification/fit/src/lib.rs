@@ -12,6 +12,7 @@
 //! - [`plot`]: SVGs of data, model and residual, and of the history.
 
 pub mod campaign;
+pub mod campaign_page;
 pub mod dataset;
 pub mod diagnose;
 pub mod discover;

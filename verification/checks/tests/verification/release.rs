@@ -204,6 +204,7 @@ fn adhesion_calibration_statistics_match_the_analytic_reference() {
             max: 1.5e5,
         },
         lambda_m: Dist::Fixed(8e-7),
+        A1_lambda_correlation: None,
     };
     let c = compare(&uniform, &TMMF_HEAVY, 200_000, 5).unwrap();
     let n: f64 = 23.0;

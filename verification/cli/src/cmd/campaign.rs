@@ -11,7 +11,8 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 #[command(
     after_help = "Examples:\n  geodesic synth --campaign 30 --out camp --seed 4\n  geodesic campaign camp/campaign.yaml --effects needle_contact,tip_contact,tip_adhesion\n  geodesic campaign camp --effects needle_contact,tip_contact,tip_adhesion --json > campaign.json\n\
-A release that cannot be fitted is listed with its file and cause (exit 2 after the table)."
+A release that cannot be fitted is listed with its file and cause (exit 2 after the table).\n\
+The page (table, population, releases, histograms, adhesion scatter) is written to DIR/campaign/ (--reports DIR, default reports)."
 )]
 pub struct Args {
     /// A folder of release datasets (every YAML with `scenario:`) or a campaign YAML with
@@ -30,6 +31,13 @@ pub struct Args {
     /// Seed of the population's bootstrap.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Reports folder, as for `verify`: the campaign's page (campaign.md, campaign.json,
+    /// histograms.svg, adhesion.svg) goes into DIR/campaign/, written as a whole set.
+    #[arg(long, value_name = "DIR", default_value = "reports")]
+    pub reports: PathBuf,
+    /// Not a flag of this command (`--out` names one output file everywhere in geodesic).
+    #[arg(long, hide = true)]
+    pub out: Option<PathBuf>,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
@@ -38,6 +46,17 @@ pub struct Args {
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let opts = options(&args.fix, &args.bound)?;
+    if let Some(o) = &args.out {
+        return Err(CliError::bad(format!(
+            "--out {}: in geodesic --out names one output file; the campaign's page goes under \
+             --reports DIR (into DIR/campaign/)",
+            o.display()
+        )));
+    }
+    let page_dir = args.reports.join("campaign");
+    // a bad reports folder fails now, not after the fits
+    let staging = geodesic_report::write::Staging::new(&page_dir)
+        .map_err(|e| CliError::bad(format!("--reports: {e}")))?;
     let files =
         geodesic_fit::campaign::list(&args.campaign).map_err(|e| CliError::bad(e.to_string()))?;
     let effects = effect_list(&args.effects);
@@ -45,6 +64,38 @@ pub fn run(args: Args) -> CmdResult {
         crate::progress::Task::counter(args.json, "campaign: releases fitted", files.len() as u64);
     let r = geodesic_fit::campaign::run(&files, &effects, &opts, args.seed, &|| task.inc(1));
     task.finish();
+    let json = serde_json::to_string(&r).map_err(|e| CliError::Io(e.to_string()))?;
+    let mut plots = vec!["histograms.svg"];
+    let io = |e: geodesic_fit::FitError| CliError::Io(e.to_string());
+    staging
+        .write(
+            "histograms.svg",
+            geodesic_fit::campaign_page::histograms_svg(&r)
+                .map_err(io)?
+                .as_bytes(),
+        )
+        .map_err(|e| CliError::Io(e.to_string()))?;
+    if let Some(svg) = geodesic_fit::campaign_page::adhesion_svg(&r).map_err(io)? {
+        staging
+            .write("adhesion.svg", svg.as_bytes())
+            .map_err(|e| CliError::Io(e.to_string()))?;
+        plots.push("adhesion.svg");
+    }
+    let md = geodesic_fit::campaign_page::markdown(
+        &r,
+        &args.campaign.display().to_string(),
+        &effects,
+        &plots,
+    );
+    for (name, bytes) in [
+        ("campaign.md", md.as_bytes()),
+        ("campaign.json", json.as_bytes()),
+    ] {
+        staging
+            .write(name, bytes)
+            .map_err(|e| CliError::Io(e.to_string()))?;
+    }
+    staging.commit().map_err(|e| CliError::Io(e.to_string()))?;
     for f in &r.failed {
         eprintln!(
             "geodesic: {}: not fitted: {}",
@@ -53,10 +104,7 @@ pub fn run(args: Args) -> CmdResult {
         );
     }
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&r).map_err(|e| CliError::Io(e.to_string()))?
-        );
+        println!("{json}");
     } else {
         println!(
             "{} releases fitted, {} failed ({})",
@@ -83,7 +131,16 @@ pub fn run(args: Args) -> CmdResult {
         if let Some(obj) = r.population.as_object() {
             for (k, v) in obj {
                 if k == "correlation" {
-                    println!("population correlation: {v}");
+                    match (
+                        v.get(geodesic_fit::campaign::PAIR).and_then(|x| x.as_f64()),
+                        r.correlation_ci95.get(geodesic_fit::campaign::PAIR),
+                    ) {
+                        (Some(x), Some([lo, hi])) => println!(
+                            "population correlation A1-lambda: {x:+.3} (95 % bootstrap [{lo:+.3}, {hi:+.3}])"
+                        ),
+                        (Some(x), None) => println!("population correlation A1-lambda: {x:+.3}"),
+                        _ => println!("population correlation A1-lambda: not estimated"),
+                    }
                 } else {
                     println!(
                         "population {k}: mean {:.4e} +- {:.2e}, sd {:.4e} +- {:.2e} ({} releases)",
@@ -96,6 +153,11 @@ pub fn run(args: Args) -> CmdResult {
                 }
             }
         }
+        println!(
+            "campaign page: {} (campaign.md, campaign.json, {})",
+            page_dir.display(),
+            plots.join(", ")
+        );
     }
     Ok(if r.failed.is_empty() { 0 } else { 2 })
 }

@@ -273,13 +273,13 @@ pub fn run(args: Args) -> CmdResult {
             v["p9973_interval_um_s"] = serde_json::json!(id.interval_um_s);
             v["probability_met"] = serde_json::json!(id.probability_met(LIMIT_UM_S));
             v["uncertainty"] = serde_json::json!(format!(
-                "adhesion identification (the campaign population's mean and spread drawn {} times from their sigmas, N / 10 releases each) and Monte Carlo sampling",
+                "adhesion identification (the campaign population's mean, spread and A1-lambda correlation drawn {} times from their uncertainty, N / 10 releases each) and Monte Carlo sampling",
                 id.p9973_um_s.len()
             ));
             v["adhesion_from"] = serde_json::json!({
                 "source": pop.source,
                 "population": pop,
-                "correlation_used": false,
+                "correlation_used": pop.rho.is_some(),
                 "draws_p9973_um_s": id.p9973_um_s,
                 "releases_per_draw": id.n_each,
             });
@@ -319,10 +319,16 @@ pub fn run(args: Args) -> CmdResult {
                 id.p9973_um_s.len(),
                 id.probability_met(LIMIT_UM_S)
             );
-            if let Some(r) = pop.rho {
-                println!(
-                    "  (the campaign's A1-lambda correlation {r:+.2} is not used: draws are independent)"
-                );
+            match (pop.rho, pop.rho_ci95) {
+                (Some(r), Some([lo, hi])) => println!(
+                    "  A1-lambda correlation {r:+.2} (95 % [{lo:+.2}, {hi:+.2}]) used in the draws (Gaussian copula)"
+                ),
+                (Some(r), None) => println!(
+                    "  A1-lambda correlation {r:+.2} used in the draws (Gaussian copula; Fisher 1/sqrt(n-3) uncertainty)"
+                ),
+                _ => {
+                    println!("  the campaign states no A1-lambda correlation: drawn independently")
+                }
             }
         }
         if let Some(out) = &args.out {
