@@ -17,6 +17,7 @@ pub mod images;
 pub mod plots;
 pub mod plunger;
 pub mod release;
+pub mod sensitivity;
 pub mod spectral;
 pub mod tipradius;
 pub mod tm_state;
@@ -92,6 +93,7 @@ pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<d
     all.extend(images::checks());
     all.extend(plunger::checks());
     all.extend(tipradius::checks());
+    all.extend(sensitivity::checks());
     all.extend(dfc::checks());
     all.extend(spectral::checks());
     all

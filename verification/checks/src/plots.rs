@@ -349,6 +349,158 @@ pub fn tip_radius_svg(
     Ok(out)
 }
 
+/// The release sensitivity as an SVG: per uncertainty group, the first-order (filled) and total
+/// (outlined) variance indices of `|v_TM|` with their 95 % intervals (left), and the shift of
+/// the 99.73 % point when the group is frozen at nominal (right).
+pub fn sensitivity_svg(
+    s: &geodesic_release::sensitivity::Sensitivity,
+) -> Result<String, CheckError> {
+    let k = s.groups.len();
+    let names: Vec<String> = s.groups.iter().map(|(g, _)| g.group.clone()).collect();
+    let name_of = move |y: &f64| -> String {
+        let i = y.round();
+        if (y - i).abs() < 1e-6 && i >= 0.0 && (i as usize) < names.len() {
+            names[names.len() - 1 - i as usize].clone()
+        } else {
+            String::new()
+        }
+    };
+    // group g is drawn at y = k - 1 - g (the first at the top)
+    let yk = |g: usize| (k - 1 - g) as f64;
+    let xmax = s
+        .groups
+        .iter()
+        .flat_map(|(g, _)| [g.total_ci[1], g.first_ci[1], g.total])
+        .fold(0.1f64, f64::max)
+        .min(1.5)
+        * 1.1;
+    let smin = s.groups.iter().map(|(_, sh)| *sh).fold(0.0f64, f64::min);
+    let smax = s.groups.iter().map(|(_, sh)| *sh).fold(0.0f64, f64::max);
+    let pad = ((smax - smin) * 0.1).max(0.01);
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (1250, 520)).into_drawing_area();
+        root.fill(&WHITE).map_err(perr)?;
+        let (left, right) = root.split_horizontally(700);
+        let blue = RGBColor(40, 90, 170);
+        let mut c = ChartBuilder::on(&left)
+            .caption(
+                format!(
+                    "Variance indices of |X'| ({} x 2 draws, seed {})",
+                    s.n, s.seed
+                ),
+                ("sans-serif", 20),
+            )
+            .margin(14)
+            .x_label_area_size(50)
+            .y_label_area_size(150)
+            .build_cartesian_2d(0.0..xmax, -0.6..(k as f64 + 1.4))
+            .map_err(perr)?;
+        c.configure_mesh()
+            .x_desc("index (share of the variance)")
+            .y_labels(2 * k + 6)
+            .y_label_formatter(&name_of)
+            .label_style(("sans-serif", 16))
+            .axis_desc_style(("sans-serif", 17))
+            .disable_y_mesh()
+            .draw()
+            .map_err(perr)?;
+        c.draw_series(s.groups.iter().enumerate().map(|(g, (ix, _))| {
+            let y = yk(g);
+            Rectangle::new(
+                [(0.0, y - 0.35), (ix.first.max(0.0), y - 0.02)],
+                blue.mix(0.7).filled(),
+            )
+        }))
+        .map_err(perr)?
+        .label("first-order index (alone)")
+        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 15, y + 6)], blue.filled()));
+        c.draw_series(s.groups.iter().enumerate().map(|(g, (ix, _))| {
+            let y = yk(g);
+            Rectangle::new(
+                [(0.0, y + 0.02), (ix.total.max(0.0), y + 0.35)],
+                BLACK.stroke_width(2),
+            )
+        }))
+        .map_err(perr)?
+        .label("total index (with its interactions)")
+        .legend(|(x, y)| Rectangle::new([(x, y - 6), (x + 15, y + 6)], BLACK.stroke_width(2)));
+        for (g, (ix, _)) in s.groups.iter().enumerate() {
+            let y = yk(g);
+            for (ci, dy) in [(ix.first_ci, -0.18), (ix.total_ci, 0.18)] {
+                c.draw_series(std::iter::once(PathElement::new(
+                    vec![(ci[0].max(0.0), y + dy), (ci[1].min(xmax), y + dy)],
+                    RGBColor(200, 30, 30).stroke_width(2),
+                )))
+                .map_err(perr)?;
+            }
+        }
+        c.draw_series(std::iter::once(PathElement::new(
+            vec![(0.0, -10.0), (0.0, -10.0)],
+            RGBColor(200, 30, 30).stroke_width(2),
+        )))
+        .map_err(perr)?
+        .label("95 % bootstrap interval")
+        .legend(|(x, y)| {
+            PathElement::new(
+                vec![(x, y), (x + 15, y)],
+                RGBColor(200, 30, 30).stroke_width(2),
+            )
+        });
+        c.configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font(("sans-serif", 15))
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.9))
+            .draw()
+            .map_err(perr)?;
+        let mut c2 = ChartBuilder::on(&right)
+            .caption(
+                format!("99.73 % point {:.3} um/s: shift when frozen", s.p9973_um_s),
+                ("sans-serif", 20),
+            )
+            .margin(14)
+            .x_label_area_size(50)
+            .y_label_area_size(20)
+            .build_cartesian_2d((smin - pad)..(smax + pad), -0.6..(k as f64 + 1.4))
+            .map_err(perr)?;
+        c2.configure_mesh()
+            .x_desc("shift of the 99.73 % point [um/s]")
+            .x_label_formatter(&|v: &f64| {
+                let t = format!("{v:.2}");
+                if t == "-0.00" { "0.00".into() } else { t }
+            })
+            .y_labels(0)
+            .label_style(("sans-serif", 16))
+            .axis_desc_style(("sans-serif", 17))
+            .disable_y_mesh()
+            .draw()
+            .map_err(perr)?;
+        let green = RGBColor(0, 130, 70);
+        c2.draw_series(s.groups.iter().enumerate().map(|(g, (_, sh))| {
+            let y = yk(g);
+            Rectangle::new([(0.0, y - 0.3), (*sh, y + 0.3)], green.mix(0.7).filled())
+        }))
+        .map_err(perr)?
+        .label("group frozen at nominal")
+        .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 15, y + 6)], green.filled()));
+        c2.draw_series(std::iter::once(PathElement::new(
+            vec![(0.0, -0.6), (0.0, k as f64 - 0.4)],
+            BLACK.stroke_width(1),
+        )))
+        .map_err(perr)?;
+        c2.configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font(("sans-serif", 15))
+            .border_style(BLACK)
+            .background_style(WHITE.mix(0.9))
+            .draw()
+            .map_err(perr)?;
+        root.present().map_err(perr)?;
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
