@@ -598,7 +598,13 @@ pub fn describe(prep: &Prepared, o: &FitOutcome, r: &FitReport) -> Description {
         })
         .collect();
     correlations.sort_by(|a, b| b.r.abs().total_cmp(&a.r.abs()));
-    let terms = sparse_terms(t, &resid, &o.pred, &vel, &peaks, &states, o.sigma);
+    // the raw residual's noise is the noise's own sigma (not the innovations') when coloured
+    let noise_sigma = if prep.ar.is_some() {
+        prep.marginal_sigma()
+    } else {
+        o.sigma
+    };
+    let terms = sparse_terms(t, &resid, &o.pred, &vel, &peaks, &states, noise_sigma);
     Description {
         windows,
         peaks,

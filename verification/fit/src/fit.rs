@@ -253,8 +253,10 @@ fn fit_model_on(
         // the prediction's buffer becomes the residual: one allocation per evaluation
         let mut r = model.predict(&p, &t[..n_use], &prep.inputs);
         for (m, d) in r.iter_mut().zip(data) {
-            *m = (*m - d) / sigma;
+            *m -= d;
         }
+        // whitened by the noise model when the noise is coloured (crate::noise)
+        prep.normalise(&mut r, sigma);
         r
     };
     let resid = |u: &[f64], start: &[f64]| -> Vec<f64> { resid_n(u, start, t.len()) };
@@ -535,7 +537,14 @@ fn fit_model_on(
     drop(cols);
     let raw: Vec<f64> = data.iter().zip(&pred).map(|(d, m)| d - m).collect();
     let (sig, sigma_source) = match opts.sigma {
-        Some(s) => (s, "given".to_string()),
+        Some(s) => match &prep.ar {
+            // the whitening stays the dataset's: say so
+            Some(m) => (
+                s,
+                format!("given, whitened by pre-trigger AR({})", m.order()),
+            ),
+            None => (s, "given".to_string()),
+        },
         None => effective_sigma(prep, &raw),
     };
     // the residuals were normalised by prep.sigma: rescale chi-square and covariance
@@ -796,8 +805,10 @@ pub fn effective_sigma(prep: &Prepared, raw: &[f64]) -> (f64, String) {
         .noise_source
         .get(prep.channel)
         .map_or("yaml", String::as_str);
-    if src == "yaml" {
-        return (prep.sigma, "yaml".to_string());
+    if src == "yaml" || prep.ar.is_some() {
+        // a stated figure, or the innovations of a coloured-noise model (which the residual's
+        // differences would misjudge)
+        return (prep.sigma, src.to_string());
     }
     let t = &prep.dataset.t;
     let post: Vec<f64> = t

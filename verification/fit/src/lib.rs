@@ -20,6 +20,7 @@ pub mod error;
 pub mod fit;
 pub mod history;
 pub mod lm;
+pub mod noise;
 pub mod plot;
 pub mod posterior;
 pub mod prepare;

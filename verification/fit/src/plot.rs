@@ -75,7 +75,7 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
     let d: Vec<f64> = prep.data().iter().map(|v| v * 1e9).collect();
     let m: Vec<f64> = pred.iter().map(|v| v * 1e9).collect();
     let r: Vec<f64> = d.iter().zip(&m).map(|(a, b)| a - b).collect();
-    let s3 = 3.0 * prep.sigma * 1e9;
+    let s3 = 3.0 * prep.marginal_sigma() * 1e9;
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (1000, 700)).into_drawing_area();

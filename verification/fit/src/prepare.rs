@@ -19,8 +19,11 @@ pub struct Prepared {
     pub dataset: Dataset,
     /// Name of the fitted channel.
     pub channel: &'static str,
-    /// Its 1-sigma noise [SI].
+    /// Its 1-sigma noise [SI]: of the innovations when the noise is coloured (`ar`), the
+    /// figure the whitened residual is normalised by.
     pub sigma: f64,
+    /// The fitted channel's coloured-noise model (`None`: white noise of `sigma`).
+    pub ar: Option<crate::noise::ArNoise>,
     /// Noise per channel [SI].
     pub noise: BTreeMap<String, f64>,
     /// Where each noise figure came from (`yaml`, `pre-trigger`, `differences`).
@@ -140,7 +143,28 @@ impl Prepared {
                 noise_source.insert(ch.clone(), src.to_string());
             }
         }
-        let sigma = noise[channel];
+        let mut sigma = noise[channel];
+        // coloured noise: only judged from the pre-trigger samples, and only when the YAML
+        // states no noise figure (interface.md: a stated figure is white noise)
+        let mut ar = None;
+        if noise_source.get(channel).map(String::as_str) == Some("pre-trigger") {
+            let pre: Vec<f64> = dataset
+                .t
+                .iter()
+                .zip(dataset.channel(channel))
+                .filter(|(t, _)| **t < 0.0)
+                .map(|(_, v)| *v)
+                .collect();
+            if let Some(m) = crate::noise::estimate(&pre) {
+                sigma = m.innovation_sigma;
+                noise.insert(channel.to_string(), m.marginal_sigma);
+                noise_source.insert(
+                    channel.to_string(),
+                    format!("pre-trigger AR({})", m.order()),
+                );
+                ar = Some(m);
+            }
+        }
         let m_kg = dataset.known.get("m").copied().unwrap_or(0.0);
         let e0_v = dataset.known.get("E0").copied().unwrap_or(120.0);
         let profile = (scenario == Scenario::TmmfRelease)
@@ -195,6 +219,7 @@ impl Prepared {
             dataset,
             channel,
             sigma,
+            ar,
             noise,
             noise_source,
             inputs,
@@ -247,10 +272,13 @@ impl Prepared {
         for v in dataset.channels.values_mut() {
             *v = pick(v);
         }
+        // thinned samples are not evenly spaced: the search uses the white approximation at the
+        // noise's own sigma; the refinement on the whole record is whitened
         Some(Prepared {
             dataset,
             channel: self.channel,
-            sigma: self.sigma,
+            sigma: self.ar.as_ref().map_or(self.sigma, |m| m.marginal_sigma),
+            ar: None,
             noise: self.noise.clone(),
             noise_source: self.noise_source.clone(),
             inputs: self.inputs,
@@ -262,5 +290,21 @@ impl Prepared {
     /// The fitted channel's data [SI].
     pub fn data(&self) -> &[f64] {
         self.dataset.channel(self.channel)
+    }
+
+    /// 1-sigma of the noise itself [SI] (the band a raw residual is judged against).
+    pub fn marginal_sigma(&self) -> f64 {
+        self.ar.as_ref().map_or(self.sigma, |m| m.marginal_sigma)
+    }
+
+    /// The residual `raw` (model - data or data - model) whitened by the noise model and
+    /// normalised by `sigma`, in place.
+    pub fn normalise(&self, raw: &mut [f64], sigma: f64) {
+        if let Some(m) = &self.ar {
+            m.whiten(raw);
+        }
+        for v in raw.iter_mut() {
+            *v /= sigma;
+        }
     }
 }

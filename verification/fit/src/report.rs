@@ -48,6 +48,11 @@ pub struct FitReport {
     pub noise: BTreeMap<String, f64>,
     /// Where the noise figures came from.
     pub noise_source: BTreeMap<String, String>,
+    /// The coloured-noise model per channel, when the noise is not white (`crate::noise`):
+    /// chi-square, BIC and the whiteness test are then those of the whitened residual, and
+    /// `noise` is the noise's own 1-sigma.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_model: Option<BTreeMap<String, crate::noise::ArNoise>>,
     /// Chi-square.
     pub chi2: f64,
     /// Reduced chi-square.
@@ -87,8 +92,11 @@ impl FitReport {
         let data = prep.data();
         let resid: Vec<f64> = data.iter().zip(&o.pred).map(|(d, m)| d - m).collect();
         let rms = (resid.iter().map(|r| r * r).sum::<f64>() / resid.len() as f64).sqrt();
-        let norm: Vec<f64> = resid.iter().map(|r| r / o.sigma).collect();
+        // coloured noise: the whiteness test is of the whitened residual (crate::noise)
+        let mut norm = resid.clone();
+        prep.normalise(&mut norm, o.sigma);
         let whiteness = ljung_box(&norm);
+        let band = prep.ar.as_ref().map_or(o.sigma, |m| m.marginal_sigma);
         let names = o.model.param_names();
         let specs = o.model.specs();
         let mut params = BTreeMap::new();
@@ -134,9 +142,13 @@ impl FitReport {
             rms: BTreeMap::from([(prep.channel.to_string(), rms)]),
             noise: {
                 let mut m = prep.noise.clone();
-                m.insert(prep.channel.to_string(), o.sigma);
+                m.insert(prep.channel.to_string(), band);
                 m
             },
+            noise_model: prep
+                .ar
+                .as_ref()
+                .map(|m| BTreeMap::from([(prep.channel.to_string(), m.clone())])),
             noise_source: {
                 let mut m = prep.noise_source.clone();
                 m.insert(prep.channel.to_string(), o.sigma_source.clone());
@@ -151,7 +163,7 @@ impl FitReport {
             whiteness,
             params,
             correlated,
-            failures: failures(prep.channel, &prep.dataset.t, &resid, o.sigma),
+            failures: failures(prep.channel, &prep.dataset.t, &resid, band),
             tip_profile: prep.profile,
             starts: o.starts,
             svg: None,

@@ -27,6 +27,10 @@ pub struct Whiteness {
     pub threshold: f64,
     /// `q <= threshold`.
     pub white: bool,
+    /// `P(chi2(lags) > q)` (Wilson-Hilferty): the probability of a `q` this large from white
+    /// noise.
+    #[serde(default)]
+    pub p_value: f64,
 }
 
 /// Ljung-Box test with `min(20, N/5)` lags at the 1 % level.
@@ -52,6 +56,7 @@ pub fn ljung_box(r: &[f64]) -> Whiteness {
         lags,
         threshold,
         white: q <= threshold,
+        p_value: crate::noise::chi2_sf(q, h),
     }
 }
 

@@ -1,5 +1,5 @@
 //! `synth`: synthetic datasets from a truth model built from the same effect code as the fit,
-//! with seeded white noise. Used by the tests that hide each effect in turn.
+//! with seeded white noise (or AR(1) coloured noise, `noise_ar`). Used by the tests that hide each effect in turn.
 //!
 //! With `oversample = K > 1` the truth differs from the fitted model's own evaluation: it is
 //! simulated at `K` sub-samples per sample (and, for `tmmf-release`, with an RK4 step `K` times
@@ -33,6 +33,10 @@ pub struct SynthSpec {
     pub noise: BTreeMap<String, f64>,
     /// Write the noise figures into the YAML.
     pub noise_in_yaml: bool,
+    /// Coloured noise: the AR(1) coefficient per channel (`n_i = phi n_{i-1} + e_i`, the
+    /// channel's `noise` its marginal 1-sigma); absent channels have white noise.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub noise_ar: BTreeMap<String, f64>,
     /// Sampling frequency [Hz].
     pub fs_hz: f64,
     /// Record before the trigger [s].
@@ -78,6 +82,7 @@ impl SynthSpec {
             known,
             noise,
             noise_in_yaml: true,
+            noise_ar: BTreeMap::new(),
             fs_hz: fs,
             pre_s: pre,
             post_s: post,
@@ -184,6 +189,20 @@ pub fn validate(spec: &SynthSpec, scenario: Scenario, model: &Model) -> Result<(
             return bad(format!("--noise {ch}={v}: must be a positive number"));
         }
     }
+    for (ch, phi) in &spec.noise_ar {
+        if !channels.contains(&ch.as_str()) {
+            return bad(format!(
+                "--noise-ar {ch}: not a channel of {} (channels: {})",
+                scenario.name(),
+                channels.join(", ")
+            ));
+        }
+        if !(phi.is_finite() && phi.abs() < 1.0) {
+            return bad(format!(
+                "--noise-ar {ch}={phi}: an AR(1) coefficient must lie in (-1, 1)"
+            ));
+        }
+    }
     Ok(())
 }
 
@@ -232,13 +251,26 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
     let fitted = scenario.fitted_channel();
     let mut add = |ch: &str, clean: Vec<f64>| {
         let s = spec.noise.get(ch).copied().unwrap_or(0.0);
-        channels.insert(
-            ch.to_string(),
-            clean
+        let noisy = match spec.noise_ar.get(ch) {
+            // AR(1) of marginal sigma s, started in its stationary distribution
+            Some(&phi) => {
+                let e = s * (1.0 - phi * phi).sqrt();
+                let mut n = s * unit.sample(&mut rng);
+                clean
+                    .into_iter()
+                    .map(|v| {
+                        let out = v + n;
+                        n = phi * n + e * unit.sample(&mut rng);
+                        out
+                    })
+                    .collect::<Vec<f64>>()
+            }
+            None => clean
                 .into_iter()
                 .map(|v| v + s * unit.sample(&mut rng))
                 .collect::<Vec<f64>>(),
-        );
+        };
+        channels.insert(ch.to_string(), noisy);
     };
     add(fitted, truth);
     if scenario == Scenario::TmmfRelease {

@@ -7,7 +7,9 @@
 //!   gives `explained: false`, no catalogue effect named as added, and a spectral peak at the
 //!   vibration's frequency;
 //! * with nothing missing, nothing is added and the round-0 model explains the record;
-//! * the detection threshold of an undetected candidate lies above a too-weak true amplitude.
+//! * the detection threshold of an undetected candidate lies above a too-weak true amplitude;
+//! * with coloured (AR(1)) noise and no noise figure, nothing is invented and a missing effect
+//!   is still found.
 
 use geodesic_facility::effects::Scenario;
 use geodesic_fit::discover::{DiscoverOptions, discover};
@@ -152,4 +154,45 @@ fn a_too_weak_effect_is_not_named_and_its_threshold_lies_above_it() {
         "tip_adhesion.A1 detectable above {:.0} N/m (true {a1})",
         t.detectable_above
     );
+}
+
+/// A TMMF record (the public example's sampling: 200 pre-trigger samples) with AR(1) noise of
+/// coefficient `phi` and 0.8 nm, no noise figure in the YAML.
+fn coloured(truth: &[&str], phi: f64, seed: u64) -> geodesic_fit::Dataset {
+    let mut spec = SynthSpec::defaults(Scenario::TmmfRelease, truth);
+    spec.noise.insert("x".into(), 0.8e-9);
+    spec.noise_ar.insert("x".into(), phi);
+    spec.noise_in_yaml = false;
+    spec.seed = seed;
+    generate(&spec, "coloured.yaml").expect("synth")
+}
+
+/// Coloured noise (issue 13, item 3): the pre-trigger samples fail the whiteness test, an AR(1)
+/// noise model is fitted to them (coefficient within 0.1 of the truth) and the fit is whitened:
+/// with nothing missing, nothing is added and the record is explained (chi2_red near 1, the
+/// whitened residual white); with the adhesion missing, it is found.
+#[test]
+fn coloured_noise_neither_invents_effects_nor_loses_the_real_one() {
+    let full = ["needle_contact", "tip_contact", "tip_adhesion"];
+    let prep = Prepared::new(coloured(&full, 0.5, 4));
+    let m = prep.ar.as_ref().expect("coloured noise detected");
+    assert_eq!(m.order(), 1, "{m:?}");
+    assert!((m.coefficients[0] - 0.5).abs() < 0.1, "{m:?}");
+    // nothing missing: nothing invented
+    let (r, _, _) = discover(&prep, &full, &opts(), |_| {}).expect("discover");
+    assert!(r.explained, "{}", r.reason);
+    assert!(r.rounds.iter().all(|x| x.added.is_none()), "{:?}", r.rounds);
+    let chi = r.rounds[0].chi2_red;
+    assert!((chi - 1.0).abs() < 0.17, "chi2_red {chi}");
+    // the adhesion missing: found
+    let (r, _, _) =
+        discover(&prep, &["needle_contact", "tip_contact"], &opts(), |_| {}).expect("discover");
+    let added: Vec<&str> = r.rounds.iter().filter_map(|x| x.added.as_deref()).collect();
+    assert_eq!(added, ["tip_adhesion"], "{}", r.reason);
+    assert!(r.explained, "{}", r.reason);
+    // white noise in the pre-trigger: no noise model, as before
+    let mut spec = SynthSpec::defaults(Scenario::TmmfRelease, &full);
+    spec.noise_in_yaml = false;
+    let white = Prepared::new(generate(&spec, "white.yaml").expect("synth"));
+    assert!(white.ar.is_none());
 }

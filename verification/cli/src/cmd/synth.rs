@@ -41,6 +41,11 @@ pub struct Args {
     /// 1-sigma white noise per channel: CHANNEL=VALUE [m], repeatable.
     #[arg(long = "noise", value_name = "CHANNEL=VALUE")]
     pub noise: Vec<String>,
+    /// Coloured noise: AR(1) coefficient per channel, CHANNEL=PHI with |PHI| < 1 (the channel's
+    /// --noise is then the noise's own 1-sigma), repeatable. Use with --no-noise-in-yaml: a
+    /// YAML noise figure states white noise.
+    #[arg(long = "noise-ar", value_name = "CHANNEL=PHI")]
+    pub noise_ar: Vec<String>,
     /// Leave the noise figures out of the YAML (the fit must estimate them).
     #[arg(long)]
     pub no_noise_in_yaml: bool,
@@ -104,6 +109,9 @@ pub fn run(args: Args) -> CmdResult {
         spec.noise.extend(noise);
     }
     spec.noise_in_yaml = !args.no_noise_in_yaml;
+    spec.noise_ar = pairs(&args.noise_ar, "noise-ar", |_| {
+        Some(geodesic_core::units::Dim::DIMENSIONLESS)
+    })?;
     spec.seed = args.seed;
     spec.fs_hz = args.fs.unwrap_or(spec.fs_hz);
     spec.pre_s = args.pre.unwrap_or(spec.pre_s);
