@@ -32,6 +32,10 @@ pub struct Candidate {
     pub chi2_red: f64,
     /// BIC of the model with the candidate minus that of the given model.
     pub delta_bic: f64,
+    /// `-2 (ln Z_candidate - ln Z_given)` from the Laplace evidences (BIC's scale, with the
+    /// parameters' prior ranges instead of `k ln N`); null when either evidence is undefined.
+    #[serde(default)]
+    pub delta_evidence: Option<f64>,
     /// Whether its residual passes the whiteness test.
     pub residual_white: bool,
     /// Fitted values of the candidate's own parameters with 1-sigma.
@@ -59,6 +63,43 @@ pub struct DiagnoseReport {
     pub explained: bool,
     /// Why `explained` is what it is.
     pub explained_reason: String,
+    /// Whether the Laplace evidence agrees with BIC on the best candidate (both below the
+    /// threshold, or both above), and how; empty when no candidate has an evidence.
+    #[serde(default)]
+    pub evidence_note: String,
+}
+
+/// Compares BIC's verdict on the best candidate with the Laplace evidence's.
+pub fn evidence_note(best: Option<&Candidate>) -> String {
+    let Some(c) = best else {
+        return String::new();
+    };
+    let Some(de) = c.delta_evidence else {
+        return format!(
+            "{}: no evidence estimate (an unbounded range or an unconstrained direction)",
+            c.effect
+        );
+    };
+    let (b, e) = (c.delta_bic < DELTA_BIC_STRONG, de < DELTA_BIC_STRONG);
+    let verdict = |x: bool| if x { "supported" } else { "not supported" };
+    if b == e {
+        format!(
+            "{}: BIC and the Laplace evidence agree ({}; delta BIC {:.1}, -2 delta ln Z {:.1})",
+            c.effect,
+            verdict(b),
+            c.delta_bic,
+            de
+        )
+    } else {
+        format!(
+            "{}: BIC and the Laplace evidence DISAGREE (BIC: {}, delta {:.1}; evidence: {}, -2 delta ln Z {:.1}); the evidence weighs the parameters' prior ranges, BIC only their number",
+            c.effect,
+            verdict(b),
+            c.delta_bic,
+            verdict(e),
+            de
+        )
+    }
 }
 
 /// Runs the diagnosis; returns the report and the baseline outcome (for plots and history).
@@ -133,6 +174,10 @@ pub fn diagnose(
             rms: r.rms.clone(),
             chi2_red: r.chi2_red,
             delta_bic: o.bic() - base.bic(),
+            delta_evidence: o
+                .log_evidence()
+                .zip(base.log_evidence())
+                .map(|(c, b)| -2.0 * (c - b)),
             residual_white: r.residual_white,
             params: r
                 .params
@@ -146,6 +191,7 @@ pub fn diagnose(
             .total_cmp(&b.delta_bic)
             .then(a.effect.cmp(&b.effect))
     });
+    let candidates_best = candidates.first().cloned();
     let missing = candidates
         .first()
         .filter(|c| c.delta_bic < DELTA_BIC_STRONG)
@@ -171,6 +217,7 @@ pub fn diagnose(
             delta_bic_threshold: DELTA_BIC_STRONG,
             explained,
             explained_reason,
+            evidence_note: evidence_note(candidates_best.as_ref()),
         },
         base,
     ))

@@ -54,6 +54,10 @@ pub struct Round {
     pub margin: Option<f64>,
     /// BIC of this round's model.
     pub bic: f64,
+    /// `-2 ln Z` of this round's model from the Laplace evidence (BIC's scale, with the
+    /// parameters' prior ranges instead of `k ln N`); null when undefined (an unbounded range).
+    #[serde(default)]
+    pub minus_2_log_evidence: Option<f64>,
     /// How the optimum was confirmed.
     pub confirmed: String,
 }
@@ -246,6 +250,7 @@ fn round_of(
         delta_bic: prev_bic.map(|b| r.bic - b),
         margin: None,
         bic: r.bic,
+        minus_2_log_evidence: o.log_evidence().map(|l| -2.0 * l),
         confirmed: format!("multi-start: {} starts", o.starts),
     }
 }
@@ -283,6 +288,7 @@ pub fn discover(
             let prev_bic = FitReport::new(prep, &prev).bic;
             rounds[k - 1].bic = prev_bic;
             rounds[k - 1].chi2_red = FitReport::new(prep, &prev).chi2_red;
+            rounds[k - 1].minus_2_log_evidence = prev.log_evidence().map(|l| -2.0 * l);
             rounds[k - 1].confirmed = format!("{}; {note}", rounds[k - 1].confirmed);
             if k >= 2 {
                 let b2 = rounds[k - 2].bic;

@@ -63,6 +63,11 @@ pub struct FitReport {
     pub n_free: usize,
     /// `chi2 + k ln N`.
     pub bic: f64,
+    /// Laplace approximation of the log evidence with flat priors over the parameters' ranges
+    /// (`FitOutcome::log_evidence`; `-2 log_evidence` is on BIC's scale); null when a range is
+    /// unbounded or a direction unconstrained.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub log_evidence: Option<f64>,
     /// Whether the residual passes the whiteness test.
     pub residual_white: bool,
     /// The whiteness test.
@@ -159,6 +164,7 @@ impl FitReport {
             n_samples: o.n,
             n_free: o.n_free,
             bic: o.bic(),
+            log_evidence: o.log_evidence(),
             residual_white: whiteness.white,
             whiteness,
             params,

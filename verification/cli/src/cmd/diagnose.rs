@@ -41,9 +41,11 @@ pub fn run(args: Args) -> CmdResult {
         for c in &report.candidates {
             let rms: Vec<String> = c.rms.iter().map(|(k, v)| format!("{k} {v:.3e}")).collect();
             println!(
-                "  {:<24} delta_bic {:>12.1}  chi2_red {:>10.4}  rms {}",
+                "  {:<24} delta_bic {:>12.1}  -2 delta ln Z {:>12}  chi2_red {:>10.4}  rms {}",
                 c.effect,
                 c.delta_bic,
+                c.delta_evidence
+                    .map_or("-".to_string(), |v| format!("{v:.1}")),
                 c.chi2_red,
                 rms.join(", ")
             );
@@ -59,6 +61,9 @@ pub fn run(args: Args) -> CmdResult {
             "explained: {} ({})",
             report.explained, report.explained_reason
         );
+        if !report.evidence_note.is_empty() {
+            println!("evidence: {}", report.evidence_note);
+        }
         if report.missing.is_some() && !report.explained {
             println!(
                 "  the named effect improves the fit but does not explain it: run `geodesic discover` \
