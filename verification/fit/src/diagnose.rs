@@ -67,6 +67,11 @@ pub struct DiagnoseReport {
     /// threshold, or both above), and how; empty when no candidate has an evidence.
     #[serde(default)]
     pub evidence_note: String,
+    /// When the two best candidates are close (both improve on the model and their delta BICs
+    /// differ by less than 10): which change of the measurement separates them best
+    /// (`crate::design`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub design: Option<crate::design::DesignAdvice>,
 }
 
 /// Compares BIC's verdict on the best candidate with the Laplace evidence's.
@@ -192,6 +197,24 @@ pub fn diagnose(
             .then(a.effect.cmp(&b.effect))
     });
     let candidates_best = candidates.first().cloned();
+    let design = match (candidates.first(), candidates.get(1)) {
+        (Some(c1), Some(c2))
+            if c1.delta_bic < 0.0 && c2.delta_bic - c1.delta_bic < crate::design::STRONG =>
+        {
+            let of = |n: &str| fits.iter().find(|(m, _)| *m == n).map(|(_, o)| o);
+            match (of(&c1.effect), of(&c2.effect)) {
+                (Some(a), Some(b)) => Some(crate::design::advise(
+                    prep,
+                    (&c1.effect, a),
+                    (&c2.effect, b),
+                    c2.delta_bic - c1.delta_bic,
+                    opts,
+                )?),
+                _ => None,
+            }
+        }
+        _ => None,
+    };
     let missing = candidates
         .first()
         .filter(|c| c.delta_bic < DELTA_BIC_STRONG)
@@ -218,6 +241,7 @@ pub fn diagnose(
             explained,
             explained_reason,
             evidence_note: evidence_note(candidates_best.as_ref()),
+            design,
         },
         base,
     ))

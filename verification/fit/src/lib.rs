@@ -14,6 +14,7 @@
 pub mod campaign;
 pub mod campaign_page;
 pub mod dataset;
+pub mod design;
 pub mod diagnose;
 pub mod discover;
 pub mod error;

@@ -64,6 +64,23 @@ pub fn run(args: Args) -> CmdResult {
         if !report.evidence_note.is_empty() {
             println!("evidence: {}", report.evidence_note);
         }
+        if let Some(d) = &report.design {
+            println!(
+                "{} and {} are close (delta BIC gap {:.1}): what to measure next",
+                d.first, d.second, d.observed_gap
+            );
+            println!(
+                "  change                samples   expected delta BIC if {} true / if {} true",
+                d.first, d.second
+            );
+            for o in &d.options {
+                println!(
+                    "  {:<20} {:>8}   {:>12.1} / {:<12.1}",
+                    o.change, o.samples, o.if_first_true, o.if_second_true
+                );
+            }
+            println!("  best: {}", d.best);
+        }
         if report.missing.is_some() && !report.explained {
             println!(
                 "  the named effect improves the fit but does not explain it: run `geodesic discover` \
