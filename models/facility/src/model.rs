@@ -6,7 +6,6 @@
 
 use crate::effects::{Effect, ParamSpec, Scenario, by_name};
 use crate::profile::TipProfile;
-use crate::{retraction, tmmf};
 
 /// Errors building a model.
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -195,15 +194,6 @@ impl Model {
     /// Value of a full parameter name in `p`, if the model has it.
     pub fn get(&self, p: &[f64], full: &str) -> Option<f64> {
         self.index(full).map(|i| p[i])
-    }
-
-    /// Predicted fitted channel (`x` for `tmmf-release`, `y` for `rt-retraction`) [m] at `times`
-    /// [s] for parameters `p`.
-    pub fn predict(&self, p: &[f64], times: &[f64], inputs: &Inputs) -> Vec<f64> {
-        match self.scenario {
-            Scenario::TmmfRelease => tmmf::simulate(self, p, times, inputs),
-            Scenario::RtRetraction => retraction::simulate(self, p, times, inputs.e0_v),
-        }
     }
 }
 

@@ -12,8 +12,6 @@
 //! with the matrix exponential of the (scaled, augmented) linear system; the ramp's end is a
 //! breakpoint.
 
-use crate::model::Model;
-
 /// Size of the augmented state: `q, y, y', l, l'`, `E/E0`, ramp switch.
 const N_AUG: usize = 7;
 type Mat = [[f64; N_AUG]; N_AUG];
@@ -301,18 +299,6 @@ impl RtConfig {
     }
 }
 
-/// Builds the configuration of `model` for `p` and returns `y(t) - y(0)` [m] at `times` [s].
-pub fn simulate(model: &Model, p: &[f64], times: &[f64], e0_v: f64) -> Vec<f64> {
-    let mut cfg = RtConfig {
-        e0_v,
-        ..RtConfig::default()
-    };
-    for (i, e) in model.effects.iter().enumerate() {
-        e.configure_rt(&p[model.range(i)], &mut cfg);
-    }
-    cfg.retraction(times)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -352,7 +338,7 @@ mod tests {
             // reference: RK4 at 5 ns
             let d0 = cfg.d0_m();
             let mut s = [cfg.ca_f * cfg.e0_v + cfg.t_c_m * d0, d0, 0.0, 0.0, 0.0];
-            let mut w = crate::tmmf::Rk4Work::new(5);
+            let mut w = crate::rk4::Rk4Work::new(5);
             let f = |t: f64, s: &[f64], ds: &mut [f64]| cfg.deriv(t, s, ds);
             let mut t = 0.0;
             for (ti, yi) in times.iter().zip(&y) {
@@ -361,7 +347,7 @@ mod tests {
                 }
                 while t < *ti - 1e-15 {
                     let h = (ti - t).min(5e-9);
-                    crate::tmmf::rk4_step(&f, t, h, &mut s, &mut w);
+                    crate::rk4::rk4_step(&f, t, h, &mut s, &mut w);
                     t += h;
                 }
                 assert!(
