@@ -182,6 +182,132 @@ pub fn fit_model(
 /// a few Levenberg-Marquardt iterations whose cost is linear in the record.
 pub const SEARCH_SAMPLES: usize = 4_000;
 
+/// The least-squares problem of one fit (stage "data and constraints"): the model, which
+/// parameters are free, their bounds in the fit's coordinates (log for the log-fitted ones),
+/// and the whitened, normalised residual ([`Prepared::normalise`]).
+struct Problem<'a> {
+    prep: &'a Prepared,
+    model: &'a Model,
+    specs: Vec<ParamSpec>,
+    names: Vec<String>,
+    /// Values of the parameters that are not free (and the default start).
+    base: Vec<f64>,
+    /// Which parameters are free.
+    free: Vec<bool>,
+    /// Indices of the free parameters.
+    fidx: Vec<usize>,
+    /// Bounds of the free parameters in the fit's coordinates.
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    t: &'a [f64],
+    data: &'a [f64],
+    sigma: f64,
+}
+
+impl<'a> Problem<'a> {
+    /// Checks the options against the model and sets up the free parameters and their bounds
+    /// (a user bound replaces the built-in range).
+    fn new(prep: &'a Prepared, model: &'a Model, opts: &FitOptions) -> Result<Self, FitError> {
+        let specs = model.specs();
+        let names = model.param_names();
+        let np = specs.len();
+        for k in opts.fixed.keys().chain(opts.bounds.keys()) {
+            if !names.contains(k) {
+                return Err(FitError::input(
+                    &prep.dataset.name,
+                    0,
+                    format!(
+                        "parameter `{k}` is not in the model (parameters: {})",
+                        names.join(", ")
+                    ),
+                ));
+            }
+        }
+        for (k, v) in &opts.fixed {
+            let i = model.index(k).expect("checked");
+            check_value(&specs[i], k, *v).map_err(|c| {
+                FitError::input(&prep.dataset.name, 0, format!("--fix {k}={v}: {c}"))
+            })?;
+        }
+        for (k, (bl, bh)) in &opts.bounds {
+            let i = model.index(k).expect("checked");
+            check_bound(&specs[i], *bl, *bh).map_err(|c| {
+                FitError::input(&prep.dataset.name, 0, format!("--bound {k}={bl}:{bh}: {c}"))
+            })?;
+        }
+        let superseded = model.superseded();
+        let mut free = vec![true; np];
+        for i in superseded {
+            free[i] = false;
+        }
+        let mut base = model.nominal();
+        for (k, v) in &opts.fixed {
+            let i = model.index(k).expect("checked");
+            free[i] = false;
+            base[i] = *v;
+        }
+        let fidx: Vec<usize> = (0..np).filter(|i| free[*i]).collect();
+        let mut lo = Vec::new();
+        let mut hi = Vec::new();
+        for &i in &fidx {
+            // a user bound replaces the built-in range of that parameter (wider or narrower)
+            let (l, h) = opts
+                .bounds
+                .get(&names[i])
+                .copied()
+                .unwrap_or((specs[i].lower, specs[i].upper));
+            let (ul, uh) = if specs[i].log {
+                (l.max(1e-300).ln(), h.ln())
+            } else {
+                (l / specs[i].scale, h / specs[i].scale)
+            };
+            lo.push(ul);
+            hi.push(uh);
+        }
+        Ok(Problem {
+            prep,
+            model,
+            specs,
+            names,
+            base,
+            free,
+            fidx,
+            lo,
+            hi,
+            t: &prep.dataset.t,
+            data: prep.data(),
+            sigma: prep.sigma,
+        })
+    }
+
+    /// The full parameter vector of free values `u` (fit coordinates) over `start`.
+    fn full(&self, u: &[f64], start: &[f64]) -> Vec<f64> {
+        let mut p = start.to_vec();
+        for (k, &i) in self.fidx.iter().enumerate() {
+            p[i] = from_u(&self.specs[i], u[k]);
+        }
+        p
+    }
+
+    /// Residuals over the first `n_use` samples (a time window, for continuation), whitened by
+    /// the noise model when it is coloured and normalised by the noise.
+    fn resid_n(&self, u: &[f64], start: &[f64], n_use: usize) -> Vec<f64> {
+        let p = self.full(u, start);
+        // the prediction's buffer becomes the residual: one allocation per evaluation
+        let mut r = self.model.predict(&p, &self.t[..n_use], &self.prep.inputs);
+        for (m, d) in r.iter_mut().zip(self.data) {
+            *m -= d;
+        }
+        self.prep.normalise(&mut r, self.sigma);
+        r
+    }
+
+    /// Residuals over the whole record.
+    fn resid(&self, u: &[f64], start: &[f64]) -> Vec<f64> {
+        self.resid_n(u, start, self.t.len())
+    }
+}
+
 /// [`fit_model`] on `prep` itself; with `refine_only`, `starts[0]` is refined by the long run
 /// only (no screening, no stages).
 fn fit_model_on(
@@ -192,32 +318,6 @@ fn fit_model_on(
     refine_only: bool,
     depth: usize,
 ) -> Result<FitOutcome, FitError> {
-    let specs = model.specs();
-    let names = model.param_names();
-    let np = specs.len();
-    for k in opts.fixed.keys().chain(opts.bounds.keys()) {
-        if !names.contains(k) {
-            return Err(FitError::input(
-                &prep.dataset.name,
-                0,
-                format!(
-                    "parameter `{k}` is not in the model (parameters: {})",
-                    names.join(", ")
-                ),
-            ));
-        }
-    }
-    for (k, v) in &opts.fixed {
-        let i = model.index(k).expect("checked");
-        check_value(&specs[i], k, *v)
-            .map_err(|c| FitError::input(&prep.dataset.name, 0, format!("--fix {k}={v}: {c}")))?;
-    }
-    for (k, (bl, bh)) in &opts.bounds {
-        let i = model.index(k).expect("checked");
-        check_bound(&specs[i], *bl, *bh).map_err(|c| {
-            FitError::input(&prep.dataset.name, 0, format!("--bound {k}={bl}:{bh}: {c}"))
-        })?;
-    }
     let clock = std::time::Instant::now();
     let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
     let lap = |what: &str| {
@@ -229,322 +329,27 @@ fn fit_model_on(
             );
         }
     };
-    let superseded = model.superseded();
-    let mut free = vec![true; np];
-    for i in superseded {
-        free[i] = false;
-    }
-    let mut base = model.nominal();
-    for (k, v) in &opts.fixed {
-        let i = model.index(k).expect("checked");
-        free[i] = false;
-        base[i] = *v;
-    }
-    let fidx: Vec<usize> = (0..np).filter(|i| free[*i]).collect();
-    let mut lo = Vec::new();
-    let mut hi = Vec::new();
-    for &i in &fidx {
-        // a user bound replaces the built-in range of that parameter (wider or narrower)
-        let (l, h) = opts
-            .bounds
-            .get(&names[i])
-            .copied()
-            .unwrap_or((specs[i].lower, specs[i].upper));
-        let (ul, uh) = if specs[i].log {
-            (l.max(1e-300).ln(), h.ln())
-        } else {
-            (l / specs[i].scale, h / specs[i].scale)
-        };
-        lo.push(ul);
-        hi.push(uh);
-    }
-    let data = prep.data();
-    let t = &prep.dataset.t;
-    let sigma = prep.sigma;
-    let full = |u: &[f64], start: &[f64]| -> Vec<f64> {
-        let mut p = start.to_vec();
-        for (k, &i) in fidx.iter().enumerate() {
-            p[i] = from_u(&specs[i], u[k]);
-        }
-        p
-    };
-    // residuals over the first `n_use` samples (a time window, for continuation)
-    let resid_n = |u: &[f64], start: &[f64], n_use: usize| -> Vec<f64> {
-        let p = full(u, start);
-        // the prediction's buffer becomes the residual: one allocation per evaluation
-        let mut r = model.predict(&p, &t[..n_use], &prep.inputs);
-        for (m, d) in r.iter_mut().zip(data) {
-            *m -= d;
-        }
-        // whitened by the noise model when the noise is coloured (crate::noise)
-        prep.normalise(&mut r, sigma);
-        r
-    };
-    let resid = |u: &[f64], start: &[f64]| -> Vec<f64> { resid_n(u, start, t.len()) };
-    let (stages, long_iter, windows, also_full) = effort(model.scenario);
-    // sample count of a window: the pre-trigger samples plus a fraction of the record after
-    let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(0);
-    let n_window = |frac: f64| -> usize {
-        let post = t.len() - i0;
-        (i0 + ((post as f64 * frac).ceil() as usize).max(20)).min(t.len())
-    };
-    let mut starts: Vec<Vec<f64>> = starts.iter().filter(|s| s.len() == np).cloned().collect();
-    if starts.is_empty() {
-        starts.push(base.clone());
-    }
-    if let Some(cap) = opts.max_starts {
-        starts.truncate(cap.max(1));
-    }
-    // fixed values override every start; superseded parameters take their nominal value;
-    // starts that no longer differ are dropped
-    for s in &mut starts {
-        for (k, v) in &opts.fixed {
-            s[model.index(k).expect("checked")] = *v;
-        }
-        for &i in &model.superseded() {
-            if !opts.fixed.contains_key(&names[i]) {
-                s[i] = specs[i].nominal;
-            }
-        }
-    }
-    let mut seen: Vec<Vec<u64>> = Vec::new();
-    starts.retain(|s| {
-        let key: Vec<u64> = s.iter().map(|v| v.to_bits()).collect();
-        if seen.contains(&key) {
-            false
-        } else {
-            seen.push(key);
-            true
-        }
-    });
-    let first: Vec<(usize, f64, Vec<f64>)> = if refine_only {
-        // the search was made on the reduced record: refine its result only
-        let u0: Vec<f64> = fidx
-            .iter()
-            .map(|&i| {
-                to_u(&specs[i], starts[0][i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
-            })
-            .collect();
-        vec![(0, f64::INFINITY, u0)]
-    } else {
-        // screen every start by its cost, run a short LM from the best few distinct ones
-        let screened: Vec<(usize, f64)> = starts
-            .par_iter()
-            .enumerate()
-            .map(|(si, s)| {
-                let u0: Vec<f64> = fidx
-                    .iter()
-                    .map(|&i| {
-                        to_u(&specs[i], s[i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
-                    })
-                    .collect();
-                let c: f64 = resid_n(&u0, s, n_window(windows[0]))
-                    .iter()
-                    .map(|v| v * v)
-                    .sum();
-                (si, if c.is_finite() { c } else { f64::INFINITY })
-            })
-            .collect();
-        let mut sorted = screened;
-        sorted.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        // keep the best start for each distinct starting value of the first effect's parameters
-        // (the base of the model, whose basins differ most), best first, so that one basin cannot
-        // fill every slot
-        let first_len = model.range(0).len();
-        let mut order: Vec<(usize, f64)> = Vec::new();
-        for &(si, c) in &sorted {
-            if order.len() >= SCREEN_KEEP {
-                break;
-            }
-            let key = &starts[si][..first_len];
-            if !order.iter().any(|&(sj, _)| &starts[sj][..first_len] == key) {
-                order.push((si, c));
-            }
-        }
-        // then fill up with the next best overall
-        for &(si, c) in &sorted {
-            if order.len() >= SCREEN_KEEP {
-                break;
-            }
-            if !order.iter().any(|&(sj, _)| sj == si) {
-                order.push((si, c));
-            }
-        }
-        // the cost of every start on the whole record (only needed when the stages are windowed)
-        let full_costs: Vec<(usize, f64)> = if windows[0] < 1.0 {
-            starts
-                .par_iter()
-                .enumerate()
-                .map(|(si, s)| {
-                    let u0: Vec<f64> = fidx
-                        .iter()
-                        .map(|&i| {
-                            to_u(&specs[i], s[i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
-                        })
-                        .collect();
-                    let c: f64 = resid(&u0, s).iter().map(|v| v * v).sum();
-                    (si, if c.is_finite() { c } else { f64::INFINITY })
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
-        // a windowed screen judges starts on the early record only: the best few on the whole
-        // record join them
-        let mut by_full = full_costs.clone();
-        by_full.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        for &(si, c) in by_full.iter().take(SCREEN_FULL) {
-            if !order.iter().any(|&(sj, _)| sj == si) {
-                order.push((si, c));
-            }
-        }
-        // successive halving: a few iterations from every kept start, more from the best ones
-        let initial = |list: &[(usize, f64)]| -> Vec<(usize, f64, Vec<f64>)> {
-            list.iter()
-                .map(|&(si, c)| {
-                    let u0: Vec<f64> = fidx
-                        .iter()
-                        .map(|&i| to_u(&specs[i], starts[si][i]))
-                        .collect();
-                    (si, c, u0)
-                })
-                .collect()
-        };
-        let run_stages = |mut first: Vec<(usize, f64, Vec<f64>)>, windows: [f64; 2]| {
-            for (&(iters, keep), &frac) in stages.iter().zip(&windows) {
-                let n_use = n_window(frac);
-                let opts_stage = LmOptions {
-                    max_iter: iters,
-                    ..LmOptions::default()
-                };
-                first = first
-                    .par_iter()
-                    .map(|(si, _, u)| {
-                        let r = minimize(
-                            &|v: &[f64]| resid_n(v, &starts[*si], n_use),
-                            u,
-                            &lo,
-                            &hi,
-                            &opts_stage,
-                        );
-                        (*si, r.cost, r.u)
-                    })
-                    .collect();
-                first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-                if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                    for (si, c, u) in &first {
-                        let p = full(u, &starts[*si]);
-                        eprintln!(
-                            "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
-                            &starts[*si]
-                        );
-                    }
-                }
-                first.truncate(keep);
-            }
-            first
-        };
-        let mut first = run_stages(initial(&order), windows);
-        if windows[0] < 1.0 && also_full {
-            // and the same stages on the whole record from the starts that fit it best
-            let mut top: Vec<(usize, f64)> = Vec::new();
-            for &(si, c) in &by_full {
-                if top.len() >= SCREEN_KEEP {
-                    break;
-                }
-                top.push((si, c));
-            }
-            first.extend(run_stages(initial(&top), [1.0, 1.0]));
-        }
-        // the start that fits the whole record best also gets a full run (with a windowed screen
-        // it may have been dropped; e.g. a candidate at its null values, i.e. the baseline)
-        if windows[0] < 1.0
-            && let Some(&(si, c)) = full_costs
-                .iter()
-                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
-        {
-            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                eprintln!("best full-record start {si} {:?}: cost {c:.2}", &starts[si]);
-            }
-            // from its own values, not from where the windowed stages moved it
-            let u0: Vec<f64> = fidx
-                .iter()
-                .map(|&i| {
-                    to_u(&specs[i], starts[si][i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
-                })
-                .collect();
-            first.push((si, c, u0));
-        }
-        first
-    };
-    let long = LmOptions {
-        max_iter: long_iter,
-        ftol: 1e-9,
-        ..LmOptions::default()
-    };
-    let refined: Vec<(usize, f64, Vec<f64>)> = first
-        .par_iter()
-        .map(|(si, _, u)| {
-            let r = minimize(&|v: &[f64]| resid(v, &starts[*si]), u, &lo, &hi, &long);
-            if debug {
-                eprintln!(
-                    "long run from start {si}: {} iterations, cost {:.3}",
-                    r.iterations, r.cost
-                );
-            }
-            (*si, r.cost, r.u)
-        })
-        .collect();
+    // the stages, in order: data and constraints (the noise model is the dataset's:
+    // `Prepared`), start values, search, refinement, canonical forms, uncertainty (covariance,
+    // Laplace evidence, profiles) and the outcome; the residual analysis and the report are
+    // `crate::report`'s
+    let pb = Problem::new(prep, model, opts)?;
+    let (specs, fidx, lo, hi) = (&pb.specs, &pb.fidx, &pb.lo, &pb.hi);
+    let np = specs.len();
+    let (data, t) = (pb.data, pb.t);
+    let full = |u: &[f64], start: &[f64]| pb.full(u, start);
+    let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
+    let long_iter = effort(model.scenario).1;
+    let starts = start_values(&pb, opts, starts);
+    let first = search(&pb, &starts, refine_only);
+    let refined = refine(&pb, &starts, &first, long_iter, debug);
     lap("long Levenberg-Marquardt runs");
     let (si, chi2, u) = refined
         .into_iter()
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
         .expect("at least one start");
     let start = &starts[si];
-    // canonical forms: an effect may re-express its fitted values equivalently (same number of
-    // parameters); the alternative is refitted and kept when it fits as well (within 1 in chi2)
-    let (mut chi2, mut u) = (chi2, u);
-    for _ in 0..3 {
-        let p = full(&u, start);
-        let mut changed = false;
-        for (ei, e) in model.effects.iter().enumerate() {
-            for alt in e.alternatives(&p[model.range(ei)]) {
-                let mut pa = p.clone();
-                pa[model.range(ei)].copy_from_slice(&alt);
-                let ua: Vec<f64> = fidx
-                    .iter()
-                    .map(|&i| {
-                        to_u(&specs[i], pa[i]).clamp(lo_of(&lo, i, &fidx), hi_of(&hi, i, &fidx))
-                    })
-                    .collect();
-                let long = LmOptions {
-                    max_iter: long_iter,
-                    ftol: 1e-9,
-                    ..LmOptions::default()
-                };
-                let r = minimize(&|v: &[f64]| resid(v, start), &ua, &lo, &hi, &long);
-                if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                    eprintln!(
-                        "alternative of {}: {alt:?} -> cost {:.2} (best {chi2:.2})",
-                        e.name(),
-                        r.cost
-                    );
-                }
-                if r.cost <= chi2 + CANONICAL_TOLERANCE {
-                    chi2 = r.cost.min(chi2);
-                    u = r.u;
-                    changed = true;
-                    break;
-                }
-            }
-            if changed {
-                break;
-            }
-        }
-        if !changed {
-            break;
-        }
-    }
+    let (chi2, u) = canonical_forms(&pb, start, chi2, u, long_iter);
     lap("canonical forms");
     let p = full(&u, start);
     let pred = model.predict(&p, t, &prep.inputs);
@@ -552,8 +357,8 @@ fn fit_model_on(
     let n_free = fidx.len();
     let r0 = resid(&u, start);
     let f = |v: &[f64]| resid(v, start);
-    let steps = fd_steps(&f, &u, &r0, &lo, &hi, LmOptions::default().fd_step);
-    let cols = jacobian_columns(&f, &u, &r0, &lo, &hi, &steps);
+    let steps = fd_steps(&f, &u, &r0, lo, hi, LmOptions::default().fd_step);
+    let cols = jacobian_columns(&f, &u, &r0, lo, hi, &steps);
     let (jtj, _) = normal_equations(&cols, &r0);
     drop(cols);
     let raw: Vec<f64> = data.iter().zip(&pred).map(|(d, m)| d - m).collect();
@@ -578,7 +383,7 @@ fn fit_model_on(
         log_det_spd(&a).map(|ld| 0.5 * (n_free as f64 * (2.0 * std::f64::consts::PI).ln() - ld));
     let log_prior_volume = lo
         .iter()
-        .zip(&hi)
+        .zip(hi)
         .map(|(l, h)| h - l)
         .try_fold(0.0, |acc, w| {
             (w.is_finite() && w > 0.0).then(|| acc + w.ln())
@@ -748,7 +553,7 @@ fn fit_model_on(
     Ok(FitOutcome {
         model: model.clone(),
         p,
-        free,
+        free: pb.free.clone(),
         sigma_p,
         sigma_cov,
         corr,
@@ -847,6 +652,311 @@ const PROFILE_RESTARTS: usize = 2;
 
 /// Iterations of the refinement of the best three.
 const LONG_ITER: usize = 200;
+
+/// Stage "start values": the given starts of the right length (the problem's base when none),
+/// at most `max_starts`, with the fixed values and superseded parameters imposed, duplicates
+/// dropped.
+fn start_values(pb: &Problem, opts: &FitOptions, starts: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let (model, specs, names, base) = (pb.model, &pb.specs, &pb.names, &pb.base);
+    let np = specs.len();
+    let mut starts: Vec<Vec<f64>> = starts.iter().filter(|s| s.len() == np).cloned().collect();
+    if starts.is_empty() {
+        starts.push(base.clone());
+    }
+    if let Some(cap) = opts.max_starts {
+        starts.truncate(cap.max(1));
+    }
+    // fixed values override every start; superseded parameters take their nominal value;
+    // starts that no longer differ are dropped
+    for s in &mut starts {
+        for (k, v) in &opts.fixed {
+            s[model.index(k).expect("checked")] = *v;
+        }
+        for &i in &model.superseded() {
+            if !opts.fixed.contains_key(&names[i]) {
+                s[i] = specs[i].nominal;
+            }
+        }
+    }
+    let mut seen: Vec<Vec<u64>> = Vec::new();
+    starts.retain(|s| {
+        let key: Vec<u64> = s.iter().map(|v| v.to_bits()).collect();
+        if seen.contains(&key) {
+            false
+        } else {
+            seen.push(key);
+            true
+        }
+    });
+    starts
+}
+
+/// Stage "search": screen every start by its cost and run the successive-halving stages of
+/// short Levenberg-Marquardt runs (on early windows of the record, then the whole); with
+/// `refine_only`, the first start alone, clamped to the bounds. Returns (start, cost, u) of
+/// the points to refine.
+fn search(pb: &Problem, starts: &[Vec<f64>], refine_only: bool) -> Vec<(usize, f64, Vec<f64>)> {
+    let (specs, fidx, lo, hi) = (&pb.specs, &pb.fidx, &pb.lo, &pb.hi);
+    let model = pb.model;
+    let t = pb.t;
+    let full = |u: &[f64], start: &[f64]| pb.full(u, start);
+    let resid_n = |u: &[f64], start: &[f64], n_use: usize| pb.resid_n(u, start, n_use);
+    let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
+    let (stages, _, windows, also_full) = effort(model.scenario);
+    // sample count of a window: the pre-trigger samples plus a fraction of the record after
+    let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(0);
+    let n_window = |frac: f64| -> usize {
+        let post = t.len() - i0;
+        (i0 + ((post as f64 * frac).ceil() as usize).max(20)).min(t.len())
+    };
+    if refine_only {
+        // the search was made on the reduced record: refine its result only
+        let u0: Vec<f64> = fidx
+            .iter()
+            .map(|&i| to_u(&specs[i], starts[0][i]).clamp(lo_of(lo, i, fidx), hi_of(hi, i, fidx)))
+            .collect();
+        vec![(0, f64::INFINITY, u0)]
+    } else {
+        // screen every start by its cost, run a short LM from the best few distinct ones
+        let screened: Vec<(usize, f64)> = starts
+            .par_iter()
+            .enumerate()
+            .map(|(si, s)| {
+                let u0: Vec<f64> = fidx
+                    .iter()
+                    .map(|&i| to_u(&specs[i], s[i]).clamp(lo_of(lo, i, fidx), hi_of(hi, i, fidx)))
+                    .collect();
+                let c: f64 = resid_n(&u0, s, n_window(windows[0]))
+                    .iter()
+                    .map(|v| v * v)
+                    .sum();
+                (si, if c.is_finite() { c } else { f64::INFINITY })
+            })
+            .collect();
+        let mut sorted = screened;
+        sorted.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        // keep the best start for each distinct starting value of the first effect's parameters
+        // (the base of the model, whose basins differ most), best first, so that one basin cannot
+        // fill every slot
+        let first_len = model.range(0).len();
+        let mut order: Vec<(usize, f64)> = Vec::new();
+        for &(si, c) in &sorted {
+            if order.len() >= SCREEN_KEEP {
+                break;
+            }
+            let key = &starts[si][..first_len];
+            if !order.iter().any(|&(sj, _)| &starts[sj][..first_len] == key) {
+                order.push((si, c));
+            }
+        }
+        // then fill up with the next best overall
+        for &(si, c) in &sorted {
+            if order.len() >= SCREEN_KEEP {
+                break;
+            }
+            if !order.iter().any(|&(sj, _)| sj == si) {
+                order.push((si, c));
+            }
+        }
+        // the cost of every start on the whole record (only needed when the stages are windowed)
+        let full_costs: Vec<(usize, f64)> = if windows[0] < 1.0 {
+            starts
+                .par_iter()
+                .enumerate()
+                .map(|(si, s)| {
+                    let u0: Vec<f64> = fidx
+                        .iter()
+                        .map(|&i| {
+                            to_u(&specs[i], s[i]).clamp(lo_of(lo, i, fidx), hi_of(hi, i, fidx))
+                        })
+                        .collect();
+                    let c: f64 = resid(&u0, s).iter().map(|v| v * v).sum();
+                    (si, if c.is_finite() { c } else { f64::INFINITY })
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        // a windowed screen judges starts on the early record only: the best few on the whole
+        // record join them
+        let mut by_full = full_costs.clone();
+        by_full.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        for &(si, c) in by_full.iter().take(SCREEN_FULL) {
+            if !order.iter().any(|&(sj, _)| sj == si) {
+                order.push((si, c));
+            }
+        }
+        // successive halving: a few iterations from every kept start, more from the best ones
+        let initial = |list: &[(usize, f64)]| -> Vec<(usize, f64, Vec<f64>)> {
+            list.iter()
+                .map(|&(si, c)| {
+                    let u0: Vec<f64> = fidx
+                        .iter()
+                        .map(|&i| to_u(&specs[i], starts[si][i]))
+                        .collect();
+                    (si, c, u0)
+                })
+                .collect()
+        };
+        let run_stages = |mut first: Vec<(usize, f64, Vec<f64>)>, windows: [f64; 2]| {
+            for (&(iters, keep), &frac) in stages.iter().zip(&windows) {
+                let n_use = n_window(frac);
+                let opts_stage = LmOptions {
+                    max_iter: iters,
+                    ..LmOptions::default()
+                };
+                first = first
+                    .par_iter()
+                    .map(|(si, _, u)| {
+                        let r = minimize(
+                            &|v: &[f64]| resid_n(v, &starts[*si], n_use),
+                            u,
+                            lo,
+                            hi,
+                            &opts_stage,
+                        );
+                        (*si, r.cost, r.u)
+                    })
+                    .collect();
+                first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+                    for (si, c, u) in &first {
+                        let p = full(u, &starts[*si]);
+                        eprintln!(
+                            "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
+                            &starts[*si]
+                        );
+                    }
+                }
+                first.truncate(keep);
+            }
+            first
+        };
+        let mut first = run_stages(initial(&order), windows);
+        if windows[0] < 1.0 && also_full {
+            // and the same stages on the whole record from the starts that fit it best
+            let mut top: Vec<(usize, f64)> = Vec::new();
+            for &(si, c) in &by_full {
+                if top.len() >= SCREEN_KEEP {
+                    break;
+                }
+                top.push((si, c));
+            }
+            first.extend(run_stages(initial(&top), [1.0, 1.0]));
+        }
+        // the start that fits the whole record best also gets a full run (with a windowed screen
+        // it may have been dropped; e.g. a candidate at its null values, i.e. the baseline)
+        if windows[0] < 1.0
+            && let Some(&(si, c)) = full_costs
+                .iter()
+                .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+        {
+            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+                eprintln!("best full-record start {si} {:?}: cost {c:.2}", &starts[si]);
+            }
+            // from its own values, not from where the windowed stages moved it
+            let u0: Vec<f64> = fidx
+                .iter()
+                .map(|&i| {
+                    to_u(&specs[i], starts[si][i]).clamp(lo_of(lo, i, fidx), hi_of(hi, i, fidx))
+                })
+                .collect();
+            first.push((si, c, u0));
+        }
+        first
+    }
+}
+
+/// Stage "refine": a long Levenberg-Marquardt run (`long_iter` iterations, ftol 1e-9) from each
+/// searched point on the whole record; returns (start, cost, u) of each.
+fn refine(
+    pb: &Problem,
+    starts: &[Vec<f64>],
+    first: &[(usize, f64, Vec<f64>)],
+    long_iter: usize,
+    debug: bool,
+) -> Vec<(usize, f64, Vec<f64>)> {
+    let (lo, hi) = (&pb.lo, &pb.hi);
+    let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
+    let long = LmOptions {
+        max_iter: long_iter,
+        ftol: 1e-9,
+        ..LmOptions::default()
+    };
+    let refined: Vec<(usize, f64, Vec<f64>)> = first
+        .par_iter()
+        .map(|(si, _, u)| {
+            let r = minimize(&|v: &[f64]| resid(v, &starts[*si]), u, lo, hi, &long);
+            if debug {
+                eprintln!(
+                    "long run from start {si}: {} iterations, cost {:.3}",
+                    r.iterations, r.cost
+                );
+            }
+            (*si, r.cost, r.u)
+        })
+        .collect();
+    refined
+}
+
+/// Stage "canonical forms": an effect may re-express its fitted values equivalently (same
+/// number of parameters); the alternative is refitted and kept when it fits as well (within
+/// [`CANONICAL_TOLERANCE`] in chi-square). Returns the kept (cost, u).
+fn canonical_forms(
+    pb: &Problem,
+    start: &[f64],
+    chi2: f64,
+    u: Vec<f64>,
+    long_iter: usize,
+) -> (f64, Vec<f64>) {
+    let (specs, fidx, lo, hi) = (&pb.specs, &pb.fidx, &pb.lo, &pb.hi);
+    let model = pb.model;
+    let full = |u: &[f64], start: &[f64]| pb.full(u, start);
+    let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
+    // canonical forms: an effect may re-express its fitted values equivalently (same number of
+    // parameters); the alternative is refitted and kept when it fits as well (within 1 in chi2)
+    let (mut chi2, mut u) = (chi2, u);
+    for _ in 0..3 {
+        let p = full(&u, start);
+        let mut changed = false;
+        for (ei, e) in model.effects.iter().enumerate() {
+            for alt in e.alternatives(&p[model.range(ei)]) {
+                let mut pa = p.clone();
+                pa[model.range(ei)].copy_from_slice(&alt);
+                let ua: Vec<f64> = fidx
+                    .iter()
+                    .map(|&i| to_u(&specs[i], pa[i]).clamp(lo_of(lo, i, fidx), hi_of(hi, i, fidx)))
+                    .collect();
+                let long = LmOptions {
+                    max_iter: long_iter,
+                    ftol: 1e-9,
+                    ..LmOptions::default()
+                };
+                let r = minimize(&|v: &[f64]| resid(v, start), &ua, lo, hi, &long);
+                if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+                    eprintln!(
+                        "alternative of {}: {alt:?} -> cost {:.2} (best {chi2:.2})",
+                        e.name(),
+                        r.cost
+                    );
+                }
+                if r.cost <= chi2 + CANONICAL_TOLERANCE {
+                    chi2 = r.cost.min(chi2);
+                    u = r.u;
+                    changed = true;
+                    break;
+                }
+            }
+            if changed {
+                break;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    (chi2, u)
+}
 
 /// Noise of the fitted channel for a fit whose residual (data - model) is `raw`.
 ///
