@@ -335,6 +335,11 @@ fn polarion_doors_and_rmf_exports_without_limits_import_as_qualitative() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("no requirement in this file"), "{e}");
+    // and names the attributes that could hold the text
+    assert!(
+        e.contains("Author") && e.contains("--attribute text=NAME"),
+        "{e}"
+    );
     let mut o = ImportOptions::default();
     o.attribute.insert(Field::Text, "Author".into());
     let (imp, set) = import_to_set(&name, &text, &o);

@@ -727,6 +727,8 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         .map_or("imported".to_string(), |s| s.to_string_lossy().into_owned());
     let mut headings = 0;
     let mut other_objects = 0;
+    // attributes with a value on the objects without text: the candidates for --attribute text=
+    let mut untexted_attributes: Vec<String> = Vec::new();
     let mut pending: Vec<Pending> = Vec::new();
     let mut ids_seen: HashMap<String, u32> = HashMap::new();
     let mut req_of_ident: HashMap<String, usize> = HashMap::new();
@@ -738,6 +740,11 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         }
         let Some(text) = o.get(Field::Text, opts) else {
             other_objects += 1;
+            for v in &o.values {
+                if !v.text.trim().is_empty() && !untexted_attributes.contains(&v.name) {
+                    untexted_attributes.push(v.name.clone());
+                }
+            }
             continue;
         };
         let mut notes: Vec<String> = Vec::new();
@@ -1043,9 +1050,18 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
             file: fname,
             line,
             cause: if skipped.is_empty() {
-                format!(
-                    "no requirement in this file ({headings} headings, {other_objects} objects without text)"
-                )
+                if untexted_attributes.is_empty() {
+                    format!(
+                        "no requirement in this file ({headings} headings, {other_objects} objects without text)"
+                    )
+                } else {
+                    format!(
+                        "no requirement in this file ({headings} headings, {other_objects} objects without text); \
+                         their attributes with a value: {}; if one holds the requirement text, name it with \
+                         --attribute text=NAME",
+                        untexted_attributes.join(", ")
+                    )
+                }
             } else {
                 format!(
                     "none of its {} requirements has both a limit and a verification method: nothing to import",
