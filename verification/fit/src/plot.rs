@@ -140,7 +140,7 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
             .map_err(perr)?;
         let (ry0, ry1) = range(r.iter().copied().chain([-s3 * 1.2, s3 * 1.2]));
         // head room above the residual for the legend, so that it covers no data
-        let ry1 = ry1 + 0.7 * (ry1 - ry0);
+        let ry1 = ry1 + 1.1 * (ry1 - ry0);
         let mut c2 = ChartBuilder::on(&bottom)
             .margin(12)
             .x_label_area_size(45)
@@ -184,6 +184,7 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         .label("residual = data - model")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], BLACK));
         c2.configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
             .label_font(("sans-serif", 18))
             .border_style(BLACK)
             .background_style(WHITE.mix(0.9))
