@@ -342,6 +342,7 @@ fn fit_model_on(
     let long_iter = effort(model.scenario).1;
     let starts = start_values(&pb, opts, starts);
     let first = search(&pb, &starts, refine_only);
+    lap("search (screening and short runs)");
     let refined = refine(&pb, &starts, &first, long_iter, debug);
     lap("long Levenberg-Marquardt runs");
     let (si, chi2, u) = refined
