@@ -230,6 +230,105 @@ pub static TARGETS: &[Target] = &[
         dict: XML,
         run: run_reqif,
     },
+    Target {
+        name: "campaign-json",
+        about: "campaign result read by `--adhesion-from` and `adhesion_from` \
+                (geodesic_release::population::AdhesionPopulation::from_campaign_json, then apply)",
+        seeds: |_| vec![CAMPAIGN_SEED.as_bytes().to_vec()],
+        dict: JSON_CAMPAIGN,
+        run: run_campaign_json,
+    },
+    Target {
+        name: "pgm",
+        about: "PGM frames of the tip camera (geodesic_images::frames::read_pgm)",
+        seeds: |r| {
+            files_in(r, "data/camera/frames", "pgm")
+                .into_iter()
+                .take(3)
+                .collect()
+        },
+        dict: PGM,
+        run: run_pgm,
+    },
+    Target {
+        name: "frames-yaml",
+        about: "tip camera FRAMES.yaml (geodesic_images::tiptrack::Config::load) with the real \
+                frames beside it",
+        seeds: |r| files(r, &["data/camera/frames.yaml"]),
+        dict: YAML_IMAGES,
+        run: run_frames_yaml,
+    },
+    Target {
+        name: "surface-yaml",
+        about: "surface map YAML (geodesic_images::surfaces::HeightMap::load) with the real CSV \
+                beside it",
+        seeds: |r| {
+            files(
+                r,
+                &["data/surfaces/before.yaml", "data/surfaces/after.yaml"],
+            )
+        },
+        dict: YAML_IMAGES,
+        run: run_surface_yaml,
+    },
+    Target {
+        name: "surface-csv",
+        about: "surface map CSV grid (geodesic_images::surfaces::HeightMap::load)",
+        seeds: |r| files(r, &["data/surfaces/before.csv"]),
+        dict: CSV,
+        run: run_surface_csv,
+    },
+    Target {
+        name: "series-yaml",
+        about: "time-series YAML of `verify --series` and `geodesic asd` \
+                (geodesic_fit::spectral::Series::load) with the real CSV beside it",
+        seeds: |r| files(r, &["data/spectra/lpf-da-example.yaml"]),
+        dict: YAML_DATASET,
+        run: run_series_yaml,
+    },
+];
+
+/// A campaign result (`geodesic campaign --json`, cut to what `--adhesion-from` reads).
+const CAMPAIGN_SEED: &str = r#"{"releases": [], "failed": [], "table": {},
+"population": {"tip_adhesion.A1": {"mean": 100069.2, "mean_sigma": 4870.7, "sd": 26378.5, "sd_sigma": 3500.3, "n": 30},
+"tip_adhesion.lambda": {"mean": 5.83e-7, "mean_sigma": 1.42e-8, "sd": 7.75e-8, "sd_sigma": 9.27e-9, "n": 30},
+"correlation": {"tip_adhesion.A1~tip_adhesion.lambda": -0.14}},
+"correlation_ci95": {"tip_adhesion.A1~tip_adhesion.lambda": [-0.61, 0.25]}}"#;
+
+const JSON_CAMPAIGN: &[&str] = &[
+    "\"population\"",
+    "\"tip_adhesion.A1\"",
+    "\"tip_adhesion.lambda\"",
+    "\"mean\"",
+    "\"mean_sigma\"",
+    "\"sd\"",
+    "\"sd_sigma\"",
+    "\"correlation\"",
+    "\"correlation_ci95\"",
+    "\"tip_adhesion.A1~tip_adhesion.lambda\"",
+    "-1.0000001",
+    "1e308",
+    "-0.0",
+];
+
+const PGM: &[&str] = &["P5", "P2", "\n", " ", "255", "65535", "60 80", "#", "0"];
+
+const YAML_IMAGES: &[&str] = &[
+    "frames:",
+    "fps:",
+    "pixel_m:",
+    "thresholds:",
+    "offset_px:",
+    "validity:",
+    "window_s:",
+    "max_shear_m:",
+    "map:",
+    "points:",
+    "valley_below_m:",
+    "[[0, 0], [1, 1]]",
+    ".nan",
+    ".inf",
+    "-1e-300",
 ];
 
 /// The target named `name`.
@@ -981,5 +1080,120 @@ mod tests {
         assert!(!non_finite("Foo { a: \"NaN inf\", c: 'i', b: 1e300 }"));
         assert!(!non_finite("Foo { info: 1.0, inflate: Nan }"));
         assert!(!non_finite("\"escaped \\\" NaN\""));
+    }
+}
+
+fn run_campaign_json(_ctx: &Ctx, data: &[u8]) -> Outcome {
+    use geodesic_release::population::AdhesionPopulation;
+    let r =
+        AdhesionPopulation::from_campaign_json(&text(data), "fuzz-campaign.json").and_then(|p| {
+            // a population that loads must also make a valid budget, and its draws stay finite
+            let b = p.apply(&geodesic_release::budget::Budget::default_budget())?;
+            use rand::SeedableRng;
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+            let d = p.draw(&mut rng);
+            let pair = b.adhesion.sample(&mut rng);
+            Ok((p, d, pair))
+        });
+    checked(r, Some("fuzz-campaign.json"))
+}
+
+fn run_pgm(_ctx: &Ctx, data: &[u8]) -> Outcome {
+    checked(
+        geodesic_images::frames::read_pgm(Path::new("fuzz.pgm"), data).map(|f| f.len()),
+        Some("fuzz.pgm"),
+    )
+}
+
+fn copy_once(ctx: &Ctx, dir: &Path, rel: &str, name: &str) {
+    let p = dir.join(name);
+    if !p.exists() {
+        let src = ctx.root.join(rel);
+        if src.is_dir() {
+            std::fs::create_dir_all(&p).expect("scratch folder");
+            for e in std::fs::read_dir(&src).expect("read the real folder") {
+                let e = e.expect("folder entry");
+                std::fs::copy(e.path(), p.join(e.file_name())).expect("copy a real file");
+            }
+        } else {
+            std::fs::copy(&src, &p).expect("copy a real file to the scratch directory");
+        }
+    }
+}
+
+fn run_frames_yaml(ctx: &Ctx, data: &[u8]) -> Outcome {
+    let dir = ctx.sub("frames-yaml");
+    copy_once(ctx, &dir, "data/camera/frames", "frames");
+    let y = dir.join("fuzz.yaml");
+    write(&y, data);
+    match geodesic_images::tiptrack::Config::load(&y) {
+        Ok(c) => {
+            // the frames it names load or are refused in one line (`frames:` may be any text,
+            // a path too long to quote whole)
+            match geodesic_images::frames::load_sequence(&c.frames) {
+                Ok(seq) => checked(Ok::<_, String>((c, seq.frames.len())), None),
+                Err(e) => refused(e.to_string(), None),
+            }
+        }
+        Err(e) => refused(e.to_string(), Some(&y.display().to_string())),
+    }
+}
+
+fn run_surface_yaml(ctx: &Ctx, data: &[u8]) -> Outcome {
+    let dir = ctx.sub("surface-yaml");
+    copy_once(ctx, &dir, "data/surfaces/before.csv", "before.csv");
+    copy_once(ctx, &dir, "data/surfaces/after.csv", "after.csv");
+    let y = dir.join("fuzz.yaml");
+    write(&y, data);
+    match geodesic_images::surfaces::HeightMap::load(&y) {
+        // the CSV named by `map:` may be any file: its errors name it instead of the YAML
+        Err(e) if !e.to_string().contains("fuzz.yaml") => refused(e.to_string(), None),
+        r => checked(
+            r.map(|m| (m.pixel_m, m.points, m.rows, m.cols)),
+            Some(&y.display().to_string()),
+        ),
+    }
+}
+
+fn run_surface_csv(ctx: &Ctx, data: &[u8]) -> Outcome {
+    let dir = ctx.sub("surface-csv");
+    let y = dir.join("map.yaml");
+    if !y.exists() {
+        write(
+            &y,
+            b"map: map.csv\npixel_m: 1.10365e-7\npoints: [[35, 36], [60, 84]]\n",
+        );
+    }
+    let c = dir.join("map.csv");
+    write(&c, data);
+    match geodesic_images::surfaces::HeightMap::load(&y) {
+        // a map's heights may be missing (NaN) by design, but never infinite
+        Ok(m) if m.h.iter().any(|v| v.is_infinite()) => {
+            Outcome::Violation("surface map accepted with an infinite height".into())
+        }
+        // the CSV's own faults name it; a point outside the map names the YAML that holds it
+        r => checked(
+            r.map(|m| (m.pixel_m, m.points, m.rows, m.cols)),
+            Some(&dir.display().to_string()),
+        ),
+    }
+}
+
+fn run_series_yaml(ctx: &Ctx, data: &[u8]) -> Outcome {
+    let dir = ctx.sub("series-yaml");
+    copy_once(
+        ctx,
+        &dir,
+        "data/spectra/lpf-da-example.csv",
+        "lpf-da-example.csv",
+    );
+    let y = dir.join("fuzz.yaml");
+    write(&y, data);
+    match geodesic_fit::spectral::Series::load(&y) {
+        Err(e) if !e.to_string().contains("fuzz.yaml") => refused(e.to_string(), None),
+        Ok(s) if s.values.iter().any(|v| !v.is_finite()) => {
+            Outcome::Violation("series accepted with a non-finite sample".into())
+        }
+        r => checked(r.map(|s| s.dt_s), Some(&y.display().to_string())),
     }
 }
