@@ -1068,21 +1068,6 @@ fn reqif_with(data: &[u8], skip_incomplete: bool) -> Outcome {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::non_finite;
-
-    #[test]
-    fn non_finite_sees_floats_not_strings() {
-        assert!(non_finite("Foo { a: NaN, b: 1.0 }"));
-        assert!(non_finite("[1.0, -inf]"));
-        assert!(non_finite("inf"));
-        assert!(!non_finite("Foo { a: \"NaN inf\", c: 'i', b: 1e300 }"));
-        assert!(!non_finite("Foo { info: 1.0, inflate: Nan }"));
-        assert!(!non_finite("\"escaped \\\" NaN\""));
-    }
-}
-
 fn run_campaign_json(_ctx: &Ctx, data: &[u8]) -> Outcome {
     use geodesic_release::population::AdhesionPopulation;
     let r =
@@ -1195,5 +1180,20 @@ fn run_series_yaml(ctx: &Ctx, data: &[u8]) -> Outcome {
             Outcome::Violation("series accepted with a non-finite sample".into())
         }
         r => checked(r.map(|s| s.dt_s), Some(&y.display().to_string())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::non_finite;
+
+    #[test]
+    fn non_finite_sees_floats_not_strings() {
+        assert!(non_finite("Foo { a: NaN, b: 1.0 }"));
+        assert!(non_finite("[1.0, -inf]"));
+        assert!(non_finite("inf"));
+        assert!(!non_finite("Foo { a: \"NaN inf\", c: 'i', b: 1e300 }"));
+        assert!(!non_finite("Foo { info: 1.0, inflate: Nan }"));
+        assert!(!non_finite("\"escaped \\\" NaN\""));
     }
 }
