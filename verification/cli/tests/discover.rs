@@ -135,3 +135,59 @@ fn fit_posterior_holds_the_truth_of_the_example() {
         assert!(g("lo95") <= t && t <= g("hi95"), "{name}: {t} outside 95 %");
     }
 }
+
+#[test]
+fn fit_posterior_ensemble_writes_flags_and_a_corner_plot() {
+    // `--posterior-method ensemble`: the contract's keys plus the sampler's flags, the method
+    // with its walkers and acceptance, a corner plot naming every free parameter; a bad method
+    // or step count is exit 2 (the sampler's accuracy is tested in geodesic-fit)
+    let d = common::scratch("posterior-ensemble");
+    let ws = common::workspace();
+    let yaml = ws.join("data/examples/rt-plunger.yaml");
+    let run = |extra: &[&str]| {
+        let mut a = vec![
+            "fit",
+            yaml.to_str().unwrap(),
+            "--effects",
+            "piezo,plunger_compliance",
+            "--posterior",
+            "--json",
+            "--reports",
+            "r",
+            "--fix",
+            "piezo.m=9e-4",
+        ];
+        a.extend_from_slice(extra);
+        common::geodesic(&a, &d)
+    };
+    let out = run(&["--posterior-method", "ensemble", "--posterior-steps", "150"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let post = doc["posterior"].as_object().unwrap();
+    assert!(!post.is_empty());
+    for (name, p) in post {
+        for k in ["median", "lo68", "hi68", "lo95", "hi95"] {
+            assert!(p[k].as_f64().is_some(), "{name}.{k}");
+        }
+        assert!(p["prior_limited"].is_boolean() && p["multimodal"].is_boolean());
+    }
+    let m = &doc["posterior_method"];
+    assert_eq!(m["method"], "ensemble");
+    assert!(m["acceptance"].as_f64().unwrap() > 0.0);
+    let svg = std::fs::read_to_string(d.join(m["corner_svg"].as_str().unwrap())).unwrap();
+    for name in post.keys() {
+        assert!(svg.contains(name.as_str()), "corner plot lacks {name}");
+    }
+    assert_eq!(run(&["--posterior-method", "mcmc"]).status.code(), Some(2));
+    assert_eq!(
+        run(&["--posterior-method", "ensemble", "--posterior-steps", "5"])
+            .status
+            .code(),
+        Some(2)
+    );
+}

@@ -17,6 +17,7 @@ pub mod dataset;
 pub mod design;
 pub mod diagnose;
 pub mod discover;
+pub mod ensemble;
 pub mod error;
 pub mod fit;
 pub mod history;

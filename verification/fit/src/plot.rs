@@ -313,6 +313,141 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
     Ok(out)
 }
 
+/// A corner plot of a posterior chain: per free parameter a histogram of its marginal (the
+/// diagonal, median and 95 % interval marked) and, below the diagonal, the pairs' samples
+/// (thinned to at most 1 500 points), in physical units (`back[i]` maps the fit coordinate of
+/// parameter `i` back), as an SVG string.
+pub fn corner_svg(
+    names: &[String],
+    chain: &crate::ensemble::Chain,
+    back: &[&dyn Fn(f64) -> f64],
+) -> Result<String, FitError> {
+    let k = names.len();
+    let cell = if k <= 3 { 260 } else { (900 / k.max(1)) as u32 }.max(150);
+    let size = (cell * k as u32 + 40, cell * k as u32 + 70);
+    let vals: Vec<Vec<f64>> = (0..k)
+        .map(|i| chain.samples.iter().map(|s| back[i](s[i])).collect())
+        .collect();
+    let stride = (chain.samples.len() / 1500).max(1);
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, size).into_drawing_area();
+        root.fill(&WHITE).map_err(perr)?;
+        let (title, grid) = root.split_vertically(50);
+        title
+            .draw(&Text::new(
+                format!(
+                    "posterior: {} walkers, {} samples kept, acceptance {:.2}",
+                    chain.walkers,
+                    chain.samples.len(),
+                    chain.acceptance
+                ),
+                (20, 15),
+                ("sans-serif", 20),
+            ))
+            .map_err(perr)?;
+        let cells = grid.split_evenly((k, k));
+        for r in 0..k {
+            for c in 0..k {
+                let area = &cells[r * k + c];
+                if c > r {
+                    continue;
+                }
+                let mut sx = vals[c].clone();
+                sx.sort_by(f64::total_cmp);
+                let (x0, x1) = range(
+                    [
+                        crate::ensemble::quantile(&sx, 0.001),
+                        crate::ensemble::quantile(&sx, 0.999),
+                    ]
+                    .into_iter(),
+                );
+                let xl = if r == k - 1 { names[c].as_str() } else { "" };
+                if r == c {
+                    let nb = 30;
+                    let w = (x1 - x0) / nb as f64;
+                    let mut h = vec![0usize; nb];
+                    for v in &vals[c] {
+                        if *v >= x0 && *v < x1 {
+                            h[(((v - x0) / w) as usize).min(nb - 1)] += 1;
+                        }
+                    }
+                    let top = *h.iter().max().unwrap_or(&1) as f64 * 1.1;
+                    let mut ch = ChartBuilder::on(area)
+                        .margin(6)
+                        .x_label_area_size(if r == k - 1 { 40 } else { 18 })
+                        .y_label_area_size(18)
+                        .build_cartesian_2d(x0..x1, 0.0..top.max(1.0))
+                        .map_err(perr)?;
+                    ch.configure_mesh()
+                        .x_desc(xl)
+                        .x_labels(3)
+                        .y_labels(0)
+                        .x_label_formatter(&tick)
+                        .label_style(("sans-serif", 13))
+                        .axis_desc_style(("sans-serif", 14))
+                        .disable_mesh()
+                        .draw()
+                        .map_err(perr)?;
+                    ch.draw_series(h.iter().enumerate().map(|(i, n)| {
+                        let a = x0 + w * i as f64;
+                        Rectangle::new([(a, 0.0), (a + w, *n as f64)], BLUE.mix(0.5).filled())
+                    }))
+                    .map_err(perr)?;
+                    for (q, style) in [
+                        (0.025, RED.stroke_width(1)),
+                        (0.5, RED.stroke_width(2)),
+                        (0.975, RED.stroke_width(1)),
+                    ] {
+                        let x = crate::ensemble::quantile(&sx, q);
+                        ch.draw_series(std::iter::once(PathElement::new(
+                            vec![(x, 0.0), (x, top)],
+                            style,
+                        )))
+                        .map_err(perr)?;
+                    }
+                } else {
+                    let mut sy = vals[r].clone();
+                    sy.sort_by(f64::total_cmp);
+                    let (y0, y1) = range(
+                        [
+                            crate::ensemble::quantile(&sy, 0.001),
+                            crate::ensemble::quantile(&sy, 0.999),
+                        ]
+                        .into_iter(),
+                    );
+                    let mut ch = ChartBuilder::on(area)
+                        .margin(6)
+                        .x_label_area_size(if r == k - 1 { 40 } else { 18 })
+                        .y_label_area_size(if c == 0 { 70 } else { 18 })
+                        .build_cartesian_2d(x0..x1, y0..y1)
+                        .map_err(perr)?;
+                    ch.configure_mesh()
+                        .x_desc(xl)
+                        .y_desc(if c == 0 { names[r].as_str() } else { "" })
+                        .x_labels(3)
+                        .y_labels(3)
+                        .x_label_formatter(&tick)
+                        .y_label_formatter(&tick)
+                        .label_style(("sans-serif", 13))
+                        .axis_desc_style(("sans-serif", 14))
+                        .disable_mesh()
+                        .draw()
+                        .map_err(perr)?;
+                    ch.draw_series(
+                        (0..vals[c].len()).step_by(stride).map(|i| {
+                            Circle::new((vals[c][i], vals[r][i]), 1, BLUE.mix(0.4).filled())
+                        }),
+                    )
+                    .map_err(perr)?;
+                }
+            }
+        }
+        root.present().map_err(perr)?;
+    }
+    Ok(out)
+}
+
 /// Writes an SVG atomically.
 pub fn write_svg(path: &Path, svg: &str) -> Result<(), FitError> {
     write_atomic(path, svg.as_bytes())

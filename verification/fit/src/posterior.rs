@@ -1,7 +1,8 @@
 //! `geodesic fit --posterior` (interface.md: `"posterior": {"PARAM": {"median", "lo68", "hi68",
-//! "lo95", "hi95"}}`): the marginal posterior of each free parameter.
+//! "lo95", "hi95"}}`): the marginal posterior of each free parameter. By default it is sampled
+//! (`crate::ensemble`); `--posterior-method laplace` gives the approximation below.
 //!
-//! **Method, stated**: the Laplace approximation at the best fit, in the coordinate the fit
+//! **Laplace method, stated**: the Laplace approximation at the best fit, in the coordinate the fit
 //! itself works in (the logarithm for the parameters the catalogue fits in log space, the
 //! parameter otherwise), with flat priors over the parameter's range (the catalogue's, or
 //! `--bound`): a normal of the reported 1-sigma (which already includes the profile-likelihood
@@ -25,6 +26,28 @@ pub struct Posterior {
     pub lo95: f64,
     /// 97.5 % quantile.
     pub hi95: f64,
+    /// The 95 % interval reaches within 1 % of the range's width of a bound (the ensemble
+    /// sampler's flag; null for the Laplace approximation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prior_limited: Option<bool>,
+    /// The marginal has two separated modes (the ensemble sampler's flag; null for the Laplace
+    /// approximation, which cannot see one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub multimodal: Option<bool>,
+}
+
+impl From<crate::ensemble::Marginal> for Posterior {
+    fn from(m: crate::ensemble::Marginal) -> Self {
+        Posterior {
+            median: m.median,
+            lo68: m.lo68,
+            hi68: m.hi68,
+            lo95: m.lo95,
+            hi95: m.hi95,
+            prior_limited: Some(m.prior_limited),
+            multimodal: Some(m.multimodal),
+        }
+    }
 }
 
 /// Standard normal CDF.
@@ -48,6 +71,8 @@ pub fn truncated_normal(mu: f64, s: f64, lo: f64, hi: f64, back: &dyn Fn(f64) ->
             hi68: v,
             lo95: v,
             hi95: v,
+            prior_limited: None,
+            multimodal: None,
         };
     }
     let (fa, fb) = (phi((lo - mu) / s), phi((hi - mu) / s));
@@ -61,6 +86,8 @@ pub fn truncated_normal(mu: f64, s: f64, lo: f64, hi: f64, back: &dyn Fn(f64) ->
         hi68: q(0.841_344_746_068_542_9),
         lo95: q(0.025),
         hi95: q(0.975),
+        prior_limited: None,
+        multimodal: None,
     }
 }
 

@@ -89,6 +89,10 @@ pub struct FitReport {
     /// Marginal posterior of each free parameter (`fit --posterior`; `crate::posterior`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub posterior: Option<BTreeMap<String, crate::posterior::Posterior>>,
+    /// How the posterior was obtained (`ensemble`: sampled, with walkers, kept samples and
+    /// acceptance; `laplace`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub posterior_method: Option<serde_json::Value>,
 }
 
 impl FitReport {
@@ -174,6 +178,7 @@ impl FitReport {
             starts: o.starts,
             svg: None,
             posterior: None,
+            posterior_method: None,
         }
     }
 }

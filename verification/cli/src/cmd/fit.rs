@@ -30,10 +30,25 @@ pub struct Args {
     /// Not a flag of this command (`--out` names one output file everywhere in geodesic).
     #[arg(long, hide = true)]
     pub out: Option<PathBuf>,
-    /// Add each free parameter's marginal posterior (median, 68 % and 95 % intervals): the
-    /// Laplace approximation at the best fit with flat priors over the parameter's range.
+    /// Add each free parameter's marginal posterior (median, 68 % and 95 % intervals), flat
+    /// priors over the parameter's range: the Laplace approximation at the best fit (instant),
+    /// or with `--posterior-method ensemble` sampled by an affine-invariant ensemble (flags
+    /// `prior_limited` and `multimodal`, a corner plot in DIR/fits/; check its convergence by
+    /// doubling --posterior-steps).
     #[arg(long)]
     pub posterior: bool,
+    /// How to get the posterior: laplace (default) or ensemble.
+    #[arg(long, value_name = "METHOD", default_value = "laplace")]
+    pub posterior_method: String,
+    /// Walkers of the ensemble sampler (default max(8 x free parameters, 32)), 4-10000.
+    #[arg(long, value_name = "N")]
+    pub posterior_walkers: Option<usize>,
+    /// Steps per walker of the ensemble sampler (a third discarded as burn-in), 100-100000.
+    #[arg(long, value_name = "N", default_value_t = 1500)]
+    pub posterior_steps: usize,
+    /// Seed of the ensemble sampler.
+    #[arg(long, value_name = "SEED", default_value_t = 1)]
+    pub posterior_seed: u64,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
@@ -160,11 +175,45 @@ pub fn summary(r: &FitReport) -> String {
         );
     }
     if let Some(post) = &r.posterior {
-        s += "  posterior (Laplace at the best fit, flat priors on the range): median [68 %] [95 %]\n";
+        let how = match r
+            .posterior_method
+            .as_ref()
+            .and_then(|m| m.get("method"))
+            .and_then(|m| m.as_str())
+        {
+            Some("ensemble") => {
+                let m = r.posterior_method.as_ref().expect("method");
+                format!(
+                    "sampled: {} walkers x {} steps, acceptance {:.2}; corner plot {}",
+                    m["walkers"],
+                    m["steps"],
+                    m["acceptance"].as_f64().unwrap_or(f64::NAN),
+                    m["corner_svg"].as_str().unwrap_or("-")
+                )
+            }
+            _ => "Laplace at the best fit".to_string(),
+        };
+        s += &format!("  posterior ({how}; flat priors on the range): median [68 %] [95 %]\n");
         for (n, p) in post {
+            let mut flags = Vec::new();
+            if p.prior_limited == Some(true) {
+                flags.push("PRIOR-LIMITED");
+            }
+            if p.multimodal == Some(true) {
+                flags.push("MULTIMODAL");
+            }
             s += &format!(
-                "    {n}: {:.6e} [{:.6e}, {:.6e}] [{:.6e}, {:.6e}]\n",
-                p.median, p.lo68, p.hi68, p.lo95, p.hi95
+                "    {n}: {:.6e} [{:.6e}, {:.6e}] [{:.6e}, {:.6e}]{}\n",
+                p.median,
+                p.lo68,
+                p.hi68,
+                p.lo95,
+                p.hi95,
+                if flags.is_empty() {
+                    String::new()
+                } else {
+                    format!("  {}", flags.join(" "))
+                }
             );
         }
     }
@@ -186,6 +235,26 @@ pub fn effect_list(effects: &[String]) -> Vec<&str> {
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let fits = fits_dir(&args)?;
+    if !matches!(args.posterior_method.as_str(), "ensemble" | "laplace") {
+        return Err(CliError::bad(format!(
+            "--posterior-method {}: ensemble or laplace",
+            args.posterior_method
+        )));
+    }
+    if args
+        .posterior_walkers
+        .is_some_and(|w| !(4..=10_000).contains(&w))
+    {
+        return Err(CliError::bad(
+            "--posterior-walkers: between 4 and 10 000 walkers".to_string(),
+        ));
+    }
+    if !(100..=100_000).contains(&args.posterior_steps) {
+        return Err(CliError::bad(format!(
+            "--posterior-steps {}: between 100 and 100 000 steps per walker",
+            args.posterior_steps
+        )));
+    }
     let opts = options(&args.fix, &args.bound)?;
     let prep = load(&args.dataset)?;
     let effects = effect_list(&args.effects);
@@ -206,7 +275,59 @@ pub fn run(args: Args) -> CmdResult {
     let o = o?;
     let mut report = FitReport::new(&prep, &o);
     if args.posterior {
-        report.posterior = Some(geodesic_fit::posterior::of_fit(&o, &opts.bounds));
+        match args.posterior_method.as_str() {
+            "laplace" => {
+                report.posterior = Some(geodesic_fit::posterior::of_fit(&o, &opts.bounds));
+                report.posterior_method = Some(serde_json::json!({"method": "laplace"}));
+            }
+            _ => {
+                let eo = geodesic_fit::ensemble::EnsembleOptions {
+                    steps: args.posterior_steps,
+                    seed: args.posterior_seed,
+                    walkers: args.posterior_walkers,
+                };
+                let task = crate::progress::Task::spinner(
+                    args.json,
+                    &format!("fit: sampling the posterior ({} steps)", eo.steps),
+                );
+                let r = geodesic_fit::fit::sample_posterior(&prep, &o, &opts, &eo);
+                task.finish();
+                let (marg, chain, names) = r.map_err(|e| CliError::bad(e.to_string()))?;
+                let specs = o.model.specs();
+                let backs: Vec<Box<dyn Fn(f64) -> f64>> = names
+                    .iter()
+                    .map(|n| {
+                        let spec = specs[o.model.index(n).expect("a model parameter")];
+                        Box::new(
+                            move |u: f64| {
+                                if spec.log { u.exp() } else { u * spec.scale }
+                            },
+                        ) as Box<dyn Fn(f64) -> f64>
+                    })
+                    .collect();
+                let back_refs: Vec<&dyn Fn(f64) -> f64> =
+                    backs.iter().map(|b| b.as_ref()).collect();
+                let svg = geodesic_fit::plot::corner_svg(&names, &chain, &back_refs)
+                    .map_err(|e| CliError::Io(e.to_string()))?;
+                let path = fits.join(format!(
+                    "{}.{}.corner.svg",
+                    prep.dataset.stem(),
+                    effects.join("+")
+                ));
+                geodesic_fit::plot::write_svg(&path, &svg)
+                    .map_err(|e| CliError::Io(e.to_string()))?;
+                report.posterior = Some(marg.into_iter().map(|(k, m)| (k, m.into())).collect());
+                report.posterior_method = Some(serde_json::json!({
+                    "method": "ensemble",
+                    "walkers": chain.walkers,
+                    "steps": eo.steps,
+                    "samples": chain.samples.len(),
+                    "acceptance": chain.acceptance,
+                    "seed": eo.seed,
+                    "corner_svg": path.display().to_string(),
+                }));
+            }
+        }
     }
     outputs(&prep, &o.pred, &mut report, &fits)?;
     if args.json {
