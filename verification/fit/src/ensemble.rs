@@ -6,8 +6,8 @@
 //!   noise figure) with flat priors over each free parameter's range in the fit's coordinates
 //!   (log for the log-fitted ones), `-inf` outside; the other parameters held at the fit's
 //!   values.
-//! * Walkers: `max(4 k, 16)` (even), started in a small ball (0.1 of the fit's 1-sigma) around
-//!   the best fit; the ensemble is split in two halves updated in turn, each walker moving along
+//! * Walkers: `max(8 k, 32)` (even; `EnsembleOptions::walkers` to choose), started in a small
+//!   ball (0.1 of the fit's 1-sigma) around the best fit; the ensemble is split in two halves updated in turn, each walker moving along
 //!   the line to a walker of the other half by `z ~ g(z) ∝ 1/sqrt(z)` on `[1/2, 2]`, accepted with
 //!   `min(1, z^(k-1) p(new)/p(old))`; the halves' log posteriors are evaluated in parallel.
 //!   Every walker's random numbers come from its own ChaCha8 stream (`seed`, step, walker), so
