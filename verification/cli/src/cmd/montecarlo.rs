@@ -64,6 +64,22 @@ pub fn check_threads(t: Option<usize>) -> Result<(), CliError> {
     }
 }
 
+/// Runs `go` on a pool of `threads` workers (`--threads`), or on rayon's global pool. The
+/// results do not depend on it (every draw has its own random stream).
+pub fn with_threads<R: Send>(
+    threads: Option<usize>,
+    go: impl FnOnce() -> R + Send,
+) -> Result<R, CliError> {
+    Ok(match threads {
+        Some(t) => rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .map_err(|e| CliError::bad(format!("--threads: {e}")))?
+            .install(go),
+        None => go(),
+    })
+}
+
 /// The JSON text of a partial result, sealed with its checksum (`geodesic_release::parts::sealed_json`).
 pub fn sealed_json(r: &McResult) -> Result<Vec<u8>, CliError> {
     geodesic_release::parts::sealed_json(r).map_err(CliError::Io)
@@ -238,15 +254,7 @@ pub fn run(args: Args) -> CmdResult {
     let bar = crate::progress::Task::counter(args.json, "montecarlo: releases", draws as u64);
     let t0 = Instant::now();
     let go = || montecarlo::run(&budget, case, args.n, args.seed, shard, &|k| bar.inc(k));
-    let result = match args.threads {
-        Some(t) => rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build()
-            .map_err(|e| CliError::bad(format!("--threads: {e}")))?
-            .install(go),
-        None => go(),
-    }
-    .map_err(|e| {
+    let result = with_threads(args.threads, go)?.map_err(|e| {
         let src = args
             .budget
             .as_ref()
@@ -361,15 +369,7 @@ fn identification_runs(
             &|d| bar.inc(d),
         )
     };
-    let r = match args.threads {
-        Some(t) => rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build()
-            .map_err(|e| CliError::bad(format!("--threads: {e}")))?
-            .install(go),
-        None => go(),
-    }
-    .map_err(CliError::bad)?;
+    let r = with_threads(args.threads, go)?.map_err(CliError::bad)?;
     bar.finish();
     Ok(r)
 }

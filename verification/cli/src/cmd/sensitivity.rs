@@ -4,7 +4,7 @@
 //! 99.73 % point when each group is frozen at nominal. Thin: the estimators are in
 //! `geodesic_release::sensitivity`.
 
-use crate::cmd::montecarlo::{check_threads, load_budget};
+use crate::cmd::montecarlo::{check_threads, load_budget, with_threads};
 use crate::error::{CliError, CmdResult};
 use geodesic_release::sensitivity::{release_groups, release_sensitivity};
 use serde_json::json;
@@ -52,15 +52,7 @@ pub fn run(args: Args) -> CmdResult {
         (2 * groups + 4) * args.n as u64,
     );
     let go = || release_sensitivity(&budget, args.n, args.seed, &|k| task.inc(k));
-    let r = match args.threads {
-        Some(t) => rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build()
-            .map_err(|e| CliError::Io(e.to_string()))?
-            .install(go),
-        None => go(),
-    }
-    .map_err(|e| CliError::bad(e.to_string()));
+    let r = with_threads(args.threads, go)?.map_err(|e| CliError::bad(e.to_string()));
     task.finish();
     let r = r?;
     if args.json {
