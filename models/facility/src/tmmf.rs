@@ -99,14 +99,26 @@ fn integrate(
     // state layout: x, v, then each effect's own states; the force effects are listed once
     // with their parameter slice and state range, out of the inner loop
     let mut forces = Vec::new();
+    let mut distortions = Vec::new();
     let mut n = 2;
     for (i, e) in model.effects.iter().enumerate() {
         let k = e.n_states();
-        if e.kind() == EffectKind::Force {
-            forces.push((*e, &p[model.range(i)], n, k));
+        match e.kind() {
+            EffectKind::Force => forces.push((*e, &p[model.range(i)], n, k)),
+            EffectKind::Distortion => distortions.push((*e, &p[model.range(i)])),
+            EffectKind::Mechanism => {}
         }
         n += k;
     }
+    // the reading: the TM's position plus every distortion (listed once: a virtual call per
+    // effect and sample was a quarter of a long record's cost)
+    let reading = |t: f64, x_true: f64| -> f64 {
+        let mut x = x_true;
+        for &(e, pe) in &distortions {
+            x += e.distortion(pe, t, x_true);
+        }
+        x
+    };
     let deriv = |t: f64, s: &[f64], ds: &mut [f64]| {
         let y = inputs.profile.y(t);
         let (x, v) = (s[0], s[1]);
@@ -133,8 +145,6 @@ fn integrate(
     let mut out = Vec::with_capacity(times.len());
     let mut ws = crate::rk4::Rk4Work::new(n);
     let t_end = times.last().copied().unwrap_or(0.0);
-    // (t_b, x_b, v_b) once every force has let go of the TM for good
-    let mut free: Option<(f64, f64, f64)> = None;
     let released = |t: f64, s: &[f64]| -> bool {
         let y = inputs.profile.y(t);
         let rc = ReleaseCheck {
@@ -158,18 +168,7 @@ fn integrate(
             e.released(pe, &st, &rc)
         })
     };
-    for &ti in times {
-        if let Some((tb, xb, vb)) = free {
-            let x_true = xb + vb * (ti - tb);
-            let mut x = x_true;
-            for (i, e) in model.effects.iter().enumerate() {
-                if e.kind() == EffectKind::Distortion {
-                    x += e.distortion(&p[model.range(i)], ti, x_true);
-                }
-            }
-            out.push(x);
-            continue;
-        }
+    for (i, &ti) in times.iter().enumerate() {
         if ti > t {
             let steps = ((ti - t) / h_max - 1e-9).ceil().max(1.0) as usize;
             let h = (ti - t) / steps as f64;
@@ -180,16 +179,21 @@ fn integrate(
             t = ti;
         }
         let x_true = if ti < 0.0 { 0.0 } else { s[0] };
+        out.push(reading(ti, x_true));
         if may_release && ti > 0.0 && s.iter().all(|v| v.is_finite()) && released(ti, &s) {
-            free = Some((ti, s[0], s[1]));
-        }
-        let mut x = x_true;
-        for (i, e) in model.effects.iter().enumerate() {
-            if e.kind() == EffectKind::Distortion {
-                x += e.distortion(&p[model.range(i)], ti, x_true);
+            // free flight for the rest of the record, in one tight loop
+            let (tb, xb, vb) = (ti, s[0], s[1]);
+            if distortions.is_empty() {
+                out.extend(times[i + 1..].iter().map(|&tj| xb + vb * (tj - tb)));
+            } else {
+                out.extend(
+                    times[i + 1..]
+                        .iter()
+                        .map(|&tj| reading(tj, xb + vb * (tj - tb))),
+                );
             }
+            break;
         }
-        out.push(x);
     }
     out
 }
