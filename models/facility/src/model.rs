@@ -49,10 +49,6 @@ pub struct Inputs {
     pub profile: TipProfile,
     /// Initial command voltage [V] (`rt-retraction`, `known.E0`).
     pub e0_v: f64,
-    /// Multiplier of the `tmmf-release` RK4 step ([`crate::tmmf::step_for_mass`]): 1 is the
-    /// accurate step of every reported figure; the fit's search runs on a coarser one
-    /// ([`crate::tmmf::SEARCH_STEP_SCALE`]) and refines with 1.
-    pub step_scale: f64,
 }
 
 /// A scenario with a set of effects.

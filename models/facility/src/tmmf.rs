@@ -22,18 +22,6 @@ pub const H_MAX_S: f64 = 1.25e-6;
 /// of magnitude under the RK4 step error and six under the smallest noise of the examples.
 pub const RELEASE_TOL_M: f64 = 1e-15;
 
-/// Step multiplier of the fit's search (screening and short Levenberg-Marquardt runs that only
-/// have to find the basins): the RK4 error grows as the step's fourth power, up to 81 times the
-/// accurate step's (about 1.6e-9 m for the lightest mock-up, a few noise sigmas of the quietest
-/// example), small against the cost differences between the basins the search tells apart. The
-/// integration never takes more than one step per sample interval of the data anyway, so on a
-/// 200 kHz record the search runs one step per sample instead of two. Every point the search
-/// keeps is refined on the accurate step, and every reported figure comes from it. Measured on
-/// `verify` (2-core machine): the 39 fits of FAC-FIT-QUAL's check from 25.7 s to 16.5 s wall with
-/// the same coverage; the public TMMF example's `diagnose` from 5.9 s to 4.0 s with the same
-/// answer.
-pub const SEARCH_STEP_SCALE: f64 = 3.0;
-
 /// The RK4 step [s] for a TM mass `m_kg` [kg].
 pub fn step_for_mass(m_kg: f64) -> f64 {
     (H_MAX_S * (m_kg / 0.0096).sqrt()).clamp(0.5e-6, 5e-6)
@@ -49,8 +37,7 @@ struct Shared {
 /// Predicted interferometer reading `x` [m] at `times` [s] (0 before the trigger, plus the
 /// distortions over the whole record).
 pub fn simulate(model: &Model, p: &[f64], times: &[f64], inputs: &Inputs) -> Vec<f64> {
-    let h = step_for_mass(inputs.m_kg) * inputs.step_scale.max(f64::MIN_POSITIVE);
-    simulate_with_step(model, p, times, inputs, h)
+    simulate_with_step(model, p, times, inputs, step_for_mass(inputs.m_kg))
 }
 
 /// [`simulate`] with the largest RK4 step `h_max` [s].
@@ -212,7 +199,6 @@ mod tests {
                 v_m_s: 3e-3,
             },
             e0_v: 120.0,
-            step_scale: 1.0,
         }
     }
 

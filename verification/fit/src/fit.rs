@@ -341,15 +341,7 @@ fn fit_model_on(
     let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
     let long_iter = effort(model.scenario).1;
     let starts = start_values(&pb, opts, starts);
-    let first = if refine_only || model.scenario != Scenario::TmmfRelease {
-        search(&pb, &starts, refine_only)
-    } else {
-        // the search on the coarser RK4 step (`tmmf::SEARCH_STEP_SCALE`): it only has to find
-        // the basins; the refinement below and everything reported use the accurate step
-        let mut coarse = prep.clone();
-        coarse.inputs.step_scale = geodesic_facility::tmmf::SEARCH_STEP_SCALE;
-        search(&Problem::new(&coarse, model, opts)?, &starts, false)
-    };
+    let first = search(&pb, &starts, refine_only);
     lap("search (screening and short runs)");
     let refined = refine(&pb, &starts, &first, long_iter, debug);
     lap("long Levenberg-Marquardt runs");
@@ -876,15 +868,8 @@ fn search(pb: &Problem, starts: &[Vec<f64>], refine_only: bool) -> Vec<(usize, f
     }
 }
 
-/// Two searched points closer than this in every internal coordinate (log for the log-fitted
-/// parameters: a relative 1e-6) are one point: the search's stages often bring several starts to
-/// the same optimum, and refining each copy repeated the same long run (a quarter of the
-/// refinement's cost in `verify`'s identification fits).
-const SAME_POINT: f64 = 1e-6;
-
 /// Stage "refine": a long Levenberg-Marquardt run (`long_iter` iterations, ftol 1e-9) from each
-/// distinct searched point (the first of points within [`SAME_POINT`] of each other) on the
-/// whole record; returns (start, cost, u) of each.
+/// searched point on the whole record; returns (start, cost, u) of each.
 fn refine(
     pb: &Problem,
     starts: &[Vec<f64>],
@@ -892,17 +877,6 @@ fn refine(
     long_iter: usize,
     debug: bool,
 ) -> Vec<(usize, f64, Vec<f64>)> {
-    let mut distinct: Vec<&(usize, f64, Vec<f64>)> = Vec::with_capacity(first.len());
-    for f in first {
-        let same = |g: &&(usize, f64, Vec<f64>)| {
-            g.2.iter()
-                .zip(&f.2)
-                .all(|(a, b)| (a - b).abs() < SAME_POINT)
-        };
-        if !distinct.iter().any(same) {
-            distinct.push(f);
-        }
-    }
     let (lo, hi) = (&pb.lo, &pb.hi);
     let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
     let long = LmOptions {
@@ -910,7 +884,7 @@ fn refine(
         ftol: 1e-9,
         ..LmOptions::default()
     };
-    let refined: Vec<(usize, f64, Vec<f64>)> = distinct
+    let refined: Vec<(usize, f64, Vec<f64>)> = first
         .par_iter()
         .map(|(si, _, u)| {
             let r = minimize(&|v: &[f64]| resid(v, &starts[*si]), u, lo, hi, &long);

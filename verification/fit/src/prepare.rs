@@ -182,7 +182,6 @@ impl Prepared {
                 },
             ),
             e0_v,
-            step_scale: 1.0,
         };
         // data-driven guesses from the fitted channel
         let (t, x) = (&dataset.t, dataset.channel(channel));

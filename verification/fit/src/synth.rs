@@ -223,7 +223,6 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
         m_kg: spec.known.get("m").copied().unwrap_or(0.089),
         profile: spec.profile,
         e0_v: spec.known.get("E0").copied().unwrap_or(120.0),
-        step_scale: 1.0,
     };
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(spec.seed);
     let unit = Normal::new(0.0, 1.0).expect("unit normal");
