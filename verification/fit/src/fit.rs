@@ -529,6 +529,19 @@ fn fit_model_on(
         }
     }
     lap("profiles");
+    // a parameter the data do not constrain (its Jacobian column is zero: an effect pinned at
+    // values where it vanishes) has an infinite variance; its uncertainty is then its allowed
+    // range, which is what the report states, instead of failing the fit (a candidate or a
+    // baseline that lands there is a legitimate, if poor, optimum)
+    for (k, &i) in fidx.iter().enumerate() {
+        let range = from_u(&specs[i], hi[k]) - from_u(&specs[i], lo[k]);
+        if range.is_finite() && (sigma_p[i].is_nan() || sigma_p[i] > range) {
+            sigma_p[i] = range;
+        }
+        if range.is_finite() && (sigma_cov[i].is_nan() || sigma_cov[i] > range) {
+            sigma_cov[i] = range;
+        }
+    }
     let finite = chi2.is_finite()
         && sig.is_finite()
         && sig > 0.0
@@ -1152,6 +1165,45 @@ mod tests {
         spec.seed = 71;
         spec.noise_in_yaml = false;
         Prepared::new(generate(&spec, "t.yaml").expect("synth"))
+    }
+
+    /// A parameter the data cannot constrain (adhesion held where it vanishes: A1 within
+    /// [10, 20] N/m, lambda within [1, 1.1] nm, on a record without adhesion) reports its
+    /// allowed range as its 1-sigma instead of an infinite or meaningless figure, and the fit
+    /// succeeds (it used to fail as "non-finite values", which failed a whole `diagnose`).
+    #[test]
+    fn an_unconstrained_parameter_reports_its_range() {
+        let mut spec =
+            SynthSpec::defaults(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]);
+        spec.fs_hz = 1e5;
+        spec.pre_s = 5e-4;
+        spec.post_s = 4e-3;
+        spec.seed = 5;
+        let prep = Prepared::new(generate(&spec, "u.yaml").expect("synth"));
+        let effects = ["needle_contact", "tip_contact", "tip_adhesion"];
+        let bounds: BTreeMap<String, (f64, f64)> = [
+            ("tip_adhesion.A1".to_string(), (10.0, 20.0)),
+            ("tip_adhesion.lambda".to_string(), (1e-9, 1.1e-9)),
+        ]
+        .into_iter()
+        .collect();
+        let o = fit(
+            &prep,
+            &effects,
+            &FitOptions {
+                bounds,
+                ..Default::default()
+            },
+        )
+        .expect("an unconstrained parameter does not fail the fit");
+        let i = o.model.index("tip_adhesion.A1").unwrap();
+        assert!(
+            o.sigma_p[i] > 0.0 && o.sigma_p[i] <= 10.0,
+            "{}",
+            o.sigma_p[i]
+        );
+        let k = o.model.index("needle_contact.F_pre").unwrap();
+        assert!(o.sigma_p[k] < 0.5 * o.p[k], "{} {}", o.sigma_p[k], o.p[k]);
     }
 
     /// The Laplace evidence against an independent reference: with one free parameter

@@ -14,7 +14,8 @@ use crate::residual::{Failure, Whiteness, failures, ljung_box};
 pub struct ParamOut {
     /// Value [SI].
     pub value: f64,
-    /// 1-sigma [SI] (0 when fixed).
+    /// 1-sigma [SI] (0 when fixed; the width of its allowed range when the data do not constrain
+    /// it).
     pub sigma: f64,
     /// SI unit.
     pub unit: String,
