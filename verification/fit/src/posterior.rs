@@ -34,6 +34,14 @@ pub struct Posterior {
     /// approximation, which cannot see one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub multimodal: Option<bool>,
+    /// Integrated autocorrelation time of the chain [steps] (the ensemble sampler's; null for
+    /// the Laplace approximation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub autocorr_steps: Option<f64>,
+    /// The chain's kept steps per walker are at least 50 autocorrelation times (the ensemble
+    /// sampler's; null for the Laplace approximation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub converged: Option<bool>,
 }
 
 impl From<crate::ensemble::Marginal> for Posterior {
@@ -46,6 +54,8 @@ impl From<crate::ensemble::Marginal> for Posterior {
             hi95: m.hi95,
             prior_limited: Some(m.prior_limited),
             multimodal: Some(m.multimodal),
+            autocorr_steps: Some(m.autocorr_steps),
+            converged: Some(m.converged),
         }
     }
 }
@@ -73,6 +83,8 @@ pub fn truncated_normal(mu: f64, s: f64, lo: f64, hi: f64, back: &dyn Fn(f64) ->
             hi95: v,
             prior_limited: None,
             multimodal: None,
+            autocorr_steps: None,
+            converged: None,
         };
     }
     let (fa, fb) = (phi((lo - mu) / s), phi((hi - mu) / s));
@@ -88,6 +100,8 @@ pub fn truncated_normal(mu: f64, s: f64, lo: f64, hi: f64, back: &dyn Fn(f64) ->
         hi95: q(0.975),
         prior_limited: None,
         multimodal: None,
+        autocorr_steps: None,
+        converged: None,
     }
 }
 

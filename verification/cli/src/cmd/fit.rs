@@ -33,8 +33,8 @@ pub struct Args {
     /// Add each free parameter's marginal posterior (median, 68 % and 95 % intervals), flat
     /// priors over the parameter's range: the Laplace approximation at the best fit (instant),
     /// or with `--posterior-method ensemble` sampled by an affine-invariant ensemble (flags
-    /// `prior_limited` and `multimodal`, a corner plot in DIR/fits/; check its convergence by
-    /// doubling --posterior-steps).
+    /// `prior_limited` and `multimodal`, each chain's autocorrelation time and `converged` when
+    /// the kept steps are at least 50 of them, a corner plot in DIR/fits/).
     #[arg(long)]
     pub posterior: bool,
     /// How to get the posterior: laplace (default) or ensemble.
@@ -195,12 +195,20 @@ pub fn summary(r: &FitReport) -> String {
         };
         s += &format!("  posterior ({how}; flat priors on the range): median [68 %] [95 %]\n");
         for (n, p) in post {
-            let mut flags = Vec::new();
+            let mut flags: Vec<String> = Vec::new();
             if p.prior_limited == Some(true) {
-                flags.push("PRIOR-LIMITED");
+                flags.push("PRIOR-LIMITED".into());
             }
             if p.multimodal == Some(true) {
-                flags.push("MULTIMODAL");
+                flags.push("MULTIMODAL".into());
+            }
+            if let (Some(false), Some(tau)) = (p.converged, p.autocorr_steps) {
+                // an unconverged chain underestimates tau: a lower bound
+                flags.push(format!(
+                    "NOT-CONVERGED (autocorrelation at least {tau:.0} steps: needs over {:.0} \
+                     --posterior-steps)",
+                    (geodesic_fit::ensemble::CONVERGED_TAUS * tau * 1.5).ceil()
+                ));
             }
             s += &format!(
                 "    {n}: {:.6e} [{:.6e}, {:.6e}] [{:.6e}, {:.6e}]{}\n",
@@ -221,6 +229,13 @@ pub fn summary(r: &FitReport) -> String {
         s += &format!("  plot: {svg}\n");
     }
     s
+}
+
+/// Every sampled parameter's chain is converged ([`geodesic_fit::ensemble::CONVERGED_TAUS`]).
+fn report_converged(r: &geodesic_fit::fit::FitReport) -> bool {
+    r.posterior
+        .as_ref()
+        .is_some_and(|p| p.values().all(|m| m.converged != Some(false)))
 }
 
 /// The effect names of `--effects`, trimmed, empty items dropped.
@@ -323,6 +338,8 @@ pub fn run(args: Args) -> CmdResult {
                     "steps": eo.steps,
                     "samples": chain.samples.len(),
                     "acceptance": chain.acceptance,
+                    "kept_steps_per_walker": chain.samples.len() / chain.walkers.max(1),
+                    "converged": report_converged(&report),
                     "seed": eo.seed,
                     "corner_svg": path.display().to_string(),
                 }));
