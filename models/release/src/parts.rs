@@ -28,8 +28,9 @@ pub const MAX_SPEED_M_S: f64 = 299_792_458.0;
 pub fn parse_part(file: &str, text: &str) -> Result<McResult, String> {
     let mut v: serde_json::Value = serde_json::from_str(text).map_err(|e| {
         format!(
-            "{file}:{}: not a geodesic montecarlo partial result: {e}",
-            e.line()
+            "{file}:{}: not a geodesic montecarlo partial result: {}",
+            e.line(),
+            geodesic_core::text::clip(&e.to_string(), 200)
         )
     })?;
     let Some(obj) = v.as_object_mut() else {
@@ -48,8 +49,13 @@ pub fn parse_part(file: &str, text: &str) -> Result<McResult, String> {
             "{file}: checksum mismatch: the partial result was changed or damaged after it was written"
         ));
     }
-    let r: McResult = serde_json::from_value(v)
-        .map_err(|e| format!("{file}: not a geodesic montecarlo partial result: {e}"))?;
+    let r: McResult = serde_json::from_value(v).map_err(|e| {
+        // serde quotes the offending input (an unknown variant, a field name): one line
+        format!(
+            "{file}: not a geodesic montecarlo partial result: {}",
+            geodesic_core::text::clip(&e.to_string(), 200)
+        )
+    })?;
     let (i, k) = r.shard.unwrap_or((1, 1));
     montecarlo::check_size(r.n, Some(k)).map_err(|e| format!("{file}: {e}"))?;
     let expect = montecarlo::shard_range(r.n, i, k).map_err(|e| format!("{file}: {e}"))?;
