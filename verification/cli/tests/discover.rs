@@ -175,10 +175,16 @@ fn fit_posterior_ensemble_writes_flags_and_a_corner_plot() {
             assert!(p[k].as_f64().is_some(), "{name}.{k}");
         }
         assert!(p["prior_limited"].is_boolean() && p["multimodal"].is_boolean());
+        assert!(p["autocorr_steps"].as_f64().unwrap() >= 1.0, "{name}: {p}");
+        assert!(p["converged"].is_boolean(), "{name}: {p}");
     }
     let m = &doc["posterior_method"];
     assert_eq!(m["method"], "ensemble");
     assert!(m["acceptance"].as_f64().unwrap() > 0.0);
+    // 150 steps, a third burnt: 100 kept; the run converged only if every parameter did
+    assert_eq!(m["kept_steps_per_walker"], 100);
+    let all = post.values().all(|p| p["converged"] == true);
+    assert_eq!(m["converged"], all);
     let svg = std::fs::read_to_string(d.join(m["corner_svg"].as_str().unwrap())).unwrap();
     for name in post.keys() {
         assert!(svg.contains(name.as_str()), "corner plot lacks {name}");

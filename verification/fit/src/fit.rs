@@ -535,11 +535,10 @@ fn fit_model_on(
     // baseline that lands there is a legitimate, if poor, optimum)
     for (k, &i) in fidx.iter().enumerate() {
         let range = from_u(&specs[i], hi[k]) - from_u(&specs[i], lo[k]);
-        if range.is_finite() && (sigma_p[i].is_nan() || sigma_p[i] > range) {
-            sigma_p[i] = range;
-        }
-        if range.is_finite() && (sigma_cov[i].is_nan() || sigma_cov[i] > range) {
-            sigma_cov[i] = range;
+        for s in [&mut sigma_p, &mut sigma_cov] {
+            if range.is_finite() && (s[i].is_nan() || s[i] > range) {
+                s[i] = range;
+            }
         }
     }
     let finite = chi2.is_finite()
