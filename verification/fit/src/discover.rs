@@ -26,13 +26,13 @@
 use std::collections::BTreeMap;
 
 use geodesic_facility::effects::Scenario;
-use nalgebra::{DMatrix, DVector};
 use rustfft::{FftPlanner, num_complex::Complex};
 use serde::{Deserialize, Serialize};
 
 use crate::diagnose::{DELTA_BIC_STRONG, diagnose};
 use crate::error::FitError;
 use crate::fit::{FitOptions, FitOutcome, FitReport, Prepared, fit_model, model_for};
+use crate::kinds::KindFit;
 use crate::residual::Failure;
 
 /// One round of the ledger (interface.md `rounds[]`).
@@ -95,17 +95,6 @@ pub struct StateCorrelation {
     pub r: f64,
 }
 
-/// A term of the sparse regression.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct Term {
-    /// The term (an acceleration per unit of it).
-    pub term: String,
-    /// Coefficient [m/s^2 per unit of the term].
-    pub coefficient: f64,
-    /// Its 1-sigma.
-    pub sigma: f64,
-}
-
 /// What the residual still holds.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
 pub struct Description {
@@ -116,8 +105,12 @@ pub struct Description {
     pub peaks: Vec<Peak>,
     /// Correlations with the model's states, strongest first.
     pub correlations: Vec<StateCorrelation>,
-    /// The few terms that carry the residual.
-    pub terms: Vec<Term>,
+    /// The kinds of physics outside the catalogue that the residual supports (delta BIC below
+    /// `DELTA_BIC_STRONG`, -10), most supported first ([`crate::kinds`]).
+    pub terms: Vec<KindFit>,
+    /// One sentence: the term that best describes the residual, with the runner-up.
+    #[serde(default)]
+    pub leading: Option<String>,
 }
 
 /// A failure window with its phase.
@@ -268,6 +261,7 @@ pub fn discover(
     let mut rounds: Vec<Round> = Vec::new();
     let mut improves = Vec::new();
     let mut fit_opts = opts.fit.clone();
+    let mut vetoed: Option<String> = None;
     for k in 0..=opts.max_rounds {
         let owned = effects.clone();
         let names: Vec<&str> = owned.iter().map(String::as_str).collect();
@@ -343,6 +337,36 @@ pub fn discover(
             break;
         }
         let best_c = &report.candidates[0];
+        // a term outside the catalogue that describes the residual much better than the best
+        // catalogue effect: the catalogue effect would only absorb part of it
+        let lead = if report.candidates.is_empty() {
+            None
+        } else {
+            let resid: Vec<f64> = prep
+                .data()
+                .iter()
+                .zip(&base.pred)
+                .map(|(d, m)| d - m)
+                .collect();
+            let pk = peaks(prep.channel, &resid, median_step(&prep.dataset.t));
+            let quick = crate::kinds::kinds(prep, &base, &pk).0.into_iter().next();
+            // the score test is a lower bound; refit jointly when it could matter
+            match quick {
+                Some(q) if -q.delta_bic > 0.2 * -best_c.delta_bic => {
+                    crate::kinds::refined_leading(prep, &base, &pk, JOINT_ITER)
+                }
+                _ => None,
+            }
+        };
+        if let Some(kind) = lead
+            && kind.delta_bic < best_c.delta_bic + DELTA_BIC_STRONG
+        {
+            vetoed = Some(format!(
+                "the residual is better described by a term outside the catalogue, {} (delta BIC {:.1}), than by the best catalogue effect {} (delta BIC {:.1})",
+                kind.term, kind.delta_bic, best, best_c.delta_bic
+            ));
+            break;
+        }
         improves.push(Improvement {
             effect: best.clone(),
             delta_bic: best_c.delta_bic,
@@ -359,6 +383,10 @@ pub fn discover(
     let last = fits.last().expect("round 0").clone();
     let final_report = FitReport::new(prep, &last);
     let (explained, reason) = is_explained(&final_report);
+    let reason = match &vetoed {
+        Some(v) if !explained => format!("{reason}; {v}"),
+        _ => reason,
+    };
     let (rounds, final_fit, final_outcome, reason) = if explained || rounds.len() == 1 {
         let reason = if !explained && !improves.is_empty() {
             format!("{reason}; no catalogue effect brings it to the noise")
@@ -477,26 +505,6 @@ pub fn thresholds(
     Ok(out)
 }
 
-/// Pearson correlation.
-fn pearson(a: &[f64], b: &[f64]) -> f64 {
-    let n = a.len().min(b.len()) as f64;
-    if n < 3.0 {
-        return 0.0;
-    }
-    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
-    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        sab += (x - ma) * (y - mb);
-        saa += (x - ma) * (x - ma);
-        sbb += (y - mb) * (y - mb);
-    }
-    if saa > 0.0 && sbb > 0.0 {
-        sab / (saa * sbb).sqrt()
-    } else {
-        0.0
-    }
-}
-
 /// Spectral peaks of `r` sampled every `dt` [s].
 pub fn peaks(channel: &str, r: &[f64], dt: f64) -> Vec<Peak> {
     let n = r.len();
@@ -545,6 +553,39 @@ pub fn peaks(channel: &str, r: &[f64], dt: f64) -> Vec<Peak> {
     out
 }
 
+/// Most Jacobians of a joint fit of the model with a term outside the catalogue.
+const JOINT_ITER: usize = 40;
+
+/// Median sampling interval [s] (0 for fewer than two samples).
+fn median_step(t: &[f64]) -> f64 {
+    let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    dts.sort_by(f64::total_cmp);
+    dts.get(dts.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// Hann-windowed periodogram power of `r` at `hz` (a direct sum) over the periodogram's median.
+fn floor_ratio(r: &[f64], dt: f64, hz: f64) -> f64 {
+    let n = r.len();
+    if n < 16 || dt.is_nan() || dt <= 0.0 {
+        return 0.0;
+    }
+    let mean = r.iter().sum::<f64>() / n as f64;
+    let w = |i: usize| 0.5 - 0.5 * (std::f64::consts::TAU * i as f64 / (n - 1) as f64).cos();
+    let mut buf: Vec<Complex<f64>> = (0..n)
+        .map(|i| Complex::new((r[i] - mean) * w(i), 0.0))
+        .collect();
+    let (mut re, mut im) = (0.0, 0.0);
+    for (i, c) in buf.iter().enumerate() {
+        let ph = std::f64::consts::TAU * hz * i as f64 * dt;
+        re += c.re * ph.cos();
+        im -= c.re * ph.sin();
+    }
+    FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+    let mut power: Vec<f64> = buf[1..=n / 2].iter().map(|c| c.norm_sqr()).collect();
+    power.sort_by(f64::total_cmp);
+    (re * re + im * im) / power[power.len() / 2].max(1e-300)
+}
+
 /// Describes what the residual of `o` still holds (see the module documentation).
 pub fn describe(prep: &Prepared, o: &FitOutcome, r: &FitReport) -> Description {
     let t = &prep.dataset.t;
@@ -566,9 +607,7 @@ pub fn describe(prep: &Prepared, o: &FitOutcome, r: &FitReport) -> Description {
             },
         })
         .collect();
-    let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
-    dts.sort_by(f64::total_cmp);
-    let dt = dts.get(dts.len() / 2).copied().unwrap_or(0.0);
+    let dt = median_step(t);
     let channel = prep.channel;
     let peaks = peaks(channel, &resid, dt);
     // states
@@ -596,159 +635,64 @@ pub fn describe(prep: &Prepared, o: &FitOutcome, r: &FitReport) -> Description {
             y.iter().zip(&o.pred).map(|(y, x)| y - x).collect(),
         ));
     }
-    let mut correlations: Vec<StateCorrelation> = states
+    let (mut all, basis) = crate::kinds::kinds(prep, o, &peaks);
+    let correlations = crate::kinds::state_correlations(&basis, &states);
+    if !is_explained(r).0 && all.first().is_some_and(|k| k.delta_bic < DELTA_BIC_STRONG) {
+        // the leading term fitted jointly with the model: its parameter unbiased by what the
+        // model absorbed
+        if let Some(lead) = crate::kinds::refined_leading(prep, o, &peaks, JOINT_ITER) {
+            all.retain(|k| k.kind != lead.kind);
+            all.push(lead);
+            all.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
+        }
+    }
+    let mut peaks = peaks;
+    let res = 1.0 / (t_end - t.first().copied().unwrap_or(0.0)).max(dt);
+    if let Some(k) = all
         .iter()
-        .map(|(name, v)| StateCorrelation {
-            state: name.clone(),
-            r: pearson(&resid, v),
-        })
+        .find(|k| k.kind == "vibration" && k.delta_bic < DELTA_BIC_STRONG)
+        && let Some(f) = &k.parameter
+    {
+        let near = |p: &Peak| (p.hz - f.value).abs() < 2.0 * res;
+        let peak = Peak {
+            channel: channel.to_string(),
+            hz: f.value,
+            amplitude: k.coefficient,
+            over_floor: floor_ratio(&resid, dt, f.value),
+        };
+        if all[0].kind == "vibration" {
+            // the sinusoid fit resolves what the periodogram smears over its first bins
+            peaks.retain(|p| !near(p));
+            peaks.insert(0, peak);
+        } else if !peaks.iter().any(near) {
+            peaks.push(peak);
+        }
+    }
+    let leading = all
+        .first()
+        .filter(|k| k.delta_bic < DELTA_BIC_STRONG)
+        .map(|k| {
+            let runner = all
+                .get(1)
+                .map(|r| format!("; runner-up {} (delta BIC {:.1})", r.kind, r.delta_bic))
+                .unwrap_or_default();
+            format!(
+                "best described by {} [{}] (delta BIC {:.1}){runner}",
+                k.term, k.state, k.delta_bic
+            )
+        });
+    let terms: Vec<KindFit> = all
+        .into_iter()
+        .filter(|k| k.delta_bic < DELTA_BIC_STRONG)
+        .take(5)
         .collect();
-    correlations.sort_by(|a, b| b.r.abs().total_cmp(&a.r.abs()));
-    // the raw residual's noise is the noise's own sigma (not the innovations') when coloured
-    let noise_sigma = if prep.ar.is_some() {
-        prep.marginal_sigma()
-    } else {
-        o.sigma
-    };
-    let terms = sparse_terms(t, &resid, &o.pred, &vel, &peaks, &states, noise_sigma);
     Description {
         windows,
         peaks,
         correlations,
         terms,
+        leading,
     }
-}
-
-/// Sparse regression of the residual on the double time integrals (from the trigger) of a
-/// library of terms, with a free offset and slope (the initial conditions), sequentially
-/// thresholded at |coefficient / sigma| > 3.
-fn sparse_terms(
-    t: &[f64],
-    resid: &[f64],
-    pos: &[f64],
-    vel: &[f64],
-    peaks: &[Peak],
-    states: &[(String, Vec<f64>)],
-    sigma: f64,
-) -> Vec<Term> {
-    let idx: Vec<usize> = (0..t.len()).filter(|&i| t[i] >= 0.0).collect();
-    if idx.len() < 20 {
-        return Vec::new();
-    }
-    let tt: Vec<f64> = idx.iter().map(|&i| t[i]).collect();
-    let t_end = *tt.last().expect("samples");
-    let mut lib: Vec<(String, Vec<f64>)> = vec![
-        ("1".into(), vec![1.0; idx.len()]),
-        ("t".into(), tt.clone()),
-        ("x (position)".into(), idx.iter().map(|&i| pos[i]).collect()),
-        ("v (velocity)".into(), idx.iter().map(|&i| vel[i]).collect()),
-    ];
-    for f in peaks.iter().take(3) {
-        let w = std::f64::consts::TAU * f.hz;
-        lib.push((
-            format!("sin(2 pi {:.4e} Hz t)", f.hz),
-            tt.iter().map(|t| (w * t).sin()).collect(),
-        ));
-        lib.push((
-            format!("cos(2 pi {:.4e} Hz t)", f.hz),
-            tt.iter().map(|t| (w * t).cos()).collect(),
-        ));
-    }
-    for frac in [0.03, 0.1, 0.3] {
-        let tau = frac * t_end;
-        lib.push((
-            format!("exp(-t / {tau:.3e} s)"),
-            tt.iter().map(|t| (-t / tau).exp()).collect(),
-        ));
-    }
-    if let Some((_, gap)) = states.iter().find(|(n, _)| n.starts_with("tip-TM gap")) {
-        for lambda in [1e-7, 1e-6] {
-            lib.push((
-                format!("exp(-gap / {lambda:e} m)"),
-                idx.iter()
-                    .map(|&i| (-gap[i].max(0.0) / lambda).exp())
-                    .collect(),
-            ));
-        }
-    }
-    // double integrals from the trigger (trapezoids)
-    let integ = |v: &[f64]| -> Vec<f64> {
-        let mut out = vec![0.0; v.len()];
-        for i in 1..v.len() {
-            out[i] = out[i - 1] + 0.5 * (v[i] + v[i - 1]) * (tt[i] - tt[i - 1]);
-        }
-        out
-    };
-    let cols: Vec<(String, Vec<f64>)> = lib
-        .into_iter()
-        .map(|(n, v)| (n, integ(&integ(&v))))
-        .collect();
-    let y: Vec<f64> = idx.iter().map(|&i| resid[i]).collect();
-    let base = [vec![1.0; idx.len()], tt.clone()];
-    let mut active: Vec<usize> = (0..cols.len()).collect();
-    for _ in 0..cols.len() {
-        let Some((coef, sig)) = lstsq(&base, &cols, &active, &y, sigma) else {
-            return Vec::new();
-        };
-        let weakest = (0..active.len())
-            .filter(|&j| coef[j].is_nan() || coef[j].abs() <= 3.0 * sig[j])
-            .min_by(|&a, &b| (coef[a].abs() / sig[a]).total_cmp(&(coef[b].abs() / sig[b])));
-        match weakest {
-            Some(j) => {
-                active.remove(j);
-            }
-            None => {
-                let mut terms: Vec<Term> = active
-                    .iter()
-                    .enumerate()
-                    .map(|(j, &c)| Term {
-                        term: cols[c].0.clone(),
-                        coefficient: coef[j],
-                        sigma: sig[j],
-                    })
-                    .collect();
-                terms.sort_by(|a, b| {
-                    (b.coefficient.abs() / b.sigma).total_cmp(&(a.coefficient.abs() / a.sigma))
-                });
-                terms.truncate(5);
-                return terms;
-            }
-        }
-        if active.is_empty() {
-            break;
-        }
-    }
-    Vec::new()
-}
-
-/// Least squares of `y` on the base columns and the active library columns (each scaled to unit
-/// norm for conditioning); coefficients and 1-sigma (noise `sigma`) of the active columns.
-fn lstsq(
-    base: &[Vec<f64>],
-    cols: &[(String, Vec<f64>)],
-    active: &[usize],
-    y: &[f64],
-    sigma: f64,
-) -> Option<(Vec<f64>, Vec<f64>)> {
-    let n = y.len();
-    let mut all: Vec<&Vec<f64>> = base.iter().collect();
-    all.extend(active.iter().map(|&c| &cols[c].1));
-    let k = all.len();
-    let scale: Vec<f64> = all
-        .iter()
-        .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt().max(1e-300))
-        .collect();
-    let a = DMatrix::from_fn(n, k, |i, j| all[j][i] / scale[j]);
-    let svd = a.clone().svd(true, true);
-    let sol = svd.solve(&DVector::from_column_slice(y), 1e-12).ok()?;
-    let ata = a.transpose() * &a;
-    let cov = ata.try_inverse()?;
-    let nb = base.len();
-    let coef: Vec<f64> = (nb..k).map(|j| sol[j] / scale[j]).collect();
-    let sig: Vec<f64> = (nb..k)
-        .map(|j| sigma * cov[(j, j)].max(0.0).sqrt() / scale[j])
-        .collect();
-    Some((coef, sig))
 }
 
 /// The scenario's effect names not in `effects`.

@@ -121,7 +121,7 @@ impl FitOutcome {
     }
 }
 
-fn to_u(s: &ParamSpec, p: f64) -> f64 {
+pub(crate) fn to_u(s: &ParamSpec, p: f64) -> f64 {
     if s.log {
         p.max(1e-300).ln()
     } else {
@@ -129,7 +129,7 @@ fn to_u(s: &ParamSpec, p: f64) -> f64 {
     }
 }
 
-fn from_u(s: &ParamSpec, u: f64) -> f64 {
+pub(crate) fn from_u(s: &ParamSpec, u: f64) -> f64 {
     if s.log { u.exp() } else { u * s.scale }
 }
 

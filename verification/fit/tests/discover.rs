@@ -6,7 +6,8 @@
 //! * a missing effect outside the catalogue (a 23 kHz vibration of the tip added by the test)
 //!   gives `explained: false`, no catalogue effect named as added, and a spectral peak at the
 //!   vibration's frequency;
-//! * with nothing missing, nothing is added and the round-0 model explains the record;
+//! * with nothing missing, nothing is added, the round-0 model explains the record and no term
+//!   outside the catalogue is reported;
 //! * the detection threshold of an undetected candidate lies above a too-weak true amplitude;
 //! * with coloured (AR(1)) noise and no noise figure, nothing is invented and a missing effect
 //!   is still found.
@@ -106,6 +107,9 @@ fn nothing_missing_adds_nothing() {
     assert!(r.explained, "{}", r.reason);
     assert_eq!(r.rounds.len(), 1);
     assert!(r.rounds[0].added.is_none());
+    // and no term outside the catalogue is invented on noise
+    assert!(r.residual.terms.is_empty(), "{:?}", r.residual.terms);
+    assert!(r.residual.leading.is_none(), "{:?}", r.residual.leading);
 }
 
 #[test]
@@ -184,6 +188,7 @@ fn coloured_noise_neither_invents_effects_nor_loses_the_real_one() {
     assert!(r.rounds.iter().all(|x| x.added.is_none()), "{:?}", r.rounds);
     let chi = r.rounds[0].chi2_red;
     assert!((chi - 1.0).abs() < 0.17, "chi2_red {chi}");
+    assert!(r.residual.terms.is_empty(), "{:?}", r.residual.terms);
     // the adhesion missing: found
     let (r, _, _) =
         discover(&prep, &["needle_contact", "tip_contact"], &opts(), |_| {}).expect("discover");

@@ -132,10 +132,13 @@ pub fn run(args: Args) -> CmdResult {
     for c in d.correlations.iter().take(3) {
         println!("  correlation with {}: r = {:+.3}", c.state, c.r);
     }
+    if let Some(l) = &d.leading {
+        println!("  {l}");
+    }
     for t in &d.terms {
         println!(
-            "  term {}: {:+.3e} +- {:.2e} m/s^2 per unit",
-            t.term, t.coefficient, t.sigma
+            "  term [{}] {}: {:+.3e} +- {:.2e} {} (delta BIC {:.1})",
+            t.kind, t.term, t.coefficient, t.sigma, t.coefficient_unit, t.delta_bic
         );
     }
     for t in &report.thresholds {

@@ -1,0 +1,769 @@
+//! Terms outside the catalogue: which kind of physics the residual of a fit still holds.
+//!
+//! For every kind of missing physics the catalogue does not hold, a shape `s(t)` (one or two
+//! columns, with at most one scanned parameter) is what that physics would add to the fitted
+//! channel to first order. The fit can absorb part of any shape by moving its own parameters, so
+//! each shape is first projected out of the span of the fit's Jacobian at the optimum (the
+//! columns `d pred / d u` of the free parameters, finite differences); the rest is regressed on
+//! the residual. All of it happens on the residual and the shapes whitened and normalised as the
+//! fit sees them (the dataset's noise model, the fit's noise figure), so that
+//!
+//! `delta chi2 = b^T G^-1 b`, `b = S_perp^T r`, `G = S_perp^T S_perp`
+//!
+//! is the chi-square the term would remove (the score test of adding it), and the coefficient
+//! `G^-1 b` has the 1-sigma `sqrt(diag G^-1)`. A kind's `delta_bic` is
+//! `-delta chi2 + k ln N` with `k` its coefficients plus its scanned parameter: negative values
+//! favour the term. The kinds, in the channel `x` the fit reads (the TM for `tmmf-release`, the
+//! tip for `rt-retraction`), with `t` the time since the trigger and the integrals from it:
+//!
+//! | kind | shape | coefficient | parameter |
+//! | --- | --- | --- | --- |
+//! | `position` (spring, pendulum mode) | `int int x` | `-w0^2` [1/s^2] | `f0 = w0 / 2 pi` [Hz] |
+//! | `velocity` (damping) | `int int dx/dt` | `-gamma` [1/s] | `gamma` [1/s] |
+//! | `delay` (timing) | `-dx/dt` (whole record) | delay [s] | delay [s] |
+//! | `creep` (piezo creep, relaxation) | `ln(1 + t / tau)` | [m] | `tau` [s], scanned |
+//! | `slip` (a jump of the contact point) | `H(t - t0)` | [m] | `t0` [s], scanned |
+//! | `impulse` (a knock, a sudden release) | `(t - t0)+` | [m/s] | `t0` [s], scanned |
+//! | `vibration` (floor, stand) | `sin, cos(2 pi f t)` (whole record) | amplitude [m] | `f` [Hz], scanned |
+//!
+//! Scans run on a grid and zoom in around the best point; the frequency grid covers the whole
+//! band at a quarter of the record's resolution for records up to 4 096 samples, else the low
+//! band (up to 64 / record length) and the periodogram's peaks.
+
+use serde::{Deserialize, Serialize};
+
+use crate::discover::{Peak, StateCorrelation};
+use crate::fit::{FitOutcome, Prepared, from_u, to_u};
+use crate::lm::{LmOptions, fd_steps, jacobian_columns};
+
+/// The scanned or derived parameter of a term.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TermParameter {
+    /// Name (`f0`, `gamma`, `delay`, `tau`, `t0`, `f`).
+    pub name: String,
+    /// Value [unit].
+    pub value: f64,
+    /// Unit.
+    pub unit: String,
+}
+
+/// A kind of missing physics fitted to the residual.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct KindFit {
+    /// Kind (`position`, `velocity`, `delay`, `creep`, `slip`, `impulse`, `vibration`).
+    pub kind: String,
+    /// The state variable or time dependence it acts on.
+    pub state: String,
+    /// The term in words, with its parameter.
+    pub term: String,
+    /// Coefficient [`coefficient_unit`] (the amplitude for a vibration).
+    pub coefficient: f64,
+    /// Its 1-sigma.
+    pub sigma: f64,
+    /// Unit of the coefficient.
+    pub coefficient_unit: String,
+    /// The physical parameter it implies.
+    pub parameter: Option<TermParameter>,
+    /// Chi-square the term removes (score test, after the fit's own freedom).
+    pub delta_chi2: f64,
+    /// `-delta_chi2 + k ln N`: negative favours the term.
+    pub delta_bic: f64,
+    /// The term's raw columns [SI per unit coefficient] (not serialised).
+    #[serde(skip)]
+    pub shape: Vec<Vec<f64>>,
+    /// Their coefficients (not serialised).
+    #[serde(skip)]
+    pub coefs: Vec<f64>,
+}
+
+/// The residual and the fit's freedom, whitened and normalised as the fit sees them.
+pub struct Basis<'a> {
+    prep: &'a Prepared,
+    sigma: f64,
+    /// Orthonormal basis of the fit's Jacobian columns.
+    q: Vec<Vec<f64>>,
+    /// Normalised residual (data - model).
+    r: Vec<f64>,
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+impl<'a> Basis<'a> {
+    /// The basis of the fit `o` of `prep`.
+    pub fn new(prep: &'a Prepared, o: &FitOutcome) -> Basis<'a> {
+        let t = &prep.dataset.t;
+        let sigma = o.sigma;
+        let mut r: Vec<f64> = prep
+            .data()
+            .iter()
+            .zip(&o.pred)
+            .map(|(d, m)| d - m)
+            .collect();
+        prep.normalise(&mut r, sigma);
+        let specs = o.model.specs();
+        let fidx: Vec<usize> = (0..specs.len()).filter(|&i| o.free[i]).collect();
+        let u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], o.p[i])).collect();
+        let lo: Vec<f64> = fidx
+            .iter()
+            .map(|&i| to_u(&specs[i], specs[i].lower))
+            .collect();
+        let hi: Vec<f64> = fidx
+            .iter()
+            .map(|&i| to_u(&specs[i], specs[i].upper))
+            .collect();
+        let f = |u: &[f64]| {
+            let mut p = o.p.clone();
+            for (k, &i) in fidx.iter().enumerate() {
+                p[i] = from_u(&specs[i], u[k]);
+            }
+            let mut v = o.model.predict(&p, t, &prep.inputs);
+            prep.normalise(&mut v, sigma);
+            v
+        };
+        let r0 = f(&u0);
+        let steps = fd_steps(&f, &u0, &r0, &lo, &hi, LmOptions::default().fd_step);
+        let cols = jacobian_columns(&f, &u0, &r0, &lo, &hi, &steps);
+        // modified Gram-Schmidt, twice, dropping dependent columns
+        let mut q: Vec<Vec<f64>> = Vec::new();
+        for mut c in cols {
+            let norm0 = dot(&c, &c).sqrt();
+            if !(norm0 > 0.0 && norm0.is_finite()) {
+                continue;
+            }
+            for _ in 0..2 {
+                for e in &q {
+                    let a = dot(e, &c);
+                    for (ci, ei) in c.iter_mut().zip(e) {
+                        *ci -= a * ei;
+                    }
+                }
+            }
+            let norm = dot(&c, &c).sqrt();
+            if norm > 1e-9 * norm0 {
+                c.iter_mut().for_each(|v| *v /= norm);
+                q.push(c);
+            }
+        }
+        Basis { prep, sigma, q, r }
+    }
+
+    /// The raw shape `s` [SI per unit coefficient] whitened, normalised and projected out of the
+    /// fit's span.
+    fn project(&self, mut s: Vec<f64>) -> Vec<f64> {
+        self.prep.normalise(&mut s, self.sigma);
+        for _ in 0..2 {
+            for e in &self.q {
+                let a = dot(e, &s);
+                for (si, ei) in s.iter_mut().zip(e) {
+                    *si -= a * ei;
+                }
+            }
+        }
+        s
+    }
+
+    /// Coefficients, their 1-sigma and the chi-square removed by the raw shapes `cols`.
+    fn score(&self, cols: Vec<Vec<f64>>) -> Option<(Vec<f64>, Vec<f64>, f64)> {
+        let p: Vec<Vec<f64>> = cols.into_iter().map(|c| self.project(c)).collect();
+        let k = p.len();
+        let g = nalgebra::DMatrix::from_fn(k, k, |i, j| dot(&p[i], &p[j]));
+        let b = nalgebra::DVector::from_fn(k, |i, _| dot(&p[i], &self.r));
+        if (0..k).any(|i| !(g[(i, i)] > 0.0 && g[(i, i)].is_finite())) {
+            return None;
+        }
+        let ginv = g.try_inverse()?;
+        let c = &ginv * &b;
+        let d = b.dot(&c);
+        if !d.is_finite() {
+            return None;
+        }
+        let sig = (0..k).map(|i| ginv[(i, i)].max(0.0).sqrt()).collect();
+        Some((c.iter().copied().collect(), sig, d))
+    }
+
+    /// Correlation of the residual with the projected raw shape `s` (0 when it vanishes).
+    fn correlation(&self, s: Vec<f64>) -> f64 {
+        let p = self.project(s);
+        let (pp, rr) = (dot(&p, &p), dot(&self.r, &self.r));
+        if pp > 0.0 && rr > 0.0 {
+            dot(&p, &self.r) / (pp * rr).sqrt()
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Cumulative trapezoid integral of `v` over `t` from the trigger (zero before it).
+fn integ(t: &[f64], v: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; v.len()];
+    for i in 1..v.len() {
+        if t[i - 1] >= 0.0 {
+            out[i] = out[i - 1] + 0.5 * (v[i] + v[i - 1]) * (t[i] - t[i - 1]);
+        } else if t[i] > 0.0 {
+            // the interval holding the trigger: from t = 0
+            out[i] = v[i] * t[i];
+        }
+    }
+    out
+}
+
+/// Maximises `f` over `[lo, hi]` (in `log` space when asked): a grid of `n` points, then zooms of
+/// 16 points around the best until the spacing is below `tol` (same space). Returns the best
+/// point and its value.
+fn scan(lo: f64, hi: f64, n: usize, log: bool, tol: f64, f: &dyn Fn(f64) -> f64) -> (f64, f64) {
+    let (mut a, mut b) = if log { (lo.ln(), hi.ln()) } else { (lo, hi) };
+    let to = |z: f64| if log { z.exp() } else { z };
+    let mut best = (to(a), f64::NEG_INFINITY);
+    let mut m = n.max(2);
+    for _ in 0..40 {
+        let h = (b - a) / (m - 1) as f64;
+        let mut bz = a;
+        for k in 0..m {
+            let z = a + h * k as f64;
+            let v = f(to(z));
+            if v > best.1 {
+                best = (to(z), v);
+                bz = z;
+            } else if best.0 == to(z) {
+                bz = z;
+            }
+        }
+        if h <= tol {
+            break;
+        }
+        let c = if best.1.is_finite() {
+            if log { best.0.ln() } else { best.0 }
+        } else {
+            bz
+        };
+        a = (c - h).max(if log { lo.ln() } else { lo });
+        b = (c + h).min(if log { hi.ln() } else { hi });
+        m = 16;
+    }
+    best
+}
+
+/// Every kind fitted to the residual of `o`, most supported first (see the module
+/// documentation). `peaks` are the periodogram's (frequencies the vibration scan also tries).
+pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<KindFit>, Basis<'a>) {
+    let basis = Basis::new(prep, o);
+    let t = &prep.dataset.t;
+    let n = t.len();
+    let ch = prep.channel;
+    let ln_n = (o.n.max(2) as f64).ln();
+    let mut out: Vec<KindFit> = Vec::new();
+    if n < 16 {
+        return (out, basis);
+    }
+    let x = &o.pred;
+    let v: Vec<f64> = (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            if b > a {
+                (x[b] - x[a]) / (t[b] - t[a])
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let i0 = t.iter().position(|&t| t >= 0.0).unwrap_or(n);
+    let x0 = x.get(i0).copied().unwrap_or(0.0);
+    let t_end = t[n - 1];
+    let span = t_end - t[0];
+    let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    dts.sort_by(f64::total_cmp);
+    let dt = dts[dts.len() / 2];
+    let mut push = |kind: &str,
+                    state: String,
+                    cols: Vec<Vec<f64>>,
+                    scanned: bool,
+                    unit: &str,
+                    describe: &dyn Fn(f64) -> (String, Option<TermParameter>)| {
+        let k = cols.len() + usize::from(scanned);
+        let shape = cols.clone();
+        if let Some((c, s, d)) = basis.score(cols) {
+            let coefs = c.clone();
+            let (coef, sig) = if c.len() == 2 {
+                let a = c[0].hypot(c[1]);
+                let sa = if a > 0.0 {
+                    ((c[0] * s[0]).powi(2) + (c[1] * s[1]).powi(2)).sqrt() / a
+                } else {
+                    s[0]
+                };
+                (a, sa)
+            } else {
+                (c[0], s[0])
+            };
+            let (term, parameter) = describe(coef);
+            out.push(KindFit {
+                kind: kind.into(),
+                state,
+                term,
+                coefficient: coef,
+                sigma: sig,
+                coefficient_unit: unit.into(),
+                parameter,
+                delta_chi2: d,
+                delta_bic: -d + k as f64 * ln_n,
+                shape,
+                coefs,
+            });
+        }
+    };
+    // a force proportional to the position: a spring or pendulum
+    let xi = integ(t, &integ(t, x));
+    push(
+        "position",
+        format!("{ch} (position)"),
+        vec![xi],
+        false,
+        "1/s^2",
+        &|c| {
+            if c < 0.0 {
+                let f0 = (-c).sqrt() / std::f64::consts::TAU;
+                (
+                    format!(
+                        "{ch} (position): a restoring force -w0^2 {ch}, a spring or pendulum mode at {f0:.4} Hz"
+                    ),
+                    Some(TermParameter {
+                        name: "f0".into(),
+                        value: f0,
+                        unit: "Hz".into(),
+                    }),
+                )
+            } else {
+                let g = c.sqrt();
+                (
+                    format!(
+                        "{ch} (position): an anti-restoring force +g^2 {ch} (negative stiffness), g = {g:.4e} 1/s"
+                    ),
+                    Some(TermParameter {
+                        name: "g".into(),
+                        value: g,
+                        unit: "1/s".into(),
+                    }),
+                )
+            }
+        },
+    );
+    // a force proportional to the velocity: damping
+    let xr: Vec<f64> = x.iter().map(|v| v - x0).collect();
+    push(
+        "velocity",
+        format!("d{ch}/dt (velocity)"),
+        vec![integ(t, &xr)],
+        false,
+        "1/s",
+        &|c| {
+            (
+                format!(
+                    "d{ch}/dt (velocity): a damping force -gamma d{ch}/dt, gamma = {:.4e} 1/s",
+                    -c
+                ),
+                Some(TermParameter {
+                    name: "gamma".into(),
+                    value: -c,
+                    unit: "1/s".into(),
+                }),
+            )
+        },
+    );
+    // a shift of the time axis
+    push(
+        "delay",
+        "time (a shift of the time axis)".into(),
+        vec![v.iter().map(|v| -v).collect()],
+        false,
+        "s",
+        &|c| {
+            (
+                format!(
+                    "delay: the model shifted in time by {c:.4e} s (a trigger or timing delay)"
+                ),
+                Some(TermParameter {
+                    name: "delay".into(),
+                    value: c,
+                    unit: "s".into(),
+                }),
+            )
+        },
+    );
+    if t_end > 4.0 * dt {
+        let post = t_end;
+        // creep: ln(1 + t / tau)
+        let creep = |tau: f64| -> Vec<f64> {
+            t.iter()
+                .map(|&t| if t > 0.0 { (t / tau).ln_1p() } else { 0.0 })
+                .collect()
+        };
+        let (tau, _) = scan(dt, 3.0 * post, 24, true, 0.02, &|tau| {
+            basis
+                .score(vec![creep(tau)])
+                .map_or(f64::NEG_INFINITY, |s| s.2)
+        });
+        push(
+            "creep",
+            "time since the trigger (logarithmic)".into(),
+            vec![creep(tau)],
+            true,
+            "m",
+            &|c| {
+                (
+                    term_text("creep", c, tau),
+                    Some(TermParameter {
+                        name: "tau".into(),
+                        value: tau,
+                        unit: "s".into(),
+                    }),
+                )
+            },
+        );
+        // a step in position and a step in velocity at t0
+        let step =
+            |t0: f64| -> Vec<f64> { t.iter().map(|&t| if t >= t0 { 1.0 } else { 0.0 }).collect() };
+        let kink = |t0: f64| -> Vec<f64> { t.iter().map(|&t| (t - t0).max(0.0)).collect() };
+        let lo = 2.0 * dt;
+        let hi = post - 2.0 * dt;
+        let (t0, _) = scan(lo, hi, 200, false, 0.5 * dt, &|t0| {
+            basis
+                .score(vec![step(t0)])
+                .map_or(f64::NEG_INFINITY, |s| s.2)
+        });
+        push(
+            "slip",
+            "time since the trigger (a jump)".into(),
+            vec![step(t0)],
+            true,
+            "m",
+            &|c| {
+                (
+                    term_text("slip", c, t0),
+                    Some(TermParameter {
+                        name: "t0".into(),
+                        value: t0,
+                        unit: "s".into(),
+                    }),
+                )
+            },
+        );
+        let (t1, _) = scan(lo, hi, 200, false, 0.5 * dt, &|t0| {
+            basis
+                .score(vec![kink(t0)])
+                .map_or(f64::NEG_INFINITY, |s| s.2)
+        });
+        push(
+            "impulse",
+            "time since the trigger (a velocity jump)".into(),
+            vec![kink(t1)],
+            true,
+            "m/s",
+            &|c| {
+                (
+                    term_text("impulse", c, t1),
+                    Some(TermParameter {
+                        name: "t0".into(),
+                        value: t1,
+                        unit: "s".into(),
+                    }),
+                )
+            },
+        );
+    }
+    // a vibration: the whole record
+    let sincos = |f: f64| -> Vec<Vec<f64>> {
+        let w = std::f64::consts::TAU * f;
+        vec![
+            t.iter().map(|t| (w * t).sin()).collect(),
+            t.iter().map(|t| (w * t).cos()).collect(),
+        ]
+    };
+    let score_f = |f: f64| basis.score(sincos(f)).map_or(f64::NEG_INFINITY, |s| s.2);
+    let res = 1.0 / span;
+    let nyq = 0.5 / dt;
+    let mut best = (0.0, f64::NEG_INFINITY);
+    let mut try_band = |lo: f64, hi: f64, m: usize| {
+        let hi = hi.min(0.98 * nyq);
+        if hi > lo {
+            let b = scan(lo, hi, m, false, 0.01 * res, &score_f);
+            if b.1 > best.1 {
+                best = b;
+            }
+        }
+    };
+    if n <= 4096 {
+        try_band(0.5 * res, nyq, (4.0 * (nyq - 0.5 * res) / res) as usize + 2);
+    } else {
+        try_band(0.5 * res, 64.0 * res, 256);
+        for p in peaks.iter().take(3) {
+            try_band(p.hz - 2.0 * res, p.hz + 2.0 * res, 17);
+        }
+    }
+    if best.1.is_finite() {
+        let f = best.0;
+        push(
+            "vibration",
+            "time (periodic)".into(),
+            sincos(f),
+            true,
+            "m",
+            &|c| {
+                (
+                    term_text("vibration", c, f),
+                    Some(TermParameter {
+                        name: "f".into(),
+                        value: f,
+                        unit: "Hz".into(),
+                    }),
+                )
+            },
+        );
+    }
+    out.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
+    (out, basis)
+}
+
+/// The term `kind` fitted jointly with the model (the score test of [`kinds`] is exact only
+/// for what the fit absorbs linearly): one local Levenberg-Marquardt run from `o`'s optimum over
+/// the model's free parameters and the term's coefficients, at most `max_iter` Jacobians.
+/// Returns the chi-square removed from `o.chi2` (at `o.sigma`) and the coefficients.
+pub fn joint_fit(
+    prep: &Prepared,
+    o: &FitOutcome,
+    kind: &KindFit,
+    max_iter: usize,
+) -> (f64, Vec<f64>) {
+    let t = &prep.dataset.t;
+    let sigma = o.sigma;
+    let specs = o.model.specs();
+    let fidx: Vec<usize> = (0..specs.len()).filter(|&i| o.free[i]).collect();
+    let w: Vec<Vec<f64>> = kind
+        .shape
+        .iter()
+        .map(|c| {
+            let mut c = c.clone();
+            prep.normalise(&mut c, sigma);
+            c
+        })
+        .collect();
+    // each coefficient in units of the change that moves chi-square by about one
+    let sc: Vec<f64> = w
+        .iter()
+        .map(|c| 1.0 / dot(c, c).sqrt().max(1e-300))
+        .collect();
+    let mut data = prep.data().to_vec();
+    prep.normalise(&mut data, sigma);
+    let nm = fidx.len();
+    let mut u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], o.p[i])).collect();
+    let mut lo: Vec<f64> = fidx
+        .iter()
+        .map(|&i| to_u(&specs[i], specs[i].lower))
+        .collect();
+    let mut hi: Vec<f64> = fidx
+        .iter()
+        .map(|&i| to_u(&specs[i], specs[i].upper))
+        .collect();
+    for (j, c) in kind.coefs.iter().enumerate() {
+        u0.push(c / sc[j]);
+        lo.push(f64::NEG_INFINITY);
+        hi.push(f64::INFINITY);
+    }
+    let f = |u: &[f64]| {
+        let mut p = o.p.clone();
+        for (k, &i) in fidx.iter().enumerate() {
+            p[i] = from_u(&specs[i], u[k]);
+        }
+        let mut v = o.model.predict(&p, t, &prep.inputs);
+        prep.normalise(&mut v, sigma);
+        for (j, col) in w.iter().enumerate() {
+            let c = u[nm + j] * sc[j];
+            for (vi, ci) in v.iter_mut().zip(col) {
+                *vi += c * ci;
+            }
+        }
+        for (vi, d) in v.iter_mut().zip(&data) {
+            *vi -= d;
+        }
+        v
+    };
+    let opts = LmOptions {
+        max_iter,
+        ..LmOptions::default()
+    };
+    let r = crate::lm::minimize(&f, &u0, &lo, &hi, &opts);
+    let coefs = (0..w.len()).map(|j| r.u[nm + j] * sc[j]).collect();
+    (o.chi2 - r.cost, coefs)
+}
+
+/// The columns of a scanned kind at its parameter `value` (`creep`: tau [s]; `slip`, `impulse`:
+/// t0 [s]; `vibration`: f [Hz]); `None` for the kinds without a scanned parameter.
+fn scanned_shape(t: &[f64], kind: &str, value: f64) -> Option<Vec<Vec<f64>>> {
+    match kind {
+        "creep" => Some(vec![
+            t.iter()
+                .map(|&t| if t > 0.0 { (t / value).ln_1p() } else { 0.0 })
+                .collect(),
+        ]),
+        "slip" => Some(vec![
+            t.iter()
+                .map(|&t| if t >= value { 1.0 } else { 0.0 })
+                .collect(),
+        ]),
+        "impulse" => Some(vec![t.iter().map(|&t| (t - value).max(0.0)).collect()]),
+        "vibration" => {
+            let w = std::f64::consts::TAU * value;
+            Some(vec![
+                t.iter().map(|t| (w * t).sin()).collect(),
+                t.iter().map(|t| (w * t).cos()).collect(),
+            ])
+        }
+        _ => None,
+    }
+}
+
+/// The leading term of `o`'s residual refined by a joint fit ([`joint_fit`]): its coefficients
+/// fitted jointly with the model, and for a scanned kind its parameter (a frequency, a time
+/// constant, the time of a jump) searched again with the model refitted at each trial value
+/// (golden section over a bracket of a quarter of the record's frequency resolution, two
+/// samples, or a factor 1.5), so that it is not biased by what the model absorbed. Returns the
+/// term, with `delta_chi2` and `delta_bic` those of the joint fit against `o`.
+pub fn refined_leading(
+    prep: &Prepared,
+    o: &FitOutcome,
+    peaks: &[Peak],
+    max_iter: usize,
+) -> Option<KindFit> {
+    let (all, basis) = kinds(prep, o, peaks);
+    let mut lead = all.into_iter().next()?;
+    let penalty = lead.delta_bic + lead.delta_chi2;
+    let (d0, c0) = joint_fit(prep, o, &lead, max_iter);
+    lead.coefs = c0;
+    lead.delta_chi2 = d0.max(lead.delta_chi2);
+    lead.delta_bic = -lead.delta_chi2 + penalty;
+    let t = &prep.dataset.t;
+    let Some(par) = lead.parameter.clone() else {
+        return Some(lead);
+    };
+    if scanned_shape(t, &lead.kind, par.value).is_none() || t.len() < 2 {
+        return Some(lead);
+    }
+    let span = t[t.len() - 1] - t[0];
+    let dt = span / (t.len() - 1) as f64;
+    // the search runs on z: value = z (linear) or exp(z) (tau)
+    let (log, half) = match lead.kind.as_str() {
+        "vibration" => (false, 0.25 / span),
+        "creep" => (true, 1.5f64.ln()),
+        _ => (false, 2.0 * dt),
+    };
+    let z0 = if log { par.value.ln() } else { par.value };
+    let trial = |z: f64| -> (f64, KindFit) {
+        let v = if log { z.exp() } else { z };
+        let mut k = lead.clone();
+        k.shape = scanned_shape(t, &k.kind, v).expect("scanned");
+        // the coefficients' start: the score test's (after the fit's own freedom)
+        if let Some((c, _, _)) = basis.score(k.shape.clone()) {
+            k.coefs = c;
+        }
+        let (d, c) = joint_fit(prep, o, &k, max_iter);
+        k.coefs = c;
+        (d, k)
+    };
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (z0 - half, z0 + half);
+    let mut c = b - g * (b - a);
+    let mut d = a + g * (b - a);
+    let (mut fc, mut kc) = trial(c);
+    let (mut fd, mut kd) = trial(d);
+    for _ in 0..6 {
+        if fc > fd {
+            b = d;
+            (d, fd, kd) = (c, fc, kc.clone());
+            c = b - g * (b - a);
+            (fc, kc) = trial(c);
+        } else {
+            a = c;
+            (c, fc, kc) = (d, fd, kd.clone());
+            d = a + g * (b - a);
+            (fd, kd) = trial(d);
+        }
+    }
+    let (zb, db, mut kb) = if fc > fd { (c, fc, kc) } else { (d, fd, kd) };
+    if db > lead.delta_chi2 {
+        let v = if log { zb.exp() } else { zb };
+        let a = kb.coefs.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let coef = if kb.coefs.len() == 2 { a } else { kb.coefs[0] };
+        let p = TermParameter {
+            value: v,
+            ..par.clone()
+        };
+        kb.term = term_text(&kb.kind, coef, v);
+        kb.coefficient = coef;
+        kb.parameter = Some(p);
+        kb.delta_chi2 = db;
+        kb.delta_bic = -db + penalty;
+        lead = kb;
+    }
+    Some(lead)
+}
+
+/// The words of a scanned kind's term with coefficient `c` and parameter `v`.
+fn term_text(kind: &str, c: f64, v: f64) -> String {
+    match kind {
+        "creep" => {
+            format!("creep: {c:.4e} m x ln(1 + t / {v:.4e} s) (piezo creep or a relaxation)")
+        }
+        "slip" => {
+            format!("slip: a step of {c:.4e} m at t = {v:.4e} s (a slip of the contact point)")
+        }
+        "impulse" => format!(
+            "impulse: a velocity step of {c:.4e} m/s at t = {v:.4e} s (a knock or a sudden release)"
+        ),
+        _ => format!(
+            "sin(2 pi {v:.4e} Hz t + phi): a vibration of {c:.3e} m (floor, stand or structure)"
+        ),
+    }
+}
+
+/// Correlation of the residual with the response to a force proportional to each state (double
+/// integral from the trigger, projected out of the fit's span), strongest first.
+pub fn state_correlations(
+    basis: &Basis<'_>,
+    states: &[(String, Vec<f64>)],
+) -> Vec<StateCorrelation> {
+    let t = &basis.prep.dataset.t;
+    let mut out: Vec<StateCorrelation> = states
+        .iter()
+        .map(|(name, s)| StateCorrelation {
+            state: name.clone(),
+            r: basis.correlation(integ(t, &integ(t, s))),
+        })
+        .collect();
+    out.sort_by(|a, b| b.r.abs().total_cmp(&a.r.abs()));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_scan_finds_a_maximum_between_grid_points() {
+        let (x, v) = scan(0.0, 10.0, 11, false, 1e-6, &|x| -(x - 3.3).powi(2));
+        assert!((x - 3.3).abs() < 1e-5, "{x}");
+        assert!(v > -1e-9);
+        let (x, _) = scan(1e-6, 1.0, 12, true, 1e-6, &|x| {
+            -(x.ln() - 0.01f64.ln()).powi(2)
+        });
+        assert!((x / 0.01 - 1.0).abs() < 1e-4, "{x}");
+    }
+
+    #[test]
+    fn the_integral_starts_at_the_trigger() {
+        let t = [-2.0, -1.0, 0.0, 1.0, 2.0];
+        let one = [1.0; 5];
+        assert_eq!(integ(&t, &one), vec![0.0, 0.0, 0.0, 1.0, 2.0]);
+        let t = [-0.5, 0.5, 1.5];
+        assert_eq!(integ(&t, &[1.0; 3]), vec![0.0, 0.5, 1.5]);
+    }
+}

@@ -1,0 +1,201 @@
+//! Physics outside the catalogue (issue 13): records whose missing physics no effect of the
+//! catalogue holds. A synthetic truth from the catalogue gets one extra term added to its
+//! fitted channel to first order (the response of a small force, a delay, a creep, a slip or a
+//! vibration), then the same seeded noise as the plain record. Each test asserts:
+//!
+//! * `explained` is false and no round names a catalogue effect as added;
+//! * the description's leading term is the right kind, acting on the right state variable, with
+//!   its parameter (frequency, damping rate, delay, time constant, time of the jump) near the
+//!   injected one.
+
+use geodesic_facility::effects::Scenario;
+use geodesic_fit::Dataset;
+use geodesic_fit::discover::{DiscoverOptions, DiscoverReport, discover};
+use geodesic_fit::fit::{FitOptions, Prepared};
+use geodesic_fit::synth::{SynthSpec, generate};
+
+const TMMF: [&str; 3] = ["needle_contact", "tip_contact", "tip_adhesion"];
+const RT: [&str; 2] = ["piezo", "plunger_compliance"];
+
+fn spec(s: Scenario, truth: &[&str], seed: u64) -> SynthSpec {
+    let mut spec = SynthSpec::defaults(s, truth);
+    spec.seed = seed;
+    if s == Scenario::RtRetraction {
+        spec.post_s = 5e-4;
+    } else {
+        // the public example's span (1 ms before the trigger, 8 ms after) at 50 kHz: 451
+        // samples, so that each test runs in seconds
+        spec.fs_hz = 5e4;
+    }
+    spec
+}
+
+/// The noisy record, its noiseless truth of the fitted channel and the channel's name.
+fn pair(spec: &SynthSpec) -> (Dataset, Vec<f64>, &'static str) {
+    let ds = generate(spec, "outside.yaml").expect("synth");
+    let mut quiet = spec.clone();
+    for v in quiet.noise.values_mut() {
+        *v = 1e-30;
+    }
+    let truth = generate(&quiet, "quiet.yaml").expect("synth");
+    let ch = if ds.scenario == Scenario::TmmfRelease {
+        "x"
+    } else {
+        "y"
+    };
+    let x = truth.channels[ch].clone();
+    (ds, x, ch)
+}
+
+/// Cumulative integral from the trigger (trapezoids).
+fn integ(t: &[f64], v: &[f64]) -> Vec<f64> {
+    let mut out = vec![0.0; v.len()];
+    for i in 1..v.len() {
+        if t[i - 1] >= 0.0 {
+            out[i] = out[i - 1] + 0.5 * (v[i] + v[i - 1]) * (t[i] - t[i - 1]);
+        }
+    }
+    out
+}
+
+/// Adds `extra(t, truth)` to the fitted channel.
+fn inject(
+    spec: &SynthSpec,
+    extra: impl Fn(&[f64], &[f64]) -> Vec<f64>,
+) -> (Prepared, Vec<f64>, f64) {
+    let (mut ds, x, ch) = pair(spec);
+    let e = extra(&ds.t, &x);
+    let peak = e.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let c = ds.channels.get_mut(ch).expect("channel");
+    for (v, d) in c.iter_mut().zip(&e) {
+        *v += d;
+    }
+    (Prepared::new(ds), e, peak)
+}
+
+fn run(prep: &Prepared, baseline: &[&str]) -> DiscoverReport {
+    let opts = DiscoverOptions {
+        fit: FitOptions::default(),
+        max_rounds: 3,
+    };
+    discover(prep, baseline, &opts, |_| {}).expect("discover").0
+}
+
+/// The common assertions; returns the leading term's kind and parameter value.
+fn assert_outside(r: &DiscoverReport, kind: &str, state: &str) -> f64 {
+    eprintln!("reason: {}", r.reason);
+    eprintln!("leading: {:?}", r.residual.leading);
+    for t in &r.residual.terms {
+        eprintln!("  {} [{}] delta BIC {:.1}", t.term, t.state, t.delta_bic);
+    }
+    for c in &r.residual.correlations {
+        eprintln!("  r({}) = {:+.3}", c.state, c.r);
+    }
+    assert!(!r.explained, "explained: {}: {:?}", r.reason, r.rounds);
+    assert!(
+        r.rounds.iter().all(|x| x.added.is_none()),
+        "a catalogue effect named: {:?}",
+        r.rounds
+    );
+    let lead = r.residual.terms.first().expect("a leading term");
+    assert_eq!(lead.kind, kind, "{:?}", r.residual.terms);
+    assert!(lead.state.contains(state), "{}", lead.state);
+    lead.parameter.as_ref().expect("a parameter").value
+}
+
+fn derivative(t: &[f64], x: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            (x[b] - x[a]) / (t[b] - t[a])
+        })
+        .collect()
+}
+
+#[test]
+fn a_pendulum_mode_is_a_restoring_force_on_the_position_at_its_frequency() {
+    let f0 = 30.0;
+    let w2 = (std::f64::consts::TAU * f0).powi(2);
+    let (prep, _, peak) = inject(&spec(Scenario::TmmfRelease, &TMMF, 41), |t, x| {
+        integ(t, &integ(t, x)).iter().map(|v| -w2 * v).collect()
+    });
+    eprintln!("injected peak {peak:.3e} m");
+    let r = run(&prep, &TMMF);
+    let f = assert_outside(&r, "position", "position");
+    assert!((f / f0 - 1.0).abs() < 0.2, "f0 {f} Hz against {f0}");
+}
+
+#[test]
+fn a_slip_of_the_contact_point_is_a_jump_at_its_time() {
+    let (a, t0) = (2e-8, 1.5e-3);
+    let (prep, _, _) = inject(&spec(Scenario::TmmfRelease, &TMMF, 44), |t, _| {
+        t.iter().map(|&t| if t >= t0 { a } else { 0.0 }).collect()
+    });
+    let r = run(&prep, &TMMF);
+    let got = assert_outside(&r, "slip", "time");
+    assert!((got - t0).abs() < 3e-5, "t0 {got} s against {t0}");
+}
+
+fn vibration(f: f64, seed: u64) -> DiscoverReport {
+    let a = 2e-8;
+    let (prep, _, _) = inject(&spec(Scenario::TmmfRelease, &TMMF, seed), |t, _| {
+        t.iter()
+            .map(|&t| a * (std::f64::consts::TAU * f * t + 0.4).sin())
+            .collect()
+    });
+    run(&prep, &TMMF)
+}
+
+/// 12 cycles in the record: the frequency within 2 %, and a spectral peak there.
+#[test]
+fn a_floor_vibration_is_a_sinusoid_at_its_frequency() {
+    let f = 1370.0;
+    let r = vibration(f, 45);
+    let got = assert_outside(&r, "vibration", "periodic");
+    assert!((got / f - 1.0).abs() < 0.02, "f {got} Hz against {f}");
+    let p = r.residual.peaks.first().expect("a peak");
+    assert!((p.hz / f - 1.0).abs() < 0.02, "peak at {} Hz", p.hz);
+}
+
+/// 1.2 cycles in the record (the issue's 137 Hz floor vibration): the periodogram cannot
+/// resolve it, the sinusoid fit does; the baseline model absorbs part of the cycle and the
+/// local joint refit does not undo all of it, so the frequency is asserted within 10 % (128.1 Hz
+/// measured at seed 48), and the sinusoid is reported as the first spectral peak.
+#[test]
+fn a_vibration_of_about_one_cycle_in_the_record_is_still_a_sinusoid() {
+    let f = 137.0;
+    let r = vibration(f, 48);
+    let got = assert_outside(&r, "vibration", "periodic");
+    assert!((got / f - 1.0).abs() < 0.1, "f {got} Hz against {f}");
+    let p = r.residual.peaks.first().expect("a peak");
+    assert!((p.hz - got).abs() < 1e-9, "peak at {} Hz", p.hz);
+}
+
+#[test]
+fn piezo_creep_is_a_logarithm_of_time() {
+    let (c, tau) = (-2e-8, 2e-5);
+    let (prep, _, _) = inject(&spec(Scenario::RtRetraction, &RT, 46), |t, _| {
+        t.iter()
+            .map(|&t| if t > 0.0 { c * (t / tau).ln_1p() } else { 0.0 })
+            .collect()
+    });
+    let r = run(&prep, &RT);
+    let got = assert_outside(&r, "creep", "time");
+    assert!(
+        got / tau > 0.5 && got / tau < 2.0,
+        "tau {got} s against {tau}"
+    );
+}
+
+#[test]
+fn a_trigger_delay_of_the_tip_is_a_shift_of_the_time_axis() {
+    let d = 2e-6;
+    let (prep, _, peak) = inject(&spec(Scenario::RtRetraction, &RT, 47), |t, x| {
+        derivative(t, x).iter().map(|v| -d * v).collect()
+    });
+    eprintln!("injected peak {peak:.3e} m");
+    let r = run(&prep, &RT);
+    let got = assert_outside(&r, "delay", "time");
+    assert!((got / d - 1.0).abs() < 0.3, "delay {got} s against {d}");
+}
