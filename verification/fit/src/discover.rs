@@ -353,7 +353,7 @@ pub fn discover(
             // the score test is a lower bound; refit jointly when it could matter
             match quick {
                 Some(q) if -q.delta_bic > 0.2 * -best_c.delta_bic => {
-                    crate::kinds::refined_leading(prep, &base, &pk, JOINT_ITER)
+                    crate::kinds::refined_leading(prep, &base, &pk, &fit_opts, JOINT_ITER)?
                 }
                 _ => None,
             }
@@ -414,7 +414,7 @@ pub fn discover(
     let kept: Vec<&str> = final_fit.effects.iter().map(String::as_str).collect();
     progress("detection thresholds of the candidates not in the model");
     let thresholds = thresholds(prep, &final_outcome, &kept, &fit_opts)?;
-    let residual = describe(prep, &final_outcome, &final_fit);
+    let residual = describe(prep, &final_outcome, &final_fit, &fit_opts)?;
     Ok((
         DiscoverReport {
             dataset: prep.dataset.name.clone(),
@@ -554,7 +554,7 @@ pub fn peaks(channel: &str, r: &[f64], dt: f64) -> Vec<Peak> {
 }
 
 /// Most Jacobians of a joint fit of the model with a term outside the catalogue.
-const JOINT_ITER: usize = 40;
+const JOINT_ITER: usize = 100;
 
 /// Median sampling interval [s] (0 for fewer than two samples).
 fn median_step(t: &[f64]) -> f64 {
@@ -587,7 +587,12 @@ fn floor_ratio(r: &[f64], dt: f64, hz: f64) -> f64 {
 }
 
 /// Describes what the residual of `o` still holds (see the module documentation).
-pub fn describe(prep: &Prepared, o: &FitOutcome, r: &FitReport) -> Description {
+pub fn describe(
+    prep: &Prepared,
+    o: &FitOutcome,
+    r: &FitReport,
+    opts: &FitOptions,
+) -> Result<Description, FitError> {
     let t = &prep.dataset.t;
     let data = prep.data();
     let resid: Vec<f64> = data.iter().zip(&o.pred).map(|(d, m)| d - m).collect();
@@ -640,7 +645,7 @@ pub fn describe(prep: &Prepared, o: &FitOutcome, r: &FitReport) -> Description {
     if !is_explained(r).0 && all.first().is_some_and(|k| k.delta_bic < DELTA_BIC_STRONG) {
         // the leading term fitted jointly with the model: its parameter unbiased by what the
         // model absorbed
-        if let Some(lead) = crate::kinds::refined_leading(prep, o, &peaks, JOINT_ITER) {
+        if let Some(lead) = crate::kinds::refined_leading(prep, o, &peaks, opts, JOINT_ITER)? {
             all.retain(|k| k.kind != lead.kind);
             all.push(lead);
             all.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
@@ -686,13 +691,13 @@ pub fn describe(prep: &Prepared, o: &FitOutcome, r: &FitReport) -> Description {
         .filter(|k| k.delta_bic < DELTA_BIC_STRONG)
         .take(5)
         .collect();
-    Description {
+    Ok(Description {
         windows,
         peaks,
         correlations,
         terms,
         leading,
-    }
+    })
 }
 
 /// The scenario's effect names not in `effects`.

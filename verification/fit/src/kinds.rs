@@ -258,18 +258,6 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
         return (out, basis);
     }
     let x = &o.pred;
-    let v: Vec<f64> = (0..n)
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-            if b > a {
-                (x[b] - x[a]) / (t[b] - t[a])
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    let i0 = t.iter().position(|&t| t >= 0.0).unwrap_or(n);
-    let x0 = x.get(i0).copied().unwrap_or(0.0);
     let t_end = t[n - 1];
     let span = t_end - t[0];
     let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
@@ -312,84 +300,18 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
             });
         }
     };
-    // a force proportional to the position: a spring or pendulum
-    let xi = integ(t, &integ(t, x));
-    push(
-        "position",
-        format!("{ch} (position)"),
-        vec![xi],
-        false,
-        "1/s^2",
-        &|c| {
-            if c < 0.0 {
-                let f0 = (-c).sqrt() / std::f64::consts::TAU;
-                (
-                    format!(
-                        "{ch} (position): a restoring force -w0^2 {ch}, a spring or pendulum mode at {f0:.4} Hz"
-                    ),
-                    Some(TermParameter {
-                        name: "f0".into(),
-                        value: f0,
-                        unit: "Hz".into(),
-                    }),
-                )
-            } else {
-                let g = c.sqrt();
-                (
-                    format!(
-                        "{ch} (position): an anti-restoring force +g^2 {ch} (negative stiffness), g = {g:.4e} 1/s"
-                    ),
-                    Some(TermParameter {
-                        name: "g".into(),
-                        value: g,
-                        unit: "1/s".into(),
-                    }),
-                )
-            }
-        },
-    );
-    // a force proportional to the velocity: damping
-    let xr: Vec<f64> = x.iter().map(|v| v - x0).collect();
-    push(
-        "velocity",
-        format!("d{ch}/dt (velocity)"),
-        vec![integ(t, &xr)],
-        false,
-        "1/s",
-        &|c| {
-            (
-                format!(
-                    "d{ch}/dt (velocity): a damping force -gamma d{ch}/dt, gamma = {:.4e} 1/s",
-                    -c
-                ),
-                Some(TermParameter {
-                    name: "gamma".into(),
-                    value: -c,
-                    unit: "1/s".into(),
-                }),
-            )
-        },
-    );
+    // forces proportional to the position (spring, pendulum) and to the velocity (damping), and
     // a shift of the time axis
-    push(
-        "delay",
-        "time (a shift of the time axis)".into(),
-        vec![v.iter().map(|v| -v).collect()],
-        false,
-        "s",
-        &|c| {
-            (
-                format!(
-                    "delay: the model shifted in time by {c:.4e} s (a trigger or timing delay)"
-                ),
-                Some(TermParameter {
-                    name: "delay".into(),
-                    value: c,
-                    unit: "s".into(),
-                }),
-            )
-        },
-    );
+    for (kind, state, unit) in [
+        ("position", format!("{ch} (position)"), "1/s^2"),
+        ("velocity", format!("d{ch}/dt (velocity)"), "1/s"),
+        ("delay", "time (a shift of the time axis)".to_string(), "s"),
+    ] {
+        let col = state_shape(t, kind, x).expect("a state kind");
+        push(kind, state, vec![col], false, unit, &|c| {
+            state_text(kind, ch, c)
+        });
+    }
     if t_end > 4.0 * dt {
         let post = t_end;
         // creep: ln(1 + t / tau)
@@ -524,14 +446,47 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
     (out, basis)
 }
 
-/// The term `kind` fitted jointly with the model (the score test of [`kinds`] is exact only
-/// for what the fit absorbs linearly): one local Levenberg-Marquardt run from `o`'s optimum over
-/// the model's free parameters and the term's coefficients, at most `max_iter` Jacobians.
-/// Returns the chi-square removed from `o.chi2` (at `o.sigma`) and the coefficients.
-pub fn joint_fit(
+/// The model refitted, from `o`'s optimum and from its default starts, to the data less the
+/// term `kind` at its score-test coefficients (what the term would be if the model had not
+/// absorbed part of it): the start of [`joint_lm`]. Returns the parameters.
+pub fn refit_without(
     prep: &Prepared,
     o: &FitOutcome,
     kind: &KindFit,
+    opts: &crate::fit::FitOptions,
+) -> Result<Vec<f64>, crate::FitError> {
+    let mut fo = opts.clone();
+    fo.profile = false;
+    fo.sigma = Some(o.sigma);
+    let mut less = prep.clone();
+    let ch = less
+        .dataset
+        .channels
+        .get_mut(prep.channel)
+        .expect("the fitted channel");
+    for (j, col) in kind.shape.iter().enumerate() {
+        for (v, s) in ch.iter_mut().zip(col) {
+            *v -= kind.coefs[j] * s;
+        }
+    }
+    let mut starts = vec![o.p.clone()];
+    starts.extend(crate::fit::default_starts(
+        &o.model,
+        &prep.guess,
+        opts.max_starts.unwrap_or(16).min(16),
+    ));
+    Ok(crate::fit::fit_model(&less, &o.model, &fo, &starts)?.p)
+}
+
+/// The term `kind` fitted jointly with the model: one local Levenberg-Marquardt run over the
+/// model's free parameters (from `from`) and the term's coefficients (from `kind.coefs`), at
+/// most `max_iter` Jacobians. Returns the chi-square removed from `o.chi2` (at `o.sigma`) and
+/// the coefficients.
+pub fn joint_lm(
+    prep: &Prepared,
+    o: &FitOutcome,
+    kind: &KindFit,
+    from: &[f64],
     max_iter: usize,
 ) -> (f64, Vec<f64>) {
     let t = &prep.dataset.t;
@@ -555,7 +510,7 @@ pub fn joint_fit(
     let mut data = prep.data().to_vec();
     prep.normalise(&mut data, sigma);
     let nm = fidx.len();
-    let mut u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], o.p[i])).collect();
+    let mut u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], from[i])).collect();
     let mut lo: Vec<f64> = fidx
         .iter()
         .map(|&i| to_u(&specs[i], specs[i].lower))
@@ -565,19 +520,26 @@ pub fn joint_fit(
         .map(|&i| to_u(&specs[i], specs[i].upper))
         .collect();
     for (j, c) in kind.coefs.iter().enumerate() {
-        u0.push(c / sc[j]);
+        u0.push(if c.is_finite() { c / sc[j] } else { 0.0 });
         lo.push(f64::NEG_INFINITY);
         hi.push(f64::INFINITY);
     }
     let f = |u: &[f64]| {
-        let mut p = o.p.clone();
+        let mut p = from.to_vec();
         for (k, &i) in fidx.iter().enumerate() {
             p[i] = from_u(&specs[i], u[k]);
         }
-        let mut v = o.model.predict(&p, t, &prep.inputs);
+        let raw = o.model.predict(&p, t, &prep.inputs);
+        // a term on the model's own state follows the model as it moves
+        let moving = state_shape(t, &kind.kind, &raw).map(|mut s| {
+            prep.normalise(&mut s, sigma);
+            s
+        });
+        let mut v = raw;
         prep.normalise(&mut v, sigma);
         for (j, col) in w.iter().enumerate() {
             let c = u[nm + j] * sc[j];
+            let col = moving.as_ref().unwrap_or(col);
             for (vi, ci) in v.iter_mut().zip(col) {
                 *vi += c * ci;
             }
@@ -594,6 +556,84 @@ pub fn joint_fit(
     let r = crate::lm::minimize(&f, &u0, &lo, &hi, &opts);
     let coefs = (0..w.len()).map(|j| r.u[nm + j] * sc[j]).collect();
     (o.chi2 - r.cost, coefs)
+}
+
+/// The column of a kind on the model's state (`position`, `velocity`, `delay`) for the model's
+/// prediction `x`; `None` for the other kinds.
+fn state_shape(t: &[f64], kind: &str, x: &[f64]) -> Option<Vec<f64>> {
+    let n = x.len();
+    match kind {
+        "position" => Some(integ(t, &integ(t, x))),
+        "velocity" => {
+            let i0 = t
+                .iter()
+                .position(|&t| t >= 0.0)
+                .unwrap_or(0)
+                .min(n.saturating_sub(1));
+            let x0 = x.get(i0).copied().unwrap_or(0.0);
+            let xr: Vec<f64> = x.iter().map(|v| v - x0).collect();
+            Some(integ(t, &xr))
+        }
+        "delay" => Some(derivative(t, x).iter().map(|v| -v).collect()),
+        _ => None,
+    }
+}
+
+/// The words and the physical parameter of a kind on the model's state with coefficient `c`.
+fn state_text(kind: &str, ch: &str, c: f64) -> (String, Option<TermParameter>) {
+    let par = |name: &str, value: f64, unit: &str| {
+        Some(TermParameter {
+            name: name.into(),
+            value,
+            unit: unit.into(),
+        })
+    };
+    match kind {
+        "position" if c < 0.0 => {
+            let f0 = (-c).sqrt() / std::f64::consts::TAU;
+            (
+                format!(
+                    "{ch} (position): a restoring force -w0^2 {ch}, a spring or pendulum mode at {f0:.4} Hz"
+                ),
+                par("f0", f0, "Hz"),
+            )
+        }
+        "position" => {
+            let g = c.sqrt();
+            (
+                format!(
+                    "{ch} (position): an anti-restoring force +g^2 {ch} (negative stiffness), g = {g:.4e} 1/s"
+                ),
+                par("g", g, "1/s"),
+            )
+        }
+        "velocity" => (
+            format!(
+                "d{ch}/dt (velocity): a damping force -gamma d{ch}/dt, gamma = {:.4e} 1/s",
+                -c
+            ),
+            par("gamma", -c, "1/s"),
+        ),
+        _ => (
+            format!("delay: the model shifted in time by {c:.4e} s (a trigger or timing delay)"),
+            par("delay", c, "s"),
+        ),
+    }
+}
+
+/// Central differences of `x` over `t` (one-sided at the ends).
+fn derivative(t: &[f64], x: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            if b > a {
+                (x[b] - x[a]) / (t[b] - t[a])
+            } else {
+                0.0
+            }
+        })
+        .collect()
 }
 
 /// The columns of a scanned kind at its parameter `value` (`creep`: tau [s]; `slip`, `impulse`:
@@ -632,21 +672,40 @@ pub fn refined_leading(
     prep: &Prepared,
     o: &FitOutcome,
     peaks: &[Peak],
+    opts: &crate::fit::FitOptions,
     max_iter: usize,
-) -> Option<KindFit> {
+) -> Result<Option<KindFit>, crate::FitError> {
     let (all, basis) = kinds(prep, o, peaks);
-    let mut lead = all.into_iter().next()?;
-    let penalty = lead.delta_bic + lead.delta_chi2;
-    let (d0, c0) = joint_fit(prep, o, &lead, max_iter);
-    lead.coefs = c0;
-    lead.delta_chi2 = d0.max(lead.delta_chi2);
-    lead.delta_bic = -lead.delta_chi2 + penalty;
+    // the three best by the score test, each fitted jointly: the best joint fit leads
+    let mut best: Option<(KindFit, Vec<f64>, f64)> = None;
+    for mut k in all.into_iter().take(3) {
+        let penalty = k.delta_bic + k.delta_chi2;
+        let from = refit_without(prep, o, &k, opts)?;
+        let (d, c) = joint_lm(prep, o, &k, &from, max_iter);
+        if d > k.delta_chi2 {
+            k.coefs = c;
+            k.delta_chi2 = d;
+            k.delta_bic = -d + penalty;
+            if state_shape(&[], &k.kind, &[]).is_some() {
+                let (term, parameter) = state_text(&k.kind, prep.channel, k.coefs[0]);
+                k.coefficient = k.coefs[0];
+                k.term = term;
+                k.parameter = parameter;
+            }
+        }
+        if best.as_ref().is_none_or(|b| k.delta_bic < b.0.delta_bic) {
+            best = Some((k, from, penalty));
+        }
+    }
+    let Some((mut lead, from, penalty)) = best else {
+        return Ok(None);
+    };
     let t = &prep.dataset.t;
     let Some(par) = lead.parameter.clone() else {
-        return Some(lead);
+        return Ok(Some(lead));
     };
     if scanned_shape(t, &lead.kind, par.value).is_none() || t.len() < 2 {
-        return Some(lead);
+        return Ok(Some(lead));
     }
     let span = t[t.len() - 1] - t[0];
     let dt = span / (t.len() - 1) as f64;
@@ -665,7 +724,7 @@ pub fn refined_leading(
         if let Some((c, _, _)) = basis.score(k.shape.clone()) {
             k.coefs = c;
         }
-        let (d, c) = joint_fit(prep, o, &k, max_iter);
+        let (d, c) = joint_lm(prep, o, &k, &from, max_iter);
         k.coefs = c;
         (d, k)
     };
@@ -704,7 +763,7 @@ pub fn refined_leading(
         kb.delta_bic = -db + penalty;
         lead = kb;
     }
-    Some(lead)
+    Ok(Some(lead))
 }
 
 /// The words of a scanned kind's term with coefficient `c` and parameter `v`.

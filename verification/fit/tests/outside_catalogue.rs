@@ -123,7 +123,28 @@ fn a_pendulum_mode_is_a_restoring_force_on_the_position_at_its_frequency() {
     eprintln!("injected peak {peak:.3e} m");
     let r = run(&prep, &TMMF);
     let f = assert_outside(&r, "position", "position");
-    assert!((f / f0 - 1.0).abs() < 0.2, "f0 {f} Hz against {f0}");
+    assert!((f / f0 - 1.0).abs() < 0.05, "f0 {f} Hz against {f0}");
+}
+
+/// At the public example's sampling (200 kHz, 1800 samples): on the 50 kHz records of the other
+/// tests the catalogue model absorbs a damping force to the noise (docs/fitting.md).
+#[test]
+fn a_damping_force_is_a_force_on_the_velocity_with_its_rate() {
+    let gamma = 100.0;
+    let mut sp = spec(Scenario::TmmfRelease, &TMMF, 10);
+    sp.fs_hz = 2e5;
+    let (prep, _, peak) = inject(&sp, |t, x| {
+        let x0 = x[t.iter().position(|&t| t >= 0.0).expect("a trigger")];
+        let xr: Vec<f64> = x.iter().map(|v| v - x0).collect();
+        integ(t, &xr).iter().map(|v| -gamma * v).collect()
+    });
+    eprintln!("injected peak {peak:.3e} m");
+    let r = run(&prep, &TMMF);
+    let g = assert_outside(&r, "velocity", "velocity");
+    assert!(
+        (g / gamma - 1.0).abs() < 0.05,
+        "gamma {g} 1/s against {gamma}"
+    );
 }
 
 #[test]
@@ -159,15 +180,16 @@ fn a_floor_vibration_is_a_sinusoid_at_its_frequency() {
 }
 
 /// 1.2 cycles in the record (the 137 Hz floor vibration): the periodogram cannot
-/// resolve it, the sinusoid fit does; the baseline model absorbs part of the cycle and the
-/// local joint refit does not undo all of it, so the frequency is asserted within 10 % (128.1 Hz
-/// measured at seed 48), and the sinusoid is reported as the first spectral peak.
+/// resolve it, the sinusoid fit does once the model is refitted with it (the baseline absorbs
+/// part of the cycle: the score test alone gave 128.1 Hz); frequency within 2 % (136.6 Hz at
+/// seed 48), reported as the first spectral peak, and `interferometer_cyclic` (which with
+/// `drift` brings this record to chi2_red 1.06) is not named.
 #[test]
 fn a_vibration_of_about_one_cycle_in_the_record_is_still_a_sinusoid() {
     let f = 137.0;
     let r = vibration(f, 48);
     let got = assert_outside(&r, "vibration", "periodic");
-    assert!((got / f - 1.0).abs() < 0.1, "f {got} Hz against {f}");
+    assert!((got / f - 1.0).abs() < 0.02, "f {got} Hz against {f}");
     let p = r.residual.peaks.first().expect("a peak");
     assert!((p.hz - got).abs() < 1e-9, "peak at {} Hz", p.hz);
 }
@@ -182,10 +204,7 @@ fn piezo_creep_is_a_logarithm_of_time() {
     });
     let r = run(&prep, &RT);
     let got = assert_outside(&r, "creep", "time");
-    assert!(
-        got / tau > 0.5 && got / tau < 2.0,
-        "tau {got} s against {tau}"
-    );
+    assert!((got / tau - 1.0).abs() < 0.5, "tau {got} s against {tau}");
 }
 
 #[test]
@@ -197,5 +216,5 @@ fn a_trigger_delay_of_the_tip_is_a_shift_of_the_time_axis() {
     eprintln!("injected peak {peak:.3e} m");
     let r = run(&prep, &RT);
     let got = assert_outside(&r, "delay", "time");
-    assert!((got / d - 1.0).abs() < 0.3, "delay {got} s against {d}");
+    assert!((got / d - 1.0).abs() < 0.1, "delay {got} s against {d}");
 }
