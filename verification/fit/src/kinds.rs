@@ -74,6 +74,9 @@ pub struct KindFit {
     /// Their coefficients (not serialised).
     #[serde(skip)]
     pub coefs: Vec<f64>,
+    /// The shift of a `delay` term's column [s] (its delay is `coefs[0] * scan`; not serialised).
+    #[serde(skip)]
+    pub scan: f64,
 }
 
 /// The residual and the fit's freedom, whitened and normalised as the fit sees them.
@@ -297,6 +300,7 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
                 delta_bic: -d + k as f64 * ln_n,
                 shape,
                 coefs,
+                scan: 0.0,
             });
         }
     };
@@ -305,12 +309,45 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
     for (kind, state, unit) in [
         ("position", format!("{ch} (position)"), "1/s^2"),
         ("velocity", format!("d{ch}/dt (velocity)"), "1/s"),
-        ("delay", "time (a shift of the time axis)".to_string(), "s"),
     ] {
-        let col = state_shape(t, kind, x).expect("a state kind");
+        let col = state_shape(t, kind, x, 0.0).expect("a state kind");
         push(kind, state, vec![col], false, unit, &|c| {
             state_text(kind, ch, c)
         });
+    }
+    // a shift of the time axis by d: x(t - d) - x(t), |d| scanned from a fifth of a sample to a
+    // twentieth of the record, both signs; the delay is the coefficient times d (a coefficient
+    // of 1 for a pure shift, and any product for a shift small enough to be linear)
+    let mut shift_best = (0.0, f64::NEG_INFINITY);
+    let mut delay_d = None;
+    for sign in [1.0, -1.0] {
+        let b = scan(
+            0.2 * dt,
+            (0.05 * span).max(0.4 * dt),
+            24,
+            true,
+            0.01,
+            &|d| {
+                let col = state_shape(t, "delay", x, sign * d).expect("a state kind");
+                basis.score(vec![col]).map_or(f64::NEG_INFINITY, |s| s.2)
+            },
+        );
+        if b.1 > shift_best.1 {
+            shift_best = (sign * b.0, b.1);
+        }
+    }
+    if shift_best.1.is_finite() {
+        let d = shift_best.0;
+        let col = state_shape(t, "delay", x, d).expect("a state kind");
+        push(
+            "delay",
+            "time (a shift of the time axis)".into(),
+            vec![col],
+            true,
+            "s",
+            &|c| state_text("delay", ch, c * d),
+        );
+        delay_d = Some(d);
     }
     if t_end > 4.0 * dt {
         let post = t_end;
@@ -442,6 +479,13 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
             },
         );
     }
+    if let Some(d) = delay_d
+        && let Some(k) = out.iter_mut().find(|k| k.kind == "delay")
+    {
+        k.scan = d;
+        k.coefficient *= d;
+        k.sigma *= d.abs();
+    }
     out.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
     (out, basis)
 }
@@ -464,9 +508,19 @@ pub fn refit_without(
         .channels
         .get_mut(prep.channel)
         .expect("the fitted channel");
-    for (j, col) in kind.shape.iter().enumerate() {
-        for (v, s) in ch.iter_mut().zip(col) {
-            *v -= kind.coefs[j] * s;
+    if kind.kind == "delay" {
+        // the data shifted back by the delay
+        let d = kind.coefficient;
+        let t = &prep.dataset.t;
+        let data = prep.data();
+        for (v, &ti) in ch.iter_mut().zip(t) {
+            *v = interp(t, data, ti + d);
+        }
+    } else {
+        for (j, col) in kind.shape.iter().enumerate() {
+            for (v, s) in ch.iter_mut().zip(col) {
+                *v -= kind.coefs[j] * s;
+            }
         }
     }
     let mut starts = vec![o.p.clone()];
@@ -531,7 +585,7 @@ pub fn joint_lm(
         }
         let raw = o.model.predict(&p, t, &prep.inputs);
         // a term on the model's own state follows the model as it moves
-        let moving = state_shape(t, &kind.kind, &raw).map(|mut s| {
+        let moving = state_shape(t, &kind.kind, &raw, kind.scan).map(|mut s| {
             prep.normalise(&mut s, sigma);
             s
         });
@@ -553,14 +607,36 @@ pub fn joint_lm(
         max_iter,
         ..LmOptions::default()
     };
+    if kind.kind == "delay" && kind.scan != 0.0 {
+        // a pure shift: the model delayed by d, d fitted with the model's parameters
+        let sd = (t[t.len() - 1] - t[0]) / (t.len().max(2) - 1) as f64;
+        let g = |u: &[f64]| {
+            let mut p = from.to_vec();
+            for (k, &i) in fidx.iter().enumerate() {
+                p[i] = from_u(&specs[i], u[k]);
+            }
+            let raw = o.model.predict(&p, t, &prep.inputs);
+            let d = u[nm] * sd;
+            let mut v: Vec<f64> = t.iter().map(|&ti| interp(t, &raw, ti - d)).collect();
+            prep.normalise(&mut v, sigma);
+            for (vi, x) in v.iter_mut().zip(&data) {
+                *vi -= x;
+            }
+            v
+        };
+        let mut u0 = u0[..nm].to_vec();
+        u0.push(kind.coefficient / sd);
+        let r = crate::lm::minimize(&g, &u0, &lo[..nm + 1], &hi[..nm + 1], &opts);
+        return (o.chi2 - r.cost, vec![r.u[nm] * sd / kind.scan]);
+    }
     let r = crate::lm::minimize(&f, &u0, &lo, &hi, &opts);
     let coefs = (0..w.len()).map(|j| r.u[nm + j] * sc[j]).collect();
     (o.chi2 - r.cost, coefs)
 }
 
-/// The column of a kind on the model's state (`position`, `velocity`, `delay`) for the model's
-/// prediction `x`; `None` for the other kinds.
-fn state_shape(t: &[f64], kind: &str, x: &[f64]) -> Option<Vec<f64>> {
+/// The column of a kind on the model's state (`position`, `velocity`, `delay` by `d` [s]) for
+/// the model's prediction `x`; `None` for the other kinds.
+fn state_shape(t: &[f64], kind: &str, x: &[f64], d: f64) -> Option<Vec<f64>> {
     let n = x.len();
     match kind {
         "position" => Some(integ(t, &integ(t, x))),
@@ -574,8 +650,30 @@ fn state_shape(t: &[f64], kind: &str, x: &[f64]) -> Option<Vec<f64>> {
             let xr: Vec<f64> = x.iter().map(|v| v - x0).collect();
             Some(integ(t, &xr))
         }
-        "delay" => Some(derivative(t, x).iter().map(|v| -v).collect()),
+        "delay" => Some(
+            t.iter()
+                .zip(x)
+                .map(|(&ti, &xi)| interp(t, x, ti - d) - xi)
+                .collect(),
+        ),
         _ => None,
+    }
+}
+
+/// `x` at time `at` by linear interpolation over `t` (held at the ends).
+fn interp(t: &[f64], x: &[f64], at: f64) -> f64 {
+    let n = t.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let j = t.partition_point(|&v| v <= at);
+    if j == 0 {
+        x[0]
+    } else if j >= n {
+        x[n - 1]
+    } else {
+        let a = (at - t[j - 1]) / (t[j] - t[j - 1]);
+        x[j - 1] + a * (x[j] - x[j - 1])
     }
 }
 
@@ -621,21 +719,6 @@ fn state_text(kind: &str, ch: &str, c: f64) -> (String, Option<TermParameter>) {
     }
 }
 
-/// Central differences of `x` over `t` (one-sided at the ends).
-fn derivative(t: &[f64], x: &[f64]) -> Vec<f64> {
-    let n = x.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
-            if b > a {
-                (x[b] - x[a]) / (t[b] - t[a])
-            } else {
-                0.0
-            }
-        })
-        .collect()
-}
-
 /// The columns of a scanned kind at its parameter `value` (`creep`: tau [s]; `slip`, `impulse`:
 /// t0 [s]; `vibration`: f [Hz]); `None` for the kinds without a scanned parameter.
 fn scanned_shape(t: &[f64], kind: &str, value: f64) -> Option<Vec<Vec<f64>>> {
@@ -676,9 +759,17 @@ pub fn refined_leading(
     max_iter: usize,
 ) -> Result<Option<KindFit>, crate::FitError> {
     let (all, basis) = kinds(prep, o, peaks);
-    // the three best by the score test, each fitted jointly: the best joint fit leads
+    // the three best by the score test, and the delay (a pure shift, which the model can
+    // absorb nonlinearly far beyond what the score test sees), each fitted jointly: the best
+    // joint fit leads
     let mut best: Option<(KindFit, Vec<f64>, f64)> = None;
-    for mut k in all.into_iter().take(3) {
+    let tried: Vec<KindFit> = all
+        .iter()
+        .enumerate()
+        .filter(|(i, k)| *i < 3 || k.kind == "delay")
+        .map(|(_, k)| k.clone())
+        .collect();
+    for mut k in tried {
         let penalty = k.delta_bic + k.delta_chi2;
         let from = refit_without(prep, o, &k, opts)?;
         let (d, c) = joint_lm(prep, o, &k, &from, max_iter);
@@ -686,9 +777,14 @@ pub fn refined_leading(
             k.coefs = c;
             k.delta_chi2 = d;
             k.delta_bic = -d + penalty;
-            if state_shape(&[], &k.kind, &[]).is_some() {
-                let (term, parameter) = state_text(&k.kind, prep.channel, k.coefs[0]);
-                k.coefficient = k.coefs[0];
+            if state_shape(&[], &k.kind, &[], 0.0).is_some() {
+                let c = if k.kind == "delay" {
+                    k.coefs[0] * k.scan
+                } else {
+                    k.coefs[0]
+                };
+                let (term, parameter) = state_text(&k.kind, prep.channel, c);
+                k.coefficient = c;
                 k.term = term;
                 k.parameter = parameter;
             }

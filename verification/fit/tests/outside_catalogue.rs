@@ -218,3 +218,32 @@ fn a_trigger_delay_of_the_tip_is_a_shift_of_the_time_axis() {
     let got = assert_outside(&r, "delay", "time");
     assert!((got / d - 1.0).abs() < 0.1, "delay {got} s against {d}");
 }
+
+/// `x` at `at` by linear interpolation (held at the ends).
+fn interp(t: &[f64], x: &[f64], at: f64) -> f64 {
+    let j = t.partition_point(|&v| v <= at);
+    if j == 0 {
+        x[0]
+    } else if j >= t.len() {
+        x[t.len() - 1]
+    } else {
+        let a = (at - t[j - 1]) / (t[j] - t[j - 1]);
+        x[j - 1] + a * (x[j] - x[j - 1])
+    }
+}
+
+/// A true shift of 5 us (five samples, as long as the tip's first rise: far from the first-order
+/// `-d dx/dt` of the test above): the record is the truth at `t - d`.
+#[test]
+fn a_trigger_delay_of_five_samples_is_still_a_shift_of_the_time_axis() {
+    let d = 5e-6;
+    let (prep, _, _) = inject(&spec(Scenario::RtRetraction, &RT, 49), |t, x| {
+        t.iter()
+            .zip(x)
+            .map(|(&ti, &xi)| interp(t, x, ti - d) - xi)
+            .collect()
+    });
+    let r = run(&prep, &RT);
+    let got = assert_outside(&r, "delay", "time");
+    assert!((got / d - 1.0).abs() < 0.05, "delay {got} s against {d}");
+}
