@@ -351,84 +351,57 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
     }
     if t_end > 4.0 * dt {
         let post = t_end;
-        // creep: ln(1 + t / tau)
-        let creep = |tau: f64| -> Vec<f64> {
-            t.iter()
-                .map(|&t| if t > 0.0 { (t / tau).ln_1p() } else { 0.0 })
-                .collect()
-        };
-        let (tau, _) = scan(dt, 3.0 * post, 24, true, 0.02, &|tau| {
-            basis
-                .score(vec![creep(tau)])
-                .map_or(f64::NEG_INFINITY, |s| s.2)
-        });
-        push(
-            "creep",
-            "time since the trigger (logarithmic)".into(),
-            vec![creep(tau)],
-            true,
-            "m",
-            &|c| {
+        // creep over a log grid of tau; a step in position and in velocity over t0
+        for (kind, state, unit, name, lo, hi, m, log, tol) in [
+            (
+                "creep",
+                "time since the trigger (logarithmic)",
+                "m",
+                "tau",
+                dt,
+                3.0 * post,
+                24,
+                true,
+                0.02,
+            ),
+            (
+                "slip",
+                "time since the trigger (a jump)",
+                "m",
+                "t0",
+                2.0 * dt,
+                post - 2.0 * dt,
+                200,
+                false,
+                0.5 * dt,
+            ),
+            (
+                "impulse",
+                "time since the trigger (a velocity jump)",
+                "m/s",
+                "t0",
+                2.0 * dt,
+                post - 2.0 * dt,
+                200,
+                false,
+                0.5 * dt,
+            ),
+        ] {
+            let cols = |v: f64| scanned_shape(t, kind, v).expect("a scanned kind");
+            let (v, _) = scan(lo, hi, m, log, tol, &|v| {
+                basis.score(cols(v)).map_or(f64::NEG_INFINITY, |s| s.2)
+            });
+            push(kind, state.into(), cols(v), true, unit, &|c| {
                 (
-                    term_text("creep", c, tau),
+                    term_text(kind, c, v),
                     Some(TermParameter {
-                        name: "tau".into(),
-                        value: tau,
+                        name: name.into(),
+                        value: v,
                         unit: "s".into(),
                     }),
                 )
-            },
-        );
-        // a step in position and a step in velocity at t0
-        let step =
-            |t0: f64| -> Vec<f64> { t.iter().map(|&t| if t >= t0 { 1.0 } else { 0.0 }).collect() };
-        let kink = |t0: f64| -> Vec<f64> { t.iter().map(|&t| (t - t0).max(0.0)).collect() };
-        let lo = 2.0 * dt;
-        let hi = post - 2.0 * dt;
-        let (t0, _) = scan(lo, hi, 200, false, 0.5 * dt, &|t0| {
-            basis
-                .score(vec![step(t0)])
-                .map_or(f64::NEG_INFINITY, |s| s.2)
-        });
-        push(
-            "slip",
-            "time since the trigger (a jump)".into(),
-            vec![step(t0)],
-            true,
-            "m",
-            &|c| {
-                (
-                    term_text("slip", c, t0),
-                    Some(TermParameter {
-                        name: "t0".into(),
-                        value: t0,
-                        unit: "s".into(),
-                    }),
-                )
-            },
-        );
-        let (t1, _) = scan(lo, hi, 200, false, 0.5 * dt, &|t0| {
-            basis
-                .score(vec![kink(t0)])
-                .map_or(f64::NEG_INFINITY, |s| s.2)
-        });
-        push(
-            "impulse",
-            "time since the trigger (a velocity jump)".into(),
-            vec![kink(t1)],
-            true,
-            "m/s",
-            &|c| {
-                (
-                    term_text("impulse", c, t1),
-                    Some(TermParameter {
-                        name: "t0".into(),
-                        value: t1,
-                        unit: "s".into(),
-                    }),
-                )
-            },
-        );
+            });
+        }
     }
     // a vibration: the whole record
     let sincos = |f: f64| -> Vec<Vec<f64>> {
