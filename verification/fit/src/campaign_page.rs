@@ -374,17 +374,27 @@ pub fn markdown(r: &CampaignReport, source: &str, effects: &[&str], plots: &[&st
         }
     }
     m.push_str("\n## Adhesion population (measurement errors deconvolved)\n\n");
-    m.push_str("| parameter | unit | mean | 1-sigma of the mean | spread (sd) | 1-sigma of the spread | releases |\n");
-    m.push_str("|---|---|---|---|---|---|---|\n");
+    m.push_str("| parameter | unit | mean | 1-sigma of the mean | 95 % interval (Hartung-Knapp) | spread (sd) | 1-sigma of the spread | 95 % interval (Q-profile) | releases |\n");
+    m.push_str("|---|---|---|---|---|---|---|---|---|\n");
     for (name, unit) in [("tip_adhesion.A1", "N/m"), ("tip_adhesion.lambda", "m")] {
         if let Some(p) = r.population.get(name) {
             let f = |k: &str| e4(p.get(k).and_then(|v| v.as_f64()).unwrap_or(f64::NAN));
+            let ci = |k: &str| match p.get(k).and_then(|v| v.as_array()) {
+                Some(a) if a.len() == 2 => format!(
+                    "[{}, {}]",
+                    e4(a[0].as_f64().unwrap_or(f64::NAN)),
+                    e4(a[1].as_f64().unwrap_or(f64::NAN))
+                ),
+                _ => "-".into(),
+            };
             m.push_str(&format!(
-                "| {name} | {unit} | {} | {} | {} | {} | {} |\n",
+                "| {name} | {unit} | {} | {} | {} | {} | {} | {} | {} |\n",
                 f("mean"),
                 f("mean_sigma"),
+                ci("mean_ci95"),
                 f("sd"),
                 f("sd_sigma"),
+                ci("sd_ci95"),
                 p.get("n").map_or("-".into(), |v| v.to_string())
             ));
         }

@@ -28,7 +28,7 @@ pub struct Args {
     /// Bound a parameter: effect.param=LO:HI, repeatable.
     #[arg(long = "bound", value_name = "NAME=LO:HI")]
     pub bound: Vec<String>,
-    /// Seed of the population's bootstrap.
+    /// Seed of the bootstrap of the A1-lambda correlation's interval.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Reports folder, as for `verify`: the campaign's page (campaign.md, campaign.json,
