@@ -279,6 +279,21 @@ fn attribute_names_can_be_given() {
     );
 }
 
+/// Other tools name the statement and the identifier differently: DOORS Next's "Primary Text"
+/// and a generic "Requirement ID" are read as ReqIF.Text and IE PUID are.
+#[test]
+fn other_tools_attribute_names_are_read() {
+    let (name, text) = fixture("doors-capella-sample.reqif");
+    let (_, want) = import_to_set(&name, &text, &ImportOptions::default());
+    let renamed = text
+        .replace("LONG-NAME=\"ReqIF.Text\"", "LONG-NAME=\"Primary Text\"")
+        .replace("LONG-NAME=\"IE PUID\"", "LONG-NAME=\"Requirement ID\"");
+    assert_ne!(renamed, text);
+    let (_, got) = import_to_set(&name, &renamed, &ImportOptions::default());
+    assert_eq!(content(&got), content(&want));
+    assert!(!got.items.is_empty() && got.items.iter().all(|r| !r.text.is_empty()));
+}
+
 /// Imports `text`, loads the YAML, exports it, imports and exports again: the two exports are
 /// the same apart from the creation time and the two loaded sets are the same.
 fn assert_round_trip(name: &Path, text: &str, o: &ImportOptions) -> Requirements {
