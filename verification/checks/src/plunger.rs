@@ -167,9 +167,25 @@ fn perr(e: impl std::fmt::Display) -> CheckError {
 pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckError> {
     let mut out = String::new();
     {
-        let root = SVGBackend::with_string(&mut out, (900, 520)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut out, (900, 700)).into_drawing_area();
         root.fill(&WHITE).map_err(perr)?;
-        let (y0, y1) = (1e-5, 10.0);
+        // the axis holds every curve whole: from the power of ten below the smallest ratio met
+        // after release to the one above the largest (a curve clipped flat at the floor hid the
+        // 0.5 V revision's minimum)
+        let (lo, hi) = cases
+            .iter()
+            .flat_map(|(_, _, r)| r.trace.iter().map(|p| p.4))
+            .filter(|v| *v > 0.0 && v.is_finite())
+            .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        let (y0, y1) = if lo.is_finite() && hi > 0.0 {
+            (
+                10f64.powf(lo.log10().floor()).min(1e-3),
+                // a decade of headroom: the legend sits above the curves
+                10f64.powf(hi.log10().ceil() + 1.0).max(1.0),
+            )
+        } else {
+            (1e-5, 10.0)
+        };
         let mut c = ChartBuilder::on(&root)
             .caption(
                 "Plunger attraction: |net force| / DFACS authority (5e-7 N)",
@@ -184,7 +200,13 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
             .x_desc("time after release [s]")
             .y_desc("|F| / u_max (log)")
             .label_style(("sans-serif", 16))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .y_label_formatter(&|v| {
+                if *v >= 1.0 {
+                    format!("{v:.0}")
+                } else {
+                    format!("{v:.0e}")
+                }
+            })
             .draw()
             .map_err(perr)?;
         let colours = [
@@ -200,7 +222,12 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
             } else {
                 col.stroke_width(1)
             };
-            let pts: Vec<(f64, f64)> = r.trace.iter().map(|p| (p.0, p.4.clamp(y0, y1))).collect();
+            let pts: Vec<(f64, f64)> = r
+                .trace
+                .iter()
+                .filter(|p| p.4 > 0.0)
+                .map(|p| (p.0, p.4))
+                .collect();
             c.draw_series(LineSeries::new(pts, style))
                 .map_err(perr)?
                 .label(format!(
@@ -228,7 +255,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
         c.configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
-            .label_font(("sans-serif", 13))
+            .label_font(("sans-serif", 15))
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(perr)?;

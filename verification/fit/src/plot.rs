@@ -66,6 +66,25 @@ fn log_tick(v: &f64) -> String {
     }
 }
 
+/// The 1-2-5 values of `[lo, hi]` (only the powers of ten when they span more than three
+/// decades): the tick and grid values of a log axis, each once (plotters' own key points may
+/// hold two values a rounding apart, which printed a label twice).
+fn log_keys(lo: f64, hi: f64) -> Vec<f64> {
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        return Vec::new();
+    }
+    let mants: &[f64] = if hi / lo > 1e3 {
+        &[1.0]
+    } else {
+        &[1.0, 2.0, 5.0]
+    };
+    let (e0, e1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    (e0..=e1)
+        .flat_map(|e| mants.iter().map(move |m| m * 10f64.powi(e)))
+        .filter(|v| *v >= lo && *v <= hi)
+        .collect()
+}
+
 const FAIL: RGBColor = RGBColor(255, 200, 200);
 
 /// Renders data and model (top) and the residual with its +-3 sigma band (bottom), failure
@@ -261,7 +280,10 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
                 .margin(12)
                 .x_label_area_size(45)
                 .y_label_area_size(80)
-                .build_cartesian_2d(0.5..n + 0.5, (lo..hi).log_scale())
+                .build_cartesian_2d(
+                    0.5..n + 0.5,
+                    (lo..hi).log_scale().with_key_points(log_keys(lo, hi)),
+                )
                 .map_err(perr)?;
             c.configure_mesh()
                 .x_labels(2 * entries.len() + 1)
