@@ -40,6 +40,12 @@ table.vcd col.c-id{width:8%}table.vcd col.c-req{width:20%}table.vcd col.c-lvl{wi
 table.vcd col.c-ev{width:23%}table.vcd col.c-val{width:9%}table.vcd col.c-co{width:15%}
 table.vcd col.c-rem{width:10%}table.vcd col.c-rv{width:5%}
 table.vcd td{overflow-wrap:break-word}
+table.matrix{table-layout:fixed}
+table.matrix col.m-id{width:11%}table.matrix col.m-t{width:11%}table.matrix col.m-me{width:10%}
+table.matrix col.m-st{width:12%}table.matrix col.m-b{width:9%}table.matrix col.m-v{width:10%}
+table.matrix col.m-l{width:11%}table.matrix col.m-mg{width:7%}table.matrix col.m-ev{width:10%}
+table.matrix col.m-te{width:9%}
+table.matrix td{overflow-wrap:break-word}table.matrix td.num{white-space:normal;overflow-wrap:normal}
 table{border-collapse:collapse;width:100%;margin:.6em 0 1.4em 0;font-size:.9em;background:#fff}
 th,td{border:1px solid #d8dde6;padding:.35em .5em;text-align:left;vertical-align:top}
 th{background:#eef1f6;position:sticky;top:0}
@@ -277,7 +283,9 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         "<h2 id=\"matrix\">2 Compliance matrix{UP}</h2><div class=\"filters\">\
          <button data-filter=\"all\">all</button><button data-filter=\"compliant\">compliant</button>\
          <button data-filter=\"non-compliant\">non-compliant</button><button data-filter=\"not-verified\">not-verified</button></div>\
-         <table><thead><tr><th>ID</th><th>Title</th><th>Method</th><th>Status</th><th>Basis</th><th>Value</th><th>Limit</th><th>Margin</th><th>Evidence</th><th>Tests</th></tr></thead><tbody>"
+         <table class=\"matrix\"><colgroup><col class=\"m-id\"><col class=\"m-t\"><col class=\"m-me\"><col class=\"m-st\"><col class=\"m-b\">\
+         <col class=\"m-v\"><col class=\"m-l\"><col class=\"m-mg\"><col class=\"m-ev\"><col class=\"m-te\"></colgroup>\
+         <thead><tr><th>ID</th><th>Title</th><th>Method</th><th>Status</th><th>Basis</th><th>Value</th><th>Limit</th><th>Margin</th><th>Evidence</th><th>Tests</th></tr></thead><tbody>"
     );
     let run = m.test_run.is_some();
     for r in &m.requirements {
