@@ -208,6 +208,14 @@ fn class3_garbage_is_never_reported_as_success() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["captured"], false);
     assert!(v["quartic_sum"].as_f64().unwrap().is_finite());
+    // and its text says so in one short line (it printed the sum's 309 digits)
+    let o = geodesic(&["capture", "--vz", "1e308"], &d);
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    let first = out.lines().next().unwrap_or_default();
+    assert!(
+        first.len() < 60 && first.ends_with("NOT captured"),
+        "{first}"
+    );
     assert!(!String::from_utf8_lossy(&o.stdout).contains("null"));
     // merge parts: a flipped exponent bit, a NaN velocity, an empty or huge shard count
     let [p1, p2] = parts(&d);

@@ -221,9 +221,15 @@ fn to_json(
 }
 
 fn print_text(xlim: &Xlim, eval: &Evaluation, prob: Option<&(CaptureProbability, String)>) {
+    // six decimals where the sum is near the boundary; powers of ten where it is far beyond
+    // (a state far outside the box gives sums up to the largest float, 309 digits in `{:.6}`)
+    let sum = if eval.quartic_sum.abs() < 1e6 {
+        format!("{:.6}", eval.quartic_sum)
+    } else {
+        format!("{:.6e}", eval.quartic_sum)
+    };
     println!(
-        "quartic sum {:.6} -> {}",
-        eval.quartic_sum,
+        "quartic sum {sum} -> {}",
         if eval.captured {
             "captured"
         } else {
