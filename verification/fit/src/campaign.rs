@@ -150,17 +150,16 @@ fn t_two_sided(t: f64, nu: usize) -> f64 {
     }
 }
 
-/// Student-t quantile `t_{nu}(p)` for `p` > 0.5 and integer `nu` >= 1: bisection on the exact
-/// distribution function [`t_two_sided`] (checked against tabulated values in the tests).
-pub fn t_quantile(nu: usize, p: f64) -> f64 {
-    let target = 2.0 * p - 1.0;
-    let (mut lo, mut hi) = (0.0, 1.0);
-    while t_two_sided(hi, nu.max(1)) < target && hi < 1e12 {
+/// The `x >= 0` where the increasing `g` reaches `target`: doubling from `x0` to bracket it,
+/// then bisection to a relative 1e-14.
+fn invert_increasing(g: impl Fn(f64) -> f64, target: f64, x0: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, x0);
+    while g(hi) < target && hi < 1e12 {
         hi *= 2.0;
     }
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if t_two_sided(mid, nu.max(1)) < target {
+        if g(mid) < target {
             lo = mid;
         } else {
             hi = mid;
@@ -170,6 +169,12 @@ pub fn t_quantile(nu: usize, p: f64) -> f64 {
         }
     }
     0.5 * (lo + hi)
+}
+
+/// Student-t quantile `t_{nu}(p)` for `p` > 0.5 and integer `nu` >= 1: the exact distribution
+/// function [`t_two_sided`] inverted (checked against tabulated values in the tests).
+pub fn t_quantile(nu: usize, p: f64) -> f64 {
+    invert_increasing(|t| t_two_sided(t, nu.max(1)), 2.0 * p - 1.0, 1.0)
 }
 
 /// Chi-square survival function `P(X > x)` for `nu` (integer) degrees of freedom: the finite
@@ -209,24 +214,9 @@ fn chi2_sf(x: f64, nu: usize) -> f64 {
     }
 }
 
-/// Chi-square quantile: the `x` with `P(X > x) = q`, by bisection on [`chi2_sf`].
+/// Chi-square quantile: the `x` with `P(X > x) = q`, [`chi2_sf`] inverted.
 pub fn chi2_isf(q: f64, nu: usize) -> f64 {
-    let (mut lo, mut hi) = (0.0, nu.max(1) as f64);
-    while chi2_sf(hi, nu) > q && hi < 1e12 {
-        hi *= 2.0;
-    }
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if chi2_sf(mid, nu) > q {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        if hi - lo <= 1e-14 * hi {
-            break;
-        }
-    }
-    0.5 * (lo + hi)
+    invert_increasing(|x| -chi2_sf(x, nu), -q, nu.max(1) as f64)
 }
 
 /// The population of one parameter over the releases that have it, by the method of moments
