@@ -479,6 +479,20 @@ pub fn write_svg(path: &Path, svg: &str) -> Result<(), FitError> {
 mod tests {
     use super::*;
 
+    /// A log axis's keys are its 1-2-5 values inside the range, each once and increasing; over
+    /// more than three decades only the powers of ten (the history plot's axis printed 1e-8 twice).
+    #[test]
+    fn log_keys_are_the_1_2_5_values_each_once() {
+        let k = log_keys(4e-10, 1.4e-8);
+        let want = [5e-10, 1e-9, 2e-9, 5e-9, 1e-8];
+        assert_eq!(k.len(), want.len(), "{k:?}");
+        for (a, b) in k.iter().zip(want) {
+            assert!((a / b - 1.0).abs() < 1e-12, "{k:?}");
+        }
+        assert_eq!(log_keys(0.5, 2000.0), vec![1.0, 10.0, 100.0, 1000.0]);
+        assert!(log_keys(0.0, 1.0).is_empty() && log_keys(2.0, 1.0).is_empty());
+    }
+
     #[test]
     fn ticks_have_no_binary_noise() {
         assert_eq!(tick(&(0.1 + 0.2 - 0.3 + 1e-9)), "1e-9");
