@@ -106,8 +106,25 @@ fn integrate(
         }
         x
     };
+    // the tip's profile with its phase boundary and the displacement there computed once (the
+    // same expressions as `TipProfile::y`, so the same values), out of the RK4 stages
+    let (t1, jerk, v_tip) = (
+        inputs.profile.t1_s(),
+        inputs.profile.jerk_m_s3,
+        inputs.profile.v_m_s,
+    );
+    let y1 = jerk * t1 * t1 * t1 / 6.0;
+    let tip_y = |t: f64| -> f64 {
+        if t <= 0.0 {
+            0.0
+        } else if t < t1 {
+            jerk * t * t * t / 6.0
+        } else {
+            y1 + v_tip * (t - t1)
+        }
+    };
     let deriv = |t: f64, s: &[f64], ds: &mut [f64]| {
-        let y = inputs.profile.y(t);
+        let y = tip_y(t);
         let (x, v) = (s[0], s[1]);
         let mut f = 0.0;
         for &(e, pe, off, k) in &forces {
