@@ -34,6 +34,16 @@ pub struct Correlation {
     pub rho: f64,
 }
 
+/// A free parameter whose covariance sigma the data do not resolve ([`FitOutcome::unresolved`]).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Unresolved {
+    /// Parameter.
+    pub param: String,
+    /// Covariance 1-sigma from differences over half the steps divided by the one from the
+    /// steps used: about 2 when the sigma is made by the truncation error of the differences.
+    pub step_ratio: f64,
+}
+
 /// The fit object of interface.md (`geodesic fit --json`), extended.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct FitReport {
@@ -77,6 +87,12 @@ pub struct FitReport {
     pub params: BTreeMap<String, ParamOut>,
     /// Pairs of free parameters with |correlation| > 0.9.
     pub correlated: Vec<Correlation>,
+    /// Free parameters whose covariance sigma moves by more than 10 % when the difference
+    /// steps are halved: the data do not resolve them (a direction of parameters the record
+    /// does not constrain), and their `sigma` is then a lower bound unless the profile widened
+    /// it (docs/fitting.md). Absent when every sigma is resolved.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub unresolved: Vec<Unresolved>,
     /// Windows where the residual leaves the noise band.
     pub failures: Vec<Failure>,
     /// Tip profile fitted to `y` and driving the model (`tmmf-release`).
@@ -174,6 +190,14 @@ impl FitReport {
             whiteness,
             params,
             correlated,
+            unresolved: o
+                .unresolved()
+                .into_iter()
+                .map(|(i, r)| Unresolved {
+                    param: names[i].clone(),
+                    step_ratio: r,
+                })
+                .collect(),
             failures: failures(prep.channel, &prep.dataset.t, &resid, band),
             tip_profile: prep.profile,
             starts: o.starts,

@@ -168,6 +168,19 @@ pub fn summary(r: &FitReport) -> String {
     for c in &r.correlated {
         s += &format!("  correlated: {} ~ {} (rho {:.3})\n", c.a, c.b, c.rho);
     }
+    if !r.unresolved.is_empty() {
+        let list: Vec<String> = r
+            .unresolved
+            .iter()
+            .map(|u| format!("{} (x{:.2})", u.param, u.step_ratio))
+            .collect();
+        s += &format!(
+            "  not resolved by the data: {}: the covariance sigma moves by that factor when the \
+             difference steps are halved; read these sigmas as lower bounds (unless profiled \
+             wider) and the parameters together with the correlated pairs\n",
+            list.join(", ")
+        );
+    }
     for f in &r.failures {
         s += &format!(
             "  fails on {}: {:.4e} s .. {:.4e} s, peak {:.3e} ({:.1} sigma)\n",
