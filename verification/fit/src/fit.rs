@@ -451,13 +451,16 @@ fn fit_model_on(
         let target = inflate;
         let r2 = ratio * ratio;
         let cost_best = chi2 / r2;
-        let stop = std::sync::atomic::AtomicBool::new(false);
+        // one task per parameter and side (sixteen for eight parameters: two cores stay busy
+        // to the end); each returns its reach and the lowest point it met below the best fit
         #[allow(clippy::type_complexity)]
-        let widths: Vec<([f64; 2], Option<(f64, Vec<f64>)>)> = (0..n_free)
+        let sides: Vec<(f64, Option<(f64, Vec<f64>)>)> = (0..2 * n_free)
             .into_par_iter()
-            .map(|k| {
+            .map(|ks| {
+                let (k, side) = (ks / 2, ks % 2);
+                let sgn = if side == 0 { 1.0 } else { -1.0 };
                 let su = (cov[(k, k)].max(0.0) * inflate).sqrt();
-                let mut out = [su, su];
+                let mut out = su;
                 // the lowest point met below the best fit (by more than 0.01 in chi-square)
                 let mut lowest: Option<(f64, Vec<f64>)> = None;
                 if !(su.is_finite() && su > 0.0) {
@@ -479,68 +482,70 @@ fn fit_model_on(
                         if s.is_finite() { s } else { 0.0 }
                     })
                     .collect();
-                for (side, sgn) in [1.0f64, -1.0].into_iter().enumerate() {
-                    let mut step = su;
-                    let mut v0: Vec<f64> = others.iter().map(|&j| u[j]).collect();
-                    let mut uk_prev = u[k];
-                    for _ in 0..PROFILE_DOUBLINGS {
-                        let uk = (u[k] + sgn * step).clamp(lo[k], hi[k]);
-                        let at_bound = uk != u[k] + sgn * step;
-                        for (i, v) in v0.iter_mut().enumerate() {
-                            *v = (*v + slope[i] * (uk - uk_prev)).clamp(lo2[i], hi2[i]);
-                        }
-                        uk_prev = uk;
-                        let f = |v: &[f64]| {
-                            let mut w = v.to_vec();
-                            w.insert(k, uk);
-                            resid(&w, start)
-                        };
-                        // chi-square to 1 % of a unit: the profile compares it with `target`,
-                        // at least one unit
-                        let opts_p = LmOptions {
-                            max_iter: 60,
-                            atol: 0.01 / r2,
-                            ..LmOptions::default()
-                        };
-                        if stop.load(std::sync::atomic::Ordering::Relaxed) {
-                            break;
-                        }
-                        let r = minimize_with_steps(&f, &v0, &lo2, &hi2, &opts_p, Some(&steps2));
-                        if r.cost < cost_best - 0.01 / r2
-                            && lowest.as_ref().is_none_or(|(c, _)| r.cost < *c)
-                        {
-                            let mut w = r.u.clone();
-                            w.insert(k, uk);
-                            lowest = Some((r.cost, w));
-                            // the fit is refined from here and profiled again: stop profiling
-                            if depth < PROFILE_RESTARTS {
-                                stop.store(true, std::sync::atomic::Ordering::Relaxed);
-                            }
-                        }
-                        let dchi = ((r.cost - cost_best) * r2).max(0.0);
-                        let reach = (uk - u[k]).abs();
-                        if dchi >= target {
-                            out[side] = out[side].max(reach * (target / dchi).sqrt());
-                            break;
-                        }
-                        out[side] = out[side].max(reach);
-                        if at_bound {
-                            break;
-                        }
-                        v0 = r.u;
-                        step *= 2.0;
+                let mut step = su;
+                let mut v0: Vec<f64> = others.iter().map(|&j| u[j]).collect();
+                let mut uk_prev = u[k];
+                for _ in 0..PROFILE_DOUBLINGS {
+                    let uk = (u[k] + sgn * step).clamp(lo[k], hi[k]);
+                    let at_bound = uk != u[k] + sgn * step;
+                    for (i, v) in v0.iter_mut().enumerate() {
+                        *v = (*v + slope[i] * (uk - uk_prev)).clamp(lo2[i], hi2[i]);
                     }
+                    uk_prev = uk;
+                    let f = |v: &[f64]| {
+                        let mut w = v.to_vec();
+                        w.insert(k, uk);
+                        resid(&w, start)
+                    };
+                    // chi-square to 1 % of a unit: the profile compares it with `target`, at
+                    // least one unit
+                    let opts_p = LmOptions {
+                        max_iter: 60,
+                        atol: 0.01 / r2,
+                        ..LmOptions::default()
+                    };
+                    let r = minimize_with_steps(&f, &v0, &lo2, &hi2, &opts_p, Some(&steps2));
+                    if r.cost < cost_best - 0.01 / r2
+                        && lowest.as_ref().is_none_or(|(c, _)| r.cost < *c)
+                    {
+                        let mut w = r.u.clone();
+                        w.insert(k, uk);
+                        lowest = Some((r.cost, w));
+                        // the fit is refined from here and profiled again: this side stops
+                        // (the others run to their end, so that the point chosen does not
+                        // depend on the threads' timing)
+                        if depth < PROFILE_RESTARTS {
+                            break;
+                        }
+                    }
+                    let dchi = ((r.cost - cost_best) * r2).max(0.0);
+                    let reach = (uk - u[k]).abs();
+                    if dchi >= target {
+                        out = out.max(reach * (target / dchi).sqrt());
+                        break;
+                    }
+                    out = out.max(reach);
+                    if at_bound {
+                        break;
+                    }
+                    v0 = r.u;
+                    step *= 2.0;
                 }
                 (out, lowest)
             })
             .collect();
         // a profile that went below the best fit shows that the refinement stopped short of
-        // the optimum (a sloppy valley): refine again from the lowest point met, so that the
-        // fit reported, and every comparison of models made from it, is an optimum
-        let lowest = widths
-            .iter()
-            .filter_map(|(_, l)| l.as_ref())
-            .min_by(|a, b| a.0.total_cmp(&b.0));
+        // the optimum (a sloppy valley): refine again from the lowest point met (the first in
+        // parameter and side order among equals), so that the fit reported, and every
+        // comparison of models made from it, is an optimum
+        let mut lowest: Option<&(f64, Vec<f64>)> = None;
+        for (_, l) in &sides {
+            if let Some(c) = l
+                && lowest.is_none_or(|b| c.0 < b.0)
+            {
+                lowest = Some(c);
+            }
+        }
         if let Some((c, w)) = lowest
             && depth < PROFILE_RESTARTS
         {
@@ -554,7 +559,7 @@ fn fit_model_on(
             o.starts = starts.len();
             return Ok(o);
         }
-        let widths: Vec<[f64; 2]> = widths.into_iter().map(|(w, _)| w).collect();
+        let widths: Vec<[f64; 2]> = sides.chunks(2).map(|c| [c[0].0, c[1].0]).collect();
         for (k, &i) in fidx.iter().enumerate() {
             let up = (from_u(&specs[i], u[k] + widths[k][0]) - p[i]).abs();
             let down = (p[i] - from_u(&specs[i], u[k] - widths[k][1])).abs();
@@ -1240,6 +1245,37 @@ mod tests {
         );
         let k = o.model.index("needle_contact.F_pre").unwrap();
         assert!(o.sigma_p[k] < 0.5 * o.p[k], "{} {}", o.sigma_p[k], o.p[k]);
+    }
+
+    /// A profiled fit gives the same bits on one thread and on two: the Jacobian's columns and
+    /// the profile's sides run in parallel, each with its own fixed arithmetic, and a restart
+    /// from a point below the best fit is chosen once every side has run (not by whichever
+    /// thread met one first).
+    #[test]
+    fn a_profiled_fit_does_not_depend_on_the_thread_count() {
+        let prep = retraction();
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    fit(
+                        &prep,
+                        &["piezo", "voltage_ramp"],
+                        &FitOptions {
+                            profile: true,
+                            ..Default::default()
+                        },
+                    )
+                    .unwrap()
+                })
+        };
+        let (a, b) = (run(1), run(2));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&a.p), bits(&b.p));
+        assert_eq!(bits(&a.sigma_p), bits(&b.sigma_p));
+        assert_eq!(a.chi2.to_bits(), b.chi2.to_bits());
     }
 
     /// The step test of the covariance tells the parameters the data resolve from the ones

@@ -7,6 +7,7 @@
 //! the damping, projection and stopping rules in one readable place.
 
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
 
 /// Options of [`minimize`].
 #[derive(Debug, Clone, Copy)]
@@ -80,7 +81,11 @@ pub fn jacobian<F: Fn(&[f64]) -> Vec<f64>>(
 /// Forward-difference Jacobian columns of `f` at `u` (`r0 = f(u)`), one vector per entry of `u`
 /// (the layout the normal equations read without a transposed copy), with the step `h[k]` for
 /// entry `k` (see [`fd_steps`]).
-pub fn jacobian_columns<F: Fn(&[f64]) -> Vec<f64>>(
+///
+/// The columns are evaluated in parallel (each is one model evaluation; a refinement or a
+/// profile point is otherwise one thread's work); each column's arithmetic is the same whatever
+/// the thread count.
+pub fn jacobian_columns<F: Fn(&[f64]) -> Vec<f64> + Sync>(
     f: &F,
     u: &[f64],
     r0: &[f64],
@@ -88,19 +93,19 @@ pub fn jacobian_columns<F: Fn(&[f64]) -> Vec<f64>>(
     hi: &[f64],
     h: &[f64],
 ) -> Vec<Vec<f64>> {
-    let mut up = u.to_vec();
-    let mut cols = Vec::with_capacity(u.len());
-    for k in 0..u.len() {
-        let step = away_from_bound(u[k], h[k], lo[k], hi[k]);
-        up[k] = u[k] + step;
-        let mut c = f(&up);
-        for (ci, r) in c.iter_mut().zip(r0) {
-            *ci = (*ci - r) / step;
-        }
-        cols.push(c);
-        up[k] = u[k];
-    }
-    cols
+    (0..u.len())
+        .into_par_iter()
+        .map(|k| {
+            let mut up = u.to_vec();
+            let step = away_from_bound(u[k], h[k], lo[k], hi[k]);
+            up[k] = u[k] + step;
+            let mut c = f(&up);
+            for (ci, r) in c.iter_mut().zip(r0) {
+                *ci = (*ci - r) / step;
+            }
+            c
+        })
+        .collect()
 }
 
 /// `h`, or `-h` when `u + h` would cross an active upper bound.
@@ -214,7 +219,7 @@ fn cost_of(r: &[f64]) -> f64 {
 }
 
 /// Minimises `sum f(u)^2` from `u0` within `[lo, hi]`.
-pub fn minimize<F: Fn(&[f64]) -> Vec<f64>>(
+pub fn minimize<F: Fn(&[f64]) -> Vec<f64> + Sync>(
     f: &F,
     u0: &[f64],
     lo: &[f64],
@@ -227,7 +232,7 @@ pub fn minimize<F: Fn(&[f64]) -> Vec<f64>>(
 /// [`minimize`] with the finite-difference steps given (from [`fd_steps`] at a nearby point:
 /// a profile likelihood makes dozens of short fits around one optimum) instead of chosen at
 /// `u0`.
-pub fn minimize_with_steps<F: Fn(&[f64]) -> Vec<f64>>(
+pub fn minimize_with_steps<F: Fn(&[f64]) -> Vec<f64> + Sync>(
     f: &F,
     u0: &[f64],
     lo: &[f64],
