@@ -1,6 +1,7 @@
 //! Criterion benchmarks of the identification fits: the forward model of each scenario, and
 //! `fit` with the right model at 2 000, 20 000 and 400 000 samples (tmmf-release: 200 kHz, the
-//! facility's rate, for 10 ms, 100 ms and 2 s; rt-retraction: 1 MHz for 2 ms and 20 ms), and
+//! facility's rate, for 10 ms, 100 ms and 2 s; rt-retraction: 1 MHz for 2 ms, 20 ms, 0.4 s and
+//! 1 s), and
 //! `diagnose` of the 400 000-sample TMMF release. The
 //! throughput is in samples, so criterion prints the cost per sample; the datasets are
 //! synthesized in memory with `synth`'s code (fixed seeds).
@@ -77,9 +78,8 @@ fn fits(c: &mut Criterion) {
         (
             Scenario::RtRetraction,
             &RT[..],
-            // 400 000 and 1 000 000 rows are left out: the refinement of the retraction on the
-            // whole record does not finish in minutes yet (README, "Fit speed")
-            &[2_000usize, 20_000][..],
+            // 1 MHz: 2 ms, 20 ms, 0.4 s and 1 s (the mechanism tests' rate)
+            &[2_000usize, 20_000, 400_000, 1_000_000][..],
         ),
     ] {
         for &n in sizes {
