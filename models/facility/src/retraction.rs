@@ -255,21 +255,7 @@ impl RtConfig {
     /// exact propagation of the linear ODE (matrix exponential, see [`propagator`]).
     pub fn retraction(&self, times: &[f64]) -> Vec<f64> {
         let d0 = self.d0_m();
-        let kk = self.k_n_m + self.t_c_m * self.t_c_m / self.ca_f;
-        let omega = (kk / self.m_kg).sqrt();
-        // state scales: charge, length, velocity, length, velocity
-        let sc = [
-            self.ca_f * self.e0_v.max(1e-30),
-            d0.abs().max(1e-30),
-            d0.abs().max(1e-30) * omega,
-        ];
-        let scale = [sc[0], sc[1], sc[2], sc[1], sc[2]];
-        let a = self.scaled_matrix(&scale);
-        let s0 = [self.ca_f * self.e0_v + self.t_c_m * d0, d0, 0.0, 0.0, 0.0];
-        let mut z = [0.0; N_AUG];
-        for k in 0..5 {
-            z[k] = s0[k] / scale[k];
-        }
+        let (scale, a, mut z) = self.scaled_start();
         let t_off = match self.em_v_s {
             Some(em) if em > 0.0 => self.e0_v / em,
             _ => 0.0,
@@ -353,6 +339,27 @@ impl RtConfig {
             out.push(if ti < 0.0 { 0.0 } else { z[1] * scale[1] - d0 });
         }
         out
+    }
+
+    /// The state scales (charge, length, velocity, length, velocity), the scaled augmented
+    /// matrix and the scaled initial state (static equilibrium at `E0`; the ramp entries 0).
+    fn scaled_start(&self) -> ([f64; 5], Mat, [f64; N_AUG]) {
+        let d0 = self.d0_m();
+        let kk = self.k_n_m + self.t_c_m * self.t_c_m / self.ca_f;
+        let omega = (kk / self.m_kg).sqrt();
+        let sc = [
+            self.ca_f * self.e0_v.max(1e-30),
+            d0.abs().max(1e-30),
+            d0.abs().max(1e-30) * omega,
+        ];
+        let scale = [sc[0], sc[1], sc[2], sc[1], sc[2]];
+        let a = self.scaled_matrix(&scale);
+        let s0 = [self.ca_f * self.e0_v + self.t_c_m * d0, d0, 0.0, 0.0, 0.0];
+        let mut z = [0.0; N_AUG];
+        for k in 0..5 {
+            z[k] = s0[k] / scale[k];
+        }
+        (scale, a, z)
     }
 
     /// The augmented system matrix in scaled variables: states `[q, y, y', l, l']/scale`, then
@@ -484,16 +491,7 @@ mod tests {
         // reference: a fresh propagator for every interval after the ramp (t >= 3 us)
         let fine = cfg.retraction(&times[..24]);
         let d0 = cfg.d0_m();
-        let kk = cfg.k_n_m + cfg.t_c_m * cfg.t_c_m / cfg.ca_f;
-        let omega = (kk / cfg.m_kg).sqrt();
-        let sc = [cfg.ca_f * cfg.e0_v, d0, d0 * omega];
-        let scale = [sc[0], sc[1], sc[2], sc[1], sc[2]];
-        let a = cfg.scaled_matrix(&scale);
-        let mut z = [0.0; N_AUG];
-        let s0 = [cfg.ca_f * cfg.e0_v + cfg.t_c_m * d0, d0, 0.0, 0.0, 0.0];
-        for k in 0..5 {
-            z[k] = s0[k] / scale[k];
-        }
+        let (scale, a, mut z) = cfg.scaled_start();
         z[5] = 1.0;
         z[6] = 1.0;
         let t_off = cfg.e0_v / 5e7;
@@ -532,16 +530,7 @@ mod tests {
             .collect();
         let y = cfg.retraction(&rounded);
         let d0 = cfg.d0_m();
-        let kk = cfg.k_n_m + cfg.t_c_m * cfg.t_c_m / cfg.ca_f;
-        let omega = (kk / cfg.m_kg).sqrt();
-        let sc = [cfg.ca_f * cfg.e0_v, d0, d0 * omega];
-        let scale = [sc[0], sc[1], sc[2], sc[1], sc[2]];
-        let a = cfg.scaled_matrix(&scale);
-        let s0 = [cfg.ca_f * cfg.e0_v + cfg.t_c_m * d0, d0, 0.0, 0.0, 0.0];
-        let mut z = [0.0; N_AUG];
-        for k in 0..5 {
-            z[k] = s0[k] / scale[k];
-        }
+        let (scale, a, mut z) = cfg.scaled_start();
         let (mut t, mut worst, mut off_grid) = (0.0, 0.0f64, 0usize);
         for (i, &ti) in rounded.iter().enumerate().skip(21) {
             z = apply(&propagator(&a, ti - t), &z);
