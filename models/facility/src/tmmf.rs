@@ -209,8 +209,9 @@ struct Orbit {
 }
 
 impl Orbit {
-    /// Integrates from `(t0, s0)` until the velocity has turned upwards twice, at most until
-    /// `t_end`; `None` if it has not by then.
+    /// Integrates from `(t0, s0)` until the velocity has turned upwards twice, for at most
+    /// `max_steps` steps and not past `t_end`; `None` if it has not turned twice by then (or
+    /// the state stopped being finite).
     fn find<F: Fn(f64, &[f64], &mut [f64])>(
         deriv: &F,
         t0: f64,
@@ -646,6 +647,57 @@ mod tests {
         let p = [8.95e6, 0.389, 3.87e5, 1.3e5, 6e-7, 3e4, 3e-7];
         let (_, tail) = integrate(&model, &p, &times, &inp, h, true);
         assert!(matches!(tail, Tail::FreeFlight(_)), "{tail:?}");
+    }
+
+    /// The trap verdict moves with each of its inputs: the energy across the escape energy's
+    /// margin, the tip in and out of the farthest reach, the tip adhesion's remaining impulse
+    /// across the release tolerance as the record lengthens.
+    #[test]
+    fn the_trap_verdict_follows_energy_reach_and_tip_adhesion() {
+        let (m, a1, lambda) = (0.089, 3e4, 3e-7);
+        let mut w = NeedleWell {
+            k_nd: 8.95e6,
+            a1,
+            lambda,
+            x_n0: 0.389 / 8.95e6,
+            tip_contact: false,
+            tip_offset: 0.0,
+            tip_adhesion: None,
+            m,
+        };
+        // at the needles' rest point the energy is kinetic only
+        let e_max = a1 * lambda * lambda * (1.0 - TRAP_MARGIN);
+        let v_of = |e: f64| (2.0 * e / m).sqrt();
+        let far_tip = TipNow {
+            y: 1e-3,
+            speed: 3e-3,
+            horizon: 1.0,
+        };
+        assert!(w.trapped(w.x_n0, v_of(e_max * (1.0 - 1e-9)), far_tip));
+        assert!(!w.trapped(w.x_n0, v_of(e_max * (1.0 + 1e-9)), far_tip));
+        // the tip's contact: the farthest reach bound for half the escape energy is
+        // 2 lambda ln(2 / q), q = 1 - 0.5 (1 - margin)
+        w.tip_contact = true;
+        w.tip_offset = 0.389 / 3.87e5;
+        let v = v_of(0.5 * e_max);
+        let q = 1.0 - 0.5 * (1.0 - TRAP_MARGIN);
+        let reach = w.x_n0 + 2.0 * lambda * (2.0 / q).ln() + w.tip_offset;
+        let tip_at = |y: f64| TipNow { y, ..far_tip };
+        assert!(w.trapped(w.x_n0, v, tip_at(reach * (1.0 + 1e-9))));
+        assert!(!w.trapped(w.x_n0, v, tip_at(reach * (1.0 - 1e-9))));
+        // the tip adhesion: its remaining impulse from that reach, over the horizon, against
+        // the 1e-15 m release tolerance
+        w.tip_adhesion = Some((1e4, 1e-7));
+        let y = reach + 20.0 * 1e-7;
+        let imp = crate::effects::adhesion_tail_impulse(1e4, 1e-7, y - reach, 3e-3);
+        let horizon_at_tol = RELEASE_TOL_M * m / imp;
+        let tip = |horizon: f64| TipNow {
+            y,
+            speed: 3e-3,
+            horizon,
+        };
+        assert!(w.trapped(w.x_n0, v, tip(horizon_at_tol * 0.99)));
+        assert!(!w.trapped(w.x_n0, v, tip(horizon_at_tol * 1.01)));
     }
 
     /// A TM that escapes the needle well (weak adhesion) is not continued periodically.
