@@ -18,7 +18,7 @@
 //! (tested); a model with other forces than the needles' and the tip's contact and adhesion
 //! keeps the full integration.
 
-use crate::effects::{EffectKind, ReleaseCheck, TmState};
+use crate::effects::{EffectKind, ForceLaw, ReleaseCheck, TmState};
 use crate::model::{Inputs, Model};
 
 /// RK4 step for the lightest TM mock-up (0.0096 kg) [s]; the step grows as `sqrt(m)` (the
@@ -329,6 +329,20 @@ fn integrate(
     h_max: f64,
     may_release: bool,
 ) -> (Vec<f64>, Tail) {
+    integrate_with(model, p, times, inputs, h_max, may_release, true)
+}
+
+/// [`integrate`]; `inline_laws` false keeps the virtual call per force effect even when every
+/// force has a [`ForceLaw`] (the tests' reference for the inline path's bits).
+fn integrate_with(
+    model: &Model,
+    p: &[f64],
+    times: &[f64],
+    inputs: &Inputs,
+    h_max: f64,
+    may_release: bool,
+    inline_laws: bool,
+) -> (Vec<f64>, Tail) {
     let well = NeedleWell::of(model, p, inputs.m_kg);
     let mut trap_tried = false;
     let f_pre = model.get(p, "needle_contact.F_pre").unwrap_or(0.0);
@@ -405,6 +419,25 @@ fn integrate(
         ds[0] = v;
         ds[1] = f / inputs.m_kg;
     };
+    // every force as a closed-form law, evaluated inline, when each force effect offers one and
+    // the state is the TM's alone: the same arithmetic in the same order as `deriv`, so the
+    // same bits (ForceLaw's contract), at half the cost of a step
+    let laws: Option<Vec<ForceLaw>> = if inline_laws && n == 2 && !sh.body {
+        forces.iter().map(|&(e, pe, _, _)| e.law(pe)).collect()
+    } else {
+        None
+    };
+    let tip_offset = sh.f_pre * sh.inv_kc;
+    let deriv2 = |t: f64, s: [f64; 2]| -> [f64; 2] {
+        let (x, v) = (s[0], s[1]);
+        let e_tip = (tip_y(t) - x) - tip_offset;
+        let gap = x - sh.x_n0;
+        let mut f = 0.0;
+        for law in laws.as_deref().unwrap_or(&[]) {
+            f += law.force(e_tip, gap);
+        }
+        [v, f / inputs.m_kg]
+    };
     let mut s = vec![0.0; n];
     let mut t = 0.0;
     let mut out = Vec::with_capacity(times.len());
@@ -437,9 +470,18 @@ fn integrate(
         if ti > t {
             let steps = ((ti - t) / h_max - 1e-9).ceil().max(1.0) as usize;
             let h = (ti - t) / steps as f64;
-            for _ in 0..steps {
-                crate::rk4::rk4_step(&deriv, t, h, &mut s, &mut ws);
-                t += h;
+            if laws.is_some() {
+                let mut s2 = [s[0], s[1]];
+                for _ in 0..steps {
+                    crate::rk4::rk4_step2(&deriv2, t, h, &mut s2);
+                    t += h;
+                }
+                s.copy_from_slice(&s2);
+            } else {
+                for _ in 0..steps {
+                    crate::rk4::rk4_step(&deriv, t, h, &mut s, &mut ws);
+                    t += h;
+                }
             }
             t = ti;
         }
@@ -500,6 +542,88 @@ mod tests {
     use super::*;
     use crate::effects::Scenario;
     use crate::profile::TipProfile;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Every effect that offers a `ForceLaw` gives, through it, the bits its `force` gives
+        /// (elongation, gap and parameters over and beyond the fit ranges, signs included).
+        #[test]
+        fn force_laws_give_the_effects_bits(
+            e_tip in prop_oneof![-1e-5f64..1e-5, -1e-9f64..1e-9, Just(0.0), Just(-0.0)],
+            gap in prop_oneof![-1e-5f64..1e-5, -1e-9f64..1e-9, Just(0.0), Just(-0.0)],
+            p0 in 1e-3f64..1e9,
+            p1 in 1e-10f64..1e-4,
+        ) {
+            let mut offered = 0;
+            for e in crate::effects::catalogue() {
+                let n = e.params().len();
+                let p = [p0, p1][..n.min(2)].to_vec();
+                if n > 2 {
+                    continue;
+                }
+                let Some(law) = e.law(&p) else { continue };
+                offered += 1;
+                prop_assert_eq!(e.n_states(), 0, "{} has states", e.name());
+                let st = TmState {
+                    t: 1e-3,
+                    x: 2e-7,
+                    v: 1e-4,
+                    y: 3e-7,
+                    e_tip,
+                    needle_gap: gap,
+                    f_pre: 6e-3,
+                    needle_body: false,
+                    own: &[],
+                };
+                let a = e.force(&p, &st, &mut []);
+                let b = law.force(e_tip, gap);
+                prop_assert_eq!(a.to_bits(), b.to_bits(), "{}: {} vs {}", e.name(), a, b);
+            }
+            prop_assert_eq!(offered, 4);
+        }
+    }
+
+    /// The inline force laws integrate to the bits of the virtual calls, for every model made
+    /// of the four law effects (with distortions, with the free-flight switch, and a record
+    /// integrated throughout).
+    #[test]
+    fn inline_laws_give_the_bits_of_the_virtual_calls() {
+        let times: Vec<f64> = (0..400).map(|i| -5e-4 + i as f64 * 1e-5).collect();
+        let sets: [&[&str]; 5] = [
+            &["needle_contact", "tip_contact"],
+            &["needle_contact", "tip_contact", "tip_adhesion"],
+            &["needle_contact", "needle_adhesion", "tip_contact"],
+            &[
+                "needle_contact",
+                "needle_adhesion",
+                "tip_contact",
+                "tip_adhesion",
+                "drift",
+            ],
+            &[
+                "needle_contact",
+                "tip_contact",
+                "tip_adhesion",
+                "interferometer_cyclic",
+            ],
+        ];
+        for effects in sets {
+            let model = tmmf(effects);
+            let p = model.nominal();
+            let inp = inputs(0.089);
+            let h = step_for_mass(0.089);
+            for may_release in [true, false] {
+                let (a, ta) = integrate_with(&model, &p, &times, &inp, h, may_release, true);
+                let (b, tb) = integrate_with(&model, &p, &times, &inp, h, may_release, false);
+                assert_eq!(ta, tb, "{effects:?}");
+                assert!(
+                    a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()),
+                    "{effects:?}: inline laws moved the reading by {:e} m",
+                    max_diff(&a, &b)
+                );
+            }
+        }
+    }
 
     /// The TMMF model of `effects`.
     fn tmmf(effects: &[&str]) -> Model {

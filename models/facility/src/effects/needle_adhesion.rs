@@ -2,8 +2,8 @@
 
 use super::tip_adhesion::adhesion_starts;
 use super::{
-    Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState, adhesion_force,
-    adhesion_tail_impulse,
+    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
+    adhesion_force, adhesion_tail_impulse,
 };
 
 /// The adhesion law of thesis eq. (adh) at the needles: for `x > x_n0` it pulls the TM back
@@ -34,6 +34,12 @@ impl Effect for NeedleAdhesion {
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
+    }
+    fn law(&self, p: &[f64]) -> Option<ForceLaw> {
+        Some(ForceLaw::NeedleAdhesion {
+            a1: p[0],
+            lambda: p[1],
+        })
     }
     fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
         -adhesion_force(p[0], p[1], s.needle_gap)

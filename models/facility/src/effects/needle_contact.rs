@@ -1,6 +1,8 @@
 //! `needle_contact`: the fixed blocking needles of the TMMF (physics.md section 4).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState};
+use super::{
+    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
+};
 
 /// Unilateral needle spring `F = k_nd*(x_n0 - x)` while `x < x_n0`, else 0, with
 /// `x_n0 = F_pre/k_nd`, so the needles push with `F_pre` before release (catapult effect,
@@ -33,6 +35,9 @@ impl Effect for NeedleContact {
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
+    }
+    fn law(&self, p: &[f64]) -> Option<ForceLaw> {
+        Some(ForceLaw::NeedleSpring { k: p[0] })
     }
     fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
         if s.needle_body || s.needle_gap >= 0.0 {

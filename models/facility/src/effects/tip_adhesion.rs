@@ -1,8 +1,8 @@
 //! `tip_adhesion`: adhesion between the release tip and the TM (thesis eq. adh, physics.md s.2).
 
 use super::{
-    Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState, adhesion_force,
-    adhesion_tail_impulse,
+    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
+    adhesion_force, adhesion_tail_impulse,
 };
 
 /// Adds `F = A1*e*exp(-e/lambda)` for `e > 0` at the tip (pulls the TM towards the retracting
@@ -45,6 +45,12 @@ impl Effect for TipAdhesion {
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
+    }
+    fn law(&self, p: &[f64]) -> Option<ForceLaw> {
+        Some(ForceLaw::TipAdhesion {
+            a1: p[0],
+            lambda: p[1],
+        })
     }
     fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
         adhesion_force(p[0], p[1], s.e_tip)

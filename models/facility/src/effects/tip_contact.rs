@@ -1,6 +1,8 @@
 //! `tip_contact`: the compressive branch of the release-tip contact (physics.md section 4).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState};
+use super::{
+    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
+};
 
 /// Linear compressive contact `F = k_c*e` for `e <= 0`, 0 for `e > 0`, with
 /// `e = (y - x) - F_pre/k_c`, so `F = -F_pre` before release (physics.md section 4).
@@ -28,6 +30,9 @@ impl Effect for TipContact {
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
+    }
+    fn law(&self, p: &[f64]) -> Option<ForceLaw> {
+        Some(ForceLaw::TipSpring { k: p[0] })
     }
     fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
         if s.e_tip <= 0.0 { p[0] * s.e_tip } else { 0.0 }
