@@ -17,6 +17,35 @@ impl Model {
             Scenario::RtRetraction => retraction(self, p, times, inputs.e0_v),
         }
     }
+
+    /// [`Model::predict`] at each parameter vector of `ps`, in order, with the same bits;
+    /// `tmmf-release` models whose forces are all [`ForceLaw`](crate::effects::ForceLaw)s
+    /// integrate up to [`Model::lanes`] of them in lockstep in this thread
+    /// ([`tmmf::simulate_many`]); otherwise one after the other.
+    pub fn predict_many(&self, ps: &[Vec<f64>], times: &[f64], inputs: &Inputs) -> Vec<Vec<f64>> {
+        match self.scenario {
+            Scenario::TmmfRelease if self.lanes() > 1 => {
+                tmmf::simulate_many(self, ps, times, inputs)
+            }
+            _ => ps.iter().map(|p| self.predict(p, times, inputs)).collect(),
+        }
+    }
+
+    /// How many evaluations [`Model::predict_many`] interleaves in one thread: [`tmmf::LANES`]
+    /// for a `tmmf-release` model whose forces all have a law, else 1 (a caller then gains
+    /// nothing from grouping evaluations and should spread them over threads).
+    pub fn lanes(&self) -> usize {
+        let laws = self.scenario == Scenario::TmmfRelease
+            && self.effects.iter().all(|e| match e.kind() {
+                crate::effects::EffectKind::Force => {
+                    let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
+                    e.n_states() == 0 && e.law(&nominal).is_some()
+                }
+                crate::effects::EffectKind::Distortion => true,
+                crate::effects::EffectKind::Mechanism => false,
+            });
+        if laws { tmmf::LANES } else { 1 }
+    }
 }
 
 /// `rt-retraction`: builds the mechanism configuration of `model` for `p` (each effect's

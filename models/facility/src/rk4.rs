@@ -47,23 +47,3 @@ pub(crate) fn rk4_step<F: Fn(f64, &[f64], &mut [f64])>(
         *si += h / 6.0 * (w.k1[i] + 2.0 * w.k2[i] + 2.0 * w.k3[i] + w.k4[i]);
     }
 }
-
-/// [`rk4_step`] on a two-component state `[x, v]` held in registers: the same arithmetic in
-/// the same order, so the same bits (the TMMF integration of a model whose forces are all
-/// [`ForceLaw`](crate::effects::ForceLaw)s).
-#[inline(always)]
-pub(crate) fn rk4_step2<F: Fn(f64, [f64; 2]) -> [f64; 2]>(f: &F, t: f64, h: f64, s: &mut [f64; 2]) {
-    let k1 = f(t, *s);
-    let k2 = f(
-        t + 0.5 * h,
-        [s[0] + 0.5 * h * k1[0], s[1] + 0.5 * h * k1[1]],
-    );
-    let k3 = f(
-        t + 0.5 * h,
-        [s[0] + 0.5 * h * k2[0], s[1] + 0.5 * h * k2[1]],
-    );
-    let k4 = f(t + h, [s[0] + h * k3[0], s[1] + h * k3[1]]);
-    for i in 0..2 {
-        s[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-    }
-}

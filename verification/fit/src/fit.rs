@@ -16,7 +16,8 @@ use rayon::prelude::*;
 
 use crate::error::FitError;
 use crate::lm::{
-    LmOptions, fd_steps, jacobian_columns, minimize, minimize_with_steps, normal_equations,
+    LmOptions, Residuals, fd_steps, jacobian_columns, minimize, minimize_with_steps,
+    normal_equations,
 };
 use crate::residual::noise_from_differences;
 
@@ -332,6 +333,66 @@ impl<'a> Problem<'a> {
     fn resid(&self, u: &[f64], start: &[f64]) -> Vec<f64> {
         self.resid_n(u, start, self.t.len())
     }
+
+    /// [`Problem::resid_n`] at each point of `us`, the same bits: in groups of the model's
+    /// [`Model::lanes`] (evaluated together in one thread), the groups spread over threads.
+    fn resid_many(&self, us: &[Vec<f64>], start: &[f64], n_use: usize) -> Vec<Vec<f64>> {
+        let lanes = self.model.lanes();
+        if lanes <= 1 || us.len() <= 1 {
+            return us
+                .par_iter()
+                .map(|u| self.resid_n(u, start, n_use))
+                .collect();
+        }
+        // as few groups as the lanes allow, of balanced sizes (five columns: three and two)
+        let groups = us.len().div_ceil(lanes);
+        let size = us.len().div_ceil(groups);
+        let ps: Vec<Vec<f64>> = us.iter().map(|u| self.full(u, start)).collect();
+        let preds: Vec<Vec<Vec<f64>>> = ps
+            .par_chunks(size)
+            .map(|c| {
+                self.model
+                    .predict_many(c, &self.t[..n_use], &self.prep.inputs)
+            })
+            .collect();
+        preds
+            .into_iter()
+            .flatten()
+            .map(|mut r| {
+                for (m, d) in r.iter_mut().zip(self.data) {
+                    *m -= d;
+                }
+                self.prep.normalise(&mut r, self.sigma);
+                r
+            })
+            .collect()
+    }
+
+    /// The residuals over `start` on the first `n_use` samples, as a [`Residuals`] whose sets
+    /// of points the model evaluates together.
+    fn window<'p>(&'p self, start: &'p [f64], n_use: usize) -> Window<'p, 'a> {
+        Window {
+            pb: self,
+            start,
+            n_use,
+        }
+    }
+}
+
+/// [`Problem::window`].
+struct Window<'p, 'a> {
+    pb: &'p Problem<'a>,
+    start: &'p [f64],
+    n_use: usize,
+}
+
+impl Residuals for Window<'_, '_> {
+    fn eval(&self, u: &[f64]) -> Vec<f64> {
+        self.pb.resid_n(u, self.start, self.n_use)
+    }
+    fn eval_many(&self, us: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        self.pb.resid_many(us, self.start, self.n_use)
+    }
 }
 
 /// [`fit_model`] on `prep` itself; with `refine_only`, `starts[0]` is refined by the long run
@@ -383,7 +444,7 @@ fn fit_model_on(
     let n = data.len();
     let n_free = fidx.len();
     let r0 = resid(&u, start);
-    let f = |v: &[f64]| resid(v, start);
+    let f = pb.window(start, t.len());
     let steps = fd_steps(&f, &u, &r0, lo, hi, LmOptions::default().fd_step);
     let cols = jacobian_columns(&f, &u, &r0, lo, hi, &steps);
     let (jtj, _) = normal_equations(&cols, &r0);
@@ -863,13 +924,7 @@ fn search(pb: &Problem, starts: &[Vec<f64>], refine_only: bool) -> Vec<(usize, f
                 first = first
                     .par_iter()
                     .map(|(si, _, u)| {
-                        let r = minimize(
-                            &|v: &[f64]| resid_n(v, &starts[*si], n_use),
-                            u,
-                            lo,
-                            hi,
-                            &opts_stage,
-                        );
+                        let r = minimize(&pb.window(&starts[*si], n_use), u, lo, hi, &opts_stage);
                         (*si, r.cost, r.u)
                     })
                     .collect();
@@ -932,7 +987,6 @@ fn refine(
     debug: bool,
 ) -> Vec<(usize, f64, Vec<f64>)> {
     let (lo, hi) = (&pb.lo, &pb.hi);
-    let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
     let long = LmOptions {
         max_iter: long_iter,
         ftol: 1e-9,
@@ -941,7 +995,7 @@ fn refine(
     let refined: Vec<(usize, f64, Vec<f64>)> = first
         .par_iter()
         .map(|(si, _, u)| {
-            let r = minimize(&|v: &[f64]| resid(v, &starts[*si]), u, lo, hi, &long);
+            let r = minimize(&pb.window(&starts[*si], pb.t.len()), u, lo, hi, &long);
             if debug {
                 eprintln!(
                     "long run from start {si}: {} iterations, cost {:.3}",
@@ -967,7 +1021,6 @@ fn canonical_forms(
     let (specs, fidx, lo, hi) = (&pb.specs, &pb.fidx, &pb.lo, &pb.hi);
     let model = pb.model;
     let full = |u: &[f64], start: &[f64]| pb.full(u, start);
-    let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
     // canonical forms: an effect may re-express its fitted values equivalently (same number of
     // parameters); the alternative is refitted and kept when it fits as well (within 1 in chi2)
     let (mut chi2, mut u) = (chi2, u);
@@ -987,7 +1040,7 @@ fn canonical_forms(
                     ftol: 1e-9,
                     ..LmOptions::default()
                 };
-                let r = minimize(&|v: &[f64]| resid(v, start), &ua, lo, hi, &long);
+                let r = minimize(&pb.window(start, pb.t.len()), &ua, lo, hi, &long);
                 if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
                     eprintln!(
                         "alternative of {}: {alt:?} -> cost {:.2} (best {chi2:.2})",

@@ -9,6 +9,26 @@
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
+/// A residual function of the internal coordinates `u`, with a form for several points at
+/// once (a Jacobian's columns): a model may evaluate those together faster than one by one
+/// (the TMMF model interleaves several integrations in one thread). Every closure
+/// `Fn(&[f64]) -> Vec<f64>` is one, evaluating a set in parallel.
+pub trait Residuals: Sync {
+    /// The residuals at `u`.
+    fn eval(&self, u: &[f64]) -> Vec<f64>;
+    /// The residuals at each point of `us`, in order, the same bits as [`Residuals::eval`]
+    /// at each.
+    fn eval_many(&self, us: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        us.par_iter().map(|u| self.eval(u)).collect()
+    }
+}
+
+impl<F: Fn(&[f64]) -> Vec<f64> + Sync> Residuals for F {
+    fn eval(&self, u: &[f64]) -> Vec<f64> {
+        self(u)
+    }
+}
+
 /// Options of [`minimize`].
 #[derive(Debug, Clone, Copy)]
 pub struct LmOptions {
@@ -82,10 +102,9 @@ pub fn jacobian<F: Fn(&[f64]) -> Vec<f64>>(
 /// (the layout the normal equations read without a transposed copy), with the step `h[k]` for
 /// entry `k` (see [`fd_steps`]).
 ///
-/// The columns are evaluated in parallel (each is one model evaluation; a refinement or a
-/// profile point is otherwise one thread's work); each column's arithmetic is the same whatever
-/// the thread count.
-pub fn jacobian_columns<F: Fn(&[f64]) -> Vec<f64> + Sync>(
+/// The columns are evaluated as one set ([`Residuals::eval_many`]: in parallel, or together by
+/// the model); each column's arithmetic is the same however they are evaluated.
+pub fn jacobian_columns<F: Residuals + ?Sized>(
     f: &F,
     u: &[f64],
     r0: &[f64],
@@ -93,19 +112,23 @@ pub fn jacobian_columns<F: Fn(&[f64]) -> Vec<f64> + Sync>(
     hi: &[f64],
     h: &[f64],
 ) -> Vec<Vec<f64>> {
-    (0..u.len())
-        .into_par_iter()
+    let steps: Vec<f64> = (0..u.len())
+        .map(|k| away_from_bound(u[k], h[k], lo[k], hi[k]))
+        .collect();
+    let points: Vec<Vec<f64>> = (0..u.len())
         .map(|k| {
             let mut up = u.to_vec();
-            let step = away_from_bound(u[k], h[k], lo[k], hi[k]);
-            up[k] = u[k] + step;
-            let mut c = f(&up);
-            for (ci, r) in c.iter_mut().zip(r0) {
-                *ci = (*ci - r) / step;
-            }
-            c
+            up[k] = u[k] + steps[k];
+            up
         })
-        .collect()
+        .collect();
+    let mut cols = f.eval_many(&points);
+    for (c, step) in cols.iter_mut().zip(&steps) {
+        for (ci, r) in c.iter_mut().zip(r0) {
+            *ci = (*ci - r) / step;
+        }
+    }
+    cols
 }
 
 /// `h`, or `-h` when `u + h` would cross an active upper bound.
@@ -133,7 +156,7 @@ const FD_LINEARITY: f64 = 0.05;
 /// does not move the residuals keeps `h0`. Cost: two or more extra evaluations per parameter,
 /// once per [`minimize`] call. A model whose residuals move linearly over `h0` (the TMMF
 /// fits of the public examples) keeps exactly the steps it had.
-pub fn fd_steps<F: Fn(&[f64]) -> Vec<f64>>(
+pub fn fd_steps<F: Residuals + ?Sized>(
     f: &F,
     u: &[f64],
     r0: &[f64],
@@ -141,41 +164,58 @@ pub fn fd_steps<F: Fn(&[f64]) -> Vec<f64>>(
     hi: &[f64],
     h0: f64,
 ) -> Vec<f64> {
-    let mut up = u.to_vec();
-    let mut steps = Vec::with_capacity(u.len());
-    let diff = |up: &mut Vec<f64>, k: usize, h: f64| -> Vec<f64> {
-        up[k] = u[k] + away_from_bound(u[k], h, lo[k], hi[k]);
-        let mut d = f(up);
-        for (di, r) in d.iter_mut().zip(r0) {
-            *di -= r;
+    // the differences at step `h` of the entries `ks`, evaluated as one set
+    let diffs = |ks: &[usize], h: &[f64]| -> Vec<Vec<f64>> {
+        let points: Vec<Vec<f64>> = ks
+            .iter()
+            .map(|&k| {
+                let mut up = u.to_vec();
+                up[k] = u[k] + away_from_bound(u[k], h[k], lo[k], hi[k]);
+                up
+            })
+            .collect();
+        let mut d = f.eval_many(&points);
+        for dk in &mut d {
+            for (di, r) in dk.iter_mut().zip(r0) {
+                *di -= r;
+            }
         }
-        up[k] = u[k];
         d
     };
-    for k in 0..u.len() {
-        let mut h = h0;
-        let mut d_h = diff(&mut up, k, h);
-        for _ in 0..FD_HALVINGS {
-            let norm: f64 = d_h.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if !(norm > 0.0 && norm.is_finite()) {
-                break;
-            }
-            let d_half = diff(&mut up, k, h / 2.0);
-            let dev: f64 = d_h
+    // every entry halves its own step, all entries still halving in one round
+    let n = u.len();
+    let mut h = vec![h0; n];
+    let all: Vec<usize> = (0..n).collect();
+    let mut d_h = diffs(&all, &h);
+    let mut pending = all;
+    for _ in 0..FD_HALVINGS {
+        pending.retain(|&k| {
+            let norm: f64 = d_h[k].iter().map(|v| v * v).sum::<f64>().sqrt();
+            norm > 0.0 && norm.is_finite()
+        });
+        if pending.is_empty() {
+            break;
+        }
+        let half: Vec<f64> = h.iter().map(|v| v / 2.0).collect();
+        let d_half = diffs(&pending, &half);
+        let mut next = Vec::new();
+        for (&k, dh2) in pending.iter().zip(d_half) {
+            let norm: f64 = d_h[k].iter().map(|v| v * v).sum::<f64>().sqrt();
+            let dev: f64 = d_h[k]
                 .iter()
-                .zip(&d_half)
+                .zip(&dh2)
                 .map(|(a, b)| (a - 2.0 * b) * (a - 2.0 * b))
                 .sum::<f64>()
                 .sqrt();
-            if dev <= FD_LINEARITY * norm {
-                break;
+            if dev > FD_LINEARITY * norm {
+                h[k] /= 2.0;
+                d_h[k] = dh2;
+                next.push(k);
             }
-            h /= 2.0;
-            d_h = d_half;
         }
-        steps.push(h);
+        pending = next;
     }
-    steps
+    h
 }
 
 /// `J^T J` and `J^T r` from the columns of `J`: one pass of dot products, no `n x k` matrix
@@ -219,7 +259,7 @@ fn cost_of(r: &[f64]) -> f64 {
 }
 
 /// Minimises `sum f(u)^2` from `u0` within `[lo, hi]`.
-pub fn minimize<F: Fn(&[f64]) -> Vec<f64> + Sync>(
+pub fn minimize<F: Residuals + ?Sized>(
     f: &F,
     u0: &[f64],
     lo: &[f64],
@@ -232,7 +272,7 @@ pub fn minimize<F: Fn(&[f64]) -> Vec<f64> + Sync>(
 /// [`minimize`] with the finite-difference steps given (from [`fd_steps`] at a nearby point:
 /// a profile likelihood makes dozens of short fits around one optimum) instead of chosen at
 /// `u0`.
-pub fn minimize_with_steps<F: Fn(&[f64]) -> Vec<f64> + Sync>(
+pub fn minimize_with_steps<F: Residuals + ?Sized>(
     f: &F,
     u0: &[f64],
     lo: &[f64],
@@ -246,7 +286,7 @@ pub fn minimize_with_steps<F: Fn(&[f64]) -> Vec<f64> + Sync>(
         .zip(lo.iter().zip(hi))
         .map(|(v, (l, h))| v.clamp(*l, *h))
         .collect();
-    let mut r = f(&u);
+    let mut r = f.eval(&u);
     let mut cost = cost_of(&r);
     let mut mu = 1e-3;
     let mut iterations = 0;
@@ -284,7 +324,7 @@ pub fn minimize_with_steps<F: Fn(&[f64]) -> Vec<f64> + Sync>(
             let trial: Vec<f64> = (0..n)
                 .map(|k| (u[k] + delta[k]).clamp(lo[k], hi[k]))
                 .collect();
-            let rt = f(&trial);
+            let rt = f.eval(&trial);
             let ct = cost_of(&rt);
             if ct < cost {
                 let cost_before = cost;
