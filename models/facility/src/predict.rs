@@ -35,11 +35,14 @@ impl Model {
     /// for a `tmmf-release` model whose forces all have a law, else 1 (a caller then gains
     /// nothing from grouping evaluations and should spread them over threads).
     pub fn lanes(&self) -> usize {
+        // every force a law, and at most one needle body's two states (tmmf::Run::new)
+        let states: usize = self.effects.iter().map(|e| e.n_states()).sum();
         let laws = self.scenario == Scenario::TmmfRelease
+            && (states == 0 || states == 2)
             && self.effects.iter().all(|e| match e.kind() {
                 crate::effects::EffectKind::Force => {
                     let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
-                    e.n_states() == 0 && e.law(&nominal).is_some()
+                    e.law(&nominal).is_some()
                 }
                 crate::effects::EffectKind::Distortion => true,
                 crate::effects::EffectKind::Mechanism => false,

@@ -18,7 +18,7 @@
 //! (tested); a model with other forces than the needles' and the tip's contact and adhesion
 //! keeps the full integration.
 
-use crate::effects::{EffectKind, ForceLaw, ReleaseCheck, TmState};
+use crate::effects::{EffectKind, ForceLaw, LawState, ReleaseCheck, TmState};
 use crate::model::{Inputs, Model};
 
 /// RK4 step for the lightest TM mock-up (0.0096 kg) [s]; the step grows as `sqrt(m)` (the
@@ -350,7 +350,7 @@ fn integrate_with(
             let steps = ((ti - t) / h_max - 1e-9).ceil().max(1.0) as usize;
             let h = (ti - t) / steps as f64;
             if run.laws.is_some() {
-                lockstep::<1>(std::slice::from_mut(&mut run), &[0], t, h, steps);
+                lockstep_dyn(std::slice::from_mut(&mut run), &[0], t, h, steps);
             } else {
                 let mut ws = std::mem::replace(&mut run.ws, crate::rk4::Rk4Work::new(0));
                 let mut s = std::mem::take(&mut run.s);
@@ -413,12 +413,7 @@ pub fn simulate_many(
             if ti > t {
                 let steps = ((ti - t) / h_max - 1e-9).ceil().max(1.0) as usize;
                 let h = (ti - t) / steps as f64;
-                match active.len() {
-                    1 => lockstep::<1>(&mut runs, &active, t, h, steps),
-                    2 => lockstep::<2>(&mut runs, &active, t, h, steps),
-                    3 => lockstep::<3>(&mut runs, &active, t, h, steps),
-                    _ => lockstep::<4>(&mut runs, &active, t, h, steps),
-                }
+                lockstep_dyn(&mut runs, &active, t, h, steps);
                 t = ti;
             }
             active.retain(|&j| runs[j].sample(i, times).is_none());
@@ -434,41 +429,51 @@ pub fn simulate_many(
 /// `steps` RK4 steps of `h` from `t` of the `K` runs `active` (each a two-component state with
 /// force laws), interleaved: [`crate::rk4::rk4_step`]'s arithmetic per run, in the same order, so its bits
 /// (a single run is `K = 1`).
-fn lockstep<const K: usize>(runs: &mut [Run], active: &[usize], t: f64, h: f64, steps: usize) {
-    let mut s = [[0.0f64; 2]; K];
-    for b in 0..K {
-        s[b] = [runs[active[b]].s[0], runs[active[b]].s[1]];
+fn lockstep<const K: usize, const N: usize>(
+    runs: &mut [Run],
+    active: &[usize],
+    t: f64,
+    h: f64,
+    steps: usize,
+) {
+    let mut s = [[0.0f64; N]; K];
+    for (b, sb) in s.iter_mut().enumerate() {
+        sb.copy_from_slice(&runs[active[b]].s);
     }
     {
         let lanes: [&Run; K] = std::array::from_fn(|b| &runs[active[b]]);
         let mut t = t;
         let (mut k1, mut k2, mut k3, mut k4) = (
-            [[0.0f64; 2]; K],
-            [[0.0; 2]; K],
-            [[0.0; 2]; K],
-            [[0.0; 2]; K],
+            [[0.0f64; N]; K],
+            [[0.0; N]; K],
+            [[0.0; N]; K],
+            [[0.0; N]; K],
         );
+        let mut tmp = [[0.0f64; N]; K];
         for _ in 0..steps {
             for b in 0..K {
-                k1[b] = lanes[b].deriv2(t, s[b]);
+                k1[b] = lanes[b].deriv_n(t, s[b]);
             }
             for b in 0..K {
-                k2[b] = lanes[b].deriv2(
-                    t + 0.5 * h,
-                    [s[b][0] + 0.5 * h * k1[b][0], s[b][1] + 0.5 * h * k1[b][1]],
-                );
+                for i in 0..N {
+                    tmp[b][i] = s[b][i] + 0.5 * h * k1[b][i];
+                }
+                k2[b] = lanes[b].deriv_n(t + 0.5 * h, tmp[b]);
             }
             for b in 0..K {
-                k3[b] = lanes[b].deriv2(
-                    t + 0.5 * h,
-                    [s[b][0] + 0.5 * h * k2[b][0], s[b][1] + 0.5 * h * k2[b][1]],
-                );
+                for i in 0..N {
+                    tmp[b][i] = s[b][i] + 0.5 * h * k2[b][i];
+                }
+                k3[b] = lanes[b].deriv_n(t + 0.5 * h, tmp[b]);
             }
             for b in 0..K {
-                k4[b] = lanes[b].deriv2(t + h, [s[b][0] + h * k3[b][0], s[b][1] + h * k3[b][1]]);
+                for i in 0..N {
+                    tmp[b][i] = s[b][i] + h * k3[b][i];
+                }
+                k4[b] = lanes[b].deriv_n(t + h, tmp[b]);
             }
             for b in 0..K {
-                for i in 0..2 {
+                for i in 0..N {
                     s[b][i] += h / 6.0 * (k1[b][i] + 2.0 * k2[b][i] + 2.0 * k3[b][i] + k4[b][i]);
                 }
             }
@@ -477,6 +482,22 @@ fn lockstep<const K: usize>(runs: &mut [Run], active: &[usize], t: f64, h: f64, 
     }
     for b in 0..K {
         runs[active[b]].s.copy_from_slice(&s[b]);
+    }
+}
+
+/// [`lockstep`] for `active.len()` runs (1 to [`LANES`]) of state dimension `dim` (2 or 4).
+fn lockstep_dyn(runs: &mut [Run], active: &[usize], t: f64, h: f64, steps: usize) {
+    let dim = runs[active[0]].s.len();
+    match (active.len(), dim) {
+        (1, 2) => lockstep::<1, 2>(runs, active, t, h, steps),
+        (2, 2) => lockstep::<2, 2>(runs, active, t, h, steps),
+        (3, 2) => lockstep::<3, 2>(runs, active, t, h, steps),
+        (4, 2) => lockstep::<4, 2>(runs, active, t, h, steps),
+        (1, 4) => lockstep::<1, 4>(runs, active, t, h, steps),
+        (2, 4) => lockstep::<2, 4>(runs, active, t, h, steps),
+        (3, 4) => lockstep::<3, 4>(runs, active, t, h, steps),
+        (4, 4) => lockstep::<4, 4>(runs, active, t, h, steps),
+        _ => unreachable!("1 to {LANES} runs of 2 or 4 states"),
     }
 }
 
@@ -548,7 +569,7 @@ impl<'a> Run<'a> {
         // every force as a closed-form law, evaluated inline, when each force effect offers one
         // and the state is the TM's alone: the same arithmetic in the same order as `deriv`, so
         // the same bits (ForceLaw's contract), at half the cost of a step
-        let laws: Option<Vec<ForceLaw>> = if inline_laws && n == 2 && !sh.body {
+        let laws: Option<Vec<ForceLaw>> = if inline_laws && (n == 2 || n == 4) {
             forces.iter().map(|&(e, pe, _, _)| e.law(pe)).collect()
         } else {
             None
@@ -618,17 +639,33 @@ impl<'a> Run<'a> {
         ds[1] = f / self.inputs.m_kg;
     }
 
-    /// [`Run::deriv`] through the inline laws (a model whose forces all have one).
+    /// [`Run::deriv`] through the inline laws (a model whose forces all have one, with `N`
+    /// states: the TM's two and a needle body's two when `N = 4`).
     #[inline(always)]
-    fn deriv2(&self, t: f64, s: [f64; 2]) -> [f64; 2] {
+    fn deriv_n<const N: usize>(&self, t: f64, s: [f64; N]) -> [f64; N] {
         let (x, v) = (s[0], s[1]);
-        let e_tip = (self.tip_y(t) - x) - self.tip_offset;
-        let gap = x - self.sh.x_n0;
+        let st = LawState {
+            x,
+            v,
+            e_tip: (self.tip_y(t) - x) - self.tip_offset,
+            gap: x - self.sh.x_n0,
+            f_pre: self.sh.f_pre,
+            body: self.sh.body,
+            own: if N == 4 { [s[2], s[3]] } else { [0.0; 2] },
+        };
+        let mut d_own = [0.0; 2];
         let mut f = 0.0;
         for law in self.laws.as_deref().unwrap_or(&[]) {
-            f += law.force(e_tip, gap);
+            f += law.force(&st, &mut d_own);
         }
-        [v, f / self.inputs.m_kg]
+        let mut ds = [0.0; N];
+        ds[0] = v;
+        ds[1] = f / self.inputs.m_kg;
+        if N == 4 {
+            ds[2] = d_own[0];
+            ds[3] = d_own[1];
+        }
+        ds
     }
 
     /// The reading: the TM's position plus every distortion (listed once: a virtual call per
@@ -746,48 +783,71 @@ mod tests {
     use proptest::prelude::*;
 
     proptest! {
-        /// Every effect that offers a `ForceLaw` gives, through it, the bits its `force` gives
-        /// (elongation, gap and parameters over and beyond the fit ranges, signs included).
+        /// Every effect that offers a `ForceLaw` gives, through it, the bits its `force` gives,
+        /// force and own-state derivatives (elongation, gap, velocities, own states and
+        /// parameters over and beyond the fit ranges, signs, the needle body's flag).
         #[test]
         fn force_laws_give_the_effects_bits(
             e_tip in prop_oneof![-1e-5f64..1e-5, -1e-9f64..1e-9, Just(0.0), Just(-0.0)],
             gap in prop_oneof![-1e-5f64..1e-5, -1e-9f64..1e-9, Just(0.0), Just(-0.0)],
-            p0 in 1e-3f64..1e9,
-            p1 in 1e-10f64..1e-4,
+            x in -1e-5f64..1e-5,
+            v in -1e-3f64..1e-3,
+            own in prop::array::uniform2(-1e-5f64..1e-5),
+            body in any::<bool>(),
+            scale in prop::array::uniform5(1e-3f64..1e3),
         ) {
             let mut offered = 0;
             for e in crate::effects::catalogue() {
-                let n = e.params().len();
-                let p = [p0, p1][..n.min(2)].to_vec();
-                if n > 2 {
+                if e.scenario() != Scenario::TmmfRelease || e.kind() != EffectKind::Force {
                     continue;
                 }
+                let p: Vec<f64> = e
+                    .params()
+                    .iter()
+                    .zip(scale)
+                    .map(|(s, f)| s.nominal * f)
+                    .collect();
                 let Some(law) = e.law(&p) else { continue };
                 offered += 1;
-                prop_assert_eq!(e.n_states(), 0, "{} has states", e.name());
+                let k = e.n_states();
+                prop_assert!(k == 0 || k == 2, "{} has {k} states", e.name());
                 let st = TmState {
                     t: 1e-3,
-                    x: 2e-7,
-                    v: 1e-4,
+                    x,
+                    v,
                     y: 3e-7,
                     e_tip,
                     needle_gap: gap,
                     f_pre: 6e-3,
-                    needle_body: false,
-                    own: &[],
+                    needle_body: body,
+                    own: &own[..k],
                 };
-                let a = e.force(&p, &st, &mut []);
-                let b = law.force(e_tip, gap);
+                let mut ds = [f64::NAN; 2];
+                let a = e.force(&p, &st, &mut ds[..k]);
+                let ls = LawState {
+                    x,
+                    v,
+                    e_tip,
+                    gap,
+                    f_pre: 6e-3,
+                    body,
+                    own,
+                };
+                let mut d_own = [f64::NAN; 2];
+                let b = law.force(&ls, &mut d_own);
                 prop_assert_eq!(a.to_bits(), b.to_bits(), "{}: {} vs {}", e.name(), a, b);
+                for i in 0..k {
+                    prop_assert_eq!(ds[i].to_bits(), d_own[i].to_bits(), "{} own {}", e.name(), i);
+                }
             }
-            prop_assert_eq!(offered, 4);
+            prop_assert_eq!(offered, 5);
         }
     }
 
     /// The lockstep evaluation of several parameter vectors gives each the bits of its own
     /// evaluation: members that release at different times (and one that never does), sets
     /// that leave a partial chunk, a model with distortions and one whose needles have a body
-    /// (no laws: one call per vector).
+    /// (its needle body's two states).
     #[test]
     fn lockstep_evaluations_give_each_its_own_bits() {
         let times: Vec<f64> = (0..451).map(|i| -5e-4 + i as f64 * 1e-5).collect();
@@ -852,7 +912,20 @@ mod tests {
     #[test]
     fn inline_laws_give_the_bits_of_the_virtual_calls() {
         let times: Vec<f64> = (0..400).map(|i| -5e-4 + i as f64 * 1e-5).collect();
-        let sets: [&[&str]; 5] = [
+        let sets: [&[&str]; 7] = [
+            &[
+                "needle_contact",
+                "needle_mass",
+                "tip_contact",
+                "tip_adhesion",
+            ],
+            &[
+                "needle_contact",
+                "needle_mass",
+                "needle_adhesion",
+                "tip_contact",
+                "drift",
+            ],
             &["needle_contact", "tip_contact"],
             &["needle_contact", "tip_contact", "tip_adhesion"],
             &["needle_contact", "needle_adhesion", "tip_contact"],
@@ -875,6 +948,9 @@ mod tests {
             let p = model.nominal();
             let inp = inputs(0.089);
             let h = step_for_mass(0.089);
+            let run = Run::new(&model, &p, &times, &inp, h, true, true);
+            assert!(run.laws.is_some(), "{effects:?}: no inline laws");
+            assert!(model.lanes() > 1, "{effects:?}");
             for may_release in [true, false] {
                 let (a, ta) = integrate_with(&model, &p, &times, &inp, h, may_release, true);
                 let (b, tb) = integrate_with(&model, &p, &times, &inp, h, may_release, false);

@@ -155,17 +155,18 @@ impl ParamSpec {
     }
 }
 
-/// A force law of closed form on the TM's two contact coordinates, which the TMMF integration
-/// evaluates inline ([`Effect::law`]): the same value, bit for bit, as the effect's
-/// [`Effect::force`] on a state whose `needle_body` is false and which has no internal states
+/// A force law of closed form, which the TMMF integration evaluates inline ([`Effect::law`]):
+/// the same value and own-state derivatives, bit for bit, as the effect's [`Effect::force`]
 /// (tested for every effect that offers one).
 ///
 /// Why by hand: an RK4 step of a TMMF release is a chain of four dependent force evaluations;
-/// through the trait each is a virtual call per effect with a [`TmState`] built for it, and
-/// that overhead was half the cost of a step (perf, FAC-FIT-QUAL's 39 fits).
+/// through the trait each is a virtual call per effect with a [`TmState`] built for it, which
+/// kept the compiler from inlining the step (perf: twice the cost of a step on FAC-FIT-QUAL's
+/// fits).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ForceLaw {
-    /// `-k * g` while the needle gap `g = x - x_n0` is negative [N] (`needle_contact`, `k` [N/m]).
+    /// `-k * g` while the needle gap `g = x - x_n0` is negative, 0 when a needle body replaces
+    /// the spring [N] (`needle_contact`, `k` [N/m]).
     NeedleSpring {
         /// Stiffness [N/m].
         k: f64,
@@ -189,29 +190,81 @@ pub enum ForceLaw {
         /// `lambda` [m].
         lambda: f64,
     },
+    /// The needle body of `needle_mass` (its two own states: displacement [m], velocity
+    /// [m/s]), with its parameters in the effect's order.
+    NeedleBody {
+        /// Body mass [kg].
+        m_nd: f64,
+        /// Body spring to ground [N/m].
+        k_nd: f64,
+        /// Contact stiffness with the TM [N/m].
+        k_tm: f64,
+        /// Body damping to ground [N s/m].
+        c_nd: f64,
+        /// Contact damping [N s/m].
+        c_tm: f64,
+    },
+}
+
+/// What a [`ForceLaw`] reads: the [`TmState`] fields, with at most two own states.
+#[derive(Debug, Clone, Copy)]
+pub struct LawState {
+    /// TM displacement [m] and velocity [m/s].
+    pub x: f64,
+    /// TM velocity [m/s].
+    pub v: f64,
+    /// Tip contact elongation [m] ([`TmState::e_tip`]).
+    pub e_tip: f64,
+    /// Needle gap [m] ([`TmState::needle_gap`]).
+    pub gap: f64,
+    /// Needle preload [N].
+    pub f_pre: f64,
+    /// Whether a needle body replaces the fixed needle spring.
+    pub body: bool,
+    /// The law's own states (those of [`ForceLaw::NeedleBody`]; unused otherwise).
+    pub own: [f64; 2],
 }
 
 impl ForceLaw {
-    /// Force on the TM along +x [N] at tip elongation `e_tip` [m] and needle gap `gap` [m].
+    /// Force on the TM along +x [N] in state `s`; writes the time derivatives of the law's own
+    /// states into `d_own` (only [`ForceLaw::NeedleBody`] has any).
     #[inline(always)]
-    pub fn force(&self, e_tip: f64, gap: f64) -> f64 {
+    pub fn force(&self, s: &LawState, d_own: &mut [f64; 2]) -> f64 {
         match *self {
             ForceLaw::NeedleSpring { k } => {
-                if gap >= 0.0 {
+                if s.body || s.gap >= 0.0 {
                     0.0
                 } else {
-                    -k * gap
+                    -k * s.gap
                 }
             }
             ForceLaw::TipSpring { k } => {
-                if e_tip <= 0.0 {
-                    k * e_tip
+                if s.e_tip <= 0.0 {
+                    k * s.e_tip
                 } else {
                     0.0
                 }
             }
-            ForceLaw::TipAdhesion { a1, lambda } => adhesion_force(a1, lambda, e_tip),
-            ForceLaw::NeedleAdhesion { a1, lambda } => -adhesion_force(a1, lambda, gap),
+            ForceLaw::TipAdhesion { a1, lambda } => adhesion_force(a1, lambda, s.e_tip),
+            ForceLaw::NeedleAdhesion { a1, lambda } => -adhesion_force(a1, lambda, s.gap),
+            ForceLaw::NeedleBody {
+                m_nd,
+                k_nd,
+                k_tm,
+                c_nd,
+                c_tm,
+            } => {
+                let (u, du) = (s.own[0], s.own[1]);
+                let delta = s.f_pre / k_tm + u - s.x;
+                let fc = if delta > 0.0 {
+                    (k_tm * delta + c_tm * (du - s.v)).max(0.0)
+                } else {
+                    0.0
+                };
+                d_own[0] = du;
+                d_own[1] = (s.f_pre - k_nd * u - c_nd * du - fc) / m_nd;
+                fc
+            }
         }
     }
 }
@@ -320,9 +373,8 @@ pub trait Effect: Send + Sync {
     fn force(&self, _p: &[f64], _s: &TmState, _ds: &mut [f64]) -> f64 {
         0.0
     }
-    /// The force as a closed-form law the integration evaluates inline, when the effect has
-    /// no internal states and its force depends on the elongation of the tip contact and the
-    /// needle gap only; `None` (the default) keeps the call to [`Effect::force`].
+    /// The force as a closed-form law the integration evaluates inline (at most two own
+    /// states); `None` (the default) keeps the call to [`Effect::force`].
     fn law(&self, _p: &[f64]) -> Option<ForceLaw> {
         None
     }

@@ -1,6 +1,8 @@
 //! `needle_mass`: the needles as a body with mass (physics.md section 4, examples README).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState};
+use super::{
+    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
+};
 
 /// The needles are a body of mass `m_nd` on a spring `k_nd` and damper `c_nd` to ground,
 /// preloaded to push with `F_pre` at rest; the TM touches it through the unilateral
@@ -43,6 +45,15 @@ impl Effect for NeedleMass {
     }
     fn n_states(&self) -> usize {
         2
+    }
+    fn law(&self, p: &[f64]) -> Option<ForceLaw> {
+        Some(ForceLaw::NeedleBody {
+            m_nd: p[0],
+            k_nd: p[1],
+            k_tm: p[2],
+            c_nd: p[3],
+            c_tm: p[4],
+        })
     }
     fn force(&self, p: &[f64], s: &TmState, ds: &mut [f64]) -> f64 {
         let (m_nd, k_nd, k_tm, c_nd, c_tm) = (p[0], p[1], p[2], p[3], p[4]);
