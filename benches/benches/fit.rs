@@ -1,4 +1,5 @@
-//! Criterion benchmarks of the identification fits: the forward model of each scenario, and
+//! Criterion benchmarks of the identification fits: the forward model of each scenario (and four
+//! TMMF parameter vectors one by one and in lockstep), and
 //! `fit` with the right model at 2 000, 20 000 and 400 000 samples (tmmf-release: 200 kHz, the
 //! facility's rate, for 10 ms, 100 ms and 2 s; rt-retraction: 1 MHz for 2 ms, 20 ms, 0.4 s and
 //! 1 s), and
@@ -65,6 +66,34 @@ fn forward(c: &mut Criterion) {
     g.finish();
 }
 
+/// Four parameter vectors of the TMMF model (a Jacobian's columns) on a 2 000-sample record:
+/// one evaluation after the other, and in lockstep (`Model::predict_many`, the same bits).
+fn lockstep(c: &mut Criterion) {
+    let mut g = c.benchmark_group("forward_model_4_vectors");
+    let model = Model::new(Scenario::TmmfRelease, &TMMF).unwrap();
+    let n = 2_000;
+    let prep = record(Scenario::TmmfRelease, n);
+    let ps: Vec<Vec<f64>> = (0..4)
+        .map(|k| {
+            let mut p = vec![6.5e5, 7e-3, 1e6, 1.3e5, 6e-7];
+            p[k] *= 1.001;
+            p
+        })
+        .collect();
+    g.throughput(Throughput::Elements(4 * n as u64));
+    g.bench_function(BenchmarkId::new("one_by_one", n), |b| {
+        b.iter(|| {
+            ps.iter()
+                .map(|p| model.predict(black_box(p), &prep.dataset.t, &prep.inputs))
+                .collect::<Vec<_>>()
+        })
+    });
+    g.bench_function(BenchmarkId::new("lockstep", n), |b| {
+        b.iter(|| model.predict_many(black_box(&ps), &prep.dataset.t, &prep.inputs))
+    });
+    g.finish();
+}
+
 fn fits(c: &mut Criterion) {
     let mut g = c.benchmark_group("fit");
     g.sample_size(10);
@@ -106,5 +135,5 @@ fn diagnoses(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, forward, fits, diagnoses);
+criterion_group!(benches, forward, lockstep, fits, diagnoses);
 criterion_main!(benches);
