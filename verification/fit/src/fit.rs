@@ -344,10 +344,18 @@ impl<'a> Problem<'a> {
                 .map(|u| self.resid_n(u, start, n_use))
                 .collect();
         }
-        // as few groups as the lanes allow, of balanced sizes (five columns: three and two)
-        let groups = us.len().div_ceil(lanes);
-        let size = us.len().div_ceil(groups);
         let ps: Vec<Vec<f64>> = us.iter().map(|u| self.full(u, start)).collect();
+        self.resid_of_many(&ps, n_use)
+    }
+
+    /// The residuals over the first `n_use` samples at each full parameter vector of `ps`
+    /// (each the bits of [`Problem::resid_n`] at it), in groups of the model's lanes, the
+    /// groups spread over threads.
+    fn resid_of_many(&self, ps: &[Vec<f64>], n_use: usize) -> Vec<Vec<f64>> {
+        // as few groups as the lanes allow, of balanced sizes (five columns: three and two)
+        let lanes = self.model.lanes().max(1);
+        let groups = ps.len().div_ceil(lanes).max(1);
+        let size = ps.len().div_ceil(groups).max(1);
         let preds: Vec<Vec<Vec<f64>>> = ps
             .par_chunks(size)
             .map(|c| {
@@ -376,6 +384,31 @@ impl<'a> Problem<'a> {
             start,
             n_use,
         }
+    }
+}
+
+/// A profile point's residuals: the free parameters but the `k`-th, which is held at `uk`.
+struct Profiled<'p, 'a> {
+    window: Window<'p, 'a>,
+    k: usize,
+    uk: f64,
+}
+
+impl Profiled<'_, '_> {
+    fn with_held(&self, v: &[f64]) -> Vec<f64> {
+        let mut w = v.to_vec();
+        w.insert(self.k, self.uk);
+        w
+    }
+}
+
+impl Residuals for Profiled<'_, '_> {
+    fn eval(&self, v: &[f64]) -> Vec<f64> {
+        self.window.eval(&self.with_held(v))
+    }
+    fn eval_many(&self, vs: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        let ws: Vec<Vec<f64>> = vs.iter().map(|v| self.with_held(v)).collect();
+        self.window.eval_many(&ws)
     }
 }
 
@@ -553,10 +586,10 @@ fn fit_model_on(
                         *v = (*v + slope[i] * (uk - uk_prev)).clamp(lo2[i], hi2[i]);
                     }
                     uk_prev = uk;
-                    let f = |v: &[f64]| {
-                        let mut w = v.to_vec();
-                        w.insert(k, uk);
-                        resid(&w, start)
+                    let f = Profiled {
+                        window: pb.window(start, t.len()),
+                        k,
+                        uk,
                     };
                     // chi-square to 1 % of a unit: the profile compares it with `target`, at
                     // least one unit
@@ -816,8 +849,6 @@ fn search(pb: &Problem, starts: &[Vec<f64>], refine_only: bool) -> Vec<(usize, f
     let model = pb.model;
     let t = pb.t;
     let full = |u: &[f64], start: &[f64]| pb.full(u, start);
-    let resid_n = |u: &[f64], start: &[f64], n_use: usize| pb.resid_n(u, start, n_use);
-    let resid = |u: &[f64], start: &[f64]| pb.resid(u, start);
     let (stages, _, windows, also_full) = effort(model.scenario);
     // sample count of a window: the pre-trigger samples plus a fraction of the record after
     let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(0);
@@ -834,20 +865,26 @@ fn search(pb: &Problem, starts: &[Vec<f64>], refine_only: bool) -> Vec<(usize, f
         vec![(0, f64::INFINITY, u0)]
     } else {
         // screen every start by its cost, run a short LM from the best few distinct ones
-        let screened: Vec<(usize, f64)> = starts
-            .par_iter()
-            .enumerate()
-            .map(|(si, s)| {
+        // each start at its clamped values, all evaluated as one set (the model's lanes)
+        let clamped: Vec<Vec<f64>> = starts
+            .iter()
+            .map(|s| {
                 let u0: Vec<f64> = fidx
                     .iter()
                     .map(|&i| to_u(&specs[i], s[i]).clamp(lo_of(lo, i, fidx), hi_of(hi, i, fidx)))
                     .collect();
-                let c: f64 = resid_n(&u0, s, n_window(windows[0]))
-                    .iter()
-                    .map(|v| v * v)
-                    .sum();
-                (si, if c.is_finite() { c } else { f64::INFINITY })
+                full(&u0, s)
             })
+            .collect();
+        let cost = |r: Vec<f64>| -> f64 {
+            let c: f64 = r.iter().map(|v| v * v).sum();
+            if c.is_finite() { c } else { f64::INFINITY }
+        };
+        let screened: Vec<(usize, f64)> = pb
+            .resid_of_many(&clamped, n_window(windows[0]))
+            .into_iter()
+            .map(cost)
+            .enumerate()
             .collect();
         let mut sorted = screened;
         sorted.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
@@ -876,19 +913,10 @@ fn search(pb: &Problem, starts: &[Vec<f64>], refine_only: bool) -> Vec<(usize, f
         }
         // the cost of every start on the whole record (only needed when the stages are windowed)
         let full_costs: Vec<(usize, f64)> = if windows[0] < 1.0 {
-            starts
-                .par_iter()
+            pb.resid_of_many(&clamped, t.len())
+                .into_iter()
+                .map(cost)
                 .enumerate()
-                .map(|(si, s)| {
-                    let u0: Vec<f64> = fidx
-                        .iter()
-                        .map(|&i| {
-                            to_u(&specs[i], s[i]).clamp(lo_of(lo, i, fidx), hi_of(hi, i, fidx))
-                        })
-                        .collect();
-                    let c: f64 = resid(&u0, s).iter().map(|v| v * v).sum();
-                    (si, if c.is_finite() { c } else { f64::INFINITY })
-                })
                 .collect()
         } else {
             Vec::new()
