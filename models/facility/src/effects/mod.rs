@@ -225,6 +225,24 @@ pub struct LawState {
     pub own: [f64; 2],
 }
 
+impl LawState {
+    /// The fields of `s` a law reads (its own states, if any, are the first two of `s.own`).
+    pub fn of(s: &TmState) -> LawState {
+        LawState {
+            x: s.x,
+            v: s.v,
+            e_tip: s.e_tip,
+            gap: s.needle_gap,
+            f_pre: s.f_pre,
+            body: s.needle_body,
+            own: [
+                s.own.first().copied().unwrap_or(0.0),
+                s.own.get(1).copied().unwrap_or(0.0),
+            ],
+        }
+    }
+}
+
 impl ForceLaw {
     /// Force on the TM along +x [N] in state `s`; writes the time derivatives of the law's own
     /// states into `d_own` (only [`ForceLaw::NeedleBody`] has any).

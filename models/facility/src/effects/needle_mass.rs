@@ -1,7 +1,8 @@
 //! `needle_mass`: the needles as a body with mass (physics.md section 4, examples README).
 
 use super::{
-    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
+    Effect, EffectKind, ForceLaw, GuessContext, LawState, ParamSpec, ReleaseCheck, Scenario,
+    TmState,
 };
 
 /// The needles are a body of mass `m_nd` on a spring `k_nd` and damper `c_nd` to ground,
@@ -56,16 +57,11 @@ impl Effect for NeedleMass {
         })
     }
     fn force(&self, p: &[f64], s: &TmState, ds: &mut [f64]) -> f64 {
-        let (m_nd, k_nd, k_tm, c_nd, c_tm) = (p[0], p[1], p[2], p[3], p[4]);
-        let (u, du) = (s.own[0], s.own[1]);
-        let delta = s.f_pre / k_tm + u - s.x;
-        let fc = if delta > 0.0 {
-            (k_tm * delta + c_tm * (du - s.v)).max(0.0)
-        } else {
-            0.0
-        };
-        ds[0] = du;
-        ds[1] = (s.f_pre - k_nd * u - c_nd * du - fc) / m_nd;
+        // the law is the one place the body's dynamics are written
+        let law = self.law(p).expect("needle_mass has a law");
+        let mut d = [0.0; 2];
+        let fc = law.force(&LawState::of(s), &mut d);
+        ds.copy_from_slice(&d);
         fc
     }
     /// Body masses from 0.1 to 3 times the TM's, with spring pairs whose series stiffness is
