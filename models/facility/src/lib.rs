@@ -18,6 +18,7 @@ pub mod profile;
 pub mod retraction;
 pub mod rk4;
 pub mod tmmf;
+pub mod trap;
 
 pub use effects::{Effect, EffectKind, ParamSpec, Scenario, by_name, catalogue};
 pub use model::{Model, ModelError};
