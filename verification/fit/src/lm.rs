@@ -69,35 +69,6 @@ pub struct LmResult {
     pub iterations: usize,
 }
 
-/// Forward-difference Jacobian of `f` at `u` (`r0 = f(u)`), columns for `u`'s entries.
-pub fn jacobian<F: Fn(&[f64]) -> Vec<f64>>(
-    f: &F,
-    u: &[f64],
-    r0: &[f64],
-    lo: &[f64],
-    hi: &[f64],
-    h: f64,
-) -> DMatrix<f64> {
-    let n = r0.len();
-    let mut j = DMatrix::zeros(n, u.len());
-    let mut up = u.to_vec();
-    for k in 0..u.len() {
-        // step away from an active upper bound
-        let step = if u[k] + h > hi[k] && u[k] - h >= lo[k] {
-            -h
-        } else {
-            h
-        };
-        up[k] = u[k] + step;
-        let r1 = f(&up);
-        for i in 0..n {
-            j[(i, k)] = (r1[i] - r0[i]) / step;
-        }
-        up[k] = u[k];
-    }
-    j
-}
-
 /// Forward-difference Jacobian columns of `f` at `u` (`r0 = f(u)`), one vector per entry of `u`
 /// (the layout the normal equations read without a transposed copy), with the step `h[k]` for
 /// entry `k` (see [`fd_steps`]).
