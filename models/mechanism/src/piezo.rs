@@ -190,8 +190,8 @@ impl Mechanism for PiezoMechanism {
             Complex64::new(-b / (2.0 * m), (self.k_eff / m).sqrt()),
         ];
         let mut roots = [Complex64::new(0.0, 0.0); 3];
-        for (r, g) in roots.iter_mut().zip(guesses) {
-            *r = newton_root(&poly, g)?;
+        for (r, n) in roots.iter_mut().zip(newton_roots(&poly, guesses)) {
+            *r = n?;
         }
         roots[0].im = 0.0;
         let lam = [
@@ -266,34 +266,53 @@ impl PiezoMechanism {
     }
 }
 
-/// Newton's method on a real polynomial `c[0] + c[1] s + ... + c[5] s^5` from `x`; `None` when
-/// it does not converge to full precision.
-fn newton_root(c: &[f64; 6], mut x: Complex64) -> Option<Complex64> {
-    for _ in 0..60 {
-        let (mut p, mut dp) = (Complex64::new(c[5], 0.0), Complex64::new(0.0, 0.0));
+/// Newton's method on a real polynomial `c[0] + c[1] s + ... + c[5] s^5` from each of `xs`;
+/// `None` for a start that does not converge to full precision. The starts' iterations run side
+/// by side (each a chain of dependent complex multiply-adds: latency-bound alone; perf put the
+/// roots at a twentieth of a Monte Carlo release), each with its own stopping rule: the bits of
+/// one run per start.
+fn newton_roots<const L: usize>(c: &[f64; 6], mut x: [Complex64; L]) -> [Option<Complex64>; L] {
+    let eval = |x: &[Complex64; L]| {
+        let (mut p, mut dp) = (
+            [Complex64::new(c[5], 0.0); L],
+            [Complex64::new(0.0, 0.0); L],
+        );
         for &ck in c[..5].iter().rev() {
-            dp = dp * x + p;
-            p = p * x + ck;
-        }
-        if dp.norm_sqr() == 0.0 {
-            return None;
-        }
-        let dx = p / dp;
-        x -= dx;
-        if !x.re.is_finite() || !x.im.is_finite() {
-            return None;
-        }
-        if dx.norm_sqr() <= 1e-24 * x.norm_sqr() {
-            // quadratic convergence: one more step reaches rounding level
-            let (mut p, mut dp) = (Complex64::new(c[5], 0.0), Complex64::new(0.0, 0.0));
-            for &ck in c[..5].iter().rev() {
-                dp = dp * x + p;
-                p = p * x + ck;
+            for b in 0..L {
+                dp[b] = dp[b] * x[b] + p[b];
+                p[b] = p[b] * x[b] + ck;
             }
-            return Some(x - p / dp);
+        }
+        (p, dp)
+    };
+    let mut out = [None; L];
+    let mut live = [true; L];
+    for _ in 0..60 {
+        let (p, dp) = eval(&x);
+        for b in 0..L {
+            if !live[b] {
+                continue;
+            }
+            if dp[b].norm_sqr() == 0.0 {
+                live[b] = false;
+                continue;
+            }
+            let dx = p[b] / dp[b];
+            x[b] -= dx;
+            if !x[b].re.is_finite() || !x[b].im.is_finite() {
+                live[b] = false;
+            } else if dx.norm_sqr() <= 1e-24 * x[b].norm_sqr() {
+                // quadratic convergence: one more step reaches rounding level
+                let (p, dp) = eval(&x);
+                out[b] = Some(x[b] - p[b] / dp[b]);
+                live[b] = false;
+            }
+        }
+        if !live.contains(&true) {
+            break;
         }
     }
-    None
+    out
 }
 
 #[cfg(test)]

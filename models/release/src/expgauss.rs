@@ -158,40 +158,76 @@ const INV_FACT3: [f64; 20] = {
 
 /// `(exp z, phi_1 z, phi_2 z, phi_3 z)` with `phi_k(z) = sum_n z^n / (n + k)!`.
 fn phis(z: Complex64) -> [Complex64; 4] {
-    let r2 = z.norm_sqr();
-    if r2 < 1.0 {
-        // Taylor series of phi_3, then the stable backward recurrence phi_k = z phi_{k+1} + 1/k!.
-        // Terms kept: the fewest whose first neglected one, |z|^n / (n + 3)!, is below 1e-17
-        // of phi_3 (about 1/6) for every |z| of the band: 9 terms up to |z| = 1/16, ..., 17 up
-        // to 1 (20 before: the series is a fifth of a Monte Carlo release's cost)
-        let terms = if r2 < 1.0 / 256.0 {
-            9
-        } else if r2 < 1.0 / 64.0 {
-            10
-        } else if r2 < 1.0 / 16.0 {
-            12
-        } else if r2 < 0.25 {
-            14
-        } else {
-            17
-        };
-        let mut p3 = Complex64::new(0.0, 0.0);
-        for &c in INV_FACT3[..terms].iter().rev() {
-            p3 = p3 * z + c;
-        }
-        let p2 = z * p3 + 0.5;
-        let p1 = z * p2 + 1.0;
-        let e = z * p1 + 1.0;
-        [e, p1, p2, p3]
+    phis_many([z])[0]
+}
+
+/// Terms of the Taylor series of `phi_3` for `|z|^2 = r2`, `None` at `|z| >= 1` (closed form).
+/// The fewest whose first neglected one, `|z|^n / (n + 3)!`, is below 1e-17 of `phi_3` (about
+/// 1/6) for every `|z|` of the band: 9 terms up to `|z| = 1/16`, ..., 17 up to 1 (20 before:
+/// the series was a fifth of a Monte Carlo release's cost).
+#[inline]
+fn series_terms(r2: f64) -> Option<usize> {
+    if r2 >= 1.0 {
+        None
+    } else if r2 < 1.0 / 256.0 {
+        Some(9)
+    } else if r2 < 1.0 / 64.0 {
+        Some(10)
+    } else if r2 < 1.0 / 16.0 {
+        Some(12)
+    } else if r2 < 0.25 {
+        Some(14)
     } else {
-        // one complex reciprocal instead of three divisions
-        let e = z.exp();
-        let iz = z.inv();
-        let p1 = (e - 1.0) * iz;
-        let p2 = (p1 - 1.0) * iz;
-        let p3 = (p2 - 0.5) * iz;
-        [e, p1, p2, p3]
+        Some(17)
     }
+}
+
+/// [`phis`] of each of `L` arguments, the same bits as one call each: the series' Horner
+/// chains (a dependent complex multiply-add per term, latency-bound) run side by side, each
+/// lane over its own terms (perf: the tables' series were an eighth of a Monte Carlo release,
+/// one chain at a time).
+fn phis_many<const L: usize>(zs: [Complex64; L]) -> [[Complex64; 4]; L] {
+    let zero = Complex64::new(0.0, 0.0);
+    let mut out = [[zero; 4]; L];
+    let mut terms = [0usize; L];
+    let mut most = 0;
+    for (b, z) in zs.iter().enumerate() {
+        match series_terms(z.norm_sqr()) {
+            Some(n) => {
+                terms[b] = n;
+                most = most.max(n);
+            }
+            None => {
+                // one complex reciprocal instead of three divisions
+                let e = z.exp();
+                let iz = z.inv();
+                let p1 = (e - 1.0) * iz;
+                let p2 = (p1 - 1.0) * iz;
+                let p3 = (p2 - 0.5) * iz;
+                out[b] = [e, p1, p2, p3];
+            }
+        }
+    }
+    // Taylor series of phi_3, then the stable backward recurrence phi_k = z phi_{k+1} + 1/k!
+    let mut p3 = [zero; L];
+    for k in (0..most).rev() {
+        let c = INV_FACT3[k];
+        for b in 0..L {
+            if k < terms[b] {
+                p3[b] = p3[b] * zs[b] + c;
+            }
+        }
+    }
+    for b in 0..L {
+        if terms[b] > 0 {
+            let z = zs[b];
+            let p2 = z * p3[b] + 0.5;
+            let p1 = z * p2 + 1.0;
+            let e = z * p1 + 1.0;
+            out[b] = [e, p1, p2, p3[b]];
+        }
+    }
+    out
 }
 
 /// Inverse of a complex 5x5 matrix by Gauss-Jordan elimination with partial pivoting.
@@ -365,11 +401,16 @@ impl Table {
             g_f: [[0.0; S]; S],
             g_v: [[0.0; S]; S],
         };
-        // points: the nodes, then the step end
+        // points: the nodes, then the step end; each mode's four at once
+        let mut ph_all = [[[zero; 4]; S + 1]; MECH_STATES];
+        for m in 0..md.n {
+            let at = |c: f64| md.lam[m] * (c * h);
+            ph_all[m] = phis_many([at(NODES[0]), at(NODES[1]), at(NODES[2]), at(1.0)]);
+        }
         for p in 0..=S {
             let c = if p < S { NODES[p] } else { 1.0 };
             for m in 0..md.n {
-                let ph = phis(md.lam[m] * (c * h));
+                let ph = ph_all[m][p];
                 // psi_l = int_0^{c h} exp(lambda (c h - s)) l_l(s / h) ds from the monomials
                 // tau^k: h k! c^(k+1) phi_{k+1}(lambda c h)
                 let mono = [
@@ -464,9 +505,10 @@ struct State {
     de: [f64; 2],
 }
 
-/// A tried step.
+/// A tried step (its end state is written into the caller's spare [`State`]: the run keeps
+/// two and alternates, instead of copying 216 bytes twice per step; perf put a tenth of a
+/// Monte Carlo release in those copies).
 struct Trial {
-    next: State,
     forces: [[f64; S]; 2],
     /// A contact opened or closed within the step.
     kink: bool,
@@ -559,12 +601,14 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
         out
     }
 
-    /// One collocation step of `level` from `st`, with node forces predicted by `guess`.
+    /// One collocation step of `level` from `st`, with node forces predicted by `guess`; the
+    /// state at its end is written into `next`.
     fn step(
         &mut self,
         level: usize,
         st: &State,
         guess: &[[f64; S]; 2],
+        next: &mut State,
     ) -> Result<Trial, IntegrateError> {
         self.ensure(level);
         let h = self.h[level];
@@ -673,7 +717,7 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
         if !converged {
             return Err(IntegrateError::NoConvergence { t_s: st.t });
         }
-        let mut z = st.z;
+        let z = &mut next.z;
         for i in 0..2 {
             let md = &self.modal[i];
             let tab = tabs[i];
@@ -688,6 +732,8 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
                 }
                 z[i][m] = acc;
             }
+            // modes not kept (conjugates) stay as they were
+            z[i][md.n..].copy_from_slice(&st.z[i][md.n..]);
         }
         let mut dx = 0.0;
         let mut dv = 0.0;
@@ -698,7 +744,7 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
         }
         let x = st.x + st.v * h + dx;
         let v = st.v + dv;
-        let (e_end, de_end) = self.contact_state(&z, x, v);
+        let (e_end, de_end) = self.contact_state(&next.z, x, v);
         if !(v.is_finite() && x.is_finite() && e_end.iter().chain(&de_end).all(|q| q.is_finite())) {
             return Err(IntegrateError::NonFinite { t_s: st.t });
         }
@@ -707,15 +753,12 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
             let open = st.e[i] > 0.0;
             kink |= (e_end[i] > 0.0) != open || e[i].iter().any(|&q| (q > 0.0) != open);
         }
+        next.t = st.t + h;
+        next.x = x;
+        next.v = v;
+        next.e = e_end;
+        next.de = de_end;
         Ok(Trial {
-            next: State {
-                t: st.t + h,
-                z,
-                x,
-                v,
-                e: e_end,
-                de: de_end,
-            },
             forces: f,
             kink,
             evals,
@@ -734,7 +777,8 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
         ];
         let (x, v) = (y0[2 * MECH_STATES], y0[2 * MECH_STATES + 1]);
         let (e, de) = self.contact_state(&z, x, v);
-        let mut st = State {
+        // the current state and the spare one the next step is written into, alternating
+        let st0 = State {
             t: 0.0,
             z,
             x,
@@ -742,6 +786,8 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
             e,
             de,
         };
+        let mut states = [st0, st0];
+        let mut k = 0;
         let mut stats = Stats::default();
         let f0 = self.model.contact_forces_n(&y0);
         // the last accepted step: start, length and node forces (predictor by extrapolation)
@@ -755,7 +801,15 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
             (self.h[LONG] / self.h[SHORT]).round() as u32,
             (self.h[SHORT] / self.h[FINE]).round() as u32,
         ];
-        while st.t < T_MAX_S {
+        while states[k].t < T_MAX_S {
+            let (st, next) = {
+                let (a, b) = states.split_at_mut(1);
+                if k == 0 {
+                    (&a[0], &mut b[0])
+                } else {
+                    (&b[0], &mut a[0])
+                }
+            };
             let h = self.h[cur];
             let guess = match prev {
                 Some((tp, hp, fp)) => {
@@ -770,7 +824,7 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
                 }
                 None => [[f0[0]; S], [f0[1]; S]],
             };
-            let trial = self.step(cur, &st, &guess)?;
+            let trial = self.step(cur, st, &guess, next)?;
             stats.rhs_evals += trial.evals;
             if trial.kink && cur < FINE {
                 stats.rejected += 1;
@@ -781,7 +835,8 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
             }
             stats.accepted += 1;
             prev = Some((st.t, h, trial.forces));
-            st = trial.next;
+            k ^= 1;
+            let st = &states[k];
             if self.model.stop_rule(st.t, st.e, st.de) {
                 return Ok(self.model.outcome_at(st.t, st.e, st.de, st.v, stats));
             }
