@@ -251,85 +251,192 @@ pub fn minimize_with_steps<F: Residuals + ?Sized>(
     opts: &LmOptions,
     steps: Option<&[f64]>,
 ) -> LmResult {
-    let n = u0.len();
-    let mut u: Vec<f64> = u0
-        .iter()
-        .zip(lo.iter().zip(hi))
-        .map(|(v, (l, h))| v.clamp(*l, *h))
-        .collect();
-    let mut r = f.eval(&u);
-    let mut cost = cost_of(&r);
-    let mut mu = 1e-3;
-    let mut iterations = 0;
-    if n == 0 || !cost.is_finite() {
-        return LmResult {
-            u,
-            cost,
-            r,
-            iterations,
-        };
-    }
-    let mut small = 0;
-    let steps = match steps {
-        Some(h) => h.to_vec(),
-        None => fd_steps(f, &u, &r, lo, hi, opts.fd_step),
-    };
-    while iterations < opts.max_iter {
-        iterations += 1;
-        let cols = jacobian_columns(f, &u, &r, lo, hi, &steps);
-        let (a, g) = normal_equations(&cols, &r);
-        drop(cols);
-        let diag: Vec<f64> = (0..n)
-            .map(|k| a[(k, k)].max(1e-12 * (1.0 + a.max())))
+    let mut run = LmRun::new(f, u0, lo, hi, opts, steps);
+    run.advance(f, lo, hi, opts, opts.max_iter);
+    run.result()
+}
+
+/// A [`minimize`] run that can be advanced in rounds: its iterates are those of one
+/// [`minimize_with_steps`] call, bit for bit, however its iterations are split. A caller
+/// refining several starts can then look at them between rounds (and stop those that cannot
+/// catch up with the best, [`crate::fit`]'s refinement).
+#[derive(Debug, Clone)]
+pub struct LmRun {
+    u: Vec<f64>,
+    r: Vec<f64>,
+    cost: f64,
+    mu: f64,
+    iterations: usize,
+    small: usize,
+    steps: Vec<f64>,
+    finished: bool,
+}
+
+impl LmRun {
+    /// The run at `u0` clamped to the bounds (one evaluation, and the difference steps of
+    /// [`fd_steps`] unless `steps` are given); no iteration yet.
+    pub fn new<F: Residuals + ?Sized>(
+        f: &F,
+        u0: &[f64],
+        lo: &[f64],
+        hi: &[f64],
+        opts: &LmOptions,
+        steps: Option<&[f64]>,
+    ) -> LmRun {
+        let u: Vec<f64> = u0
+            .iter()
+            .zip(lo.iter().zip(hi))
+            .map(|(v, (l, h))| v.clamp(*l, *h))
             .collect();
-        let mut accepted = false;
-        for _ in 0..12 {
-            let mut m = a.clone();
-            for k in 0..n {
-                m[(k, k)] += mu * diag[k];
-            }
-            let Some(delta) = m.cholesky().map(|c| c.solve(&(-&g))) else {
-                mu *= 10.0;
-                continue;
-            };
-            let trial: Vec<f64> = (0..n)
-                .map(|k| (u[k] + delta[k]).clamp(lo[k], hi[k]))
-                .collect();
-            let rt = f.eval(&trial);
-            let ct = cost_of(&rt);
-            if ct < cost {
-                let cost_before = cost;
-                let rel = (cost - ct) / cost.max(1e-300);
-                let step: f64 = (0..n).map(|k| (trial[k] - u[k]).abs()).fold(0.0, f64::max);
-                u = trial;
-                r = rt;
-                cost = ct;
-                mu = (mu / 3.0).max(1e-12);
-                accepted = true;
-                if rel < opts.ftol || step < 1e-10 || cost_before - ct < opts.atol {
-                    small += 1;
-                } else {
-                    small = 0;
-                }
-                break;
-            }
-            mu *= 4.0;
-        }
-        if !accepted || small >= 2 {
-            break;
+        let r = f.eval(&u);
+        let cost = cost_of(&r);
+        let finished = u.is_empty() || !cost.is_finite();
+        let steps = match (finished, steps) {
+            (true, _) => Vec::new(),
+            (false, Some(h)) => h.to_vec(),
+            (false, None) => fd_steps(f, &u, &r, lo, hi, opts.fd_step),
+        };
+        LmRun {
+            u,
+            r,
+            cost,
+            mu: 1e-3,
+            iterations: 0,
+            small: 0,
+            steps,
+            finished,
         }
     }
-    LmResult {
-        u,
-        cost,
-        r,
-        iterations,
+
+    /// Iterates until the run has made `until` iterations in all (at most `opts.max_iter`) or
+    /// has converged or stalled.
+    pub fn advance<F: Residuals + ?Sized>(
+        &mut self,
+        f: &F,
+        lo: &[f64],
+        hi: &[f64],
+        opts: &LmOptions,
+        until: usize,
+    ) {
+        let n = self.u.len();
+        let until = until.min(opts.max_iter);
+        while !self.finished && self.iterations < until {
+            self.iterations += 1;
+            let cols = jacobian_columns(f, &self.u, &self.r, lo, hi, &self.steps);
+            let (a, g) = normal_equations(&cols, &self.r);
+            drop(cols);
+            let diag: Vec<f64> = (0..n)
+                .map(|k| a[(k, k)].max(1e-12 * (1.0 + a.max())))
+                .collect();
+            let mut accepted = false;
+            for _ in 0..12 {
+                let mut m = a.clone();
+                for k in 0..n {
+                    m[(k, k)] += self.mu * diag[k];
+                }
+                let Some(delta) = m.cholesky().map(|c| c.solve(&(-&g))) else {
+                    self.mu *= 10.0;
+                    continue;
+                };
+                let trial: Vec<f64> = (0..n)
+                    .map(|k| (self.u[k] + delta[k]).clamp(lo[k], hi[k]))
+                    .collect();
+                let rt = f.eval(&trial);
+                let ct = cost_of(&rt);
+                if ct < self.cost {
+                    let cost_before = self.cost;
+                    let rel = (self.cost - ct) / self.cost.max(1e-300);
+                    let step: f64 = (0..n)
+                        .map(|k| (trial[k] - self.u[k]).abs())
+                        .fold(0.0, f64::max);
+                    self.u = trial;
+                    self.r = rt;
+                    self.cost = ct;
+                    self.mu = (self.mu / 3.0).max(1e-12);
+                    accepted = true;
+                    if rel < opts.ftol || step < 1e-10 || cost_before - ct < opts.atol {
+                        self.small += 1;
+                    } else {
+                        self.small = 0;
+                    }
+                    break;
+                }
+                self.mu *= 4.0;
+            }
+            if !accepted || self.small >= 2 || self.iterations >= opts.max_iter {
+                self.finished = true;
+            }
+        }
+    }
+
+    /// The cost `sum r^2` at the current point.
+    pub fn cost(&self) -> f64 {
+        self.cost
+    }
+
+    /// Iterations made so far.
+    pub fn iterations(&self) -> usize {
+        self.iterations
+    }
+
+    /// Whether the run has converged, stalled or used its `max_iter` iterations.
+    pub fn finished(&self) -> bool {
+        self.finished
+    }
+
+    /// The current point as a [`LmResult`].
+    pub fn result(self) -> LmResult {
+        LmResult {
+            u: self.u,
+            cost: self.cost,
+            r: self.r,
+            iterations: self.iterations,
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_run_in_rounds_has_the_bits_of_one_call() {
+        let t: Vec<f64> = (0..60).map(|i| i as f64 * 0.05).collect();
+        let y: Vec<f64> = t
+            .iter()
+            .map(|t| 1.7 * (-0.8 * t).exp() * (3.0 * t).cos())
+            .collect();
+        let f = |u: &[f64]| {
+            t.iter()
+                .zip(&y)
+                .map(|(t, y)| u[0] * (-u[1] * t).exp() * (u[2] * t).cos() - y)
+                .collect::<Vec<_>>()
+        };
+        let (lo, hi) = ([0.0, 0.0, 0.0], [10.0, 10.0, 10.0]);
+        for max_iter in [1, 5, 40] {
+            let opts = LmOptions {
+                max_iter,
+                ..LmOptions::default()
+            };
+            let whole = minimize(&f, &[1.0, 0.3, 2.2], &lo, &hi, &opts);
+            for round in [1, 3, 7] {
+                let mut run = LmRun::new(&f, &[1.0, 0.3, 2.2], &lo, &hi, &opts, None);
+                let mut until = 0;
+                while !run.finished() && until < max_iter {
+                    until += round;
+                    run.advance(&f, &lo, &hi, &opts, until);
+                }
+                let r = run.result();
+                assert_eq!(r.iterations, whole.iterations, "{max_iter} by {round}");
+                assert_eq!(r.cost.to_bits(), whole.cost.to_bits());
+                assert!(
+                    r.u.iter()
+                        .zip(&whole.u)
+                        .all(|(a, b)| a.to_bits() == b.to_bits())
+                );
+            }
+        }
+    }
 
     #[test]
     fn fits_an_exponential_within_bounds() {
