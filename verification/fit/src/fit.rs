@@ -950,6 +950,8 @@ fn search(pb: &Problem, starts: &[Vec<f64>], refine_only: bool) -> Vec<(usize, f
                     max_iter: iters,
                     ..LmOptions::default()
                 };
+                let t0 = std::time::Instant::now();
+                let nfirst = first.len();
                 first = first
                     .par_iter()
                     .map(|(si, _, u)| {
@@ -958,6 +960,12 @@ fn search(pb: &Problem, starts: &[Vec<f64>], refine_only: bool) -> Vec<(usize, f
                     })
                     .collect();
                 first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                if debug {
+                    eprintln!(
+                        "stage {iters} (window {frac}): {nfirst} runs in {:.3} s",
+                        t0.elapsed().as_secs_f64()
+                    );
+                }
                 if debug {
                     for (si, c, u) in &first {
                         let p = full(u, &starts[*si]);
