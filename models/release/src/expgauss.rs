@@ -167,7 +167,8 @@ fn phis(z: Complex64) -> [Complex64; 4] {
 /// the series was a fifth of a Monte Carlo release's cost).
 #[inline]
 fn series_terms(r2: f64) -> Option<usize> {
-    if r2 >= 1.0 {
+    // (a NaN takes the closed form, as `r2 < 1` decided before)
+    if r2 >= 1.0 || r2.is_nan() {
         None
     } else if r2 < 1.0 / 256.0 {
         Some(9)
