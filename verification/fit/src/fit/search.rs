@@ -258,43 +258,47 @@ pub(super) fn search(
     }
 }
 
-/// Iterations of a round of [`run_in_rounds`]: between rounds, the runs that cannot catch up
-/// are stopped.
+/// Iterations of a round of [`refine`]: between rounds, the runs that cannot catch up with
+/// the best are stopped.
 const ROUND: usize = 20;
 
 /// How much faster than over its last round a run is assumed to keep descending when
-/// [`run_in_rounds`] judges whether it can still catch up.
+/// [`refine`] judges whether it can still catch up with the best.
 const CATCH_UP_FACTOR: f64 = 4.0;
 
-/// Levenberg-Marquardt runs (`opts`) from each `(start, u)` of `items` on the first `n_use`
-/// samples, of which only the `keep` lowest will be used; returns (start, cost, u) of each.
+/// Stage "refine": a long Levenberg-Marquardt run (`long_iter` iterations, ftol 1e-9) from each
+/// searched point on the whole record; returns (start, cost, u) of each.
 ///
 /// The runs advance side by side in rounds of [`ROUND`] iterations (the iterates of
-/// uninterrupted runs: [`LmRun`]). After each round a run above the `keep`-th lowest cost met
-/// so far stops when, descending [`CATCH_UP_FACTOR`] times faster than it did over that round
-/// for every iteration it has left, it would still end above it (by 1 % and one unit): it
-/// cannot be among those kept. The crawl of such runs along their valleys was a third of the
-/// refinement (perf on FAC-FIT-QUAL's fits). The runs kept are the same, with the same bits,
-/// as without the rounds, unless a stopped run would have overtaken them by descending faster
-/// than that (costs only fall, so the `keep`-th lowest at the end is at most the one judged
+/// uninterrupted runs: [`LmRun`]). After each round a run above the lowest cost met so far
+/// stops when, descending [`CATCH_UP_FACTOR`] times faster than it did over that round for
+/// every iteration it has left, it would still end above it (by 1 % and one unit): it cannot be
+/// the one kept. The crawl of such runs along their valleys was a third of the refinement
+/// (FAC-FIT-QUAL's fits, 2026-11-26). The run kept, the lowest, is the same, with the same
+/// bits, as without the rounds, unless a stopped run would have overtaken it by descending
+/// faster than that (costs only fall, so the lowest at the end is at most the one judged
 /// against).
-fn run_in_rounds(
+pub(super) fn refine(
     pb: &Problem,
     starts: &[Vec<f64>],
-    items: Vec<(usize, Vec<f64>)>,
-    n_use: usize,
-    opts: &LmOptions,
-    keep: usize,
+    first: &[(usize, f64, Vec<f64>)],
+    long_iter: usize,
     debug: bool,
 ) -> Vec<(usize, f64, Vec<f64>)> {
     let (lo, hi) = (&pb.lo, &pb.hi);
+    let opts = LmOptions {
+        max_iter: long_iter,
+        ftol: 1e-9,
+        ..LmOptions::default()
+    };
+    let n = pb.t.len();
     // (start, run, cost at the start of the round, still advancing)
-    let mut runs: Vec<(usize, LmRun, f64, bool)> = items
-        .into_par_iter()
-        .map(|(si, u)| {
-            let run = LmRun::new(&pb.window(&starts[si], n_use), &u, lo, hi, opts, None);
+    let mut runs: Vec<(usize, LmRun, f64, bool)> = first
+        .par_iter()
+        .map(|(si, _, u)| {
+            let run = LmRun::new(&pb.window(&starts[*si], n), u, lo, hi, &opts, None);
             let c = run.cost();
-            (si, run, c, true)
+            (*si, run, c, true)
         })
         .collect();
     let mut done = 0;
@@ -302,11 +306,12 @@ fn run_in_rounds(
         done = (done + ROUND).min(opts.max_iter);
         runs.par_iter_mut().filter(|r| r.3).for_each(|r| {
             r.2 = r.1.cost();
-            r.1.advance(&pb.window(&starts[r.0], n_use), lo, hi, opts, done);
+            r.1.advance(&pb.window(&starts[r.0], n), lo, hi, &opts, done);
         });
-        let mut costs: Vec<f64> = runs.iter().map(|r| r.1.cost()).collect();
-        costs.sort_by(f64::total_cmp);
-        let bar = costs.get(keep.max(1) - 1).copied().unwrap_or(f64::INFINITY);
+        let best = runs
+            .iter()
+            .map(|r| r.1.cost())
+            .fold(f64::INFINITY, f64::min);
         let left = (opts.max_iter - done) as f64;
         for r in runs.iter_mut().filter(|r| r.3) {
             if r.1.finished() {
@@ -315,15 +320,14 @@ fn run_in_rounds(
             }
             let rate = (r.2 - r.1.cost()).max(0.0) / ROUND as f64;
             let reach = r.1.cost() - CATCH_UP_FACTOR * rate * left;
-            if reach > bar * 1.01 + 1.0 {
+            if reach > best * 1.01 + 1.0 {
                 r.3 = false;
                 if debug {
                     eprintln!(
-                        "run from start {} stopped after {} iterations at cost {:.3} ({} kept below {bar:.3})",
+                        "long run from start {} stopped after {} iterations at cost {:.3} (best {best:.3})",
                         r.0,
                         r.1.iterations(),
-                        r.1.cost(),
-                        keep
+                        r.1.cost()
                     );
                 }
             }
@@ -331,35 +335,17 @@ fn run_in_rounds(
     }
     runs.into_iter()
         .map(|(si, run, _, _)| {
+            if debug {
+                eprintln!(
+                    "long run from start {si}: {} iterations, cost {:.3}",
+                    run.iterations(),
+                    run.cost()
+                );
+            }
             let r = run.result();
             (si, r.cost, r.u)
         })
         .collect()
-}
-
-/// Stage "refine": a long Levenberg-Marquardt run (`long_iter` iterations, ftol 1e-9) from each
-/// searched point on the whole record, those that cannot become the best stopped early
-/// ([`run_in_rounds`]); returns (start, cost, u) of each.
-pub(super) fn refine(
-    pb: &Problem,
-    starts: &[Vec<f64>],
-    first: &[(usize, f64, Vec<f64>)],
-    long_iter: usize,
-    debug: bool,
-) -> Vec<(usize, f64, Vec<f64>)> {
-    let long = LmOptions {
-        max_iter: long_iter,
-        ftol: 1e-9,
-        ..LmOptions::default()
-    };
-    let items = first.iter().map(|(si, _, u)| (*si, u.clone())).collect();
-    let refined = run_in_rounds(pb, starts, items, pb.t.len(), &long, 1, debug);
-    if debug {
-        for (si, c, _) in &refined {
-            eprintln!("long run from start {si}: cost {c:.3}");
-        }
-    }
-    refined
 }
 
 /// Stage "canonical forms": an effect may re-express its fitted values equivalently (same
