@@ -31,6 +31,26 @@ impl Model {
         }
     }
 
+    /// [`Model::predict`] and its derivatives with respect to the parameters `p[dirs[j]]`
+    /// (forward sensitivities: [`tmmf::simulate_with_tangents`]), for the models
+    /// [`Model::has_tangents`] covers; `None` for the others.
+    pub fn predict_with_tangents(
+        &self,
+        p: &[f64],
+        dirs: &[usize],
+        times: &[f64],
+        inputs: &Inputs,
+    ) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
+        tmmf::simulate_with_tangents(self, p, dirs, times, inputs)
+    }
+
+    /// Whether [`Model::predict_with_tangents`] gives the derivatives with respect to
+    /// `n_dirs` parameters: a `tmmf-release` model whose forces are the needles' and the tip's
+    /// springs and the tip adhesion, without distortions (the others keep finite differences).
+    pub fn has_tangents(&self, n_dirs: usize) -> bool {
+        tmmf::tangents_cover(self, n_dirs)
+    }
+
     /// How many evaluations [`Model::predict_many`] interleaves in one thread: [`tmmf::LANES`]
     /// for a `tmmf-release` model whose forces all have a law, else 1 (a caller then gains
     /// nothing from grouping evaluations and should spread them over threads).

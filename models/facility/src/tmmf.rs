@@ -17,6 +17,12 @@
 //! throughout by less than integrating throughout departs from a 16 times finer integration
 //! (tested); a model with other forces than the needles' and the tip's contact and adhesion
 //! keeps the full integration.
+//!
+//! The derivatives of the readings with respect to the parameters (the fit's exact Jacobian)
+//! ride along the same RK4 steps in [`tangent`] ([`simulate_with_tangents`]).
+
+mod tangent;
+pub use tangent::{MAX_TANGENTS, covers as tangents_cover, simulate_with_tangents};
 
 use crate::effects::{EffectKind, ForceLaw, LawState, ReleaseCheck, TmState};
 use crate::model::{Inputs, Model};
@@ -141,7 +147,8 @@ fn integrate(
 /// Lanes of [`simulate_many`]'s lockstep integration: independent RK4 chains interleaved in
 /// one thread. A step is a chain of four dependent force evaluations whose divisions and `exp`
 /// wait on each other (latency, not arithmetic, bounds it): four chains side by side fill
-/// those waits, at about half the cost per chain (perf on FAC-FIT-QUAL's fits).
+/// some of those waits (criterion `forward_model_4_vectors`: 862 us one by one, 812 us in
+/// lockstep; FAC-FIT-QUAL 9 % faster, 2026-11-26).
 pub const LANES: usize = 4;
 
 /// [`simulate`] at each parameter vector of `ps`: the same readings, bit for bit, as one

@@ -336,6 +336,38 @@ impl<'a> Problem<'a> {
         self.resid_n(u, start, self.t.len())
     }
 
+    /// The exact Jacobian of [`Problem::resid_n`] at `u` (the model's forward sensitivities,
+    /// [`Model::predict_with_tangents`], through the parameters' coordinates and the noise
+    /// model's normalisation, both linear in the residuals), if the model has one.
+    fn jacobian_n(&self, u: &[f64], start: &[f64], n_use: usize) -> Option<Vec<Vec<f64>>> {
+        let p = self.full(u, start);
+        let (_, tangents) = self.model.predict_with_tangents(
+            &p,
+            &self.fidx,
+            &self.t[..n_use],
+            &self.prep.inputs,
+        )?;
+        Some(
+            tangents
+                .into_iter()
+                .zip(&self.fidx)
+                .map(|(mut col, &i)| {
+                    // d p / d u: p = exp(u) (log) or u * scale
+                    let dp_du = if self.specs[i].log {
+                        p[i]
+                    } else {
+                        self.specs[i].scale
+                    };
+                    for v in col.iter_mut() {
+                        *v *= dp_du;
+                    }
+                    self.prep.normalise(&mut col, self.sigma);
+                    col
+                })
+                .collect(),
+        )
+    }
+
     /// [`Problem::resid_n`] at each point of `us`, the same bits: in groups of the model's
     /// [`Model::lanes`] (evaluated together in one thread), the groups spread over threads.
     fn resid_many(&self, us: &[Vec<f64>], start: &[f64], n_use: usize) -> Vec<Vec<f64>> {
@@ -427,6 +459,12 @@ impl Residuals for Window<'_, '_> {
     }
     fn eval_many(&self, us: &[Vec<f64>]) -> Vec<Vec<f64>> {
         self.pb.resid_many(us, self.start, self.n_use)
+    }
+    fn has_jacobian(&self) -> bool {
+        self.pb.model.has_tangents(self.pb.fidx.len())
+    }
+    fn jacobian(&self, u: &[f64]) -> Option<Vec<Vec<f64>>> {
+        self.pb.jacobian_n(u, self.start, self.n_use)
     }
 }
 

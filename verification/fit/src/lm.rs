@@ -1,4 +1,5 @@
-//! Levenberg-Marquardt least squares with box bounds and a finite-difference Jacobian.
+//! Levenberg-Marquardt least squares with box bounds and a finite-difference Jacobian (or the
+//! exact one, when the residuals offer it: [`Residuals::jacobian`]).
 //!
 //! Minimises `sum r_i(u)^2` over internal coordinates `u` (log or scaled parameters, see
 //! [`crate::fit`]). Bounds are enforced by projecting each trial step onto the box. The
@@ -20,6 +21,16 @@ pub trait Residuals: Sync {
     /// at each.
     fn eval_many(&self, us: &[Vec<f64>]) -> Vec<Vec<f64>> {
         us.par_iter().map(|u| self.eval(u)).collect()
+    }
+    /// Whether [`Residuals::jacobian`] gives the exact Jacobian (then [`minimize`] uses it
+    /// instead of finite differences, and needs no difference steps).
+    fn has_jacobian(&self) -> bool {
+        false
+    }
+    /// The exact Jacobian's columns at `u`, one vector per entry of `u`, if the residuals have
+    /// one ([`Residuals::has_jacobian`]); `None` by default.
+    fn jacobian(&self, _u: &[f64]) -> Option<Vec<Vec<f64>>> {
+        None
     }
 }
 
@@ -294,6 +305,7 @@ impl LmRun {
         let steps = match (finished, steps) {
             (true, _) => Vec::new(),
             (false, Some(h)) => h.to_vec(),
+            (false, None) if f.has_jacobian() => Vec::new(),
             (false, None) => fd_steps(f, &u, &r, lo, hi, opts.fd_step),
         };
         LmRun {
@@ -322,7 +334,15 @@ impl LmRun {
         let until = until.min(opts.max_iter);
         while !self.finished && self.iterations < until {
             self.iterations += 1;
-            let cols = jacobian_columns(f, &self.u, &self.r, lo, hi, &self.steps);
+            let cols = match f.jacobian(&self.u) {
+                Some(cols) => cols,
+                None => {
+                    if self.steps.len() != n {
+                        self.steps = fd_steps(f, &self.u, &self.r, lo, hi, opts.fd_step);
+                    }
+                    jacobian_columns(f, &self.u, &self.r, lo, hi, &self.steps)
+                }
+            };
             let (a, g) = normal_equations(&cols, &self.r);
             drop(cols);
             let diag: Vec<f64> = (0..n)
