@@ -1,5 +1,6 @@
 //! Criterion benchmarks of the identification fits: the forward model of each scenario (and four
-//! TMMF parameter vectors one by one and in lockstep), and
+//! TMMF parameter vectors one by one and in lockstep; a five-parameter Jacobian by differences
+//! and by the tangents), and
 //! `fit` with the right model at 2 000, 20 000 and 400 000 samples (tmmf-release: 200 kHz, the
 //! facility's rate, for 10 ms, 100 ms and 2 s; rt-retraction: 1 MHz for 2 ms, 20 ms, 0.4 s and
 //! 1 s), and
@@ -90,6 +91,29 @@ fn lockstep(c: &mut Criterion) {
     });
     g.bench_function(BenchmarkId::new("lockstep", n), |b| {
         b.iter(|| model.predict_many(black_box(&ps), &prep.dataset.t, &prep.inputs))
+    });
+    g.finish();
+    // the exact Jacobian of the five parameters (one integration carrying the tangents)
+    // against its five forward-difference columns in lockstep
+    let mut g = c.benchmark_group("jacobian_5_parameters");
+    let p = vec![6.5e5, 7e-3, 1e6, 1.3e5, 6e-7];
+    let dirs: Vec<usize> = (0..5).collect();
+    let cols: Vec<Vec<f64>> = (0..5)
+        .map(|k| {
+            let mut q = p.clone();
+            q[k] *= 1.001;
+            q
+        })
+        .collect();
+    g.throughput(Throughput::Elements(n as u64));
+    g.bench_function(BenchmarkId::new("one_reading", n), |b| {
+        b.iter(|| model.predict(black_box(&p), &prep.dataset.t, &prep.inputs))
+    });
+    g.bench_function(BenchmarkId::new("differences_lockstep", n), |b| {
+        b.iter(|| model.predict_many(black_box(&cols), &prep.dataset.t, &prep.inputs))
+    });
+    g.bench_function(BenchmarkId::new("tangents", n), |b| {
+        b.iter(|| model.predict_with_tangents(black_box(&p), &dirs, &prep.dataset.t, &prep.inputs))
     });
     g.finish();
 }

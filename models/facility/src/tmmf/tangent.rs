@@ -93,32 +93,17 @@ pub fn simulate_with_tangents(
     }
     let aug = Aug::new(model, p, dirs, &run, laws);
     let mut tan: Vec<Vec<f64>> = vec![Vec::with_capacity(times.len()); dirs.len()];
-    let mut s = [0.0f64; 2];
-    let mut ts = [[0.0f64; MAX_TANGENTS]; 2];
-    let mut t = 0.0;
-    for (i, &ti) in times.iter().enumerate() {
-        if ti > t {
-            let steps = ((ti - t) / h_max - 1e-9).ceil().max(1.0) as usize;
-            let h = (ti - t) / steps as f64;
-            aug.steps(&run, t, h, steps, &mut s, &mut ts);
-            t = ti;
-        }
-        let x_true = if ti < 0.0 { 0.0 } else { s[0] };
-        run.out.push(x_true);
-        for (j, tj) in tan.iter_mut().enumerate() {
-            tj.push(if ti < 0.0 { 0.0 } else { ts[0][j] });
-        }
-        let finite = s.iter().all(|v| v.is_finite());
-        if ti > 0.0 && finite && run.released(ti, &s) {
-            let (tb, xb, vb) = (ti, s[0], s[1]);
-            run.out
-                .extend(times[i + 1..].iter().map(|&tk| xb + vb * (tk - tb)));
-            for (j, tj) in tan.iter_mut().enumerate() {
-                let (xj, vj) = (ts[0][j], ts[1][j]);
-                tj.extend(times[i + 1..].iter().map(|&tk| xj + vj * (tk - tb)));
-            }
-            break;
-        }
+    // as many tangent lanes as directions (the arithmetic of unused lanes is not free)
+    match dirs.len() {
+        0 => aug.integrate::<0>(&mut run, times, h_max, &mut tan),
+        1 => aug.integrate::<1>(&mut run, times, h_max, &mut tan),
+        2 => aug.integrate::<2>(&mut run, times, h_max, &mut tan),
+        3 => aug.integrate::<3>(&mut run, times, h_max, &mut tan),
+        4 => aug.integrate::<4>(&mut run, times, h_max, &mut tan),
+        5 => aug.integrate::<5>(&mut run, times, h_max, &mut tan),
+        6 => aug.integrate::<6>(&mut run, times, h_max, &mut tan),
+        7 => aug.integrate::<7>(&mut run, times, h_max, &mut tan),
+        _ => aug.integrate::<MAX_TANGENTS>(&mut run, times, h_max, &mut tan),
     }
     Some((run.out, tan))
 }
@@ -180,16 +165,54 @@ impl Aug {
         }
     }
 
+    /// The readings (into `run.out`) and their tangents (into `tan`, one per direction; `P` of
+    /// them) at `times`, integrated as [`super::simulate`] integrates them.
+    fn integrate<const P: usize>(
+        &self,
+        run: &mut Run,
+        times: &[f64],
+        h_max: f64,
+        tan: &mut [Vec<f64>],
+    ) {
+        let mut s = [0.0f64; 2];
+        let mut ts = [[0.0f64; P]; 2];
+        let mut t = 0.0;
+        for (i, &ti) in times.iter().enumerate() {
+            if ti > t {
+                let steps = ((ti - t) / h_max - 1e-9).ceil().max(1.0) as usize;
+                let h = (ti - t) / steps as f64;
+                self.steps(run, t, h, steps, &mut s, &mut ts);
+                t = ti;
+            }
+            let x_true = if ti < 0.0 { 0.0 } else { s[0] };
+            run.out.push(x_true);
+            for (j, tj) in tan.iter_mut().enumerate() {
+                tj.push(if ti < 0.0 { 0.0 } else { ts[0][j] });
+            }
+            let finite = s.iter().all(|v| v.is_finite());
+            if ti > 0.0 && finite && run.released(ti, &s) {
+                let (tb, xb, vb) = (ti, s[0], s[1]);
+                run.out
+                    .extend(times[i + 1..].iter().map(|&tk| xb + vb * (tk - tb)));
+                for (j, tj) in tan.iter_mut().enumerate() {
+                    let (xj, vj) = (ts[0][j], ts[1][j]);
+                    tj.extend(times[i + 1..].iter().map(|&tk| xj + vj * (tk - tb)));
+                }
+                return;
+            }
+        }
+    }
+
     /// The state's derivative (the bits of `Run::deriv_n`) and the tangents' derivatives at
     /// `t`.
     #[inline(always)]
-    fn rhs(
+    fn rhs<const P: usize>(
         &self,
         run: &Run,
         t: f64,
         s: [f64; 2],
-        ts: &[[f64; MAX_TANGENTS]; 2],
-    ) -> ([f64; 2], [[f64; MAX_TANGENTS]; 2]) {
+        ts: &[[f64; P]; 2],
+    ) -> ([f64; 2], [[f64; P]; 2]) {
         let (x, v) = (s[0], s[1]);
         let e = (run.tip_y(t) - x) - run.tip_offset;
         let g = x - run.sh.x_n0;
@@ -248,8 +271,8 @@ impl Aug {
             }
         }
         let ds = [v, f / run.inputs.m_kg];
-        let mut dts = [[0.0f64; MAX_TANGENTS]; 2];
-        for j in 0..MAX_TANGENTS {
+        let mut dts = [[0.0f64; P]; 2];
+        for j in 0..P {
             let xj = ts[0][j];
             let df = fe * (self.de[j] - xj) + fg * (xj + self.dg[j]) + part[self.role[j]];
             dts[0][j] = ts[1][j];
@@ -260,44 +283,44 @@ impl Aug {
 
     /// `steps` RK4 steps of `h` from `t` of the state `s` and its tangents `ts`: the state's
     /// arithmetic is that of `super::lockstep` (the same bits).
-    fn steps(
+    fn steps<const P: usize>(
         &self,
         run: &Run,
         t: f64,
         h: f64,
         steps: usize,
         s: &mut [f64; 2],
-        ts: &mut [[f64; MAX_TANGENTS]; 2],
+        ts: &mut [[f64; P]; 2],
     ) {
         let mut t = t;
         for _ in 0..steps {
             let (k1, l1) = self.rhs(run, t, *s, ts);
             let mut tmp = [0.0; 2];
-            let mut tt = [[0.0; MAX_TANGENTS]; 2];
+            let mut tt = [[0.0; P]; 2];
             for i in 0..2 {
                 tmp[i] = s[i] + 0.5 * h * k1[i];
-                for j in 0..MAX_TANGENTS {
+                for j in 0..P {
                     tt[i][j] = ts[i][j] + 0.5 * h * l1[i][j];
                 }
             }
             let (k2, l2) = self.rhs(run, t + 0.5 * h, tmp, &tt);
             for i in 0..2 {
                 tmp[i] = s[i] + 0.5 * h * k2[i];
-                for j in 0..MAX_TANGENTS {
+                for j in 0..P {
                     tt[i][j] = ts[i][j] + 0.5 * h * l2[i][j];
                 }
             }
             let (k3, l3) = self.rhs(run, t + 0.5 * h, tmp, &tt);
             for i in 0..2 {
                 tmp[i] = s[i] + h * k3[i];
-                for j in 0..MAX_TANGENTS {
+                for j in 0..P {
                     tt[i][j] = ts[i][j] + h * l3[i][j];
                 }
             }
             let (k4, l4) = self.rhs(run, t + h, tmp, &tt);
             for i in 0..2 {
                 s[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-                for j in 0..MAX_TANGENTS {
+                for j in 0..P {
                     ts[i][j] += h / 6.0 * (l1[i][j] + 2.0 * l2[i][j] + 2.0 * l3[i][j] + l4[i][j]);
                 }
             }
