@@ -444,6 +444,15 @@ impl Residuals for Profiled<'_, '_> {
         let ws: Vec<Vec<f64>> = vs.iter().map(|v| self.with_held(v)).collect();
         self.window.eval_many(&ws)
     }
+    fn has_jacobian(&self) -> bool {
+        self.window.has_jacobian()
+    }
+    fn jacobian(&self, v: &[f64]) -> Option<Vec<Vec<f64>>> {
+        // the window's columns but the held parameter's
+        let mut cols = self.window.jacobian(&self.with_held(v))?;
+        cols.remove(self.k);
+        Some(cols)
+    }
 }
 
 /// [`Problem::window`].
