@@ -35,6 +35,10 @@ impl Effect for Drift {
     fn distortion(&self, p: &[f64], t: f64, _x: f64) -> f64 {
         p[0] + p[1] * t + p[2] * t * t
     }
+    fn distortion_gradient(&self, _p: &[f64], t: f64, _x: f64, d_p: &mut [f64]) -> Option<f64> {
+        d_p.copy_from_slice(&[1.0, t, t * t]);
+        Some(0.0)
+    }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         vec![vec![0.0, 0.0, 0.0]]
     }

@@ -45,6 +45,16 @@ impl Effect for InterferometerCyclic {
     /// A fit that carries the error on the second harmonic (first harmonic below half of it) is
     /// the same function with period `L/2` on the first: prefer that form (the period is then
     /// the true cyclic period, the one compared with the laser sub-multiples).
+    fn distortion_gradient(&self, p: &[f64], _t: f64, x: f64, d_p: &mut [f64]) -> Option<f64> {
+        let k = std::f64::consts::TAU / p[0];
+        let ph = k * x;
+        let (s1, c1) = ph.sin_cos();
+        let (s2, c2) = (2.0 * ph).sin_cos();
+        // d distortion / d phase; the phase is 2 pi x / L
+        let d_ph = -p[1] * s1 + p[2] * c1 - 2.0 * p[3] * s2 + 2.0 * p[4] * c2;
+        d_p.copy_from_slice(&[-d_ph * ph / p[0], c1, s1, c2, s2]);
+        Some(d_ph * k)
+    }
     fn alternatives(&self, p: &[f64]) -> Vec<Vec<f64>> {
         let a1 = p[1].hypot(p[2]);
         let a2 = p[3].hypot(p[4]);

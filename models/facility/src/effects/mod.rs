@@ -411,6 +411,13 @@ pub trait Effect: Send + Sync {
     fn distortion(&self, _p: &[f64], _t: f64, _x: f64) -> f64 {
         0.0
     }
+    /// The distortion's derivatives at time `t` [s] and true value `x` [m]: writes
+    /// `d distortion / d p[i]` into `d_p` (one per parameter) and returns `d distortion / d x`
+    /// (the fit's exact Jacobian, `tmmf::simulate_with_tangents`); `None` (the default) when
+    /// the effect does not offer them (the fit then takes finite differences).
+    fn distortion_gradient(&self, _p: &[f64], _t: f64, _x: f64, _d_p: &mut [f64]) -> Option<f64> {
+        None
+    }
     /// Writes the effect's parameters into the mechanism configuration (`rt-retraction`).
     fn configure_rt(&self, _p: &[f64], _rt: &mut RtConfig) {}
     /// Parameters at which the effect (nearly) vanishes, if any: a candidate fit started there

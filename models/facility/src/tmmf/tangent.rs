@@ -20,16 +20,22 @@
 //! the same order; tested), so the Jacobian is that of the residuals the fit minimises.
 //!
 //! Covered: models whose forces are all inline laws on the TM's two states (needle and tip
-//! springs, tip and needle adhesion), without distortions and without a needle well (whose
-//! trapped TM is continued periodically). Other models return `None` and keep finite
-//! differences.
+//! springs, tip and needle adhesion) and whose distortions offer their gradient
+//! ([`crate::Effect::distortion_gradient`]: the reading `x + d(t, x)` has the tangent
+//! `X (1 + dd/dx) + dd/dp`). Not covered (`None`, the fit takes finite differences): a needle
+//! body (own states) and a TM trapped in the needle well on a record long enough for
+//! [`super::simulate`]'s periodic continuation.
 
 use super::{Run, step_for_mass};
 use crate::effects::{EffectKind, ForceLaw};
 use crate::model::{Inputs, Model};
+use rayon::prelude::*;
+
+/// Samples per parallel chunk of a free-flight tail with distortions.
+const TAIL_CHUNK: usize = 16_384;
 
 /// Most parameters whose derivatives one integration carries.
-pub const MAX_TANGENTS: usize = 8;
+pub const MAX_TANGENTS: usize = 12;
 
 /// What a parameter is to the right-hand side: which partial derivative of the force it
 /// selects (index into the partials of [`Aug::rhs`]); 0 for none.
@@ -42,34 +48,36 @@ const NEEDLE_A1: usize = 5;
 const NEEDLE_LAMBDA: usize = 6;
 const ROLES: usize = 7;
 
-/// Whether [`simulate_with_tangents`] covers `model` (with `n_dirs` directions).
+/// Whether [`simulate_with_tangents`] covers `model` (with `n_dirs` directions): a
+/// `tmmf-release` model whose forces are springs and adhesions on the TM's two states (no
+/// needle body) and whose distortions offer their gradient.
 pub fn covers(model: &Model, n_dirs: usize) -> bool {
     if n_dirs > MAX_TANGENTS || model.scenario != crate::effects::Scenario::TmmfRelease {
         return false;
     }
-    let mut has_adhesion_well = false;
-    for e in &model.effects {
+    model.effects.iter().all(|e| {
+        let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
         match e.kind() {
             EffectKind::Force => {
-                if e.n_states() != 0 {
-                    return false;
-                }
-                let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
-                match e.law(&nominal) {
-                    Some(
-                        ForceLaw::NeedleSpring { .. }
-                        | ForceLaw::TipSpring { .. }
-                        | ForceLaw::TipAdhesion { .. },
-                    ) => {}
-                    Some(ForceLaw::NeedleAdhesion { .. }) => has_adhesion_well = true,
-                    _ => return false,
-                }
+                e.n_states() == 0
+                    && matches!(
+                        e.law(&nominal),
+                        Some(
+                            ForceLaw::NeedleSpring { .. }
+                                | ForceLaw::TipSpring { .. }
+                                | ForceLaw::TipAdhesion { .. }
+                                | ForceLaw::NeedleAdhesion { .. }
+                        )
+                    )
             }
-            EffectKind::Distortion | EffectKind::Mechanism => return false,
+            EffectKind::Distortion => {
+                let mut d_p = vec![0.0; nominal.len()];
+                e.distortion_gradient(&nominal, 0.0, 0.0, &mut d_p)
+                    .is_some()
+            }
+            EffectKind::Mechanism => false,
         }
-    }
-    // a needle adhesion may trap the TM, whose record is then continued periodically
-    !has_adhesion_well
+    })
 }
 
 /// The readings [m] at `times` [s] (the bits of [`super::simulate`]) and, for each parameter
@@ -88,13 +96,14 @@ pub fn simulate_with_tangents(
     let h_max = step_for_mass(inputs.m_kg);
     let mut run = Run::new(model, p, times, inputs, h_max, true, true);
     let laws = run.laws.clone()?;
-    if run.s.len() != 2 || !run.distortions.is_empty() || run.well.is_some() {
+    if run.s.len() != 2 {
         return None;
     }
     let aug = Aug::new(model, p, dirs, &run, laws);
     let mut tan: Vec<Vec<f64>> = vec![Vec::with_capacity(times.len()); dirs.len()];
-    // as many tangent lanes as directions (the arithmetic of unused lanes is not free)
-    match dirs.len() {
+    // as many tangent lanes as directions up to eight (the arithmetic of unused lanes is not
+    // free), twelve beyond
+    let done = match dirs.len() {
         0 => aug.integrate::<0>(&mut run, times, h_max, &mut tan),
         1 => aug.integrate::<1>(&mut run, times, h_max, &mut tan),
         2 => aug.integrate::<2>(&mut run, times, h_max, &mut tan),
@@ -103,7 +112,11 @@ pub fn simulate_with_tangents(
         5 => aug.integrate::<5>(&mut run, times, h_max, &mut tan),
         6 => aug.integrate::<6>(&mut run, times, h_max, &mut tan),
         7 => aug.integrate::<7>(&mut run, times, h_max, &mut tan),
+        8 => aug.integrate::<8>(&mut run, times, h_max, &mut tan),
         _ => aug.integrate::<MAX_TANGENTS>(&mut run, times, h_max, &mut tan),
+    };
+    if !done {
+        return None;
     }
     Some((run.out, tan))
 }
@@ -112,6 +125,9 @@ pub fn simulate_with_tangents(
 /// and the derivatives of the elongation and the gap with respect to it.
 struct Aug {
     laws: Vec<ForceLaw>,
+    /// Per direction, the distortion (index in `Run::distortions`) and the parameter within it
+    /// that it is, if any.
+    dist_dir: [Option<(usize, usize)>; MAX_TANGENTS],
     role: [usize; MAX_TANGENTS],
     de: [f64; MAX_TANGENTS],
     dg: [f64; MAX_TANGENTS],
@@ -132,6 +148,18 @@ impl Aug {
         );
         let k_nd = i_knd.map(|i| p[i]);
         let names = model.param_names();
+        // the distortions' parameter ranges, in the order of `Run::distortions`
+        let ranges: Vec<std::ops::Range<usize>> = (0..model.effects.len())
+            .filter(|&i| model.effects[i].kind() == EffectKind::Distortion)
+            .map(|i| model.range(i))
+            .collect();
+        let mut dist_dir = [None; MAX_TANGENTS];
+        for (j, &q) in dirs.iter().enumerate() {
+            dist_dir[j] = ranges
+                .iter()
+                .position(|r| r.contains(&q))
+                .map(|d| (d, q - ranges[d].start));
+        }
         for (j, &q) in dirs.iter().enumerate() {
             role[j] = match names[q].as_str() {
                 "needle_contact.k_nd" => NEEDLE_K,
@@ -158,6 +186,7 @@ impl Aug {
         }
         Aug {
             laws,
+            dist_dir,
             role,
             de,
             dg,
@@ -166,17 +195,20 @@ impl Aug {
     }
 
     /// The readings (into `run.out`) and their tangents (into `tan`, one per direction; `P` of
-    /// them) at `times`, integrated as [`super::simulate`] integrates them.
+    /// them) at `times`, integrated as [`super::simulate`] integrates them; false when the TM
+    /// ends trapped in the needle well and [`super::simulate`] would continue the record
+    /// periodically (not covered: the caller takes differences).
     fn integrate<const P: usize>(
         &self,
         run: &mut Run,
         times: &[f64],
         h_max: f64,
         tan: &mut [Vec<f64>],
-    ) {
+    ) -> bool {
         let mut s = [0.0f64; 2];
         let mut ts = [[0.0f64; P]; 2];
         let mut t = 0.0;
+        let mut grad = Grad::new(run);
         for (i, &ti) in times.iter().enumerate() {
             if ti > t {
                 let steps = ((ti - t) / h_max - 1e-9).ceil().max(1.0) as usize;
@@ -185,21 +217,103 @@ impl Aug {
                 t = ti;
             }
             let x_true = if ti < 0.0 { 0.0 } else { s[0] };
-            run.out.push(x_true);
-            for (j, tj) in tan.iter_mut().enumerate() {
-                tj.push(if ti < 0.0 { 0.0 } else { ts[0][j] });
-            }
+            let r = run.reading(ti, x_true);
+            run.out.push(r);
+            let xs: [f64; P] = std::array::from_fn(|j| if ti < 0.0 { 0.0 } else { ts[0][j] });
+            self.push_tangents(run, &mut grad, ti, x_true, &xs, tan);
             let finite = s.iter().all(|v| v.is_finite());
             if ti > 0.0 && finite && run.released(ti, &s) {
                 let (tb, xb, vb) = (ti, s[0], s[1]);
-                run.out
-                    .extend(times[i + 1..].iter().map(|&tk| xb + vb * (tk - tb)));
-                for (j, tj) in tan.iter_mut().enumerate() {
-                    let (xj, vj) = (ts[0][j], ts[1][j]);
-                    tj.extend(times[i + 1..].iter().map(|&tk| xj + vj * (tk - tb)));
+                if run.distortions.is_empty() {
+                    run.out
+                        .extend(times[i + 1..].iter().map(|&tk| xb + vb * (tk - tb)));
+                    for (j, tj) in tan.iter_mut().enumerate() {
+                        let (xj, vj) = (ts[0][j], ts[1][j]);
+                        tj.extend(times[i + 1..].iter().map(|&tk| xj + vj * (tk - tb)));
+                    }
+                } else {
+                    // each sample on its own (a distortion's trigonometry per sample is the
+                    // cost of a long record's tail): in chunks over the threads, each sample's
+                    // arithmetic the same whatever the chunks
+                    let run_ref: &Run = run;
+                    let parts: Vec<(Vec<f64>, Vec<Vec<f64>>)> = times[i + 1..]
+                        .par_chunks(TAIL_CHUNK)
+                        .map(|chunk| {
+                            let mut grad = Grad::new(run_ref);
+                            let mut out = Vec::with_capacity(chunk.len());
+                            let mut tc = vec![Vec::with_capacity(chunk.len()); P];
+                            for &tk in chunk {
+                                let x = xb + vb * (tk - tb);
+                                out.push(run_ref.reading(tk, x));
+                                let xs: [f64; P] =
+                                    std::array::from_fn(|j| ts[0][j] + ts[1][j] * (tk - tb));
+                                self.push_tangents(run_ref, &mut grad, tk, x, &xs, &mut tc);
+                            }
+                            (out, tc)
+                        })
+                        .collect();
+                    for (out, tc) in parts {
+                        run.out.extend(out);
+                        for (tj, c) in tan.iter_mut().zip(tc) {
+                            tj.extend(c);
+                        }
+                    }
                 }
-                return;
+                return true;
             }
+            // a TM the needle well traps for good: `Run::sample` continues the record
+            // periodically when the rest of it is long enough (whether or not it then finds the
+            // orbit, the derivatives of that are not covered)
+            if !run.trap_tried
+                && ti > 0.0
+                && finite
+                && let Some(w) = &run.well
+                && w.trapped(
+                    s[0],
+                    s[1],
+                    crate::trap::TipNow {
+                        y: run.inputs.profile.y(ti),
+                        speed: run.inputs.profile.speed(ti),
+                        horizon: (run.t_end - ti).max(0.0),
+                        tol_m: super::RELEASE_TOL_M,
+                    },
+                )
+            {
+                if run.t_end - ti >= super::ORBIT_RECORD_PERIODS * w.period_estimate() {
+                    return false;
+                }
+                run.trap_tried = true;
+            }
+        }
+        true
+    }
+
+    /// The tangents of the reading at `t` [s], true value `x_true` [m], from the tangents `xs`
+    /// of the true value: `X (1 + sum d dist/dx) + d dist/dp` over the distortions.
+    fn push_tangents<const P: usize>(
+        &self,
+        run: &Run,
+        grad: &mut Grad,
+        t: f64,
+        x_true: f64,
+        xs: &[f64; P],
+        tan: &mut [Vec<f64>],
+    ) {
+        if run.distortions.is_empty() {
+            for (tj, x) in tan.iter_mut().zip(xs) {
+                tj.push(*x);
+            }
+            return;
+        }
+        let mut gx = 1.0;
+        for (d, &(e, pe)) in run.distortions.iter().enumerate() {
+            gx += e
+                .distortion_gradient(pe, t, x_true, &mut grad.d_p[d])
+                .unwrap_or(f64::NAN);
+        }
+        for (j, tj) in tan.iter_mut().enumerate() {
+            let own = self.dist_dir[j].map_or(0.0, |(d, k)| grad.d_p[d][k]);
+            tj.push(xs[j] * gx + own);
         }
     }
 
@@ -329,6 +443,23 @@ impl Aug {
     }
 }
 
+/// Buffers of the distortions' parameter gradients (one per distortion of the run).
+struct Grad {
+    d_p: Vec<Vec<f64>>,
+}
+
+impl Grad {
+    fn new(run: &Run) -> Grad {
+        Grad {
+            d_p: run
+                .distortions
+                .iter()
+                .map(|&(_, pe)| vec![0.0; pe.len()])
+                .collect(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -361,6 +492,21 @@ mod tests {
             (
                 &["needle_contact", "tip_contact"][..],
                 &[6.5e5, 6e-3, 1.1e6][..],
+            ),
+            (
+                &["needle_contact", "tip_contact", "needle_adhesion", "drift"][..],
+                &[6.5e5, 6e-3, 1.1e6, 1e5, 3e-7, 1e-9, 1e-6, 1e-4][..],
+            ),
+            (
+                &[
+                    "needle_contact",
+                    "tip_contact",
+                    "tip_adhesion",
+                    "interferometer_cyclic",
+                ][..],
+                &[
+                    6.5e5, 6e-3, 1.1e6, 1.3e5, 6e-7, 3.164e-7, 2e-9, -1e-9, 5e-10, 1e-9,
+                ][..],
             ),
         ] {
             let model = Model::new(Scenario::TmmfRelease, effects).unwrap();
@@ -405,26 +551,110 @@ mod tests {
         }
     }
 
-    /// Models outside the tangents' reach say so: a needle well (periodic continuation), a
-    /// needle body (own states), a distortion, more than [`MAX_TANGENTS`] directions.
+    /// A long free-flight tail with distortions is computed in parallel chunks: the readings
+    /// are still the bits of `simulate`, and the tangents (of the adhesion's and the
+    /// distortions' ten parameters), chunk boundaries included, agree with central differences
+    /// (50 000 samples, four chunks).
+    #[test]
+    fn a_long_tail_in_chunks_keeps_the_bits_and_the_derivatives() {
+        let model = Model::new(
+            Scenario::TmmfRelease,
+            &[
+                "needle_contact",
+                "tip_contact",
+                "tip_adhesion",
+                "interferometer_cyclic",
+                "drift",
+            ],
+        )
+        .unwrap();
+        let p = [
+            6.5e5, 6e-3, 1.1e6, 1.3e5, 6e-7, 3.164e-7, 2e-9, -1e-9, 5e-10, 1e-9, 1e-9, 1e-6, 1e-4,
+        ];
+        let times: Vec<f64> = (-50..50_000).map(|i| i as f64 * 1e-5).collect();
+        let inp = inputs(0.089);
+        let dirs: Vec<usize> = (3..p.len()).collect();
+        let (x, tan) = simulate_with_tangents(&model, &p, &dirs, &times, &inp).unwrap();
+        let plain = super::super::simulate(&model, &p, &times, &inp);
+        assert!(
+            x.iter()
+                .zip(&plain)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+        );
+        for (&q, col) in dirs.iter().zip(&tan) {
+            // relative 1e-6 (the cyclic error's phase, 3 000 rad by the end, stays linear), at
+            // least 1e-13 (the TM is 0.1 mm away by the end: a 2e-15 m step of a nanometre
+            // amplitude would be lost in the reading's rounding)
+            let h = (p[q].abs() * 1e-6).max(1e-13);
+            let at = |d: f64| {
+                let mut pq = p.to_vec();
+                pq[q] += d;
+                super::super::simulate(&model, &pq, &times, &inp)
+            };
+            let (up, down) = (at(h), at(-h));
+            let fd: Vec<f64> = up
+                .iter()
+                .zip(&down)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect();
+            let scale = fd.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let err = col
+                .iter()
+                .zip(&fd)
+                .fold(0.0f64, |a, (c, f)| a.max((c - f).abs()));
+            assert!(err < 1e-5 * scale, "parameter {q}: {err:e} of {scale:e}");
+        }
+    }
+
+    /// Models outside the tangents' reach say so: a needle body (own states), more than
+    /// [`MAX_TANGENTS`] directions; and a TM trapped in the needle well, whose record
+    /// `simulate` continues periodically, gives no tangents (while the same model whose TM
+    /// escapes does).
     #[test]
     fn other_models_keep_finite_differences() {
-        for effects in [
-            &["needle_contact", "tip_contact", "needle_adhesion"][..],
-            &["needle_contact", "tip_contact", "needle_mass"][..],
-            &["needle_contact", "tip_contact", "drift"][..],
-            &["needle_contact", "tip_contact", "interferometer_cyclic"][..],
-        ] {
-            let model = Model::new(Scenario::TmmfRelease, effects).unwrap();
-            assert!(!model.has_tangents(1), "{effects:?}");
-            let p = model.nominal();
-            assert!(
-                model
-                    .predict_with_tangents(&p, &[0], &[0.0, 1e-5], &inputs(0.089))
-                    .is_none()
-            );
-        }
+        let body = Model::new(
+            Scenario::TmmfRelease,
+            &["needle_contact", "tip_contact", "needle_mass"],
+        )
+        .unwrap();
+        assert!(!body.has_tangents(1));
+        let p = body.nominal();
+        assert!(
+            body.predict_with_tangents(&p, &[0], &[0.0, 1e-5], &inputs(0.089))
+                .is_none()
+        );
         let model = Model::new(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]).unwrap();
         assert!(model.has_tangents(MAX_TANGENTS) && !model.has_tangents(MAX_TANGENTS + 1));
+        // the trapped TM of `a_trapped_tm_continues_periodically` (1 s at 100 kHz)
+        let well = Model::new(
+            Scenario::TmmfRelease,
+            &["needle_contact", "tip_contact", "needle_adhesion", "drift"],
+        )
+        .unwrap();
+        assert!(well.has_tangents(8));
+        let times: Vec<f64> = (-100..100_000).map(|i| i as f64 / 1e5).collect();
+        let trapped = [8.95e6, 0.389, 3.87e5, 3e4, 3e-7, 1e-9, 1e-6, 0.0];
+        let dirs: Vec<usize> = (0..8).collect();
+        assert!(
+            well.predict_with_tangents(&trapped, &dirs, &times, &inputs(0.089))
+                .is_none()
+        );
+        let escapes = [6.5e5, 6e-3, 1.1e6, 1e3, 3e-7, 1e-9, 1e-6, 0.0];
+        let inp = inputs(0.089);
+        let tail = super::super::integrate(
+            &well,
+            &escapes,
+            &times,
+            &inp,
+            step_for_mass(0.089),
+            true,
+            true,
+        )
+        .1;
+        assert!(!matches!(tail, super::super::Tail::Trapped(_)), "{tail:?}");
+        assert!(
+            well.predict_with_tangents(&escapes, &dirs, &times, &inputs(0.089))
+                .is_some()
+        );
     }
 }
