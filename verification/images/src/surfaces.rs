@@ -16,9 +16,11 @@
 //!   the RMS of `e` about its mean (the mean, a height offset between the two measurements, is
 //!   free: a profilometer does not keep its height reference between sessions). At least half
 //!   of the valley points must overlap.
-//! * Search: a grid of whole-pixel translations within 4 pixels of the start (a picked point is
-//!   rarely further off), then Nelder-Mead in `(dx, dy, theta L)` (`L`, half the diagonal, puts
-//!   rotation in pixels at the map's edge) from the three best.
+//! * Search: a grid of rotations over the range picks off by [`PICK_ERROR_PX`] can turn the
+//!   pairs' directions (steps of one pixel at the map's edge, at most 24 each way), each with
+//!   the whole-pixel translations within 4 pixels of where it maps the picked midpoint, judged
+//!   on at most 4 000 valley points; then Nelder-Mead in `(dx, dy, theta L)` (`L`, half the
+//!   diagonal, puts rotation in pixels at the map's edge) from the three best.
 //! * Difference map: `A(T(p)) - B(p) - offset` over every BEFORE point, `offset` the median
 //!   difference; its noise `sigma` is the MAD of the differences times 1.4826 (robust to the
 //!   changed patch); a point has changed when
@@ -65,6 +67,16 @@ struct RawMap {
 
 /// Largest accepted map side [points].
 pub const MAX_SIDE: usize = 8192;
+
+/// Largest error [pixel] per coordinate of a picked point that the registration's start
+/// search covers (docs/images.md: the stated accuracy holds for picks off by up to this).
+pub const PICK_ERROR_PX: f64 = 3.0;
+
+/// Most rotation steps each way of the registration's start grid.
+const ROTATION_STEPS: usize = 24;
+
+/// Most valley points the registration's start grid is judged on.
+const GRID_POINTS: usize = 4000;
 
 impl HeightMap {
     /// Reads `MAP.yaml` and its CSV grid.
@@ -477,15 +489,38 @@ pub fn register(before: &HeightMap, after: &HeightMap) -> Result<Registration, I
     };
     let mb = ((pb[0].0 + pb[1].0) / 2.0, (pb[0].1 + pb[1].1) / 2.0);
     let ma = ((pa[0].0 + pa[1].0) / 2.0, (pa[0].1 + pa[1].1) / 2.0);
+    // the start the picks give (reported)
     let mapped = prob.map(mb.0, mb.1, (0.0, 0.0), th0);
     let d0 = (ma.0 - mapped.0, ma.1 - mapped.1);
     let ell = 0.5 * ((before.cols as f64).hypot(before.rows as f64));
     let f = |v: &[f64; 3]| prob.cost((v[0], v[1]), v[2] / ell).0;
+    // the grid: picks off by up to PICK_ERROR_PX per coordinate turn the pair's direction by up
+    // to 2 sqrt(2) PICK_ERROR_PX / separation (0.26 rad for points 33 pixels apart), beyond
+    // what Nelder-Mead recovers from: rotations over that range, in steps that move BEFORE's
+    // corners by a pixel (at most ROTATION_STEPS each way), each with its whole-pixel
+    // translations within 4 pixels of where it maps the picked midpoint; judged on at most
+    // GRID_POINTS of the valley points (evenly strided: a large map's grid costs no more)
+    let sep = (pb[1].0 - pb[0].0).hypot(pb[1].1 - pb[0].1).max(1.0);
+    let th_range = (2.0 * std::f64::consts::SQRT_2 * PICK_ERROR_PX / sep).min(1.0);
+    let th_step = (1.0 / ell).max(th_range / ROTATION_STEPS as f64);
+    let k_max = (th_range / th_step).ceil() as i32;
+    let stride = prob.valley.len().div_ceil(GRID_POINTS);
+    let coarse = Problem {
+        after: prob.after,
+        valley: prob.valley.iter().step_by(stride).copied().collect(),
+        centre: prob.centre,
+        min_overlap: prob.valley.len().div_ceil(stride).div_ceil(2),
+    };
     let mut grid: Vec<([f64; 3], f64)> = Vec::new();
-    for i in -4..=4 {
-        for j in -4..=4 {
-            let v = [d0.0 + i as f64, d0.1 + j as f64, th0 * ell];
-            grid.push((v, f(&v)));
+    for k in -k_max..=k_max {
+        let th = th0 + k as f64 * th_step;
+        let mapped = prob.map(mb.0, mb.1, (0.0, 0.0), th);
+        let dk = (ma.0 - mapped.0, ma.1 - mapped.1);
+        for i in -4..=4 {
+            for j in -4..=4 {
+                let v = [dk.0 + i as f64, dk.1 + j as f64, th * ell];
+                grid.push((v, coarse.cost((v[0], v[1]), th).0));
+            }
         }
     }
     grid.sort_by(|a, b| a.1.total_cmp(&b.1));
