@@ -739,7 +739,9 @@ mod tests {
             .fold(0.0, f64::max)
     }
 
-    fn inputs(m: f64) -> Inputs {
+    /// Inputs of a TM of mass `m` [kg] with the examples' tip profile (also the tangents'
+    /// tests').
+    pub(super) fn inputs(m: f64) -> Inputs {
         Inputs {
             m_kg: m,
             profile: TipProfile {

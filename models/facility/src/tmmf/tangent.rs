@@ -464,16 +464,54 @@ impl Grad {
 mod tests {
     use super::*;
     use crate::effects::Scenario;
-    use crate::profile::TipProfile;
 
-    fn inputs(m: f64) -> Inputs {
-        Inputs {
-            m_kg: m,
-            profile: TipProfile {
-                jerk_m_s3: 6000.0,
-                v_m_s: 3e-3,
-            },
-            e0_v: 120.0,
+    use super::super::tests::inputs;
+
+    /// Asserts that the readings carried with the tangents of `dirs` are the bits of
+    /// `simulate` and that each tangent agrees with central differences of `simulate` to 1e-5
+    /// of the column's largest value. The step is relative 1e-6 (the cyclic error's phase,
+    /// 3 000 rad by the end of a 0.5 s record, stays linear over it), at least 1e-13 (a TM
+    /// 0.1 mm away by then: a 2e-15 m step of a nanometre amplitude would be lost in the
+    /// reading's rounding).
+    fn check_tangents(
+        model: &Model,
+        p: &[f64],
+        dirs: &[usize],
+        times: &[f64],
+        inp: &Inputs,
+        what: &str,
+    ) {
+        let (x, tan) = simulate_with_tangents(model, p, dirs, times, inp).unwrap();
+        let plain = super::super::simulate(model, p, times, inp);
+        assert!(
+            x.iter()
+                .zip(&plain)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{what}: the readings are not simulate's bits"
+        );
+        for (&q, col) in dirs.iter().zip(&tan) {
+            let h = (p[q].abs() * 1e-6).max(1e-13);
+            let at = |d: f64| {
+                let mut pq = p.to_vec();
+                pq[q] += d;
+                super::super::simulate(model, &pq, times, inp)
+            };
+            let (up, down) = (at(h), at(-h));
+            let fd: Vec<f64> = up
+                .iter()
+                .zip(&down)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect();
+            let scale = fd.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            assert!(scale > 0.0, "{what}: parameter {q} moves nothing");
+            let err = col
+                .iter()
+                .zip(&fd)
+                .fold(0.0f64, |a, (c, f)| a.max((c - f).abs()));
+            assert!(
+                err < 1e-5 * scale,
+                "{what}: parameter {q}: {err:e} of {scale:e}"
+            );
         }
     }
 
@@ -512,41 +550,15 @@ mod tests {
             let model = Model::new(Scenario::TmmfRelease, effects).unwrap();
             assert!(model.has_tangents(p.len()));
             for m in [0.0096, 0.089, 0.844] {
-                let inp = inputs(m);
                 let dirs: Vec<usize> = (0..p.len()).collect();
-                let (x, tan) = simulate_with_tangents(&model, p, &dirs, &times, &inp).unwrap();
-                let plain = super::super::simulate(&model, p, &times, &inp);
-                assert_eq!(
-                    x.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
-                    plain.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+                check_tangents(
+                    &model,
+                    p,
+                    &dirs,
+                    &times,
+                    &inputs(m),
+                    &format!("{effects:?} m {m}"),
                 );
-                for (q, col) in tan.iter().enumerate() {
-                    let h = p[q] * 1e-6;
-                    let at = |d: f64| {
-                        let mut pq = p.to_vec();
-                        pq[q] += d;
-                        super::super::simulate(&model, &pq, &times, &inp)
-                    };
-                    let (up, down) = (at(h), at(-h));
-                    let fd: Vec<f64> = up
-                        .iter()
-                        .zip(&down)
-                        .map(|(a, b)| (a - b) / (2.0 * h))
-                        .collect();
-                    let scale = fd.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-                    assert!(
-                        scale > 0.0,
-                        "{effects:?} m {m}: parameter {q} moves nothing"
-                    );
-                    let err = col
-                        .iter()
-                        .zip(&fd)
-                        .fold(0.0f64, |a, (c, f)| a.max((c - f).abs()));
-                    assert!(
-                        err < 1e-5 * scale,
-                        "{effects:?} m {m}: parameter {q}: {err:e} of {scale:e}"
-                    );
-                }
             }
         }
     }
@@ -574,36 +586,7 @@ mod tests {
         let times: Vec<f64> = (-50..50_000).map(|i| i as f64 * 1e-5).collect();
         let inp = inputs(0.089);
         let dirs: Vec<usize> = (3..p.len()).collect();
-        let (x, tan) = simulate_with_tangents(&model, &p, &dirs, &times, &inp).unwrap();
-        let plain = super::super::simulate(&model, &p, &times, &inp);
-        assert!(
-            x.iter()
-                .zip(&plain)
-                .all(|(a, b)| a.to_bits() == b.to_bits())
-        );
-        for (&q, col) in dirs.iter().zip(&tan) {
-            // relative 1e-6 (the cyclic error's phase, 3 000 rad by the end, stays linear), at
-            // least 1e-13 (the TM is 0.1 mm away by the end: a 2e-15 m step of a nanometre
-            // amplitude would be lost in the reading's rounding)
-            let h = (p[q].abs() * 1e-6).max(1e-13);
-            let at = |d: f64| {
-                let mut pq = p.to_vec();
-                pq[q] += d;
-                super::super::simulate(&model, &pq, &times, &inp)
-            };
-            let (up, down) = (at(h), at(-h));
-            let fd: Vec<f64> = up
-                .iter()
-                .zip(&down)
-                .map(|(a, b)| (a - b) / (2.0 * h))
-                .collect();
-            let scale = fd.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            let err = col
-                .iter()
-                .zip(&fd)
-                .fold(0.0f64, |a, (c, f)| a.max((c - f).abs()));
-            assert!(err < 1e-5 * scale, "parameter {q}: {err:e} of {scale:e}");
-        }
+        check_tangents(&model, &p, &dirs, &times, &inp, "a 0.5 s tail");
     }
 
     /// Models outside the tangents' reach say so: a needle body (own states), more than
