@@ -333,6 +333,21 @@ impl ReleaseCheck {
     }
 }
 
+/// Tail steps [`Effect::smooth`] asks of an adhesion law per `lambda` of its argument's growth.
+pub const SMOOTH_STEPS_PER_LAMBDA: f64 = 8.0;
+
+/// Whether the adhesion law `A1 s exp(-s/lambda)` (`a1` [N/m], `lambda` [m]) of an argument `e`
+/// [m] growing at `rate` [m/s] is smooth on the tail step `h` [s] for a TM of `m_kg` [kg]: the
+/// bond open (`e > 0`, growing), the step advancing `e` by at most `lambda /`
+/// [`SMOOTH_STEPS_PER_LAMBDA`], and at most a quarter radian of the adhesion well's own
+/// oscillation (`h sqrt(A1 / m)`), whose stiffness is at most `A1`.
+pub fn adhesion_smooth(a1: f64, lambda: f64, e: f64, rate: f64, h: f64, m_kg: f64) -> bool {
+    e > 0.0
+        && rate > 0.0
+        && rate * h * SMOOTH_STEPS_PER_LAMBDA <= lambda
+        && h * h * a1 <= 0.0625 * m_kg
+}
+
 /// Bound [N s] on the impulse still to come from the adhesion law [`adhesion_force`] when the
 /// elongation `e` [m] is at least `lambda` and grows at a rate of at least `rate` [m/s] > 0:
 /// `int_e^inf A1 s exp(-s/lambda) ds / rate = A1 lambda (e + lambda) exp(-e/lambda) / rate`.
@@ -406,6 +421,14 @@ pub trait Effect: Send + Sync {
     /// end of the record).
     fn released(&self, _p: &[f64], _s: &TmState, _r: &ReleaseCheck) -> bool {
         false
+    }
+    /// Whether, from state `s` on and as long as it stays true, the force varies slowly enough
+    /// for the tail step `h_tail` [s] (`tmmf-release`: when every force effect says so, the model
+    /// integrates with that step instead of the contact step; it asks again at every sample).
+    /// The default is [`Effect::released`]: a force that may still act abruptly, or an effect
+    /// that does not say, keeps the contact step.
+    fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, _h_tail: f64) -> bool {
+        self.released(p, s, r)
     }
     /// Additive distortion of the measured channel [m] at time `t` [s] and true value `x` [m].
     fn distortion(&self, _p: &[f64], _t: f64, _x: f64) -> f64 {

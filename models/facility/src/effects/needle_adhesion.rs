@@ -3,7 +3,7 @@
 use super::tip_adhesion::adhesion_starts;
 use super::{
     Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
-    adhesion_force, adhesion_tail_impulse,
+    adhesion_force, adhesion_smooth, adhesion_tail_impulse,
 };
 
 /// The adhesion law of thesis eq. (adh) at the needles: for `x > x_n0` it pulls the TM back
@@ -48,6 +48,9 @@ impl Effect for NeedleAdhesion {
         // in free flight the gap grows at the TM's velocity
         let imp = adhesion_tail_impulse(p[0], p[1], s.needle_gap, s.v);
         r.displacement_of(imp) < r.tol_m
+    }
+    fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, h_tail: f64) -> bool {
+        adhesion_smooth(p[0], p[1], s.needle_gap, s.v, h_tail, r.m_kg) || self.released(p, s, r)
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         adhesion_starts()

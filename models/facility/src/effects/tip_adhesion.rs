@@ -2,7 +2,7 @@
 
 use super::{
     Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
-    adhesion_force, adhesion_tail_impulse,
+    adhesion_force, adhesion_smooth, adhesion_tail_impulse,
 };
 
 /// Adds `F = A1*e*exp(-e/lambda)` for `e > 0` at the tip (pulls the TM towards the retracting
@@ -59,6 +59,10 @@ impl Effect for TipAdhesion {
         // the elongation grows at least at the present rate (tip speed never decreases)
         let imp = adhesion_tail_impulse(p[0], p[1], s.e_tip, r.tip_speed_m_s - s.v);
         r.displacement_of(imp) < r.tol_m
+    }
+    fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, h_tail: f64) -> bool {
+        adhesion_smooth(p[0], p[1], s.e_tip, r.tip_speed_m_s - s.v, h_tail, r.m_kg)
+            || self.released(p, s, r)
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         adhesion_starts()

@@ -104,16 +104,16 @@ pub fn simulate_with_tangents(
     // as many tangent lanes as directions up to eight (the arithmetic of unused lanes is not
     // free), twelve beyond
     let done = match dirs.len() {
-        0 => aug.integrate::<0>(&mut run, times, h_max, &mut tan),
-        1 => aug.integrate::<1>(&mut run, times, h_max, &mut tan),
-        2 => aug.integrate::<2>(&mut run, times, h_max, &mut tan),
-        3 => aug.integrate::<3>(&mut run, times, h_max, &mut tan),
-        4 => aug.integrate::<4>(&mut run, times, h_max, &mut tan),
-        5 => aug.integrate::<5>(&mut run, times, h_max, &mut tan),
-        6 => aug.integrate::<6>(&mut run, times, h_max, &mut tan),
-        7 => aug.integrate::<7>(&mut run, times, h_max, &mut tan),
-        8 => aug.integrate::<8>(&mut run, times, h_max, &mut tan),
-        _ => aug.integrate::<MAX_TANGENTS>(&mut run, times, h_max, &mut tan),
+        0 => aug.integrate::<0>(&mut run, times, &mut tan),
+        1 => aug.integrate::<1>(&mut run, times, &mut tan),
+        2 => aug.integrate::<2>(&mut run, times, &mut tan),
+        3 => aug.integrate::<3>(&mut run, times, &mut tan),
+        4 => aug.integrate::<4>(&mut run, times, &mut tan),
+        5 => aug.integrate::<5>(&mut run, times, &mut tan),
+        6 => aug.integrate::<6>(&mut run, times, &mut tan),
+        7 => aug.integrate::<7>(&mut run, times, &mut tan),
+        8 => aug.integrate::<8>(&mut run, times, &mut tan),
+        _ => aug.integrate::<MAX_TANGENTS>(&mut run, times, &mut tan),
     };
     if !done {
         return None;
@@ -202,7 +202,6 @@ impl Aug {
         &self,
         run: &mut Run,
         times: &[f64],
-        h_max: f64,
         tan: &mut [Vec<f64>],
     ) -> bool {
         let mut s = [0.0f64; 2];
@@ -211,7 +210,7 @@ impl Aug {
         let mut grad = Grad::new(run);
         for (i, &ti) in times.iter().enumerate() {
             if ti > t {
-                let steps = ((ti - t) / h_max - 1e-9).ceil().max(1.0) as usize;
+                let steps = ((ti - t) / run.h_next() - 1e-9).ceil().max(1.0) as usize;
                 let h = (ti - t) / steps as f64;
                 self.steps(run, t, h, steps, &mut s, &mut ts);
                 t = ti;
@@ -284,6 +283,7 @@ impl Aug {
                 }
                 run.trap_tried = true;
             }
+            run.coarse = run.tail_step(ti, &s);
         }
         true
     }
