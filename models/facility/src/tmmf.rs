@@ -492,9 +492,21 @@ impl<'a> Run<'a> {
         x
     }
 
-    /// Whether every force has let go of the TM for good at `t` in state `s`.
-    fn released(&self, t: f64, s: &[f64]) -> bool {
-        self.every_force(t, s, |e, pe, st, rc| e.released(pe, st, rc))
+    /// Whether every force has let go of the TM for good at `t` [s] in state `s` (finite, after
+    /// the trigger), and whether the sample interval after `t` takes the tail step: the TM's two
+    /// states alone (an effect's own states, a needle body's, keep their contact-scale dynamics)
+    /// and every force released or smooth on the tail step ([`crate::Effect::smooth`]). One
+    /// pass over the forces, asked at every sample of a model that may release.
+    fn released_and_tail(&self, t: f64, s: &[f64]) -> (bool, bool) {
+        let mut released = true;
+        let mut tail = s.len() == 2;
+        self.every_force(t, s, |e, pe, st, rc| {
+            let rel = e.released(pe, st, rc);
+            released &= rel;
+            tail = tail && (rel || e.smooth(pe, st, rc, self.h_tail));
+            released || tail
+        });
+        (released, tail)
     }
 
     /// The step of the next sample interval [s].
@@ -503,25 +515,13 @@ impl<'a> Run<'a> {
         if self.coarse { self.h_tail } else { self.h_max }
     }
 
-    /// Whether the sample interval after `t` [s], from state `s`, takes the tail step: only
-    /// when the model may release (not the tests' integrate-throughout reference), after the
-    /// trigger, with the TM's two states alone (an effect's own states, a needle body's, keep
-    /// their contact-scale dynamics) and every force smooth on the tail step
-    /// ([`crate::Effect::smooth`]). Asked at every sample.
-    fn tail_step(&self, t: f64, s: &[f64]) -> bool {
-        self.may_release
-            && t > 0.0
-            && s.len() == 2
-            && s.iter().all(|v| v.is_finite())
-            && self.every_force(t, s, |e, pe, st, rc| e.smooth(pe, st, rc, self.h_tail))
-    }
-
-    /// Whether `test` holds for every force effect at `t` in state `s`.
+    /// Whether `test` holds for every force effect at `t` in state `s` (stops at the first
+    /// that fails).
     fn every_force(
         &self,
         t: f64,
         s: &[f64],
-        test: impl Fn(&dyn crate::Effect, &[f64], &TmState, &ReleaseCheck) -> bool,
+        mut test: impl FnMut(&dyn crate::Effect, &[f64], &TmState, &ReleaseCheck) -> bool,
     ) -> bool {
         let inputs = self.inputs;
         let sh = &self.sh;
@@ -557,7 +557,13 @@ impl<'a> Run<'a> {
         let r = self.reading(ti, x_true);
         self.out.push(r);
         let finite = s.iter().all(|v| v.is_finite());
-        if self.may_release && ti > 0.0 && finite && self.released(ti, s) {
+        // (the tail step only where the TM may be released: not in the tests' reference)
+        let (released, tail) = if self.may_release && ti > 0.0 && finite {
+            self.released_and_tail(ti, s)
+        } else {
+            (false, false)
+        };
+        if released {
             // free flight for the rest of the record, in one tight loop
             let (tb, xb, vb) = (ti, s[0], s[1]);
             if self.distortions.is_empty() {
@@ -615,7 +621,7 @@ impl<'a> Run<'a> {
                 return Some(Tail::Trapped(ti));
             }
         }
-        self.coarse = self.tail_step(ti, &self.s);
+        self.coarse = tail;
         None
     }
 }

@@ -422,13 +422,14 @@ pub trait Effect: Send + Sync {
     fn released(&self, _p: &[f64], _s: &TmState, _r: &ReleaseCheck) -> bool {
         false
     }
-    /// Whether, from state `s` on and as long as it stays true, the force varies slowly enough
-    /// for the tail step `h_tail` [s] (`tmmf-release`: when every force effect says so, the model
-    /// integrates with that step instead of the contact step; it asks again at every sample).
-    /// The default is [`Effect::released`]: a force that may still act abruptly, or an effect
-    /// that does not say, keeps the contact step.
-    fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, _h_tail: f64) -> bool {
-        self.released(p, s, r)
+    /// Whether a force that has not let go ([`Effect::released`] false) varies, from state `s`
+    /// on and as long as it stays true, slowly enough for the tail step `h_tail` [s]
+    /// (`tmmf-release`: when every force effect is released or smooth, the model integrates with
+    /// that step instead of the contact step; it asks again at every sample). The default,
+    /// `false`, keeps the contact step: a force that may still act abruptly, or an effect that
+    /// does not say.
+    fn smooth(&self, _p: &[f64], _s: &TmState, _r: &ReleaseCheck, _h_tail: f64) -> bool {
+        false
     }
     /// Additive distortion of the measured channel [m] at time `t` [s] and true value `x` [m].
     fn distortion(&self, _p: &[f64], _t: f64, _x: f64) -> f64 {

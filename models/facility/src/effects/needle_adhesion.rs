@@ -50,7 +50,7 @@ impl Effect for NeedleAdhesion {
         r.displacement_of(imp) < r.tol_m
     }
     fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, h_tail: f64) -> bool {
-        adhesion_smooth(p[0], p[1], s.needle_gap, s.v, h_tail, r.m_kg) || self.released(p, s, r)
+        adhesion_smooth(p[0], p[1], s.needle_gap, s.v, h_tail, r.m_kg)
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         adhesion_starts()

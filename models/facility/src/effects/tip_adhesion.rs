@@ -62,7 +62,6 @@ impl Effect for TipAdhesion {
     }
     fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, h_tail: f64) -> bool {
         adhesion_smooth(p[0], p[1], s.e_tip, r.tip_speed_m_s - s.v, h_tail, r.m_kg)
-            || self.released(p, s, r)
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         adhesion_starts()

@@ -221,7 +221,12 @@ impl Aug {
             let xs: [f64; P] = std::array::from_fn(|j| if ti < 0.0 { 0.0 } else { ts[0][j] });
             self.push_tangents(run, &mut grad, ti, x_true, &xs, tan);
             let finite = s.iter().all(|v| v.is_finite());
-            if ti > 0.0 && finite && run.released(ti, &s) {
+            let (released, tail) = if ti > 0.0 && finite {
+                run.released_and_tail(ti, &s)
+            } else {
+                (false, false)
+            };
+            if released {
                 let (tb, xb, vb) = (ti, s[0], s[1]);
                 if run.distortions.is_empty() {
                     run.out
@@ -283,7 +288,7 @@ impl Aug {
                 }
                 run.trap_tried = true;
             }
-            run.coarse = run.tail_step(ti, &s);
+            run.coarse = tail;
         }
         true
     }
