@@ -276,19 +276,16 @@ fn tip_radius_rows(
     budget: &geodesic_release::budget::Budget,
     ctx: &CheckContext,
 ) -> Result<Vec<ReferenceRow>, CheckError> {
-    use geodesic_release::tipradius::{ESTIMATES, monte_carlo_at, optimum_radius_m};
+    use crate::tipradius::{mc_at, radius_m};
+    use geodesic_release::tipradius::{ESTIMATES, optimum_radius_m};
     let i = crate::tipradius::simple_inputs(budget);
     let (b, u) = (
         optimum_radius_m(&i, &ESTIMATES[0]),
         optimum_radius_m(&i, &ESTIMATES[1]),
     );
     let n = (ctx.mc_n / 5).max(1000);
-    let mc = |r: f64| {
-        monte_carlo_at(budget, r, n, ctx.seed)
-            .map(|p| p.p9973_um_s)
-            .map_err(|e| CheckError(format!("tip-radius Monte Carlo: {e}")))
-    };
-    let (m1, m10) = (mc(1e-3)?, mc(10e-3)?);
+    let mc = |mm: f64| mc_at(budget, radius_m(mm), n, ctx.seed).map(|p| p.p9973_um_s);
+    let (m1, m10) = (mc(1.0)?, mc(10.0)?);
     Ok(vec![row(
         "optimum tip radius of the simple worst-case estimates (bottom 0.2 N, 180 mm/s; upper 0.4 N, 45 mm/s)",
         format!(
