@@ -429,6 +429,19 @@ impl<'a> Run<'a> {
         }
     }
 
+    /// Tip speed [m/s] at `t` [s] (`TipProfile::speed`'s expressions, its phase boundary computed
+    /// once).
+    #[inline(always)]
+    fn tip_speed(&self, t: f64) -> f64 {
+        if t <= 0.0 {
+            0.0
+        } else if t < self.t1 {
+            0.5 * self.jerk * t * t
+        } else {
+            self.v_tip
+        }
+    }
+
     /// The state's time derivative through the effects' `force` (any model).
     fn deriv(&self, t: f64, s: &[f64], ds: &mut [f64]) {
         let y = self.tip_y(t);
@@ -523,13 +536,12 @@ impl<'a> Run<'a> {
         s: &[f64],
         mut test: impl FnMut(&dyn crate::Effect, &[f64], &TmState, &ReleaseCheck) -> bool,
     ) -> bool {
-        let inputs = self.inputs;
         let sh = &self.sh;
-        let y = inputs.profile.y(t);
+        let y = self.tip_y(t);
         let rc = ReleaseCheck {
-            tip_speed_m_s: inputs.profile.speed(t),
+            tip_speed_m_s: self.tip_speed(t),
             horizon_s: (self.t_end - t).max(0.0),
-            m_kg: inputs.m_kg,
+            m_kg: self.inputs.m_kg,
             tol_m: RELEASE_TOL_M,
         };
         self.forces.iter().all(|&(e, pe, off, k)| {
