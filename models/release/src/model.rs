@@ -185,6 +185,11 @@ impl<M: Mechanism, C: ContactLaw> ReleaseModel<M, C> {
         self.tip0_m
     }
 
+    /// Release elongations [m] of the stopping rule (12 lambda, or 5 nm without adhesion).
+    pub(crate) fn open_m(&self) -> [f64; 2] {
+        self.open_m
+    }
+
     /// Elongations `e0_i` [m] before release (Hertz indentation under the preload).
     pub(crate) fn e0(&self) -> [f64; 2] {
         self.e0_m

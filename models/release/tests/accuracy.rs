@@ -45,6 +45,29 @@ fn expgauss_matches_reference_over_random_draws() {
     assert!(ratio <= 1.0, "expgauss off by {ratio} x the tolerance");
 }
 
+/// Slow releases (weak mechanisms: the stop after 1 to 1.5 ms instead of 0.4) of the default
+/// budget, seed 1, whose stop a tail level running up to the release elongation delayed by half
+/// a millisecond (draw 64798 then off by 1.5 times the tolerance): the tail level ends at
+/// `tail_to` of it, so that the stopping rule is met at the long step's resolution.
+#[test]
+fn slow_releases_stop_where_the_reference_stops() {
+    let b = Budget::default_budget();
+    let reference = DormandPrince::reference();
+    for i in [64798, 42991, 34883, 71857, 87815] {
+        let r = draw_inputs(&b, Case::All, 1, i);
+        let (f, x) = (expgauss(&r), r.simulate(&reference).unwrap());
+        let (vf, vr) = (f.v_tm_m_s.abs() * 1e6, x.v_tm_m_s.abs() * 1e6);
+        let tol = (0.005 * vr).max(0.001);
+        assert!((vf - vr).abs() <= tol, "draw {i}: {vf} um/s against {vr}");
+        assert!(
+            (f.t_end_s - x.t_end_s).abs() < 2e-5,
+            "draw {i}: stop {} s against {}",
+            f.t_end_s,
+            x.t_end_s
+        );
+    }
+}
+
 #[test]
 #[ignore = "large sample (1000 draws x 2 cases); run with --release --ignored --nocapture"]
 fn expgauss_matches_reference_large_sample() {
