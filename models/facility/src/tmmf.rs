@@ -919,6 +919,47 @@ mod tests {
         assert!(max_diff(&run.out, &reference) < 1e-13);
     }
 
+    /// Where a parameter change moves the switch to the tail step by a sample, the readings
+    /// jump by less than the free-flight switch may ([`RELEASE_TOL_M`]), so that difference
+    /// quotients stay derivatives: the switches over a doubling of `k_nd`, each located by
+    /// bisection to 1e-15 of the parameter (2026-11-26: 12 switches, jumps 1.6e-18 to 7.7e-18 m,
+    /// a hundred times under it).
+    #[test]
+    fn moving_the_tail_steps_switch_moves_the_readings_continuously() {
+        let model = tmmf(&["needle_contact", "tip_contact", "tip_adhesion"]);
+        let times: Vec<f64> = (-50..400).map(|i| i as f64 / 1e5).collect();
+        let inp = inputs(0.089);
+        let run_at = |k: f64| {
+            let p = [k, 6e-3, 1.1e6, 7.5e4, 4e-7];
+            let mut run = Run::new(&model, &p, &times, &inp, step_for_mass(0.089), true, true);
+            integrate_run(&mut run, &times);
+            (run.tail_intervals, run.out)
+        };
+        let ks: Vec<f64> = (0..=200)
+            .map(|i| 6.5e5 * 2f64.powf(i as f64 / 200.0))
+            .collect();
+        let counts: Vec<usize> = ks.iter().map(|&k| run_at(k).0).collect();
+        let mut switches = 0;
+        for i in 1..ks.len() {
+            if counts[i - 1] == counts[i] {
+                continue;
+            }
+            switches += 1;
+            let (mut a, mut b) = (ks[i - 1], ks[i]);
+            while (b - a) / a > 1e-15 {
+                let m = 0.5 * (a + b);
+                if run_at(m).0 == counts[i - 1] {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            let jump = max_diff(&run_at(a).1, &run_at(b).1);
+            assert!(jump < RELEASE_TOL_M, "k_nd {a}: {jump:e} m");
+        }
+        assert!(switches >= 5, "{switches}");
+    }
+
     #[test]
     fn free_flight_after_release_agrees_with_integrating_throughout() {
         // 0.1 s at 200 kHz: the contact phase lasts a few ms, the rest is free flight
