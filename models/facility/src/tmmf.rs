@@ -505,12 +505,16 @@ impl<'a> Run<'a> {
         x
     }
 
-    /// Whether every force has let go of the TM for good at `t` [s] in state `s` (finite, after
-    /// the trigger), and whether the sample interval after `t` takes the tail step: the TM's two
-    /// states alone (an effect's own states, a needle body's, keep their contact-scale dynamics)
-    /// and every force released or smooth on the tail step ([`crate::Effect::smooth`]). One
-    /// pass over the forces, asked at every sample of a model that may release.
+    /// Whether every force has let go of the TM for good at `t` [s] in state `s`, and whether
+    /// the sample interval after `t` takes the tail step: the TM's two states alone (an
+    /// effect's own states, a needle body's, keep their contact-scale dynamics) and every force
+    /// released or smooth on the tail step ([`crate::Effect::smooth`]). Neither before the
+    /// trigger, for a state that is not finite, or in a run that may not release (the tests'
+    /// integrate-throughout reference). One pass over the forces, asked at every sample.
     fn released_and_tail(&self, t: f64, s: &[f64]) -> (bool, bool) {
+        if !(self.may_release && t > 0.0 && s.iter().all(|v| v.is_finite())) {
+            return (false, false);
+        }
         let mut released = true;
         let mut tail = s.len() == 2;
         self.every_force(t, s, |e, pe, st, rc| {
@@ -569,12 +573,7 @@ impl<'a> Run<'a> {
         let r = self.reading(ti, x_true);
         self.out.push(r);
         let finite = s.iter().all(|v| v.is_finite());
-        // (the tail step only where the TM may be released: not in the tests' reference)
-        let (released, tail) = if self.may_release && ti > 0.0 && finite {
-            self.released_and_tail(ti, s)
-        } else {
-            (false, false)
-        };
+        let (released, tail) = self.released_and_tail(ti, s);
         if released {
             // free flight for the rest of the record, in one tight loop
             let (tb, xb, vb) = (ti, s[0], s[1]);

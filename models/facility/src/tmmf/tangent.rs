@@ -221,11 +221,7 @@ impl Aug {
             let xs: [f64; P] = std::array::from_fn(|j| if ti < 0.0 { 0.0 } else { ts[0][j] });
             self.push_tangents(run, &mut grad, ti, x_true, &xs, tan);
             let finite = s.iter().all(|v| v.is_finite());
-            let (released, tail) = if ti > 0.0 && finite {
-                run.released_and_tail(ti, &s)
-            } else {
-                (false, false)
-            };
+            let (released, tail) = run.released_and_tail(ti, &s);
             if released {
                 let (tb, xb, vb) = (ti, s[0], s[1]);
                 if run.distortions.is_empty() {
