@@ -14,177 +14,16 @@
 
 /// Size of the augmented state: `q, y, y', l, l'`, `E/E0`, ramp switch.
 const N_AUG: usize = 7;
-type Mat<T> = [[T; N_AUG]; N_AUG];
+type Mat = [[f64; N_AUG]; N_AUG];
 
-/// The arithmetic the retraction is propagated in: `f64`, or [`Dual`] (a value with its
-/// derivatives with respect to the fitted parameters: the fit's exact Jacobian). Every branch
-/// (the propagator's squarings, the grid test, the rest test, the ramp's end) reads the value
-/// ([`Real::re`]), so a `Dual` takes the same path as the `f64` and its value part has the
-/// `f64`'s bits.
-pub trait Real:
-    Copy
-    + std::ops::Add<Output = Self>
-    + std::ops::Sub<Output = Self>
-    + std::ops::Mul<Output = Self>
-    + std::ops::Div<Output = Self>
-    + std::ops::Neg<Output = Self>
-{
-    /// A constant.
-    fn c(v: f64) -> Self;
-    /// The value.
-    fn re(self) -> f64;
-    /// Whether the value and every derivative are zero (a product that may be skipped).
-    fn is_zero(self) -> bool;
-    /// Square root.
-    fn sqrt(self) -> Self;
-    /// Absolute value (the derivative's sign follows the value's).
-    fn abs(self) -> Self {
-        if self.re() < 0.0 { -self } else { self }
-    }
-    /// `f64::max(self, f)` (NaN gives `f`).
-    fn max_c(self, f: f64) -> Self {
-        if self.re() >= f { self } else { Self::c(f) }
-    }
-}
-
-impl Real for f64 {
-    #[inline(always)]
-    fn c(v: f64) -> Self {
-        v
-    }
-    #[inline(always)]
-    fn re(self) -> f64 {
-        self
-    }
-    #[inline(always)]
-    fn is_zero(self) -> bool {
-        self == 0.0
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f64::sqrt(self)
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f64::abs(self)
-    }
-    #[inline(always)]
-    fn max_c(self, f: f64) -> Self {
-        self.max(f)
-    }
-}
-
-/// A value [`Dual::v`] and its derivatives [`Dual::d`] with respect to `P` parameters
-/// (forward-mode differentiation: each operation applies the chain rule, so the derivatives are
-/// those of the computation itself, rounding aside).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Dual<const P: usize> {
-    /// The value.
-    pub v: f64,
-    /// Its derivatives.
-    pub d: [f64; P],
-}
-
-impl<const P: usize> Dual<P> {
-    /// The parameter of direction `j` at value `v` (derivative 1 in lane `j`).
-    pub fn var(v: f64, j: usize) -> Self {
-        let mut d = [0.0; P];
-        d[j] = 1.0;
-        Dual { v, d }
-    }
-}
-
-impl<const P: usize> std::ops::Add for Dual<P> {
-    type Output = Self;
-    #[inline(always)]
-    fn add(self, o: Self) -> Self {
-        Dual {
-            v: self.v + o.v,
-            d: std::array::from_fn(|j| self.d[j] + o.d[j]),
-        }
-    }
-}
-
-impl<const P: usize> std::ops::Sub for Dual<P> {
-    type Output = Self;
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        Dual {
-            v: self.v - o.v,
-            d: std::array::from_fn(|j| self.d[j] - o.d[j]),
-        }
-    }
-}
-
-impl<const P: usize> std::ops::Mul for Dual<P> {
-    type Output = Self;
-    #[inline(always)]
-    fn mul(self, o: Self) -> Self {
-        Dual {
-            v: self.v * o.v,
-            d: std::array::from_fn(|j| self.d[j] * o.v + self.v * o.d[j]),
-        }
-    }
-}
-
-impl<const P: usize> std::ops::Div for Dual<P> {
-    type Output = Self;
-    #[inline(always)]
-    fn div(self, o: Self) -> Self {
-        let v = self.v / o.v;
-        Dual {
-            v,
-            d: std::array::from_fn(|j| (self.d[j] - v * o.d[j]) / o.v),
-        }
-    }
-}
-
-impl<const P: usize> std::ops::Neg for Dual<P> {
-    type Output = Self;
-    #[inline(always)]
-    fn neg(self) -> Self {
-        Dual {
-            v: -self.v,
-            d: std::array::from_fn(|j| -self.d[j]),
-        }
-    }
-}
-
-impl<const P: usize> Real for Dual<P> {
-    #[inline(always)]
-    fn c(v: f64) -> Self {
-        Dual { v, d: [0.0; P] }
-    }
-    #[inline(always)]
-    fn re(self) -> f64 {
-        self.v
-    }
-    #[inline(always)]
-    fn is_zero(self) -> bool {
-        self.v == 0.0 && self.d.iter().all(|x| *x == 0.0)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        let v = self.v.sqrt();
-        Dual {
-            v,
-            d: std::array::from_fn(|j| self.d[j] / (2.0 * v)),
-        }
-    }
-}
-
-fn zero_mat<T: Real>() -> Mat<T> {
-    [[T::c(0.0); N_AUG]; N_AUG]
-}
-
-fn matmul<T: Real>(a: &Mat<T>, b: &Mat<T>) -> Mat<T> {
-    let mut c = zero_mat();
+fn matmul(a: &Mat, b: &Mat) -> Mat {
+    let mut c = [[0.0; N_AUG]; N_AUG];
     for i in 0..N_AUG {
         for k in 0..N_AUG {
             let aik = a[i][k];
-            if !aik.is_zero() {
+            if aik != 0.0 {
                 for j in 0..N_AUG {
-                    c[i][j] = c[i][j] + aik * b[k][j];
+                    c[i][j] += aik * b[k][j];
                 }
             }
         }
@@ -193,51 +32,55 @@ fn matmul<T: Real>(a: &Mat<T>, b: &Mat<T>) -> Mat<T> {
 }
 
 #[inline]
-fn apply<T: Real>(m: &Mat<T>, z: &[T; N_AUG]) -> [T; N_AUG] {
-    let mut o = [T::c(0.0); N_AUG];
+fn apply(m: &Mat, z: &[f64; N_AUG]) -> [f64; N_AUG] {
+    let mut o = [0.0; N_AUG];
     for (oi, row) in o.iter_mut().zip(m) {
-        let mut s = T::c(0.0);
+        let mut s = 0.0;
         for (mij, zj) in row.iter().zip(z) {
-            s = s + *mij * *zj;
+            s += mij * zj;
         }
         *oi = s;
     }
     o
 }
 
-/// Largest absolute row sum of the values of `a`.
-fn norm_inf<T: Real>(a: &Mat<T>) -> f64 {
+/// Largest absolute row sum of `a`.
+fn norm_inf(a: &Mat) -> f64 {
     a.iter()
-        .map(|r| r.iter().map(|v| v.re().abs()).sum::<f64>())
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
         .fold(0.0, f64::max)
 }
 
 /// `exp(a*dt)` by scaling and squaring with a degree-16 Taylor series (the scaled matrix has
 /// norm below 1/8 before squaring, so the series error is far below rounding).
-pub(crate) fn propagator<T: Real>(a: &Mat<T>, dt: T) -> Mat<T> {
-    let norm = norm_inf(a) * dt.re();
+pub(crate) fn propagator(a: &Mat, dt: f64) -> Mat {
+    let norm = a
+        .iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+        * dt;
     let mut s = 0;
     while norm / f64::from(1u32 << s.min(30)) > 0.125 && s < 60 {
         s += 1;
     }
-    let h = dt / T::c(2f64.powi(s));
-    let mut term = zero_mat();
-    let mut sum = zero_mat();
+    let h = dt / 2f64.powi(s);
+    let mut term = [[0.0; N_AUG]; N_AUG];
+    let mut sum = [[0.0; N_AUG]; N_AUG];
     for i in 0..N_AUG {
-        term[i][i] = T::c(1.0);
-        sum[i][i] = T::c(1.0);
+        term[i][i] = 1.0;
+        sum[i][i] = 1.0;
     }
     let mut ah = *a;
     ah.iter_mut()
-        .for_each(|r| r.iter_mut().for_each(|v| *v = *v * h));
+        .for_each(|r| r.iter_mut().for_each(|v| *v *= h));
     for k in 1..=16 {
         term = matmul(&term, &ah);
-        let inv = T::c(1.0 / k as f64);
+        let inv = 1.0 / k as f64;
         term.iter_mut()
-            .for_each(|r| r.iter_mut().for_each(|v| *v = *v * inv));
+            .for_each(|r| r.iter_mut().for_each(|v| *v *= inv));
         for i in 0..N_AUG {
             for j in 0..N_AUG {
-                sum[i][j] = sum[i][j] + term[i][j];
+                sum[i][j] += term[i][j];
             }
         }
     }
@@ -263,17 +106,17 @@ const GRID_OFFSET_NORM: f64 = 1e-3;
 /// the state never absorbs the rounding of the time stamps, and there is no propagator per
 /// sample. Returns `false`, pushing nothing, for a record that is not uniform (the caller
 /// propagates it interval by interval).
-fn uniform_tail<T: Real>(
-    a: &Mat<T>,
-    z: &[T; N_AUG],
+fn uniform_tail(
+    a: &Mat,
+    z: &[f64; N_AUG],
     t0: f64,
     times: &[f64],
-    scale_y: T,
-    d0: T,
-    out: &mut Vec<T>,
+    scale_y: f64,
+    d0: f64,
+    out: &mut Vec<f64>,
 ) -> bool {
     let n = times.len();
-    if n < 2 || z[N_HOM..].iter().any(|v| !v.is_zero()) {
+    if n < 2 || z[N_HOM..].iter().any(|&v| v != 0.0) {
         return false;
     }
     let h = (times[n - 1] - t0) / n as f64;
@@ -286,41 +129,31 @@ fn uniform_tail<T: Real>(
     {
         return false;
     }
-    let full = propagator(a, T::c(h));
-    let mut m = [[T::c(0.0); N_HOM]; N_HOM];
-    let mut a5 = [[T::c(0.0); N_HOM]; N_HOM];
+    let full = propagator(a, h);
+    let mut m = [[0.0; N_HOM]; N_HOM];
+    let mut a5 = [[0.0; N_HOM]; N_HOM];
     for i in 0..N_HOM {
         m[i].copy_from_slice(&full[i][..N_HOM]);
         a5[i].copy_from_slice(&a[i][..N_HOM]);
     }
     // rows[j] = e_y^T A^j / j!: the output's Taylor coefficients in the offset
-    let mut rows = [[T::c(0.0); N_HOM]; 5];
-    rows[0][1] = T::c(1.0);
+    let mut rows = [[0.0; N_HOM]; 5];
+    rows[0][1] = 1.0;
     for j in 1..rows.len() {
         for c in 0..N_HOM {
-            let mut acc = T::c(0.0);
-            for k in 0..N_HOM {
-                acc = acc + rows[j - 1][k] * a5[k][c];
-            }
-            rows[j][c] = acc / T::c(j as f64);
+            rows[j][c] = (0..N_HOM).map(|k| rows[j - 1][k] * a5[k][c]).sum::<f64>() / j as f64;
         }
     }
-    let dot = |r: &[T; N_HOM], v: &[T; N_HOM]| {
-        let mut s = T::c(0.0);
-        for (x, y) in r.iter().zip(v) {
-            s = s + *x * *y;
-        }
-        s
-    };
-    let mut v = [T::c(0.0); N_HOM];
+    let dot = |r: &[f64; N_HOM], v: &[f64; N_HOM]| r.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
+    let mut v = [0.0; N_HOM];
     v.copy_from_slice(&z[..N_HOM]);
     for (k, &ti) in times.iter().enumerate() {
-        let mut w = [T::c(0.0); N_HOM];
+        let mut w = [0.0; N_HOM];
         for (wi, row) in w.iter_mut().zip(&m) {
             *wi = dot(row, &v);
         }
         v = w;
-        if v.iter().all(|x| x.re().abs() < 1e-30) {
+        if v.iter().all(|x| x.abs() < 1e-30) {
             // at rest (see `retraction`): held at -d0 exactly
             out.extend(std::iter::repeat_n(-d0, n - k));
             return true;
@@ -331,7 +164,7 @@ fn uniform_tail<T: Real>(
         } else {
             let mut acc = dot(&rows[4], &v);
             for r in rows[..4].iter().rev() {
-                acc = acc * T::c(e) + dot(r, &v);
+                acc = acc * e + dot(r, &v);
             }
             acc
         };
@@ -421,208 +254,15 @@ impl RtConfig {
     /// Tip displacement from its position at `t = 0`, `y(t) - y(0)` [m], at `times` [s], by
     /// exact propagation of the linear ODE (matrix exponential, see [`propagator`]).
     pub fn retraction(&self, times: &[f64]) -> Vec<f64> {
-        RtParams::of(self).retraction(times)
-    }
-
-    /// The value of `field` [SI], if the configuration has it (the plunger's and the ramp's
-    /// only with them).
-    pub fn field(&self, field: RtField) -> Option<f64> {
-        match field {
-            RtField::R => Some(self.r_ohm),
-            RtField::M => Some(self.m_kg),
-            RtField::Ca => Some(self.ca_f),
-            RtField::K => Some(self.k_n_m),
-            RtField::B => Some(self.b_ns_m),
-            RtField::T => Some(self.t_c_m),
-            RtField::Mg => self.plunger.map(|p| p.0),
-            RtField::Kg => self.plunger.map(|p| p.1),
-            RtField::Em => self.em_v_s,
-        }
-    }
-
-    /// [`RtConfig::retraction`] and its derivatives with respect to the fields `seeds` (one
-    /// column per seed, [m] per unit of the field), by forward-mode differentiation of the same
-    /// computation ([`Dual`]): the readings have the bits of [`RtConfig::retraction`], and the
-    /// derivatives are those of the discrete propagation the fit's residuals come from. `None`
-    /// for more than [`MAX_RT_TANGENTS`] seeds or a field the configuration does not have.
-    pub fn retraction_with_tangents(
-        &self,
-        seeds: &[RtField],
-        times: &[f64],
-    ) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
-        if seeds.iter().any(|f| self.field(*f).is_none()) {
-            return None;
-        }
-        match seeds.len() {
-            0 => Some((self.retraction(times), Vec::new())),
-            1 => Some(self.tangents::<1>(seeds, times)),
-            2 => Some(self.tangents::<2>(seeds, times)),
-            3 => Some(self.tangents::<3>(seeds, times)),
-            4 => Some(self.tangents::<4>(seeds, times)),
-            5 => Some(self.tangents::<5>(seeds, times)),
-            6 => Some(self.tangents::<6>(seeds, times)),
-            7 => Some(self.tangents::<7>(seeds, times)),
-            8 => Some(self.tangents::<8>(seeds, times)),
-            9 => Some(self.tangents::<9>(seeds, times)),
-            _ => None,
-        }
-    }
-
-    fn tangents<const P: usize>(
-        &self,
-        seeds: &[RtField],
-        times: &[f64],
-    ) -> (Vec<f64>, Vec<Vec<f64>>) {
-        let out = RtParams::<Dual<P>>::seeded(self, seeds).retraction(times);
-        let values = out.iter().map(|x| x.v).collect();
-        let cols = (0..P)
-            .map(|j| out.iter().map(|x| x.d[j]).collect())
-            .collect();
-        (values, cols)
-    }
-
-    /// The state scales, the scaled augmented matrix and the scaled initial state (see
-    /// `RtParams::scaled_start`).
-    #[cfg(test)]
-    fn scaled_start(&self) -> ([f64; 5], Mat<f64>, [f64; N_AUG]) {
-        RtParams::of(self).scaled_start()
-    }
-}
-
-/// The mechanism parameters of [`RtConfig`] in the arithmetic `T` of the propagation.
-#[derive(Debug, Clone, Copy)]
-struct RtParams<T> {
-    r: T,
-    m: T,
-    ca: T,
-    k: T,
-    b: T,
-    t: T,
-    plunger: Option<(T, T)>,
-    em: Option<T>,
-    e0: T,
-}
-
-/// A parameter of [`RtConfig`] that a fit may free (its field).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RtField {
-    /// `r_ohm`.
-    R,
-    /// `m_kg`.
-    M,
-    /// `ca_f`.
-    Ca,
-    /// `k_n_m`.
-    K,
-    /// `b_ns_m`.
-    B,
-    /// `t_c_m`.
-    T,
-    /// The plunger's mass.
-    Mg,
-    /// The plunger's stiffness.
-    Kg,
-    /// `em_v_s`.
-    Em,
-}
-
-impl RtField {
-    /// Every field.
-    pub const ALL: [RtField; 9] = [
-        RtField::R,
-        RtField::M,
-        RtField::Ca,
-        RtField::K,
-        RtField::B,
-        RtField::T,
-        RtField::Mg,
-        RtField::Kg,
-        RtField::Em,
-    ];
-}
-
-/// Most derivatives [`RtConfig::retraction_with_tangents`] computes in one pass (every field).
-pub const MAX_RT_TANGENTS: usize = 9;
-
-impl<T: Real> RtParams<T> {
-    /// `d0 = T*E0/k` [m].
-    fn d0(&self) -> T {
-        self.t * self.e0 / self.k
-    }
-
-    /// The state scales (charge, length, velocity, length, velocity), the scaled augmented
-    /// matrix and the scaled initial state (static equilibrium at `E0`; the ramp entries 0).
-    fn scaled_start(&self) -> ([T; 5], Mat<T>, [T; N_AUG]) {
-        let d0 = self.d0();
-        let kk = self.k + self.t * self.t / self.ca;
-        let omega = (kk / self.m).sqrt();
-        let sc = [
-            self.ca * self.e0.max_c(1e-30),
-            d0.abs().max_c(1e-30),
-            d0.abs().max_c(1e-30) * omega,
-        ];
-        let scale = [sc[0], sc[1], sc[2], sc[1], sc[2]];
-        let a = self.scaled_matrix(&scale);
-        let zero = T::c(0.0);
-        let s0 = [self.ca * self.e0 + self.t * d0, d0, zero, zero, zero];
-        let mut z = [zero; N_AUG];
-        for k in 0..5 {
-            z[k] = s0[k] / scale[k];
-        }
-        (scale, a, z)
-    }
-
-    /// The augmented system matrix in scaled variables: states `[q, y, y', l, l']/scale`, then
-    /// `E/E0` and the ramp switch (1 while the voltage ramps down).
-    fn scaled_matrix(&self, scale: &[T; 5]) -> Mat<T> {
-        let zero = T::c(0.0);
-        let mut a = zero_mat();
-        let kk = self.k + self.t * self.t / self.ca;
-        let tc = self.t / self.ca;
-        let rc = self.r * self.ca;
-        // physical A (rows: q, y, y', l, l') and input column for E
-        let mut ap = [[zero; 5]; 5];
-        let mut bp = [zero; 5];
-        ap[0][0] = T::c(-1.0) / rc;
-        ap[0][1] = self.t / rc;
-        ap[0][3] = -self.t / rc;
-        bp[0] = T::c(1.0) / self.r;
-        ap[1][2] = T::c(1.0);
-        ap[2][0] = tc / self.m;
-        ap[2][1] = -kk / self.m;
-        ap[2][2] = -self.b / self.m;
-        ap[2][3] = kk / self.m;
-        ap[2][4] = self.b / self.m;
-        if let Some((mg, kg)) = self.plunger {
-            ap[3][4] = T::c(1.0);
-            ap[4][0] = -tc / mg;
-            ap[4][1] = kk / mg;
-            ap[4][2] = self.b / mg;
-            ap[4][3] = -(kg + kk) / mg;
-            ap[4][4] = -self.b / mg;
-        }
-        for i in 0..5 {
-            for j in 0..5 {
-                a[i][j] = ap[i][j] * scale[j] / scale[i];
-            }
-            a[i][5] = bp[i] * self.e0 / scale[i];
-        }
-        a[5][6] = -self.em.unwrap_or(zero) / self.e0.max_c(1e-30);
-        a
-    }
-
-    /// [`RtConfig::retraction`] in the arithmetic `T`.
-    fn retraction(&self, times: &[f64]) -> Vec<T> {
-        let d0 = self.d0();
+        let d0 = self.d0_m();
         let (scale, a, mut z) = self.scaled_start();
-        let zero = T::c(0.0);
-        let t_off = match self.em {
-            Some(em) if em.re() > 0.0 => self.e0 / em,
-            _ => zero,
+        let t_off = match self.em_v_s {
+            Some(em) if em > 0.0 => self.e0_v / em,
+            _ => 0.0,
         };
-        if t_off.re() > 0.0 {
-            z[5] = T::c(1.0); // E/E0
-            z[6] = T::c(1.0); // the ramp is running
+        if t_off > 0.0 {
+            z[5] = 1.0; // E/E0
+            z[6] = 1.0; // the ramp is running
         }
         let a_norm = norm_inf(&a);
         // exp(A h) of the last interval h: sampling is (nearly) uniform, and an interval that
@@ -631,21 +271,21 @@ impl<T: Real> RtParams<T> {
         // telescopes and stays at the rounding of the sample times), is caught up by exp(A lag),
         // its Taylor series to second order, whenever |A lag| exceeds 1e-13 (the neglected
         // third-order term is below 2e-19, under rounding)
-        let mut cache: Option<(T, Mat<T>)> = None;
-        let mut lag = zero;
-        let mut advance = |z: &[T; N_AUG], dt: T| -> [T; N_AUG] {
+        let mut cache: Option<(f64, Mat)> = None;
+        let mut lag = 0.0f64;
+        let mut advance = |z: &[f64; N_AUG], dt: f64| -> [f64; N_AUG] {
             if let Some((h, m)) = &cache {
-                let d = dt - *h;
-                if d.re().abs() * a_norm <= 1e-6 {
+                let d = dt - h;
+                if d.abs() * a_norm <= 1e-6 {
                     let mut z1 = apply(m, z);
-                    lag = lag + d;
-                    if lag.re().abs() * a_norm > 1e-13 {
+                    lag += d;
+                    if lag.abs() * a_norm > 1e-13 {
                         let az = apply(&a, &z1);
                         let aaz = apply(&a, &az);
                         for k in 0..N_AUG {
-                            z1[k] = z1[k] + (lag * az[k] + T::c(0.5) * lag * lag * aaz[k]);
+                            z1[k] += lag * az[k] + 0.5 * lag * lag * aaz[k];
                         }
-                        lag = zero;
+                        lag = 0.0;
                     }
                     return z1;
                 }
@@ -657,16 +297,16 @@ impl<T: Real> RtParams<T> {
         let mut t = 0.0;
         let mut out = Vec::with_capacity(times.len());
         // Once the voltage is off the system is homogeneous and passive (positive R, b,
-        // stiffnesses and masses): no mode grows, and with a rigid plunger every mode decays.
-        // When every scaled state is below 1e-30 (the scale is the stroke d0), the remaining
-        // motion is below 1e-30 d0 times the system's largest transient growth; the tip is then
-        // held at rest at -d0 exactly, which also keeps the decay out of subnormal arithmetic.
+        // stiffnesses and masses): no mode grows, and with a rigid plunger every mode decays. When every scaled state is below
+        // 1e-30 (the scale is the stroke d0), the remaining motion is below 1e-30 d0 times the
+        // system's largest transient growth; the tip is then held at rest at -d0 exactly, which
+        // also keeps the decay out of subnormal arithmetic.
         let mut at_rest = false;
         // the sample that ends the ramp (or the first after t = 0); from the next one on the
         // system is homogeneous and, on a uniform record, propagated on its grid
         let grid_from = times
             .iter()
-            .position(|&ti| ti > t_off.re().max(0.0))
+            .position(|&ti| ti > t_off.max(0.0))
             .map(|i| i + 1);
         for (idx, &ti) in times.iter().enumerate() {
             if Some(idx) == grid_from
@@ -680,69 +320,84 @@ impl<T: Real> RtParams<T> {
                 continue;
             }
             if ti > t {
-                if t < t_off.re() && ti >= t_off.re() {
+                if t < t_off && ti >= t_off {
                     // the ramp ends inside (or at the end of) this interval: E stays at 0 after
-                    z = apply(&propagator(&a, t_off - T::c(t)), &z);
-                    z[5] = zero;
-                    z[6] = zero;
-                    if ti > t_off.re() {
-                        z = advance(&z, T::c(ti) - t_off);
+                    z = apply(&propagator(&a, t_off - t), &z);
+                    z[5] = 0.0;
+                    z[6] = 0.0;
+                    if ti > t_off {
+                        z = advance(&z, ti - t_off);
                     }
                 } else {
-                    z = advance(&z, T::c(ti - t));
+                    z = advance(&z, ti - t);
                 }
                 t = ti;
             }
-            if ti >= t_off.re() && ti > 0.0 && z.iter().all(|v| v.re().abs() < 1e-30) {
+            if ti >= t_off && ti > 0.0 && z.iter().all(|v| v.abs() < 1e-30) {
                 at_rest = true;
             }
-            out.push(if ti < 0.0 { zero } else { z[1] * scale[1] - d0 });
+            out.push(if ti < 0.0 { 0.0 } else { z[1] * scale[1] - d0 });
         }
         out
     }
-}
 
-impl RtParams<f64> {
-    fn of(c: &RtConfig) -> Self {
-        RtParams {
-            r: c.r_ohm,
-            m: c.m_kg,
-            ca: c.ca_f,
-            k: c.k_n_m,
-            b: c.b_ns_m,
-            t: c.t_c_m,
-            plunger: c.plunger,
-            em: c.em_v_s,
-            e0: c.e0_v,
+    /// The state scales (charge, length, velocity, length, velocity), the scaled augmented
+    /// matrix and the scaled initial state (static equilibrium at `E0`; the ramp entries 0).
+    fn scaled_start(&self) -> ([f64; 5], Mat, [f64; N_AUG]) {
+        let d0 = self.d0_m();
+        let kk = self.k_n_m + self.t_c_m * self.t_c_m / self.ca_f;
+        let omega = (kk / self.m_kg).sqrt();
+        let sc = [
+            self.ca_f * self.e0_v.max(1e-30),
+            d0.abs().max(1e-30),
+            d0.abs().max(1e-30) * omega,
+        ];
+        let scale = [sc[0], sc[1], sc[2], sc[1], sc[2]];
+        let a = self.scaled_matrix(&scale);
+        let s0 = [self.ca_f * self.e0_v + self.t_c_m * d0, d0, 0.0, 0.0, 0.0];
+        let mut z = [0.0; N_AUG];
+        for k in 0..5 {
+            z[k] = s0[k] / scale[k];
         }
+        (scale, a, z)
     }
-}
 
-impl<const P: usize> RtParams<Dual<P>> {
-    /// The parameters of `c`, field `seeds[j]` the variable of lane `j`.
-    fn seeded(c: &RtConfig, seeds: &[RtField]) -> Self {
-        let var = |f: RtField, v: f64| {
-            let mut x = Dual::c(v);
-            for (j, s) in seeds.iter().enumerate() {
-                if *s == f {
-                    x.d[j] = 1.0;
-                }
-            }
-            x
-        };
-        RtParams {
-            r: var(RtField::R, c.r_ohm),
-            m: var(RtField::M, c.m_kg),
-            ca: var(RtField::Ca, c.ca_f),
-            k: var(RtField::K, c.k_n_m),
-            b: var(RtField::B, c.b_ns_m),
-            t: var(RtField::T, c.t_c_m),
-            plunger: c
-                .plunger
-                .map(|(mg, kg)| (var(RtField::Mg, mg), var(RtField::Kg, kg))),
-            em: c.em_v_s.map(|em| var(RtField::Em, em)),
-            e0: Dual::c(c.e0_v),
+    /// The augmented system matrix in scaled variables: states `[q, y, y', l, l']/scale`, then
+    /// `E/E0` and the ramp switch (1 while the voltage ramps down).
+    fn scaled_matrix(&self, scale: &[f64; 5]) -> Mat {
+        let mut a = [[0.0; N_AUG]; N_AUG];
+        let kk = self.k_n_m + self.t_c_m * self.t_c_m / self.ca_f;
+        let tc = self.t_c_m / self.ca_f;
+        let rc = self.r_ohm * self.ca_f;
+        // physical A (rows: q, y, y', l, l') and input column for E
+        let mut ap = [[0.0; 5]; 5];
+        let mut bp = [0.0; 5];
+        ap[0][0] = -1.0 / rc;
+        ap[0][1] = self.t_c_m / rc;
+        ap[0][3] = -self.t_c_m / rc;
+        bp[0] = 1.0 / self.r_ohm;
+        ap[1][2] = 1.0;
+        ap[2][0] = tc / self.m_kg;
+        ap[2][1] = -kk / self.m_kg;
+        ap[2][2] = -self.b_ns_m / self.m_kg;
+        ap[2][3] = kk / self.m_kg;
+        ap[2][4] = self.b_ns_m / self.m_kg;
+        if let Some((mg, kg)) = self.plunger {
+            ap[3][4] = 1.0;
+            ap[4][0] = -tc / mg;
+            ap[4][1] = kk / mg;
+            ap[4][2] = self.b_ns_m / mg;
+            ap[4][3] = -(kg + kk) / mg;
+            ap[4][4] = -self.b_ns_m / mg;
         }
+        for i in 0..5 {
+            for j in 0..5 {
+                a[i][j] = ap[i][j] * scale[j] / scale[i];
+            }
+            a[i][5] = bp[i] * self.e0_v / scale[i];
+        }
+        a[5][6] = -self.em_v_s.unwrap_or(0.0) / self.e0_v.max(1e-30);
+        a
     }
 }
 
