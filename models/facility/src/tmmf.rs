@@ -3,7 +3,8 @@
 //! The TM starts at rest at `x = 0` at the trigger, held by the needle preload against the tip;
 //! the tip follows the smooth retraction profile. The force effects of the model are summed; the
 //! distortion effects are added to the predicted reading. Integrated with fixed-step RK4, the
-//! step depending only on the sampling (so that finite-difference Jacobians are smooth), until
+//! step depending only on the sampling and, per sample, on whether the contacts are open (so
+//! that finite-difference Jacobians are smooth: see the tail step below), until
 //! every force effect has let go of the TM for good ([`Effect::released`](crate::Effect)): from
 //! then on the TM is propagated exactly in free flight, `x = x_b + v_b (t - t_b)`, so that the
 //! cost of the long free-flight part of a record (a 2 s facility record at 200 kHz is
