@@ -18,6 +18,7 @@ pub mod normal;
 pub mod output;
 pub mod requirement;
 pub mod spectrum;
+pub mod stats;
 pub mod testrun;
 pub mod text;
 pub mod trace;
