@@ -3,7 +3,9 @@
 //! `cargo xtask test [-- CARGO-TEST-ARGS]` runs `cargo test --workspace` (with the extra
 //! arguments), streams its output, records which traced tests ran, with what result and what they
 //! asserted, into `target/geodesic/test-run.json` (a `geodesic_core::testrun::TestRun`, read by
-//! the compliance matrix), and exits with cargo's status.
+//! the compliance matrix), and exits with cargo's status. The run records the commit and a
+//! fingerprint of the work tree it ran on (`geodesic verify` counts it only for that tree), and
+//! runs every property test from one fixed proptest seed ([`PROPTEST_RNG_SEED`]).
 
 mod join;
 mod output;
@@ -14,6 +16,10 @@ use std::collections::BTreeMap;
 use std::io::{IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
+
+/// The proptest RNG seed of the recorded test run (`PROPTEST_RNG_SEED`), unless the caller
+/// sets one.
+pub const PROPTEST_RNG_SEED: u64 = 20_261_127;
 
 const USAGE: &str = "usage: cargo xtask test [-- CARGO-TEST-ARGS]
 
@@ -151,13 +157,24 @@ fn test(extra: &[String]) -> Result<ExitCode, String> {
     let _ = std::fs::remove_dir_all(&trace_dir);
     std::fs::create_dir_all(&trace_dir).map_err(|e| format!("{}: {e}", trace_dir.display()))?;
     let (commit, dirty) = git_state(&root);
+    // the tree the tests run on, fingerprinted before and after: `geodesic verify` counts the
+    // run only for that tree (geodesic_core::testrun::TestRun::freshness)
+    let tree_before = geodesic_core::testrun::tree_state(&root).ok();
+    // every property test of the recorded run draws its cases from one fixed seed: a traced
+    // test's result is a fact about the commit, not one draw of a hundred (plain `cargo test`
+    // keeps exploring new cases); the user's own PROPTEST_RNG_SEED wins
+    let proptest_seed = std::env::var("PROPTEST_RNG_SEED")
+        .ok()
+        .filter(|s| !s.trim().is_empty())
+        .unwrap_or_else(|| PROPTEST_RNG_SEED.to_string());
 
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.current_dir(&root)
         .args(["test", "--workspace"])
         .args(extra)
-        .env(geodesic_core::trace::TRACE_DIR_ENV, &trace_dir);
+        .env(geodesic_core::trace::TRACE_DIR_ENV, &trace_dir)
+        .env("PROPTEST_RNG_SEED", &proptest_seed);
     if std::io::stdout().is_terminal() && std::env::var_os("CARGO_TERM_COLOR").is_none() {
         cmd.env("CARGO_TERM_COLOR", "always");
     }
@@ -185,9 +202,22 @@ fn test(extra: &[String]) -> Result<ExitCode, String> {
         command.push_str(" -- ");
         command.push_str(&extra.join(" "));
     }
+    let tree_after = geodesic_core::testrun::tree_state(&root).ok();
+    let tree_sha256 = match (&tree_before, &tree_after) {
+        (Some(a), Some(b)) if a == b => Some(a.tree_sha256.clone()),
+        (Some(_), Some(_)) => {
+            warnings.push(
+                "the work tree changed while the tests ran: the run is recorded without a tree fingerprint (stale for geodesic verify)".into(),
+            );
+            None
+        }
+        _ => None,
+    };
     let run = TestRun {
         commit,
         dirty,
+        tree_sha256,
+        proptest_rng_seed: Some(proptest_seed),
         date: rfc3339(secs),
         command,
         tests,

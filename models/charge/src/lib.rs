@@ -5,9 +5,10 @@
 //!   small-angle closed form;
 //! - [`budget`]: `Q` and `V_TM` from the contact voltage differences, their 2-sigma bounds
 //!   analytically and by a seeded Monte Carlo;
+//! - [`inputs`]: the charge inputs file (`models/charge/charge.yaml`) the checks read;
 //! - [`neutralise`]: the time cosmic-ray charging takes to neutralise a negative charge.
 //!
-//! Physics only: no I/O, no CLI.
+//! Physics only: no file I/O (the inputs file is parsed from its text), no CLI.
 //!
 //! ```
 //! use geodesic_charge::{c_rt_quadrature_f, ChargeInputs, TipGeometry};
@@ -19,6 +20,7 @@
 
 pub mod budget;
 pub mod capacitance;
+pub mod inputs;
 pub mod neutralise;
 pub mod plunger;
 
@@ -26,4 +28,5 @@ pub use budget::{
     COVERAGE_2SIGMA, ChargeInputs, ChargeMonteCarlo, ELEMENTARY_CHARGE_C, monte_carlo,
 };
 pub use capacitance::{EPS0_F_M, TipGeometry, c_rt_exact_f, c_rt_quadrature_f, c_rt_small_angle_f};
+pub use inputs::{ChargeFile, DEFAULT_CHARGE_YAML};
 pub use neutralise::{DAY_S, THESIS_RATE_E_S, time_to_neutralise_s};

@@ -33,19 +33,19 @@ mod tests {
 }
 
 /// Distribution-free 95 % confidence interval of the `q` quantile from sorted data: the order
-/// statistics whose ranks bound the binomial count `Binomial(n, q)` of draws below the true
-/// quantile at 2.5 % and 97.5 % (normal approximation of the binomial; Hahn and Meeker,
-/// "Statistical Intervals", 1991, section 5.2). It measures the Monte Carlo's sampling
+/// statistics whose ranks bound the true quantile with 97.5 % each (exact binomial ranks,
+/// [`geodesic_core::stats`]; Hahn and Meeker, "Statistical Intervals", 1991, section 5.2),
+/// NaN on a side the sample cannot bound (no clipping to the sample's extremes: below 1365
+/// draws for the 99.73 % point's upper side: 1 - 0.9973^1364 < 0.975). It measures the Monte Carlo's sampling
 /// uncertainty only.
 pub fn quantile_interval_sorted(sorted: &[f64], q: f64) -> [f64; 2] {
-    let n = sorted.len();
-    if n == 0 {
-        return [f64::NAN; 2];
-    }
-    let (m, sd) = (n as f64 * q, (n as f64 * q * (1.0 - q)).sqrt());
-    let lo = ((m - 1.96 * sd).floor() as isize).clamp(1, n as isize) as usize;
-    let hi = ((m + 1.96 * sd).ceil() as isize + 1).clamp(1, n as isize) as usize;
-    [sorted[lo - 1], sorted[hi - 1]]
+    use geodesic_core::stats::{quantile_lower_rank, quantile_upper_rank};
+    let n = sorted.len() as u64;
+    let at = |k: Option<u64>| k.map_or(f64::NAN, |k| sorted[(k - 1) as usize]);
+    [
+        at(quantile_lower_rank(n, q, 0.975)),
+        at(quantile_upper_rank(n, q, 0.975)),
+    ]
 }
 
 /// Probability that the true `q` quantile lies at or below `limit`, given `exceed` of `n` draws
@@ -72,8 +72,17 @@ mod interval_tests {
     use super::*;
 
     #[test]
+    fn a_sample_too_small_has_no_upper_side() {
+        // 1 - 0.9973^1364 = 0.97497 < 0.975 <= 1 - 0.9973^1365
+        let small: Vec<f64> = (1..=1364).map(f64::from).collect();
+        assert!(quantile_interval_sorted(&small, 0.9973)[1].is_nan());
+        let enough: Vec<f64> = (1..=1365).map(f64::from).collect();
+        assert_eq!(quantile_interval_sorted(&enough, 0.9973)[1], 1365.0);
+    }
+
+    #[test]
     fn quantile_interval_brackets_the_quantile_and_narrows_with_n() {
-        let small: Vec<f64> = (1..=1000).map(f64::from).collect();
+        let small: Vec<f64> = (1..=2000).map(|i| f64::from(i) / 2.0).collect();
         let big: Vec<f64> = (1..=100_000).map(|i| f64::from(i) / 100.0).collect();
         let a = quantile_interval_sorted(&small, 0.9973);
         let b = quantile_interval_sorted(&big, 0.9973);

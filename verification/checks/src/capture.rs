@@ -21,9 +21,11 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use geodesic_capture::{
-    CaptureInputs, N_STATES, SourceKind, StateModel, StateName, Xlim, XlimDerivation, box_corner,
-    consistency_residual, consistency_sum, max_box_scale, quartic_sum, single_state_limits,
+    CaptureInputs, N_STATES, SourceKind, StateModel, StateName, StateSource, Xlim, XlimDerivation,
+    box_corner, consistency_residual, consistency_sum, max_box_scale, quartic_sum,
+    single_state_limits,
 };
+use geodesic_core::check::Sampling;
 use geodesic_core::requirement::Op;
 use geodesic_core::{Basis, Check, CheckContext, CheckError, Dim, Evidence, Quantity};
 use serde_json::{Value, json};
@@ -43,6 +45,35 @@ impl ReleaseVz {
     pub fn p9973(&self) -> f64 {
         abs_p9973(&self.vz_m_s)
     }
+
+    /// The `p` quantile of |vz| [m/s] with its order-statistic bounds at `confidence`; `None`
+    /// when there are no draws.
+    pub fn quantile(&self, p: f64, confidence: f64) -> Option<Sampling> {
+        if self.vz_m_s.is_empty() {
+            return None;
+        }
+        let mut a: Vec<f64> = self.vz_m_s.iter().map(|v| v.abs()).collect();
+        a.sort_by(f64::total_cmp);
+        Some(Sampling::quantile(&a, p, confidence))
+    }
+}
+
+/// The TM state requirements a state model takes as met: those of the states drawn from a
+/// flow-down assumption (`Normal(0, F x limit)`), directly or through a drift.
+pub fn assumed_rows(setup: &CaptureSetup) -> Vec<String> {
+    StateName::ALL
+        .iter()
+        .filter(|s| matches!(setup.inputs.states[s.index()], StateSource::FlowDown(_)))
+        .map(|s| s.requirement_id().to_string())
+        .collect()
+}
+
+/// Whether xlim was derived from the loaded requirement box (derivation `constraint` and the
+/// consistency residual at the precision of the stored values): then the box corner's quartic
+/// sum is `1 / box_scale^4` and the consistency holds by construction.
+pub fn derived_from_this_box(setup: &CaptureSetup) -> bool {
+    setup.inputs.derivation == XlimDerivation::Constraint
+        && consistency_residual(&setup.xlim) <= 1e-5
 }
 
 /// 99.73 % quantile of `|v|` (nearest rank); NaN for an empty slice.
@@ -188,51 +219,93 @@ pub struct CaptureCriterion {
 }
 
 impl CaptureCriterion {
-    /// The evidence of a set-up, with the release Monte Carlo's 99.73 % |vz| when there is one.
+    /// The evidence of a set-up, with the release Monte Carlo's 99.73 % |vz| when there is one
+    /// (its bounds at the default confidence, see [`CaptureCriterion::evidence_at`]).
     pub fn evidence(setup: &CaptureSetup, release: Option<&ReleaseVz>) -> Vec<Evidence> {
+        Self::evidence_at(setup, release, crate::DEFAULT_CONFIDENCE)
+    }
+
+    /// The evidence of a set-up; the predicted state takes vz at the upper `confidence` bound
+    /// of the release Monte Carlo's 99.73 % |vz|.
+    pub fn evidence_at(
+        setup: &CaptureSetup,
+        release: Option<&ReleaseVz>,
+        confidence: f64,
+    ) -> Vec<Evidence> {
         let x = &setup.xlim;
         let common = |mut e: Evidence| {
             e.inputs.extend(setup.evidence_inputs());
             e
         };
         let corner = quartic_sum(x, &box_corner(x, 1.0));
-        let mut out = vec![common(
-            Evidence::measured(
-                "CAP-QUARTIC",
-                Quantity::new(corner, Dim::DIMENSIONLESS),
-                Basis::FlowDown,
-                "Quartic sum at the corner of the TM state requirement box (every state at the \
-                 limit of its loaded TMS requirement) with the capture limits xlim.",
-            )
-            .with_input("max_box_scale", max_box_scale(x)),
-        )];
+        let derived = derived_from_this_box(setup);
+        let mut box_ev = Evidence::measured(
+            "CAP-QUARTIC",
+            Quantity::new(corner, Dim::DIMENSIONLESS),
+            Basis::FlowDown,
+            "Quartic sum at the corner of the TM state requirement box (every state at the \
+             limit of its loaded TMS requirement) with the capture limits xlim.",
+        )
+        .with_input("max_box_scale", max_box_scale(x))
+        .from_inputs(&["capture"]);
+        if derived {
+            box_ev = box_ev.by_construction(format!(
+                "xlim was derived from this very requirement box scaled by {} (capture inputs, derivation: constraint), so the corner's sum is 1/{}^4 = {} whatever the box; it shows only that the box is still the one xlim was derived for",
+                setup.inputs.box_scale,
+                setup.inputs.box_scale,
+                geodesic_core::units::fmt_num(setup.inputs.box_scale.powi(-4))
+            ));
+        }
+        let mut out = vec![common(box_ev)];
         if let Some(r) = release {
-            let vz9973 = r.p9973();
-            let state = setup.model.p9973_state(vz9973);
-            let sum = quartic_sum(x, &state);
-            let mut e = common(
-                Evidence::measured(
-                    "CAP-QUARTIC",
-                    Quantity::new(sum, Dim::DIMENSIONLESS),
-                    basis_of(setup.model.weakest_kind()),
-                    format!(
-                        "Quartic sum at the predicted TM state, every state at its 99.73 % value \
-                         from its source (vz: release Monte Carlo {:.3} um/s; positions and \
-                         angles: rate x {} s; others: the capture inputs' assumptions).",
-                        vz9973 * 1e6,
-                        setup.inputs.drift_time_s
-                    ),
-                )
-                .with_input("state_p9973_si", json!(state.0))
-                .with_input("state_sources", json!(setup.sources())),
-            );
-            for (k, v) in &r.inputs {
-                e.inputs.insert(format!("release.{k}"), v.clone());
+            let q = r.quantile(0.9973, confidence);
+            match q.as_ref().and_then(|q| q.upper.map(|u| (q, u))) {
+                Some((q, vz)) => {
+                    let state = setup.model.p9973_state(vz);
+                    let sum = quartic_sum(x, &state);
+                    let mut e = common(
+                        Evidence::measured(
+                            "CAP-QUARTIC",
+                            Quantity::new(sum, Dim::DIMENSIONLESS),
+                            basis_of(setup.model.weakest_kind()),
+                            format!(
+                                "Quartic sum at the predicted TM state, every state at its 99.73 % \
+                                 value from its source (vz: the upper {} bound of the release Monte \
+                                 Carlo's 99.73 % |vz|, {:.4} um/s, estimate {:.4} um/s; positions \
+                                 and angles: rate x {} s; others: the capture inputs' assumptions).",
+                                geodesic_core::units::fmt_pct(confidence),
+                                vz * 1e6,
+                                q.estimate * 1e6,
+                                setup.inputs.drift_time_s
+                            ),
+                        )
+                        .with_input("state_p9973_si", json!(state.0))
+                        .with_input("state_sources", json!(setup.sources()))
+                        .assuming(assumed_rows(setup))
+                        .from_inputs(&["budget", "capture"]),
+                    );
+                    for (k, v) in &r.inputs {
+                        e.inputs.insert(format!("release.{k}"), v.clone());
+                    }
+                    out.push(e);
+                }
+                None => out.push(common(
+                    Evidence::not_verified(
+                        "CAP-QUARTIC",
+                        format!(
+                            "the predicted state needs the upper {} bound of the release Monte Carlo's 99.73 % |vz|, which N = {} cannot give (N >= {})",
+                            geodesic_core::units::fmt_pct(confidence),
+                            r.vz_m_s.len(),
+                            geodesic_core::stats::min_n(0.9973, confidence)
+                        ),
+                        "Quartic sum at the predicted TM state.",
+                    )
+                    .from_inputs(&["budget", "capture"]),
+                )),
             }
-            out.push(e);
         }
         let by_construction = setup.inputs.derivation == XlimDerivation::Constraint;
-        out.push(common(
+        let mut xe = common(
             Evidence::measured(
                 "CAP-XLIM-CONSISTENCY",
                 Quantity::new(consistency_residual(x), Dim::DIMENSIONLESS),
@@ -255,25 +328,37 @@ impl CaptureCriterion {
                 },
             )
             .with_input("consistency_sum", consistency_sum(x))
-            .with_input("xlim_source", setup.inputs.xlim_source.clone()),
-        ));
+            .with_input("xlim_source", setup.inputs.xlim_source.clone())
+            .from_inputs(&["capture"]),
+        );
+        if by_construction {
+            xe = xe.by_construction(
+                "xlim was derived to satisfy this constraint (capture inputs, derivation: constraint): the residual is the rounding of the stored values while the loaded box is the one xlim was derived for",
+            );
+        }
+        out.push(xe);
         let vz = single_state_limits(x)[StateName::Vz.index()];
         let cited = match &setup.inputs.anchor {
             Some((StateName::Vz, src)) => src.clone(),
             _ => setup.inputs.xlim_source.clone(),
         };
-        out.push(common(
-            Evidence::measured(
-                "CAP-VZ-SINGLE",
-                Quantity::new(vz, Dim::VELOCITY),
-                Basis::Accepted,
-                format!(
-                    "Accepted: the single-state z-velocity limit of the capture limits (= xlim_vz), \
-                     taken from a cited DFACS result ({cited}), not computed by a geodesic model."
-                ),
-            )
-            .with_input("accepted_from", cited),
-        ));
+        let mut ve = Evidence::measured(
+            "CAP-VZ-SINGLE",
+            Quantity::new(vz, Dim::VELOCITY),
+            Basis::Accepted,
+            format!(
+                "Accepted: the single-state z-velocity limit of the capture limits (= xlim_vz), \
+                 taken from a cited DFACS result ({cited}), not computed by a geodesic model."
+            ),
+        )
+        .with_input("accepted_from", cited)
+        .from_inputs(&["capture"]);
+        if matches!(setup.inputs.anchor, Some((StateName::Vz, _))) {
+            ve = ve.by_construction(
+                "the single-state limit is xlim_vz itself, set from the same E2E result the requirement states: the row compares that value with itself",
+            );
+        }
+        out.push(common(ve));
         out
     }
 }
@@ -296,7 +381,7 @@ impl Check for CaptureCriterion {
             Some(src) => Some(src(ctx)?),
             None => None,
         };
-        let mut ev = CaptureCriterion::evidence(&setup, release.as_ref());
+        let mut ev = CaptureCriterion::evidence_at(&setup, release.as_ref(), ctx.confidence);
         let svg = crate::plots::capture_criterion_svg(&setup.xlim)?;
         let file = crate::plots::write(&ctx.reports_dir, "capture-criterion.svg", &svg)?;
         if let Some(q) = ev.iter_mut().find(|e| e.requirement == "CAP-QUARTIC") {
@@ -314,11 +399,15 @@ pub struct CaptureProbabilityCheck {
 
 /// CAP-RELEASE-PROB evidence: draw `k` takes the release z velocity `release.vz_m_s[k]` and the
 /// other states from the set-up's [`StateModel`] (stream `k` of `seed`); the basis is the
-/// weakest of the states' sources.
+/// weakest of the states' sources. The fraction captured carries its Clopper-Pearson bounds at
+/// `confidence` ([`Sampling::proportion`]) against the probability `probability` the
+/// requirement asks for (its limit): the matrix decides by the lower bound.
 pub fn capture_probability_evidence(
     setup: &CaptureSetup,
     release: &ReleaseVz,
     seed: u64,
+    probability: f64,
+    confidence: f64,
 ) -> Evidence {
     if release.vz_m_s.is_empty() {
         return Evidence::not_verified(
@@ -346,9 +435,16 @@ pub fn capture_probability_evidence(
                 .join("; ")
         ),
     )
+    .with_sampling(Sampling::proportion(
+        p.captured as u64,
+        p.n as u64,
+        probability,
+        confidence,
+    ))
+    .assuming(assumed_rows(setup))
+    .from_inputs(&["budget", "capture"])
     .with_input("n", p.n)
     .with_input("captured", p.captured)
-    .with_input("lower_95", p.lower_95)
     .with_input("quartic_sum_p9973", p.sum_p9973)
     .with_input("quartic_sum_max", p.sum_max)
     .with_input("state_seed", p.seed)
@@ -380,9 +476,37 @@ impl Check for CaptureProbabilityCheck {
                 "no release Monte Carlo z velocities are wired into capture-probability",
             ));
         };
+        // the probability to show is the limit; a `probability` that says otherwise is refused
+        let req = ctx.requirements.get("CAP-RELEASE-PROB");
+        let limit = req
+            .and_then(|r| r.limit.as_ref())
+            .map(|l| l.value.value)
+            .filter(|l| *l > 0.0 && *l < 1.0);
+        let Some(limit) = limit else {
+            return Ok(not_verified(
+                self.verifies(),
+                "CAP-RELEASE-PROB's limit is not a probability between 0 and 1",
+            ));
+        };
+        if let Some(p) = req.and_then(|r| r.probability_value)
+            && (p - limit).abs() > 1e-9
+        {
+            return Ok(not_verified(
+                self.verifies(),
+                &format!(
+                    "CAP-RELEASE-PROB states probability {} but its limit asks for {}: which one the capture probability must show is ambiguous",
+                    geodesic_core::units::fmt_pct(p),
+                    geodesic_core::units::fmt_pct(limit)
+                ),
+            ));
+        }
         let release = source(ctx)?;
         Ok(vec![capture_probability_evidence(
-            &setup, &release, ctx.seed,
+            &setup,
+            &release,
+            ctx.seed,
+            limit,
+            ctx.confidence,
         )])
     }
 }
@@ -413,7 +537,7 @@ mod tests {
     #[test]
     fn criterion_evidence_for_the_default_inputs() {
         let setup = CaptureSetup::of(&ctx()).unwrap().unwrap();
-        let ev = CaptureCriterion::evidence(&setup, Some(&release(1e-6, 10)));
+        let ev = CaptureCriterion::evidence(&setup, Some(&release(1e-6, 2000)));
         let ids: Vec<&str> = ev.iter().map(|e| e.requirement.as_str()).collect();
         assert_eq!(
             ids,
@@ -431,6 +555,40 @@ mod tests {
         assert!(value(&ev[2]) < 1e-6);
         assert_eq!(value(&ev[3]), 12e-6);
         assert_eq!(ev[3].basis, Some(Basis::Accepted));
+        // what holds by construction says so
+        assert!(ev[0].by_construction.is_some() && ev[2].by_construction.is_some());
+        assert!(ev[3].by_construction.is_some());
+        // the predicted state assumes the flow-down states' rows
+        assert_eq!(
+            ev[1].assumes,
+            [
+                "TMS-X-VEL",
+                "TMS-Y-VEL",
+                "TMS-X-RATE",
+                "TMS-Y-RATE",
+                "TMS-Z-RATE"
+            ]
+        );
+        // too few draws for the bound: that piece says so, the box corner still decides
+        let ev = CaptureCriterion::evidence(&setup, Some(&release(1e-6, 10)));
+        assert!(matches!(&ev[1].outcome, Outcome::NotVerified(w) if w.contains("N >= 1109")));
+    }
+
+    #[test]
+    fn a_loosened_box_is_no_longer_by_construction() {
+        let mut c = ctx();
+        let mut reqs = (*c.requirements).clone();
+        let r = reqs
+            .items
+            .iter_mut()
+            .find(|r| r.id.as_str() == "TMS-X-RATE")
+            .unwrap();
+        r.limit.as_mut().unwrap().value.value = 200e-6;
+        c.requirements = Arc::new(reqs);
+        let setup = CaptureSetup::of(&c).unwrap().unwrap();
+        let ev = CaptureCriterion::evidence(&setup, None);
+        assert!(ev[0].by_construction.is_none());
+        assert!(value(&ev[1]) > 1e-3, "the residual shows the box moved");
     }
 
     #[test]

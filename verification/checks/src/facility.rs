@@ -8,10 +8,17 @@
 //!   `tip_adhesion`; the fit plots (data, model, residual with the failure windows shaded) and
 //!   the error history are written under `fits/` in the reports directory;
 //! - coverage: [`COVERAGE_RELEASES`] synthetic releases, each with its adhesion `(A1, lambda)`
-//!   drawn from the run's budget and its own ChaCha8 stream (seed `ctx.seed`, stream = release
-//!   index: the same numbers whatever the thread count), fitted in parallel with the completed
-//!   model; the value is the fraction whose true peak pull-off `A1 lambda / e` lies within the
-//!   reported 2 sigma (1- and 3-sigma coverages, and those of `A1` and `lambda`, in the inputs).
+//!   drawn from the run's budget and its own ChaCha8 stream (seed [`VALIDATION_SEED`], stream =
+//!   release index: the same numbers whatever the thread count), fitted in parallel with the
+//!   completed model; the value is the fraction whose true peak pull-off `A1 lambda / e` lies
+//!   within the reported 2 sigma (1- and 3-sigma coverages, and those of `A1` and `lambda`, in
+//!   the inputs), with its Clopper-Pearson bounds at the run's confidence: the matrix decides by
+//!   the lower bound (32 of 32 covered give 0.911 at 95 %).
+//!
+//! This is a **method validation** (basis `method-validation`): the accuracy of the
+//! identification on synthetic releases of known truth, not a property of the flight hardware.
+//! Its releases use a fixed seed, so the verdict does not move with the run's seed; it moves
+//! with the budget (the adhesion drawn) and with the fit.
 //!
 //! The truth is not the fitted model ([`TruthModel::DIFFERENT`]): it is simulated with 4
 //! sub-samples per sample and an RK4 step 4 times smaller, each sample the mean of its
@@ -38,6 +45,10 @@ pub const FULL: [&str; 3] = ["needle_contact", "tip_contact", "tip_adhesion"];
 pub const STEM: &str = "tmmf-synthetic-adhesion";
 /// Synthetic releases of the coverage study.
 pub const COVERAGE_RELEASES: usize = 32;
+
+/// Seed of the validation's synthetic releases (fixed: a method validation does not move with
+/// the run's seed).
+pub const VALIDATION_SEED: u64 = 1;
 
 /// The checks of this family.
 pub fn checks() -> Vec<Box<dyn Check>> {
@@ -273,7 +284,7 @@ impl Check for AdhesionIdentification {
             budget.adhesion.lambda_m.mean(),
         );
         let truth_n = a1 * lambda / std::f64::consts::E;
-        let prep = synthetic_release_with(a1, lambda, ctx.seed, truth)?;
+        let prep = synthetic_release_with(a1, lambda, VALIDATION_SEED, truth)?;
         let opts = FitOptions::default();
         let (d, base) = diagnose(&prep, &BASELINE, &opts).map_err(ferr)?;
         let fit_opts = FitOptions {
@@ -299,7 +310,7 @@ impl Check for AdhesionIdentification {
         let rel = coverage(
             &budget.adhesion,
             COVERAGE_RELEASES,
-            ctx.seed,
+            VALIDATION_SEED,
             truth,
             &fit_opts,
         );
@@ -337,7 +348,7 @@ impl Check for AdhesionIdentification {
                      {} fits failed.",
                     d.candidates.first().map_or(f64::NAN, |c| c.delta_bic),
                     rel.len(),
-                    ctx.seed,
+                    VALIDATION_SEED,
                     truth.describe(),
                     pct(cp),
                     pct(ca),
@@ -368,45 +379,69 @@ impl Check for AdhesionIdentification {
         let mut e = Evidence::measured(
             "FAC-FIT-QUAL",
             Quantity::new(value, Dim::DIMENSIONLESS),
-            geodesic_core::Basis::Model,
+            geodesic_core::Basis::MethodValidation,
             activity,
         )
-        .with_input("budget", input.label.clone())
-        .with_input("budget_sha256", input.sha256.clone())
-        .with_input("seed", ctx.seed)
-        .with_input("releases", rel.len())
-        .with_input(
-            "streams",
-            format!("ChaCha8 seed {}, streams 0..{}", ctx.seed, rel.len()),
-        )
-        .with_input("truth_model", truth.describe())
-        .with_input(
-            "fit",
-            "needle_contact + tip_contact + tip_adhesion, profiled 1-sigma",
-        )
-        .with_input("coverage_peak_1_2_3_sigma", serde_json::json!(cp))
-        .with_input("coverage_a1_1_2_3_sigma", serde_json::json!(ca))
-        .with_input("coverage_lambda_1_2_3_sigma", serde_json::json!(cl))
-        .with_input("failed_fits", failed)
-        .with_input(
-            "z_peak",
-            serde_json::Value::Array(zp.iter().map(|z| round(*z)).collect()),
-        )
-        .with_input("diagnose_true_a1_n_m", a1)
-        .with_input("diagnose_true_lambda_m", lambda)
-        .with_input("diagnose_samples", prep.dataset.t.len())
-        .with_input(
-            "missing",
-            d.missing.clone().unwrap_or_else(|| "null".into()),
-        )
-        .with_input(
-            "chi2_red_baseline",
-            ratio(base.chi2, (base.n - base.n_free) as f64),
-        )
-        .with_input(
-            "chi2_red_full",
-            ratio(full.chi2, (full.n - full.n_free) as f64),
-        );
+        .from_inputs(&["budget"]);
+        if named {
+            // the coverage is a probability from successes: decided by its lower bound against
+            // the probability the limit asks for
+            let covered = zp.iter().filter(|z| **z <= 2.0).count() as u64;
+            let limit = ctx
+                .requirements
+                .get("FAC-FIT-QUAL")
+                .and_then(|r| r.limit.as_ref())
+                .map(|l| l.value.value)
+                .filter(|l| *l > 0.0 && *l < 1.0);
+            if let Some(limit) = limit {
+                e = e.with_sampling(geodesic_core::check::Sampling::proportion(
+                    covered,
+                    rel.len() as u64,
+                    limit,
+                    ctx.confidence,
+                ));
+            }
+        }
+        let mut e = e
+            .with_input("budget", input.label.clone())
+            .with_input("budget_sha256", input.sha256.clone())
+            .with_input("seed", VALIDATION_SEED)
+            .with_input("releases", rel.len())
+            .with_input(
+                "streams",
+                format!(
+                    "ChaCha8 seed {VALIDATION_SEED} (fixed: a method validation), streams 0..{}",
+                    rel.len()
+                ),
+            )
+            .with_input("truth_model", truth.describe())
+            .with_input(
+                "fit",
+                "needle_contact + tip_contact + tip_adhesion, profiled 1-sigma",
+            )
+            .with_input("coverage_peak_1_2_3_sigma", serde_json::json!(cp))
+            .with_input("coverage_a1_1_2_3_sigma", serde_json::json!(ca))
+            .with_input("coverage_lambda_1_2_3_sigma", serde_json::json!(cl))
+            .with_input("failed_fits", failed)
+            .with_input(
+                "z_peak",
+                serde_json::Value::Array(zp.iter().map(|z| round(*z)).collect()),
+            )
+            .with_input("diagnose_true_a1_n_m", a1)
+            .with_input("diagnose_true_lambda_m", lambda)
+            .with_input("diagnose_samples", prep.dataset.t.len())
+            .with_input(
+                "missing",
+                d.missing.clone().unwrap_or_else(|| "null".into()),
+            )
+            .with_input(
+                "chi2_red_baseline",
+                ratio(base.chi2, (base.n - base.n_free) as f64),
+            )
+            .with_input(
+                "chi2_red_full",
+                ratio(full.chi2, (full.n - full.n_free) as f64),
+            );
         if let Some((p, s)) = single {
             e = e
                 .with_input("diagnose_peak_pull_off_n", p)

@@ -1,6 +1,10 @@
 //! `image-analyses` (issue 17): the accuracy of geodesic's two ground-test image analyses, the
-//! way FAC-FIT-QUAL judges the fit: each is run on synthetic inputs rendered from a known truth
-//! (seeded with the run's seed), and the error against that truth is the evidence.
+//! way FAC-FIT-QUAL judges the fit: each is run on synthetic inputs rendered from a known truth,
+//! and the error against that truth is the evidence. These are **method validations** (basis
+//! `method-validation`): they show what the tool achieves on scenes defined in code, not what a
+//! ground test achieved. The scenes are a fixed set ([`TIPTRACK_SCENES`],
+//! [`REGISTRATION_SCENES`]), so the verdict does not move with the run's seed; the worst scene
+//! decides.
 //!
 //! - FAC-TIPTRACK-ACC: 40 frames of the thesis's camera (80 x 60 pixels, 8 bit, blur 0.8 px,
 //!   noise 1 gray level, vignetting 5 %) of a tip retracting 12 px with a 1.5 px shear
@@ -10,8 +14,8 @@
 //!   (7.3, -4.6) px, rotated by 0.02 rad, with a 0.2 um transferred patch, 5 nm noise; value:
 //!   the larger shift error [px].
 //!
-//! Plots (trajectory, difference map) go into the report. The truth is known only because the
-//! inputs are synthetic: this verifies the analyses, not a ground test.
+//! Plots (trajectory, difference map of scene 1) go into the report. The truth is known only
+//! because the inputs are synthetic: this verifies the analyses, not a ground test.
 
 use crate::plots;
 use geodesic_core::{Basis, Check, CheckContext, CheckError, Dim, Evidence, Quantity};
@@ -143,6 +147,13 @@ pub fn registration_error_px(
     Ok((err, reg))
 }
 
+/// Scenes the tip-trajectory accuracy is validated on (their render seeds): fixed, so that the
+/// verdict does not move with the run's seed.
+pub const TIPTRACK_SCENES: [u64; 16] = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16];
+
+/// Scenes the registration accuracy is validated on (their render seeds).
+pub const REGISTRATION_SCENES: [u64; 4] = [1, 2, 3, 4];
+
 impl Check for ImageAnalyses {
     fn name(&self) -> &'static str {
         "image-analyses"
@@ -153,48 +164,103 @@ impl Check for ImageAnalyses {
     }
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
-        let (e_tip, tr) = tiptrack_error_px(ctx.seed)?;
+        use rayon::prelude::*;
+        // a method validation on a fixed set of synthetic scenes: the same value whatever the
+        // run's seed (each scene's render seed is fixed), the worst scene decides
+        let tips: Vec<(f64, geodesic_images::tiptrack::Trajectory)> = TIPTRACK_SCENES
+            .par_iter()
+            .map(|s| tiptrack_error_px(*s))
+            .collect::<Result<_, _>>()?;
+        let regs: Vec<(f64, geodesic_images::surfaces::Registration)> = REGISTRATION_SCENES
+            .par_iter()
+            .map(|s| registration_error_px(*s))
+            .collect::<Result<_, _>>()?;
+        let worst = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+        let tip_errors: Vec<f64> = tips.iter().map(|t| t.0).collect();
+        let reg_errors: Vec<f64> = regs.iter().map(|r| r.0).collect();
         let a1 = plots::write(
             &ctx.reports_dir,
             "images/tiptrack-synthetic.svg",
             &geodesic_images::plot::trajectory_svg(
-                &tr,
-                "Tip trajectory recovered from synthetic frames (FAC-TIPTRACK-ACC)",
+                &tips[0].1,
+                "Tip trajectory recovered from synthetic frames, scene 1 (FAC-TIPTRACK-ACC)",
             ),
         )?;
-        let (e_reg, reg) = registration_error_px(ctx.seed)?;
         let a2 = plots::write(
             &ctx.reports_dir,
             "images/surfaces-synthetic.svg",
             &geodesic_images::plot::difference_svg(
-                &reg,
-                "Difference map of a synthetic pair (FAC-SURF-REG)",
+                &regs[0].1,
+                "Difference map of a synthetic pair, scene 1 (FAC-SURF-REG)",
             ),
         )?;
+        let scene_note =
+            "synthetic scenes of known truth, fixed render seeds (the run's seed does not enter)";
         Ok(vec![
             Evidence::measured(
                 "FAC-TIPTRACK-ACC",
-                Quantity::new(e_tip, Dim::DIMENSIONLESS),
-                Basis::Model,
+                Quantity::new(worst(&tip_errors), Dim::DIMENSIONLESS),
+                Basis::MethodValidation,
                 format!(
-                    "geodesic tiptrack on {FRAMES} frames rendered from a known trajectory with the thesis's camera (blur 0.8 px, noise 1 gray level, vignetting 5 %): largest |x| or |z| error"
+                    "Method validation: geodesic tiptrack on {} scenes of {FRAMES} frames each rendered from a known trajectory with the thesis's camera (blur 0.8 px, noise 1 gray level, vignetting 5 %): largest |x| or |z| error over every frame of every scene",
+                    TIPTRACK_SCENES.len()
                 ),
             )
             .with_input("frames", FRAMES)
-            .with_input("seed", ctx.seed)
+            .with_input("scenes", serde_json::json!(TIPTRACK_SCENES))
+            .with_input("scene_errors_px", serde_json::json!(tip_errors))
+            .with_input("scene_set", scene_note)
             .with_input("pixel_m", 2.5e-6)
             .with_artifact(a1),
             Evidence::measured(
                 "FAC-SURF-REG",
-                Quantity::new(e_reg, Dim::DIMENSIONLESS),
-                Basis::Model,
-                "geodesic surfaces on a synthetic pair (shift 7.3, -4.6 px, rotation 0.02 rad, 0.2 um patch, 5 nm noise, 2 % missing, picked points 2 px off): larger shift error",
+                Quantity::new(worst(&reg_errors), Dim::DIMENSIONLESS),
+                Basis::MethodValidation,
+                format!(
+                    "Method validation: geodesic surfaces on {} synthetic pairs (shift 7.3, -4.6 px, rotation 0.02 rad, 0.2 um patch, 5 nm noise, 2 % missing, picked points 2 px off): larger shift error of the worst pair",
+                    REGISTRATION_SCENES.len()
+                ),
             )
-            .with_input("seed", ctx.seed)
-            .with_input("rotation_error_rad", reg.rotation_rad - 0.02)
-            .with_input("ks_statistic", reg.ks_statistic)
-            .with_input("changed_area_m2", reg.changed_area_m2)
+            .with_input("scenes", serde_json::json!(REGISTRATION_SCENES))
+            .with_input("scene_errors_px", serde_json::json!(reg_errors))
+            .with_input("scene_set", scene_note)
+            .with_input("rotation_error_rad", regs[0].1.rotation_rad - 0.02)
+            .with_input("ks_statistic", regs[0].1.ks_statistic)
+            .with_input("changed_area_m2", regs[0].1.changed_area_m2)
             .with_artifact(a2),
         ])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A transferred patch pulled the least-squares registration of scene 9910 0.104 pixel off
+    /// (beyond FAC-SURF-REG's 0.1 px; the same pair without the patch is 0.006 px off): the
+    /// robust refinement (surfaces::TRIM_SIGMAS) leaves it within 0.01 px.
+    #[test]
+    fn a_transferred_patch_does_not_pull_the_registration() {
+        let (e, reg) = registration_error_px(9910).unwrap();
+        assert!(e < 0.01, "{e}");
+        assert!(reg.trimmed_points > 0);
+        assert!((reg.rotation_rad - 0.02).abs() < 1e-3);
+    }
+
+    #[test]
+    fn the_verdict_does_not_move_with_the_seed() {
+        let run = |seed| {
+            let ctx = crate::builtin_context(crate::scratch_dir(), 10, seed);
+            ImageAnalyses
+                .run(&ctx)
+                .unwrap()
+                .iter()
+                .map(|e| match &e.outcome {
+                    geodesic_core::Outcome::Measured(q) => q.value,
+                    geodesic_core::Outcome::NotVerified(w) => panic!("{w}"),
+                })
+                .collect::<Vec<f64>>()
+        };
+        assert_eq!(run(1), run(2));
     }
 }

@@ -39,6 +39,10 @@ pub fn builtin_inputs() -> ModelInputs {
             "<built-in>/models/capture/capture.yaml",
             geodesic_capture::DEFAULT_CAPTURE_YAML,
         ),
+        charge: InputFile::new(
+            "<built-in>/models/charge/charge.yaml",
+            geodesic_charge::DEFAULT_CHARGE_YAML,
+        ),
         design: None,
         series: Default::default(),
     }
@@ -53,9 +57,14 @@ pub fn builtin_context(reports_dir: PathBuf, mc_n: usize, seed: u64) -> CheckCon
         reports_dir,
         mc_n,
         seed,
+        confidence: DEFAULT_CONFIDENCE,
         quiet: true,
     }
 }
+
+/// The confidence of the bounds a sampled verdict is decided by, unless `verify --confidence`
+/// says otherwise [-].
+pub const DEFAULT_CONFIDENCE: f64 = 0.95;
 
 /// A check context for a loaded requirement set and model inputs.
 pub fn context(
@@ -64,6 +73,7 @@ pub fn context(
     reports_dir: PathBuf,
     mc_n: usize,
     seed: u64,
+    confidence: f64,
     quiet: bool,
 ) -> CheckContext {
     CheckContext {
@@ -72,6 +82,7 @@ pub fn context(
         reports_dir,
         mc_n,
         seed,
+        confidence,
         quiet,
     }
 }
@@ -88,10 +99,10 @@ pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<d
     all.extend(release::checks_with(mc.clone()));
     all.extend(capture::checks_with(Some(release::vz_source(mc.clone()))));
     all.extend(charge::checks());
-    all.extend(tm_state::checks_with(Some(release::vz_source(mc))));
+    all.extend(tm_state::checks_with(Some(release::vz_source(mc.clone()))));
     all.extend(facility::checks());
     all.extend(images::checks());
-    all.extend(plunger::checks());
+    all.extend(plunger::checks_with(Some(release::vz_source(mc))));
     all.extend(tipradius::checks());
     all.extend(sensitivity::checks());
     all.extend(dfc::checks());

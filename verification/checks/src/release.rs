@@ -1,14 +1,17 @@
 //! Checks of the `release` family (thesis ch. 3-6, physics.md §1-3):
 //!
 //! - `release-montecarlo`: runs the in-flight release Monte Carlo (case `all`, `ctx.mc_n`
-//!   draws, `ctx.seed`, the default budget), writes `release-velocity-<ID>.svg` per requirement
-//!   (histogram and log-scaled tail with that requirement's own limit) and gives
-//!   the 99.73 % |X'| as evidence for REL-GPRM-VEL, REL-DFACS-VEL and TMS-Z-VEL (the release
-//!   axis is z in the DFACS frame);
+//!   draws, `ctx.seed`, the run's budget file), writes `release-velocity-<ID>.svg` per
+//!   requirement (histogram and log-scaled tail with that requirement's own limit) and gives,
+//!   for REL-GPRM-VEL, REL-DFACS-VEL and TMS-Z-VEL (the release axis is z in the DFACS frame),
+//!   the quantile of |X'| each requirement's `probability` names with its exact order-statistic
+//!   bounds at the run's confidence ([`Sampling::quantile`]): the matrix decides by the bound,
+//!   and a sample too small to give one leaves the row not verified;
 //! - `adhesion-calibration`: FAC-ADH-CAL, the peak pull-off distribution of the budget's
 //!   adhesion (the run's budget file) against the heavy-TM TMMF campaign, which the calibration
 //!   did not use: mean, sd and maximum in units of the campaign's standard errors (value: the
-//!   largest |z|; `geodesic_release::calibration`);
+//!   largest |z|; `geodesic_release::calibration`); it judges the budget file, so every row
+//!   computed from the budget carries its finding while it is non-compliant;
 //! - `mechanism-figures`: the fidelity figures (static extension, v_RT, energy-fit v_RT),
 //!   written to `mechanism-figures.json`; no requirement.
 //!
@@ -16,6 +19,8 @@
 //! CAP-RELEASE-PROB (through [`vz_source`]) reuses the same run instead of running it again.
 
 use crate::capture::{ReleaseVz, ReleaseVzSource};
+use geodesic_core::check::Sampling;
+use geodesic_core::units::fmt_pct;
 use geodesic_core::{Check, CheckContext, CheckError, Dim, Evidence, Quantity};
 use geodesic_release::budget::Budget;
 use geodesic_release::calibration::{CALIBRATION, Comparison, HOLD_OUT, compare};
@@ -149,12 +154,7 @@ impl Check for ReleaseMonteCarlo {
         let s = r.summary();
         std::fs::create_dir_all(&ctx.reports_dir)
             .map_err(|e| CheckError(format!("{}: {e}", ctx.reports_dir.display())))?;
-        let value = Quantity::new(s.p9973_um_s * 1e-6, Dim::VELOCITY);
-        let activity = format!(
-            "99.73 % of |X'| over {} in-flight releases (case all, seed {}): {:.3} um/s; mean {:.3}, max {:.3} um/s.",
-            s.n, s.seed, s.p9973_um_s, s.mean_um_s, s.max_um_s
-        );
-        // the uncertainty of the 99.73 % point: the Monte Carlo's sampling alone, or with a
+        // the uncertainty of the quantile: the Monte Carlo's sampling alone, or with a
         // campaign's adhesion population also its identification (population draws)
         let (budget, population) = budget_and_population(ctx)?;
         let identification = match &population {
@@ -172,31 +172,61 @@ impl Check for ReleaseMonteCarlo {
             ),
             None => None,
         };
-        let mut abs = r.abs_um_s();
+        let mut abs: Vec<f64> = r.v_m_s.iter().map(|v| v.abs()).collect();
         abs.sort_by(f64::total_cmp);
+        let abs_um_s = r.abs_um_s();
         let mut out = Vec::new();
         for id in self.verifies() {
-            let mut e =
-                Evidence::measured(id, value, geodesic_core::Basis::Model, activity.clone());
-            let limit_um_s = ctx
-                .requirements
-                .get(id)
-                .and_then(|r| r.limit.as_ref())
-                .map(|l| l.value.value * 1e6);
+            let Some(req) = ctx.requirements.get(id) else {
+                continue;
+            };
+            // the quantile judged is the one the requirement states: its `probability`
+            let Some(p) = req.probability_value else {
+                out.push(
+                    Evidence::not_verified(
+                        id,
+                        format!(
+                            "{id} states no `probability`: the release Monte Carlo gives a distribution of |X'|, and the requirement's probability says which quantile to judge"
+                        ),
+                        "In-flight release Monte Carlo.",
+                    )
+                    .from_inputs(&["budget"]),
+                );
+                continue;
+            };
+            let sampling = Sampling::quantile(&abs, p, ctx.confidence);
+            let activity = format!(
+                "{} of |X'| over {} in-flight releases (case all, seed {}): {:.4} um/s; mean {:.3}, max {:.3} um/s.",
+                fmt_pct(p),
+                s.n,
+                s.seed,
+                sampling.estimate * 1e6,
+                s.mean_um_s,
+                s.max_um_s
+            );
+            let mut e = Evidence::measured(
+                id,
+                Quantity::new(sampling.estimate, Dim::VELOCITY),
+                geodesic_core::Basis::Model,
+                activity,
+            )
+            .with_sampling(sampling.clone())
+            .from_inputs(&["budget"]);
             // each requirement judged on its own plot, with its own limit
-            if let Some(req) = ctx.requirements.get(id)
-                && let Some(lim) = &req.limit
-            {
+            if let Some(lim) = &req.limit {
                 let limit_um_s = lim.value.value * 1e6;
                 let svg = geodesic_release::histogram::requirement_histogram_svg(
-                    &r.abs_um_s(),
-                    s.p9973_um_s,
-                    0.9973,
+                    &abs_um_s,
+                    sampling.estimate * 1e6,
+                    p,
                     limit_um_s,
                     id,
                     &format!(
-                        "{id}: 99.73 % of |X'| against {} (N = {}, seed {})",
-                        lim.text, s.n, s.seed
+                        "{id}: {} of |X'| against {} (N = {}, seed {})",
+                        fmt_pct(p),
+                        lim.text,
+                        s.n,
+                        s.seed
                     ),
                 );
                 e = e.with_artifact(crate::plots::write(
@@ -206,40 +236,24 @@ impl Check for ReleaseMonteCarlo {
                 )?);
             }
             e.inputs = mc_inputs(&r, ctx);
-            if let Some(lim) = limit_um_s {
-                use geodesic_release::stats::{
-                    probability_quantile_below, quantile_interval_sorted,
-                };
-                match (&identification, &population) {
-                    (Some(idf), Some(pop)) => {
-                        e = e
-                            .with_input("p9973_interval_um_s", json!(idf.interval_um_s))
-                            .with_input("probability_met", idf.probability_met(lim))
-                            .with_input(
-                                "uncertainty",
-                                format!(
-                                    "adhesion identification ({POPULATION_DRAWS} populations drawn from campaign {}, {} releases each) and Monte Carlo sampling",
-                                    pop.source, idf.n_each
-                                ),
-                            );
-                    }
-                    _ => {
-                        let exceed = abs.iter().filter(|x| **x > lim).count();
-                        e = e
-                            .with_input(
-                                "p9973_interval_um_s",
-                                json!(quantile_interval_sorted(&abs, 0.9973)),
-                            )
-                            .with_input(
-                                "probability_met",
-                                probability_quantile_below(abs.len(), exceed, 0.9973),
-                            )
-                            .with_input(
-                                "uncertainty",
-                                "Monte Carlo sampling only (the budget's adhesion taken as known)",
-                            );
-                    }
-                }
+            if identification.is_none() {
+                e = e.with_input(
+                    "uncertainty",
+                    "Monte Carlo sampling only (the budget's adhesion taken as known), decided by the order-statistic bound",
+                );
+            }
+            if let (Some(idf), Some(pop), Some(lim)) = (&identification, &population, &req.limit) {
+                let lim_um_s = lim.value.value * 1e6;
+                e = e
+                    .with_input("p9973_interval_um_s", json!(idf.interval_um_s))
+                    .with_input("probability_met", idf.probability_met(lim_um_s))
+                    .with_input(
+                        "uncertainty",
+                        format!(
+                            "the verdict: the Monte Carlo's sampling bound; shown beside it: the adhesion identification ({POPULATION_DRAWS} populations drawn from campaign {}, {} releases each)",
+                            pop.source, idf.n_each
+                        ),
+                    );
             }
             if *id == "TMS-Z-VEL" {
                 e = e.with_input("axis", "release axis X = z (DFACS frame)");
@@ -343,6 +357,8 @@ impl Check for AdhesionCalibration {
             geodesic_core::Basis::Model,
             activity,
         )
+        .from_inputs(&["budget"])
+        .judging_input("budget")
         .with_input("n", h.draws)
         .with_input("seed", h.seed)
         .with_input("budget", input.label.clone())

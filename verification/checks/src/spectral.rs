@@ -9,11 +9,16 @@
 //! frequency where it occurs, the 95 % upper-bound ratio and the estimator settings as inputs,
 //! and a log-log plot of ASD, band and limit as artifact. Without a series the requirement is
 //! not verified, and says how to supply one: no number is invented.
+//!
+//! A series is evidence of what its file declares it to be (`origin:` and `provenance:`,
+//! docs/spectra.md): a measurement (basis `measurement`), a simulation (basis `model`); a
+//! synthetic series, or one that does not say, is shown as an illustration and leaves the row
+//! not verified (`data/spectra/lpf-da-example.yaml` is such an illustration).
 
 use crate::plots;
 use geodesic_core::requirement::Requirement;
 use geodesic_core::{Basis, Check, CheckContext, CheckError, Evidence, Quantity};
-use geodesic_fit::spectral::{self, Asd, Judgement, Series, WelchOptions};
+use geodesic_fit::spectral::{self, Asd, Judgement, Series, SeriesOrigin, WelchOptions};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -81,12 +86,22 @@ pub fn evidence(
     let svg = asd_svg(req, &asd).map_err(|e| e.0)?;
     let name = format!("spectra/{}.svg", req.id);
     plots::write(reports_dir, &name, &svg).map_err(|e| e.0)?;
+    // a series is evidence of what it declares itself to be: a measurement with its
+    // provenance, a simulation (a model's output), or else an illustration
+    let (basis, what) = match series.origin {
+        SeriesOrigin::Measurement => (Basis::Measurement, "measured series"),
+        SeriesOrigin::Simulation => (Basis::Model, "simulated series"),
+        SeriesOrigin::Synthetic | SeriesOrigin::Unstated => (
+            Basis::Illustration,
+            "series (an illustration, not a measurement)",
+        ),
+    };
     Ok(Evidence::measured(
         req.id.as_str(),
         Quantity::new(j.worst_ratio * lim.value.value, lim.dim),
-        Basis::Measurement,
+        basis,
         format!(
-            "Welch ASD of the supplied series (Hann, {:.0} % overlap, {} segments of {} samples, {:.1} dof per bin) judged against {} x ({}) over {}: worst ratio {:.3} at {:.4e} Hz",
+            "Welch ASD of the supplied {what} (Hann, {:.0} % overlap, {} segments of {} samples, {:.1} dof per bin) judged against {} x ({}) over {}: worst ratio {:.3} at {:.4e} Hz",
             OVERLAP * 100.0,
             asd.segments,
             asd.options.nperseg,
@@ -99,6 +114,11 @@ pub fn evidence(
         ),
     )
     .with_input("series", series.path.display().to_string())
+    .with_input("origin", series.origin.as_str())
+    .with_input(
+        "provenance",
+        series.provenance.clone().unwrap_or_else(|| "none stated".into()),
+    )
     .with_input("series_csv_sha256", csv_sha256)
     .with_input("sample_rate_hz", asd.fs_hz)
     .with_input("samples", series.values.len())
@@ -185,6 +205,23 @@ impl Check for SpectralAsd {
             let ev = evidence(req, &series, &csv_sha(path), &ctx.reports_dir)
                 .map_err(CheckError)?
                 .with_input("series_yaml_sha256", file.sha256.clone());
+            if matches!(
+                series.origin,
+                SeriesOrigin::Synthetic | SeriesOrigin::Unstated
+            ) {
+                out.push(Evidence::not_verified(
+                    req.id.as_str(),
+                    format!(
+                        "the series {} is not a measurement ({}): its spectrum is shown as an illustration; a series that is evidence declares `origin: measurement` (or `simulation`) with its `provenance`",
+                        file.label,
+                        match series.origin {
+                            SeriesOrigin::Synthetic => "it declares itself synthetic",
+                            _ => "it does not declare its origin",
+                        }
+                    ),
+                    activity,
+                ));
+            }
             out.push(ev);
         }
         Ok(out)

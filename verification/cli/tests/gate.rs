@@ -1,7 +1,9 @@
 //! End-to-end tests of the CI gate and of the verdicts' inputs: `verify --baseline` exits 0 on
 //! an unchanged run and 1 on a regression (each requirement named once), a TM state limit
 //! edited in a copy of `requirements/` moves every row that depends on it, dispositions and the
-//! recorded test run show in the rows. Each test works in its own scratch directory.
+//! recorded test run show in the rows; the holes of issue 32 stay closed (a sample too small,
+//! a stale or forged test run, an edited requirement, a non-compliance without disposition, a
+//! seed change that must pass). Each test works in its own scratch directory.
 //!
 //! The facility family is left out of the requirement copies (its identification check fits
 //! synthetic releases and is slow in the test profile); it is covered by the framework tests.
@@ -13,10 +15,16 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// Copies the requirement families except `facility` into `d/requirements`, applying `edit` to
-/// each file's text.
+/// each file's text, and the repository's dispositions (found from `d` as from a clone's root).
 fn requirements(d: &Path, edit: impl Fn(&str, &str) -> String) -> PathBuf {
     let req = d.join("requirements");
     std::fs::create_dir_all(&req).unwrap();
+    std::fs::create_dir_all(d.join("verification")).unwrap();
+    std::fs::copy(
+        workspace().join("verification/dispositions.yaml"),
+        d.join("verification/dispositions.yaml"),
+    )
+    .unwrap();
     for e in std::fs::read_dir(workspace().join("requirements"))
         .unwrap()
         .flatten()
@@ -62,6 +70,45 @@ fn row<'a>(doc: &'a Value, id: &str) -> &'a Value {
         .unwrap_or_else(|| panic!("no row {id}"))
 }
 
+/// Makes `d` a git work tree that tracks only `requirements/` (everything else a test writes
+/// there, reports, runs, inputs, is ignored), with one commit; returns the fingerprint a fresh
+/// test run of it records.
+fn git_repo(d: &Path) -> geodesic_core::testrun::TreeState {
+    std::fs::write(d.join(".gitignore"), "/*\n!/.gitignore\n!/requirements/\n").unwrap();
+    for args in [
+        &["init", "-q"][..],
+        &["add", "-A"],
+        &[
+            "-c",
+            "user.name=t",
+            "-c",
+            "user.email=t@t",
+            "commit",
+            "-q",
+            "-m",
+            "requirements",
+        ],
+    ] {
+        let ok = std::process::Command::new("git")
+            .args(args)
+            .current_dir(d)
+            .status()
+            .unwrap()
+            .success();
+        assert!(ok, "git {args:?}");
+    }
+    geodesic_core::testrun::tree_state(d).unwrap()
+}
+
+/// A recorded test run of `tree` (fresh for it) with the given tests (JSON array text).
+fn run_json(tree: &geodesic_core::testrun::TreeState, tests: &str) -> String {
+    format!(
+        r#"{{"commit": "{}", "dirty": false, "tree_sha256": "{}", "date": "2026-01-01T00:00:00Z",
+            "command": "cargo xtask test", "tests": {tests}}}"#,
+        tree.commit, tree.tree_sha256
+    )
+}
+
 #[test]
 fn every_row_has_a_basis_and_the_run_names_its_inputs() {
     let d = scratch("basis");
@@ -72,7 +119,14 @@ fn every_row_has_a_basis_and_the_run_names_its_inputs() {
         match r["status"].as_str().unwrap() {
             "not-verified" => assert!(basis.is_null() && r["reason"].is_string(), "{r}"),
             _ => assert!(
-                ["model", "flow-down", "accepted"].contains(&basis.as_str().unwrap()),
+                [
+                    "model",
+                    "flow-down",
+                    "accepted",
+                    "method-validation",
+                    "measurement"
+                ]
+                .contains(&basis.as_str().unwrap()),
                 "{r}"
             ),
         }
@@ -87,10 +141,14 @@ fn every_row_has_a_basis_and_the_run_names_its_inputs() {
     ] {
         assert!(run.get(k).is_some(), "run lacks {k}");
     }
-    assert_eq!(
-        run["inputs"]["budget"]["sha256"].as_str().unwrap().len(),
-        64
-    );
+    for input in ["budget", "capture", "charge"] {
+        assert_eq!(
+            run["inputs"][input]["sha256"].as_str().unwrap().len(),
+            64,
+            "{input}"
+        );
+    }
+    assert_eq!(run["confidence"], 0.95);
     assert_eq!(row(&doc, "CAP-VZ-SINGLE")["basis"], "accepted");
     assert_eq!(row(&doc, "TMS-X-RATE")["status"], "not-verified");
 }
@@ -254,16 +312,19 @@ fn dispositions_show_and_an_expired_one_is_a_regression() {
 fn an_ignored_or_failed_traced_test_shows_in_its_row_and_can_fail_verify() {
     let d = scratch("tests");
     let req = requirements(&d, |_, t| t.to_string());
+    let tree = git_repo(&d);
     let run = |z_pos: &str| {
-        format!(
-            r#"{{"commit": "abc", "dirty": false, "date": "2026-01-01T00:00:00Z",
-              "command": "cargo xtask test", "tests": [
+        run_json(
+            &tree,
+            &format!(
+                r#"[
               {{"krate": "verification", "test": "capture::z_offset", "result": "{z_pos}",
                 "location": "x.rs:1", "requirements": ["TMS-Z-POS"], "cases": 1,
                 "assertions": ["limit"], "kind": "unit"}},
               {{"krate": "verification", "test": "release::gprm", "result": "passed",
                 "location": "y.rs:1", "requirements": ["REL-GPRM-VEL"], "cases": 256,
-                "assertions": ["limit"], "kind": "proptest"}}]}}"#
+                "assertions": ["limit"], "kind": "proptest"}}]"#
+            ),
         )
     };
     std::fs::write(d.join("pass.json"), run("passed")).unwrap();
@@ -274,6 +335,7 @@ fn an_ignored_or_failed_traced_test_shows_in_its_row_and_can_fail_verify() {
         "base",
         &["--tests", "pass.json", "--junit", "junit.xml"],
     );
+    assert_eq!(doc["test_run"]["fresh"], true, "{}", doc["test_run"]);
     assert_eq!(row(&doc, "TMS-Z-POS")["tests_status"], "passed");
     assert_eq!(row(&doc, "TMS-Z-POS")["tests"][0]["result"], "passed");
     // JUnit: one test case per traced test naming its requirements
@@ -296,6 +358,12 @@ fn an_ignored_or_failed_traced_test_shows_in_its_row_and_can_fail_verify() {
         ],
     );
     assert_eq!(row(&doc, "TMS-Z-POS")["tests_status"], "incomplete");
+    // not plainly compliant: the verdict says its test did not run
+    let v = row(&doc, "TMS-Z-POS")["verdict"].as_str().unwrap();
+    assert!(
+        v.starts_with("compliant (") && v.contains("tests incomplete"),
+        "{v}"
+    );
     assert_eq!(code, 1, "a passing test lost is a regression: {err}");
     assert!(err.contains("REGRESSION TMS-Z-POS: test verification::capture::z_offset passed in the baseline, now ignored"), "{err}");
     // without a baseline, --require-tests fails on it
@@ -307,4 +375,344 @@ fn an_ignored_or_failed_traced_test_shows_in_its_row_and_can_fail_verify() {
     );
     assert_eq!(code, 1);
     assert!(err.contains("TMS-Z-POS"), "{err}");
+}
+
+/// The recorded run is checked against the tree: a forged run (commit 000..., dated 2001, every
+/// test passed) or a run of an earlier state of the tree shows as stale on every row and in the
+/// summary, and `--require-tests` fails on it naming the rows; the same run recorded for this
+/// tree passes.
+#[test]
+fn a_forged_or_stale_test_run_is_stale_on_every_row_and_fails_require_tests() {
+    let d = scratch("stale");
+    let req = requirements(&d, |_, t| t.to_string());
+    let tree = git_repo(&d);
+    let tests = r#"[{"krate": "verification", "test": "release::gprm", "result": "passed",
+        "location": "y.rs:1", "requirements": ["REL-GPRM-VEL", "TMS-Z-POS"], "cases": 1,
+        "assertions": ["limit"], "kind": "unit"}]"#;
+    let forged = format!(
+        r#"{{"commit": "{}", "dirty": false, "date": "2001-01-01T00:00:00Z",
+            "command": "cargo xtask test", "tests": {tests}}}"#,
+        "0".repeat(40)
+    );
+    std::fs::write(d.join("forged.json"), forged).unwrap();
+    let (_, doc, err) = verify(
+        &d,
+        &req,
+        "f",
+        &["--tests", "forged.json", "--require-tests"],
+    );
+    assert_eq!(doc["test_run"]["fresh"], false);
+    assert!(
+        doc["test_run"]["stale_reason"]
+            .as_str()
+            .unwrap()
+            .contains("recorded on commit 000000000000"),
+        "{}",
+        doc["test_run"]
+    );
+    assert_eq!(doc["summary"]["tests"], "stale");
+    for r in doc["requirements"].as_array().unwrap() {
+        assert_eq!(r["tests_status"], "stale", "{}", r["id"]);
+        if r["status"] != "not-verified" {
+            assert!(
+                r["verdict"].as_str().unwrap().contains("tests stale"),
+                "{r}"
+            );
+        }
+    }
+    assert!(
+        err.contains("--require-tests: the recorded test run forged.json is STALE"),
+        "{err}"
+    );
+    assert!(err.contains("--require-tests: REL-GPRM-VEL: its traced test results are stale"));
+    // the same tests recorded for this tree: fresh
+    std::fs::write(d.join("fresh.json"), run_json(&tree, tests)).unwrap();
+    let (_, doc, _) = verify(&d, &req, "g", &["--tests", "fresh.json"]);
+    assert_eq!(doc["test_run"]["fresh"], true);
+    assert_eq!(row(&doc, "TMS-Z-POS")["tests_status"], "passed");
+    // a run of this commit whose tree then changed (an uncommitted edit): stale
+    let f = req.join("charge.yaml");
+    let text = std::fs::read_to_string(&f).unwrap();
+    std::fs::write(&f, format!("{text}\n# an edit\n")).unwrap();
+    let out = geodesic(
+        &[
+            "verify",
+            "--mc-n",
+            "2000",
+            "--no-fidelity",
+            "--requirements",
+            req.to_str().unwrap(),
+            "--reports",
+            "h",
+            "--tests",
+            "fresh.json",
+            "--require-tests",
+        ],
+        &d,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("the work tree changed since the tests ran"),
+        "{err}"
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("STALE"), "{table}");
+}
+
+/// A Monte Carlo too small to bound the requirement's quantile leaves its rows not verified
+/// (never compliant on the point estimate), and against a baseline of a larger sample it fails
+/// the gate naming each row.
+#[test]
+fn a_monte_carlo_too_small_for_its_probability_is_not_verified_and_fails_the_gate() {
+    let d = scratch("small");
+    let req = requirements(&d, |_, t| t.to_string());
+    verify(&d, &req, "base", &[]);
+    for n in ["10", "200"] {
+        let out = geodesic(
+            &[
+                "verify",
+                "--json",
+                "--mc-n",
+                n,
+                "--no-fidelity",
+                "--requirements",
+                req.to_str().unwrap(),
+                "--reports",
+                "now",
+                "--baseline",
+                "base/compliance.json",
+            ],
+            &d,
+        );
+        assert_eq!(out.status.code(), Some(1), "N = {n}");
+        let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        for id in [
+            "REL-GPRM-VEL",
+            "REL-DFACS-VEL",
+            "TMS-Z-VEL",
+            "TMS-Z-POS",
+            "CAP-RELEASE-PROB",
+            "PLG-EXTRA-VEL",
+        ] {
+            let r = row(&doc, id);
+            assert_eq!(r["status"], "not-verified", "N = {n}: {id}: {r}");
+            assert!(
+                err.lines()
+                    .any(|l| l.starts_with(&format!("geodesic: REGRESSION {id}: "))),
+                "N = {n}: {id} not named: {err}"
+            );
+        }
+        let why = row(&doc, "REL-GPRM-VEL")["reason"]
+            .as_str()
+            .unwrap()
+            .to_string();
+        assert!(
+            why.contains(&format!(
+                "N = {n} cannot show the 99.73 % quantile at 95 % confidence; need N >= 1109"
+            )),
+            "{why}"
+        );
+        assert_eq!(
+            row(&doc, "REL-GPRM-VEL")["sampling"]["n"],
+            n.parse::<u64>().unwrap()
+        );
+    }
+}
+
+/// The requirement's `probability` is the quantile judged: at 50 % the row is the median's.
+#[test]
+fn the_requirements_probability_is_the_quantile_judged() {
+    let d = scratch("prob");
+    let req = requirements(&d, |name, t| {
+        if name == "release.yaml" {
+            t.replacen("probability: \"99.73 %\"", "probability: \"50 %\"", 1)
+        } else {
+            t.to_string()
+        }
+    });
+    let (_, doc, _) = verify(&d, &req, "r", &[]);
+    let gprm = row(&doc, "REL-GPRM-VEL");
+    let dfacs = row(&doc, "REL-DFACS-VEL");
+    assert_eq!(gprm["sampling"]["probability"], 0.5);
+    assert!(
+        gprm["value"].as_f64().unwrap() < 0.8 * dfacs["value"].as_f64().unwrap(),
+        "{gprm} {dfacs}"
+    );
+}
+
+/// A requirement edit is reviewed whichever way it goes: CHG-Q's limit loosened to close its
+/// NCR, or tightened, fails the gate naming CHG-Q; so does a non-compliance whose disposition
+/// is dropped, and a new non-compliant requirement without one.
+#[test]
+fn requirement_edits_and_missing_dispositions_fail_the_gate() {
+    let d = scratch("edits");
+    let req = requirements(&d, |_, t| t.to_string());
+    let ncr = "dispositions:\n  - requirement: CHG-Q\n    kind: NCR\n    reference: NCR-T-1\n    \
+               reason: known\n    owner: tests\n    date: 2020-01-01\n";
+    std::fs::write(d.join("ncr.yaml"), ncr).unwrap();
+    std::fs::write(d.join("none.yaml"), "dispositions: []\n").unwrap();
+    let (code, _, err) = verify(&d, &req, "base", &["--dispositions", "ncr.yaml"]);
+    assert_eq!(code, 1, "{err}");
+    let (code, _, err) = verify(
+        &d,
+        &req,
+        "same",
+        &[
+            "--dispositions",
+            "ncr.yaml",
+            "--baseline",
+            "base/compliance.json",
+        ],
+    );
+    assert_eq!(code, 0, "an unchanged run with its NCR passes: {err}");
+    for (limit, name) in [("3.2e8 e", "loose"), ("2.8e8 e", "tight")] {
+        let dir = scratch(name);
+        let edited = requirements(&dir, |f, t| {
+            if f == "charge.yaml" {
+                t.replace("limit: \"<= 3e8 e\"", &format!("limit: \"<= {limit}\""))
+            } else {
+                t.to_string()
+            }
+        });
+        let (code, _, err) = verify(
+            &d,
+            &edited,
+            name,
+            &[
+                "--dispositions",
+                "ncr.yaml",
+                "--baseline",
+                "base/compliance.json",
+            ],
+        );
+        assert_eq!(code, 1, "{limit}: {err}");
+        assert!(
+            err.contains(&format!(
+                "REGRESSION CHG-Q: requirement changed, needs review: limit `<= 3e8 e` -> `<= {limit}`"
+            )),
+            "{err}"
+        );
+    }
+    // the disposition dropped
+    let (code, _, err) = verify(
+        &d,
+        &req,
+        "dropped",
+        &[
+            "--dispositions",
+            "none.yaml",
+            "--baseline",
+            "base/compliance.json",
+        ],
+    );
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("REGRESSION CHG-Q: its disposition NCR-T-1 was withdrawn"),
+        "{err}"
+    );
+    // a baseline without CHG-Q: it is new now, and non-compliant without a disposition
+    let dir = scratch("without");
+    let without = requirements(&dir, |f, t| {
+        if f == "charge.yaml" {
+            let (head, rest) = t.split_once("  - id: CHG-Q\n").unwrap();
+            let (_, tail) = rest.split_once("  - id: CHG-V\n").unwrap();
+            format!("{head}  - id: CHG-V\n{tail}")
+        } else {
+            t.to_string()
+        }
+    });
+    verify(&d, &without, "base2", &["--dispositions", "none.yaml"]);
+    let (code, doc, err) = verify(
+        &d,
+        &req,
+        "added",
+        &[
+            "--dispositions",
+            "none.yaml",
+            "--baseline",
+            "base2/compliance.json",
+        ],
+    );
+    assert_eq!(code, 1);
+    assert_eq!(doc["baseline_diff"]["added"][0], "CHG-Q");
+    assert!(
+        err.contains("REGRESSION CHG-Q: new requirement, non-compliant with no disposition"),
+        "{err}"
+    );
+    assert_eq!(
+        row(&doc, "CHG-Q")["verdict"],
+        "non-compliant (no disposition)"
+    );
+}
+
+/// A change of seed moves the sampled values within their sampling uncertainty: the gate
+/// passes (the image and fit validations do not move with the seed at all).
+#[test]
+fn a_seed_change_alone_passes_the_gate() {
+    let d = scratch("seed");
+    let req = requirements(&d, |_, t| t.to_string());
+    verify(&d, &req, "base", &[]);
+    for seed in ["2", "3"] {
+        let (code, doc, err) = verify(
+            &d,
+            &req,
+            &format!("s{seed}"),
+            &["--seed", seed, "--baseline", "base/compliance.json"],
+        );
+        assert_eq!(code, 0, "--seed {seed}: {err}");
+        assert_eq!(doc["baseline_diff"]["regressions"], 0);
+    }
+}
+
+/// Model rows move with their model inputs: an edited capacitance in the charge inputs moves
+/// CHG-Q (and the run names the file with its hash); a TM of half the budget's mass moves
+/// PLG-EXTRA-VEL.
+#[test]
+fn charge_and_budget_inputs_move_their_rows() {
+    let d = scratch("inputs");
+    let req = requirements(&d, |_, t| t.to_string());
+    let (_, base, _) = verify(&d, &req, "base", &[]);
+    let charge = std::fs::read_to_string(workspace().join("models/charge/charge.yaml")).unwrap();
+    std::fs::write(
+        d.join("charge.yaml"),
+        charge.replace("c_eh_f: 34.4e-12", "c_eh_f: 30.0e-12"),
+    )
+    .unwrap();
+    let budget = std::fs::read_to_string(workspace().join("models/release/budget.yaml")).unwrap();
+    std::fs::write(
+        d.join("half.yaml"),
+        budget.replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.98}"),
+    )
+    .unwrap();
+    let (_, doc, _) = verify(
+        &d,
+        &req,
+        "now",
+        &["--charge", "charge.yaml", "--budget", "half.yaml"],
+    );
+    let v = |doc: &Value, id: &str| row(doc, id)["value"].as_f64().unwrap();
+    assert!(v(&doc, "CHG-Q") < 0.97 * v(&base, "CHG-Q"));
+    assert_eq!(doc["run"]["inputs"]["charge"]["label"], "charge.yaml");
+    assert!(v(&doc, "PLG-EXTRA-VEL") > 1.5 * v(&base, "PLG-EXTRA-VEL"));
+    // a bad charge file is bad input with its line
+    std::fs::write(
+        d.join("bad.yaml"),
+        charge.replace("gap_m: 100.0e-9", "gap_m: -1"),
+    )
+    .unwrap();
+    let out = geodesic(
+        &[
+            "verify",
+            "--requirements",
+            req.to_str().unwrap(),
+            "--charge",
+            "bad.yaml",
+        ],
+        &d,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("bad.yaml:") && e.contains("gap_m"), "{e}");
 }

@@ -137,7 +137,9 @@ fn series(dir: &Path, name: &str, asd: f64, fs: f64, n: usize, unit: &str, k: f6
     std::fs::write(dir.join(format!("{name}.csv")), csv).unwrap();
     std::fs::write(
         dir.join(format!("{name}.yaml")),
-        format!("data: {name}.csv\nchannel: v\nunit: \"{unit}\"\n"),
+        format!(
+            "origin: measurement\nprovenance: \"this test's bench: white noise of a known ASD, seed 9\"\ndata: {name}.csv\nchannel: v\nunit: \"{unit}\"\n"
+        ),
     )
     .unwrap();
     format!("{name}.yaml")
@@ -266,6 +268,34 @@ fn verify_series_gives_a_measured_verdict() {
     );
     assert!(d.join("r/spectra/LPF-DA-ASD.svg").is_file());
     assert!(doc["run"]["inputs"]["series"]["LPF-DA-ASD"]["sha256"].is_string());
+    // the repository's example series calls itself synthetic: an illustration, not a verdict
+    let example = ws.join("data/spectra/lpf-da-example.yaml");
+    let arg = format!("LPF-DA-ASD={}", example.display());
+    let out = geodesic(
+        &[
+            "verify",
+            "--requirements",
+            "reqs",
+            "--series",
+            &arg,
+            "--json",
+            "--reports",
+            "r2",
+        ],
+        &d,
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let doc = json_of(&out);
+    let r = row(&doc, "LPF-DA-ASD");
+    assert_eq!(r["status"], "not-verified", "{r}");
+    assert!(r["basis"].is_null());
+    assert!(
+        r["reason"]
+            .as_str()
+            .unwrap()
+            .contains("declares itself synthetic"),
+        "{r}"
+    );
     // a series for a requirement that is not spectral, or not loaded, is exit 2
     for bad in ["REL-GPRM-VEL=da.yaml", "LPF-DA-ASD"] {
         let out = geodesic(

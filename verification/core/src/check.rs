@@ -57,6 +57,9 @@ pub struct ModelInputs {
     pub budget: InputFile,
     /// The capture inputs: xlim and the state sources (`models/capture/capture.yaml` format).
     pub capture: InputFile,
+    /// The charge model's inputs: capacitances, contact voltage spread, release-tip geometry
+    /// (`models/charge/charge.yaml` format).
+    pub charge: InputFile,
     /// A mission's design inputs read by its checks (e.g. the Drag-Free CubeSat housing:
     /// `missions/drag-free-cubesat/design.yaml`); `None`: the checks use their built-in copy.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -82,8 +85,18 @@ pub struct CheckContext {
     pub mc_n: usize,
     /// Monte Carlo seed.
     pub seed: u64,
+    /// Confidence of the bounds a sampled verdict is decided by [-] (0.95 by default).
+    pub confidence: f64,
     /// No progress output.
     pub quiet: bool,
+}
+
+impl CheckContext {
+    /// The probability a requirement states, as a fraction (`None` when it states none or is
+    /// not loaded).
+    pub fn probability(&self, id: &str) -> Option<f64> {
+        self.requirements.get(id).and_then(|r| r.probability_value)
+    }
 }
 
 /// The result a check gives for one requirement.
@@ -114,6 +127,9 @@ pub enum Basis {
     Measurement,
     /// A result taken from a cited external source (e.g. the thesis's E2E simulation).
     Accepted,
+    /// The accuracy of an analysis method (an image analysis, the fit's uncertainty) shown on
+    /// synthetic inputs of known truth: evidence about the tool, not about the product.
+    MethodValidation,
     /// A what-if, shown beside the row, never a verdict.
     Illustration,
 }
@@ -127,6 +143,7 @@ impl Basis {
             Basis::FlowDown => "flow-down",
             Basis::Measurement => "measurement",
             Basis::Accepted => "accepted",
+            Basis::MethodValidation => "method-validation",
             Basis::Illustration => "illustration",
         }
     }
@@ -134,6 +151,14 @@ impl Basis {
     /// Whether evidence on this basis may decide a verdict.
     pub fn decides(self) -> bool {
         self != Basis::Illustration
+    }
+
+    /// The basis as a reader takes it in a verdict (`flow-down`, `method validation`).
+    pub fn label(self) -> &'static str {
+        match self {
+            Basis::MethodValidation => "method validation",
+            b => b.as_str(),
+        }
     }
 }
 
@@ -158,6 +183,22 @@ pub struct Evidence {
     pub inputs: BTreeMap<String, serde_json::Value>,
     /// Files written (relative to the reports directory).
     pub artifacts: Vec<String>,
+    /// When the value is a statistic of a sample (a Monte Carlo quantile, a probability from
+    /// successes): the sample and its exact confidence bounds, by which the matrix decides.
+    pub sampling: Option<Sampling>,
+    /// Requirement IDs whose limits this value takes as met (a flow-down assumes them): when
+    /// one of them is not verified, the verdict says so.
+    pub assumes: Vec<String>,
+    /// The model input files the value was computed from (`budget`, `capture`, `charge`, ...,
+    /// the field names of [`ModelInputs`]): a row that judges one of them (see
+    /// [`Evidence::judges_input`]) and is non-compliant marks this verdict.
+    pub model_inputs: Vec<String>,
+    /// The model input file this evidence judges (FAC-ADH-CAL judges the release budget's
+    /// adhesion against a campaign it was not calibrated on).
+    pub judges_input: Option<String>,
+    /// What the value shows by construction, if it does (a quantity derived from the limit it
+    /// is compared with): stated in the verdict.
+    pub by_construction: Option<String>,
 }
 
 impl Evidence {
@@ -175,6 +216,11 @@ impl Evidence {
             activity: activity.into(),
             inputs: BTreeMap::new(),
             artifacts: Vec::new(),
+            sampling: None,
+            assumes: Vec::new(),
+            model_inputs: Vec::new(),
+            judges_input: None,
+            by_construction: None,
         }
     }
 
@@ -191,6 +237,11 @@ impl Evidence {
             activity: activity.into(),
             inputs: BTreeMap::new(),
             artifacts: Vec::new(),
+            sampling: None,
+            assumes: Vec::new(),
+            model_inputs: Vec::new(),
+            judges_input: None,
+            by_construction: None,
         }
     }
 
@@ -204,6 +255,193 @@ impl Evidence {
     pub fn with_artifact(mut self, path: impl Into<String>) -> Self {
         self.artifacts.push(path.into());
         self
+    }
+
+    /// The sample statistic the value is (see [`Evidence::sampling`]).
+    pub fn with_sampling(mut self, s: Sampling) -> Self {
+        self.sampling = Some(s);
+        self
+    }
+
+    /// Requirement IDs whose limits the value takes as met.
+    pub fn assuming<I: IntoIterator<Item = S>, S: Into<String>>(mut self, ids: I) -> Self {
+        for id in ids {
+            let id = id.into();
+            if !self.assumes.contains(&id) {
+                self.assumes.push(id);
+            }
+        }
+        self
+    }
+
+    /// Model input files (field names of [`ModelInputs`]) the value was computed from.
+    pub fn from_inputs(mut self, names: &[&str]) -> Self {
+        for n in names {
+            if !self.model_inputs.iter().any(|m| m == n) {
+                self.model_inputs.push(n.to_string());
+            }
+        }
+        self
+    }
+
+    /// The model input file this evidence judges.
+    pub fn judging_input(mut self, name: &str) -> Self {
+        self.judges_input = Some(name.to_string());
+        self
+    }
+
+    /// What the value shows by construction.
+    pub fn by_construction(mut self, why: impl Into<String>) -> Self {
+        self.by_construction = Some(why.into());
+        self
+    }
+}
+
+/// What a sampled value is a statistic of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SampleStatistic {
+    /// The `probability` quantile of a sample (order statistics bound it).
+    Quantile,
+    /// A probability estimated from successes (Clopper-Pearson bounds it).
+    Proportion,
+}
+
+/// A value computed from a sample, with its exact confidence bounds (see [`crate::stats`]).
+/// The compliance matrix decides with the bounds, never with the estimate: an upper limit is
+/// met when the upper bound meets it, violated when the lower bound violates it, and otherwise
+/// (the interval straddles the limit, or the sample cannot give the bound) not verified.
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+pub struct Sampling {
+    /// Quantile or proportion.
+    pub statistic: SampleStatistic,
+    /// The quantile's level, or the probability a proportion must show [-] (from the
+    /// requirement: its `probability`, or its limit for a proportion).
+    pub probability: f64,
+    /// Confidence of each one-sided bound [-].
+    pub confidence: f64,
+    /// Sample size.
+    pub n: u64,
+    /// Successes, for a proportion.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub successes: Option<u64>,
+    /// The point estimate (the nearest-rank quantile, or successes / n), in SI in the
+    /// evidence and in the requirement's unit in a matrix row.
+    pub estimate: f64,
+    /// Lower confidence bound (`None`: the sample cannot give one).
+    pub lower: Option<f64>,
+    /// Upper confidence bound (`None`: the sample cannot give one).
+    pub upper: Option<f64>,
+    /// Ranks (1-based) of the order statistics that give the bounds, for a quantile.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub lower_rank: Option<u64>,
+    /// See `lower_rank`.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub upper_rank: Option<u64>,
+    /// The smallest sample that can show the probability at this confidence.
+    pub n_required: u64,
+    /// How the bounds were computed, in a few words.
+    pub method: String,
+}
+
+impl Sampling {
+    /// The `probability` quantile of `sorted` (ascending; at least one value) with its
+    /// order-statistic bounds at `confidence`. `scale` multiplies every value (a quantity
+    /// derived monotonically from the sample, e.g. a drift over 15 s).
+    pub fn quantile(sorted: &[f64], probability: f64, confidence: f64) -> Sampling {
+        use crate::stats;
+        let n = sorted.len() as u64;
+        let at = |k: Option<u64>| k.map(|k| sorted[(k - 1) as usize]);
+        let est_rank = ((probability * n as f64).ceil() as u64).clamp(1, n.max(1));
+        let lower_rank = stats::quantile_lower_rank(n, probability, confidence);
+        let upper_rank = stats::quantile_upper_rank(n, probability, confidence);
+        Sampling {
+            statistic: SampleStatistic::Quantile,
+            probability,
+            confidence,
+            n,
+            successes: None,
+            estimate: if n == 0 {
+                f64::NAN
+            } else {
+                sorted[(est_rank - 1) as usize]
+            },
+            lower: at(lower_rank),
+            upper: at(upper_rank),
+            lower_rank,
+            upper_rank,
+            n_required: stats::min_n(probability, confidence),
+            method: "distribution-free order-statistic bounds (exact binomial)".into(),
+        }
+    }
+
+    /// A probability from `successes` of `n` with its Clopper-Pearson bounds at `confidence`;
+    /// `probability` is what the requirement asks it to show.
+    pub fn proportion(successes: u64, n: u64, probability: f64, confidence: f64) -> Sampling {
+        use crate::stats;
+        Sampling {
+            statistic: SampleStatistic::Proportion,
+            probability,
+            confidence,
+            n,
+            successes: Some(successes),
+            estimate: if n == 0 {
+                f64::NAN
+            } else {
+                successes as f64 / n as f64
+            },
+            lower: (n > 0).then(|| stats::clopper_pearson_lower(successes, n, confidence)),
+            upper: (n > 0).then(|| stats::clopper_pearson_upper(successes, n, confidence)),
+            lower_rank: None,
+            upper_rank: None,
+            n_required: stats::min_n(probability, confidence),
+            method: "Clopper-Pearson (exact binomial)".into(),
+        }
+    }
+
+    /// Every value multiplied by `k > 0` (a quantity that grows with the sampled one).
+    pub fn scaled(mut self, k: f64) -> Sampling {
+        self.estimate *= k;
+        self.lower = self.lower.map(|v| v * k);
+        self.upper = self.upper.map(|v| v * k);
+        self
+    }
+
+    /// One line: `99.73 % quantile: upper 95 % bound 1.334 (estimate 1.329; N = 100 000,
+    /// order statistic 99 758)`, values formatted by `fmt`.
+    pub fn describe(&self, fmt: &dyn Fn(f64) -> String) -> String {
+        let pct = |p: f64| crate::units::fmt_pct(p);
+        match self.statistic {
+            SampleStatistic::Quantile => format!(
+                "{} quantile of N = {}: estimate {}, {} % bounds [{}, {}]{}",
+                pct(self.probability),
+                self.n,
+                fmt(self.estimate),
+                crate::units::fmt_num(100.0 * self.confidence),
+                self.lower.map_or("none".into(), fmt),
+                self.upper.map_or("none".into(), fmt),
+                if self.upper.is_none() {
+                    format!(
+                        " (N = {} cannot bound the {} quantile at {} % confidence: need N >= {})",
+                        self.n,
+                        pct(self.probability),
+                        crate::units::fmt_num(100.0 * self.confidence),
+                        self.n_required
+                    )
+                } else {
+                    String::new()
+                }
+            ),
+            SampleStatistic::Proportion => format!(
+                "{} of {}: estimate {}, {} % Clopper-Pearson bounds [{}, {}]",
+                self.successes.unwrap_or(0),
+                self.n,
+                fmt(self.estimate),
+                crate::units::fmt_num(100.0 * self.confidence),
+                self.lower.map_or("none".into(), fmt),
+                self.upper.map_or("none".into(), fmt),
+            ),
+        }
     }
 }
 

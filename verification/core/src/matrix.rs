@@ -5,13 +5,24 @@
 //! `non-compliant` when a measured value does not, and `not-verified` when no check gave a value
 //! (no check at all, or a check that states why it cannot). It is never silently compliant.
 //! When several checks measure the same requirement, the one with the smallest margin decides.
+//!
+//! A value computed from a sample (a Monte Carlo quantile, a probability from successes) carries
+//! its exact confidence bounds ([`crate::check::Sampling`]) and is decided by them, never by the
+//! point estimate: an upper limit is met when the upper bound meets it, violated when the lower
+//! bound violates it; otherwise (the interval straddles the limit, or the sample is too small to
+//! give the bound) the evidence gives no verdict and says how large a sample would.
+//!
+//! Every verdict also reads as what it rests on ([`Row::verdict`]): its basis when not a model
+//! (`compliant (flow-down)`), what it shows by construction, the not-verified rows a flow-down
+//! assumes, a model input another row rejects, and traced tests that failed, did not run, are
+//! stale or are missing. The summary counts the compliant rows by basis and those with findings.
 
-use crate::check::{Basis, Evidence, Outcome};
+use crate::check::{Basis, Evidence, Outcome, Sampling};
 use crate::disposition::Disposition;
-use crate::requirement::{Requirement, Requirements};
-use crate::testrun::{Assertion, TestResult, TestRun};
+use crate::requirement::{Op, Requirement, Requirements};
+use crate::testrun::{Assertion, Freshness, TestResult, TestRun};
 use serde::Serialize;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// Compliance status of a requirement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, PartialOrd, Ord)]
@@ -56,7 +67,8 @@ pub struct EvidenceEntry {
     pub basis: Option<Basis>,
     /// What produced the value.
     pub activity: String,
-    /// Value in the requirement's unit (absent when not verified).
+    /// Value in the requirement's unit (absent when not verified): for a sampled value, the
+    /// confidence bound that decides.
     pub value: Option<f64>,
     /// Why no value, if so.
     pub reason: Option<String>,
@@ -64,6 +76,21 @@ pub struct EvidenceEntry {
     pub inputs: BTreeMap<String, serde_json::Value>,
     /// Files written (relative to the reports directory).
     pub artifacts: Vec<String>,
+    /// The sample and its bounds, in the requirement's unit, for a sampled value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampling: Option<Sampling>,
+    /// Requirements whose limits the value takes as met (a flow-down).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub assumes: Vec<String>,
+    /// Model input files the value was computed from (`budget`, `capture`, `charge`, ...).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub model_inputs: Vec<String>,
+    /// The model input file this evidence judges.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub judges_input: Option<String>,
+    /// What the value shows by construction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub by_construction: Option<String>,
 }
 
 /// A test that traces to a requirement, with its recorded result.
@@ -108,6 +135,9 @@ pub enum TestsStatus {
     Incomplete,
     /// No traced test gives evidence (none, or only change detection).
     None,
+    /// The recorded run is not a run of this tree (another commit, edits since, no
+    /// fingerprint): its results are not evidence for this verdict.
+    Stale,
 }
 
 impl TestsStatus {
@@ -118,6 +148,7 @@ impl TestsStatus {
             TestsStatus::Failed => "failed",
             TestsStatus::Incomplete => "incomplete",
             TestsStatus::None => "none",
+            TestsStatus::Stale => "stale",
         }
     }
 }
@@ -129,24 +160,48 @@ pub struct Row {
     pub id: String,
     /// Status.
     pub status: Status,
-    /// What the deciding value rests on: `model`, `flow-down` or `accepted` (`None` when not
-    /// verified; illustrations never decide).
+    /// The status as a reader must take it, the same words in every report:
+    /// `compliant`, `compliant (flow-down; assumes not-verified TMS-X-VEL)`,
+    /// `compliant (budget rejected by FAC-ADH-CAL)`, `non-compliant (NCR NCR-GEO-001)`,
+    /// `not-verified`. Plain `compliant` only for a model (or measurement) verdict with no
+    /// finding.
+    pub verdict: String,
+    /// What the deciding value rests on: `model`, `flow-down`, `measurement`,
+    /// `method-validation` or `accepted` (`None` when not verified; illustrations never
+    /// decide).
     pub basis: Option<Basis>,
+    /// The findings behind the verdict's qualifiers, in plain words (an assumed requirement
+    /// that is not verified, a model input another row rejects, traced tests that failed, did
+    /// not run, are stale or are missing, what holds by construction).
+    pub findings: Vec<String>,
     /// Known non-compliance: NCR, waiver or RFD.
     pub disposition: Option<Disposition>,
-    /// Deciding value, in `unit`.
+    /// Deciding value, in `unit` (for a sampled value: the confidence bound that decides).
     pub value: Option<f64>,
     /// Limit, in `unit` (`None`, JSON `null`, for a qualitative requirement: no limit).
     pub limit: Option<f64>,
     /// Margin `(limit - value) / limit` (sign-adjusted for lower bounds).
     pub margin: Option<f64>,
+    /// The sample behind the deciding value (or behind the inconclusive one of a row that is
+    /// not verified), with its bounds in `unit`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sampling: Option<Sampling>,
+    /// Requirements the deciding value takes as met (a flow-down).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub assumes: Vec<String>,
+    /// Model input files the deciding value was computed from.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub model_inputs: Vec<String>,
+    /// What the deciding value shows by construction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub by_construction: Option<String>,
     /// Unit of `value` and `limit`, as written in the requirement (empty when qualitative).
     pub unit: String,
     /// Comparison (`<=`, `<`, `>=`, `>`; empty when qualitative).
     pub op: String,
     /// Limit as written ([`QUALITATIVE_LIMIT_TEXT`] when the requirement has no limit).
     pub limit_text: String,
-    /// Probability level, if any.
+    /// Probability level, if any, as written.
     pub probability: Option<String>,
     /// Title.
     pub title: String,
@@ -187,6 +242,15 @@ pub struct Row {
     pub defined_at: String,
 }
 
+impl Row {
+    /// Whether the verdict is plain: compliant on a model or measurement with no finding.
+    pub fn plainly_compliant(&self) -> bool {
+        self.status == Status::Compliant
+            && matches!(self.basis, Some(Basis::Model | Basis::Measurement))
+            && self.findings.is_empty()
+    }
+}
+
 /// A check whose evidence names a requirement that is not loaded.
 #[derive(Clone, Debug, Serialize)]
 pub struct Orphan {
@@ -196,7 +260,7 @@ pub struct Orphan {
     pub requirement: String,
 }
 
-/// Counts by status.
+/// Counts by status, and the compliant rows by what they rest on.
 #[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
 pub struct Summary {
     /// Number of requirements.
@@ -207,6 +271,76 @@ pub struct Summary {
     pub non_compliant: usize,
     /// Not verified.
     pub not_verified: usize,
+    /// Compliant rows by the basis of their verdict (`model`, `flow-down`, `accepted`,
+    /// `method-validation`, `measurement`).
+    pub compliant_by_basis: BTreeMap<String, usize>,
+    /// Compliant rows on a model or measurement with no finding ([`Row::plainly_compliant`]).
+    pub plainly_compliant: usize,
+    /// Compliant rows whose verdict carries a finding.
+    pub compliant_with_findings: usize,
+    /// Non-compliant rows without a disposition (NCR, waiver, RFD).
+    pub non_compliant_without_disposition: usize,
+    /// The recorded test results: `fresh`, `stale` or `none` (no run recorded).
+    pub tests: String,
+}
+
+impl Summary {
+    /// The summary sentence every report prints: `28 requirements: 19 compliant (6 model,
+    /// 8 flow-down, ...; 1 plainly, 18 with findings), 2 non-compliant, 7 not verified`.
+    pub fn line(&self) -> String {
+        let mut c = format!("{} compliant", self.compliant);
+        if self.compliant > 0 {
+            let order = [
+                "model",
+                "measurement",
+                "flow-down",
+                "method-validation",
+                "accepted",
+            ];
+            let mut parts: Vec<String> = order
+                .iter()
+                .filter_map(|b| {
+                    self.compliant_by_basis
+                        .get(*b)
+                        .filter(|n| **n > 0)
+                        .map(|n| {
+                            format!(
+                                "{n} {}",
+                                if *b == "method-validation" {
+                                    "method validation"
+                                } else {
+                                    b
+                                }
+                            )
+                        })
+                })
+                .collect();
+            parts.extend(
+                self.compliant_by_basis
+                    .iter()
+                    .filter(|(b, n)| !order.contains(&b.as_str()) && **n > 0)
+                    .map(|(b, n)| format!("{n} {b}")),
+            );
+            c.push_str(&format!(
+                " ({}; {} plainly, {} with findings)",
+                parts.join(", "),
+                self.plainly_compliant,
+                self.compliant_with_findings
+            ));
+        }
+        let nc = if self.non_compliant_without_disposition > 0 {
+            format!(
+                "{} non-compliant ({} without disposition)",
+                self.non_compliant, self.non_compliant_without_disposition
+            )
+        } else {
+            format!("{} non-compliant", self.non_compliant)
+        };
+        format!(
+            "{} requirements: {c}, {nc}, {} not verified",
+            self.total, self.not_verified
+        )
+    }
 }
 
 /// The compliance matrix.
@@ -235,15 +369,61 @@ pub struct TestRunInfo {
     pub date: String,
     /// The command.
     pub command: String,
+    /// Whether the run is a run of the tree this matrix was computed on (same commit and
+    /// content fingerprint, [`TestRun::freshness`]); its results count only then.
+    pub fresh: bool,
+    /// Why not, when stale.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stale_reason: Option<String>,
+    /// The run's tree fingerprint.
+    pub tree_sha256: Option<String>,
 }
+
+/// A recorded test run as the matrix reads it: the file, the run and whether it is a run of
+/// the tree the verdicts are computed on.
+#[derive(Clone, Copy, Debug)]
+pub struct TestEvidence<'a> {
+    /// The file it was read from.
+    pub file: &'a str,
+    /// The run.
+    pub run: &'a TestRun,
+    /// Whether it is a run of this tree.
+    pub freshness: &'a Freshness,
+}
+
+/// The freshness [`Matrix::build`] gives a run it was not told about: stale.
+static UNCHECKED: std::sync::LazyLock<Freshness> = std::sync::LazyLock::new(|| Freshness::Stale {
+    reason: "its freshness was not checked against the work tree".into(),
+});
 
 impl Matrix {
     /// Builds the matrix from requirements, the evidence of each check (by check name), the
     /// recorded test run (`run`: the file it came from and its content) and the dispositions.
+    /// The run's freshness is not checked here, so it counts as stale: `geodesic verify` uses
+    /// [`Matrix::build_with`] with [`TestRun::freshness`].
     pub fn build(
         reqs: &Requirements,
         evidence: &[(String, Vec<Evidence>)],
         run: Option<(&str, &TestRun)>,
+        dispositions: &[Disposition],
+    ) -> Matrix {
+        Matrix::build_with(
+            reqs,
+            evidence,
+            run.map(|(file, run)| TestEvidence {
+                file,
+                run,
+                freshness: &UNCHECKED,
+            }),
+            dispositions,
+        )
+    }
+
+    /// Builds the matrix with a test run whose freshness is known.
+    pub fn build_with(
+        reqs: &Requirements,
+        evidence: &[(String, Vec<Evidence>)],
+        tests: Option<TestEvidence<'_>>,
         dispositions: &[Disposition],
     ) -> Matrix {
         let mut orphans = Vec::new();
@@ -263,7 +443,7 @@ impl Matrix {
                 }
             }
         }
-        let rows: Vec<Row> = reqs
+        let mut rows: Vec<Row> = reqs
             .items
             .iter()
             .map(|r| {
@@ -271,19 +451,40 @@ impl Matrix {
                     r,
                     reqs,
                     by_req.get(r.id.as_str()).map(Vec::as_slice).unwrap_or(&[]),
-                    run.map(|(_, t)| t),
+                    tests,
                     dispositions.iter().find(|d| d.requirement == r.id.as_str()),
                 )
             })
             .collect();
+        findings(&mut rows, tests);
         let mut s = Summary {
             total: rows.len(),
+            tests: match tests {
+                None => "none".into(),
+                Some(t) if t.freshness.is_fresh() => "fresh".into(),
+                Some(_) => "stale".into(),
+            },
             ..Default::default()
         };
         for r in &rows {
             match r.status {
-                Status::Compliant => s.compliant += 1,
-                Status::NonCompliant => s.non_compliant += 1,
+                Status::Compliant => {
+                    s.compliant += 1;
+                    let b = r.basis.map_or("none", Basis::as_str).to_string();
+                    *s.compliant_by_basis.entry(b).or_default() += 1;
+                    if r.plainly_compliant() {
+                        s.plainly_compliant += 1;
+                    }
+                    if !r.findings.is_empty() {
+                        s.compliant_with_findings += 1;
+                    }
+                }
+                Status::NonCompliant => {
+                    s.non_compliant += 1;
+                    if r.disposition.is_none() {
+                        s.non_compliant_without_disposition += 1;
+                    }
+                }
                 Status::NotVerified => s.not_verified += 1,
             }
         }
@@ -291,12 +492,15 @@ impl Matrix {
             requirements: rows,
             summary: s,
             orphan_checks: orphans,
-            test_run: run.map(|(file, t)| TestRunInfo {
-                file: file.to_string(),
-                commit: t.commit.clone(),
-                dirty: t.dirty,
-                date: t.date.clone(),
-                command: t.command.clone(),
+            test_run: tests.map(|t| TestRunInfo {
+                file: t.file.to_string(),
+                commit: t.run.commit.clone(),
+                dirty: t.run.dirty,
+                date: t.run.date.clone(),
+                command: t.run.command.clone(),
+                fresh: t.freshness.is_fresh(),
+                stale_reason: t.freshness.reason().map(str::to_string),
+                tree_sha256: t.run.tree_sha256.clone(),
             }),
         }
     }
@@ -320,15 +524,35 @@ impl Matrix {
             .collect()
     }
 
-    /// IDs of the requirements whose traced tests failed, were ignored or did not run.
+    /// IDs of the requirements whose traced tests failed, were ignored or did not run, or are
+    /// stale.
     pub fn with_test_problems(&self) -> Vec<&str> {
         self.requirements
             .iter()
             .filter(|r| {
                 matches!(
                     r.tests_status,
-                    TestsStatus::Failed | TestsStatus::Incomplete
+                    TestsStatus::Failed | TestsStatus::Incomplete | TestsStatus::Stale
                 )
+            })
+            .map(|r| r.id.as_str())
+            .collect()
+    }
+
+    /// The rows whose verdict needs test evidence and has none: a verdict (compliant or
+    /// non-compliant) computed by a model, from a measurement or as a method validation, with
+    /// no passing traced test that asserts its limit or a reference (a flow-down or an
+    /// accepted value rests on other rows or a cited source, not on a test of its own).
+    pub fn without_test_evidence(&self) -> Vec<&str> {
+        self.requirements
+            .iter()
+            .filter(|r| {
+                r.status != Status::NotVerified
+                    && matches!(
+                        r.basis,
+                        Some(Basis::Model | Basis::Measurement | Basis::MethodValidation)
+                    )
+                    && !r.tests.iter().any(TestRef::is_evidence)
             })
             .map(|r| r.id.as_str())
             .collect()
@@ -340,69 +564,166 @@ impl Matrix {
     }
 }
 
+/// What one piece of evidence decides, in the requirement's unit.
+enum Decision {
+    /// A value and its margin.
+    Value(f64, f64),
+    /// No verdict, with why.
+    Undecided(String),
+}
+
+/// The decision of a sampled value: by its bounds, never its estimate.
+fn decide_sampled(s: &Sampling, op: Op, limit: f64, unit: &str, check: &str) -> Decision {
+    let fmt = |v: f64| {
+        format!("{} {unit}", crate::units::fmt_num_near(v, limit))
+            .trim_end()
+            .to_string()
+    };
+    let (meets, violates) = match op {
+        Op::Le | Op::Lt => (s.upper, s.lower),
+        Op::Ge | Op::Gt => (s.lower, s.upper),
+    };
+    if let Some(b) = meets
+        && op.holds(b, limit)
+    {
+        return Decision::Value(b, op.margin(b, limit));
+    }
+    if let Some(b) = violates
+        && !op.holds(b, limit)
+    {
+        return Decision::Value(b, op.margin(b, limit));
+    }
+    let conf = crate::units::fmt_pct(s.confidence);
+    let what = match s.statistic {
+        crate::check::SampleStatistic::Quantile => {
+            format!("the {} quantile", crate::units::fmt_pct(s.probability))
+        }
+        crate::check::SampleStatistic::Proportion => {
+            format!("a probability of {}", crate::units::fmt_pct(s.probability))
+        }
+    };
+    let why = if meets.is_none() || s.n < s.n_required {
+        format!(
+            "N = {} cannot show {what} at {conf} confidence; need N >= {} (check {check}: estimate {})",
+            s.n,
+            s.n_required,
+            fmt(s.estimate)
+        )
+    } else {
+        format!(
+            "check {check}: inconclusive at {conf} confidence: the bounds [{}, {}] of {what} (estimate {}, N = {}) straddle the limit {} {}; a larger sample decides",
+            s.lower.map_or("none".into(), fmt),
+            s.upper.map_or("none".into(), fmt),
+            fmt(s.estimate),
+            s.n,
+            op.symbol(),
+            fmt(limit)
+        )
+    };
+    Decision::Undecided(why)
+}
+
 fn row(
     r: &Requirement,
     reqs: &Requirements,
     evs: &[(&str, &Evidence)],
-    run: Option<&TestRun>,
+    tests: Option<TestEvidence<'_>>,
     disposition: Option<&Disposition>,
 ) -> Row {
+    let entry = |check: &str,
+                 e: &Evidence,
+                 value: Option<f64>,
+                 reason: Option<String>,
+                 sampling: Option<Sampling>| EvidenceEntry {
+        check: check.to_string(),
+        basis: if value.is_some() { e.basis } else { None },
+        activity: e.activity.clone(),
+        value,
+        reason,
+        inputs: e.inputs.clone(),
+        artifacts: e.artifacts.clone(),
+        sampling,
+        assumes: e.assumes.clone(),
+        model_inputs: e.model_inputs.clone(),
+        judges_input: e.judges_input.clone(),
+        by_construction: e.by_construction.clone(),
+    };
     let Some(lim) = &r.limit else {
         // qualitative: no value can decide; evidence that names it anyway is shown, not used
         let entries = evs
             .iter()
-            .map(|(check, e)| EvidenceEntry {
-                check: check.to_string(),
-                basis: None,
-                activity: e.activity.clone(),
-                value: None,
-                reason: Some(format!(
-                    "check {check} gave evidence for a qualitative requirement (no limit to compare with)"
-                )),
-                inputs: e.inputs.clone(),
-                artifacts: e.artifacts.clone(),
+            .map(|(check, e)| {
+                entry(
+                    check,
+                    e,
+                    None,
+                    Some(format!(
+                        "check {check} gave evidence for a qualitative requirement (no limit to compare with)"
+                    )),
+                    None,
+                )
             })
             .collect();
         return finish_row(
             r,
             reqs,
-            run,
+            tests,
             disposition,
             Verdict {
                 status: Status::NotVerified,
-                basis: None,
+                deciding: None,
                 value: None,
                 margin: None,
                 reason: Some(qualitative_reason(r.method)),
                 entries,
+                sampling: None,
             },
         );
     };
     let scale = lim.unit.scale;
     let limit = lim.value.value / scale;
-    let mut entries = Vec::new();
-    let mut best: Option<(f64, f64, Basis)> = None; // (value in unit, margin, basis)
+    let mut entries: Vec<EvidenceEntry> = Vec::new();
+    // (entry index, value in unit, margin)
+    let mut best: Option<(usize, f64, f64)> = None;
+    let mut undecided_sampling: Option<Sampling> = None;
     let mut reasons = Vec::new();
     let mut illustrations = Vec::new();
     for (check, e) in evs {
+        let sampling = e.sampling.clone().map(|s| s.scaled(1.0 / scale));
         let (value, reason) = match &e.outcome {
             Outcome::Measured(q) if q.dim == lim.dim && !q.value.is_nan() => {
-                let v = q.value / scale;
-                let m = lim.op.margin(v, limit);
                 let basis = e.basis.unwrap_or(Basis::Illustration);
-                if basis.decides() {
-                    if best.is_none_or(|(_, bm, _)| m < bm) {
-                        best = Some((v, m, basis));
+                let decision = match &sampling {
+                    Some(s) => decide_sampled(s, lim.op, limit, &lim.unit.symbol, check),
+                    None => {
+                        let v = q.value / scale;
+                        Decision::Value(v, lim.op.margin(v, limit))
                     }
-                } else {
-                    illustrations.push(format!(
-                        "illustration only (not a verdict): {} gives {} {}",
-                        check,
-                        crate::units::fmt_num(v),
-                        lim.unit.symbol
-                    ));
+                };
+                match decision {
+                    Decision::Value(v, m) if basis.decides() => {
+                        if best.is_none_or(|(_, _, bm)| m < bm) {
+                            best = Some((entries.len(), v, m));
+                        }
+                        (Some(v), None)
+                    }
+                    Decision::Value(v, _) => {
+                        illustrations.push(format!(
+                            "illustration only (not a verdict): {} gives {} {}",
+                            check,
+                            crate::units::fmt_num(v),
+                            lim.unit.symbol
+                        ));
+                        (Some(v), None)
+                    }
+                    Decision::Undecided(why) => {
+                        if basis.decides() {
+                            reasons.push(why.clone());
+                            undecided_sampling = undecided_sampling.or(sampling.clone());
+                        }
+                        (None, Some(why))
+                    }
                 }
-                (Some(v), None)
             }
             Outcome::Measured(q) => {
                 let why = if q.value.is_nan() {
@@ -421,31 +742,22 @@ fn row(
                 (None, Some(why.clone()))
             }
         };
-        entries.push(EvidenceEntry {
-            check: check.to_string(),
-            basis: if value.is_some() { e.basis } else { None },
-            activity: e.activity.clone(),
-            value,
-            reason,
-            inputs: e.inputs.clone(),
-            artifacts: e.artifacts.clone(),
-        });
+        entries.push(entry(check, e, value, reason, sampling));
     }
-    let (status, value, margin, reason, basis) = match best {
-        Some((v, m, basis)) => {
-            let ok = lim.op.holds(v, limit);
-            (
-                if ok {
-                    Status::Compliant
-                } else {
-                    Status::NonCompliant
-                },
-                Some(v),
-                Some(m),
-                None,
-                Some(basis),
-            )
-        }
+    let verdict = match best {
+        Some((i, v, m)) => Verdict {
+            status: if lim.op.holds(v, limit) {
+                Status::Compliant
+            } else {
+                Status::NonCompliant
+            },
+            deciding: Some(i),
+            value: Some(v),
+            margin: Some(m),
+            reason: None,
+            sampling: entries[i].sampling.clone(),
+            entries,
+        },
         None => {
             reasons.extend(illustrations);
             let why = if reasons.is_empty() {
@@ -453,54 +765,55 @@ fn row(
             } else {
                 reasons.join("; ")
             };
-            (Status::NotVerified, None, None, Some(why), None)
+            Verdict {
+                status: Status::NotVerified,
+                deciding: None,
+                value: None,
+                margin: None,
+                reason: Some(why),
+                sampling: undecided_sampling,
+                entries,
+            }
         }
     };
-    finish_row(
-        r,
-        reqs,
-        run,
-        disposition,
-        Verdict {
-            status,
-            basis,
-            value,
-            margin,
-            reason,
-            entries,
-        },
-    )
+    finish_row(r, reqs, tests, disposition, verdict)
 }
 
 /// What the evidence decided for one requirement.
 struct Verdict {
     status: Status,
-    basis: Option<Basis>,
+    /// Index of the deciding entry.
+    deciding: Option<usize>,
     value: Option<f64>,
     margin: Option<f64>,
     reason: Option<String>,
     entries: Vec<EvidenceEntry>,
+    sampling: Option<Sampling>,
 }
 
-/// The row of `r` with its verdict, tests and links.
+/// The row of `r` with its verdict, tests and links (its findings and verdict text follow in
+/// [`findings`], once every row's status is known).
 fn finish_row(
     r: &Requirement,
     reqs: &Requirements,
-    run: Option<&TestRun>,
+    tests: Option<TestEvidence<'_>>,
     disposition: Option<&Disposition>,
     v: Verdict,
 ) -> Row {
     let Verdict {
         status,
-        basis,
+        deciding,
         value,
         margin,
         reason,
         entries,
+        sampling,
     } = v;
-    let tests: Vec<TestRef> = run
-        .map(|run| {
-            run.for_requirement(r.id.as_str())
+    let deciding = deciding.map(|i| &entries[i]);
+    let test_refs: Vec<TestRef> = tests
+        .map(|t| {
+            t.run
+                .for_requirement(r.id.as_str())
                 .map(|t| TestRef {
                     test: format!("{}::{}", t.krate, t.test),
                     kind: t.kind.clone(),
@@ -512,14 +825,16 @@ fn finish_row(
                 .collect()
         })
         .unwrap_or_default();
-    let tests_status = if tests.iter().any(|t| t.result == TestResult::Failed) {
+    let tests_status = if tests.is_some_and(|t| !t.freshness.is_fresh()) {
+        TestsStatus::Stale
+    } else if test_refs.iter().any(|t| t.result == TestResult::Failed) {
         TestsStatus::Failed
-    } else if tests
+    } else if test_refs
         .iter()
         .any(|t| matches!(t.result, TestResult::Ignored | TestResult::NotRun))
     {
         TestsStatus::Incomplete
-    } else if tests.iter().any(TestRef::is_evidence) {
+    } else if test_refs.iter().any(TestRef::is_evidence) {
         TestsStatus::Passed
     } else {
         TestsStatus::None
@@ -527,11 +842,17 @@ fn finish_row(
     Row {
         id: r.id.to_string(),
         status,
-        basis,
+        verdict: status.as_str().to_string(),
+        basis: deciding.and_then(|e| e.basis),
+        findings: Vec::new(),
         disposition: disposition.cloned(),
         value,
         limit: r.limit.as_ref().map(|l| l.in_unit()),
         margin,
+        sampling,
+        assumes: deciding.map_or_else(Vec::new, |e| e.assumes.clone()),
+        model_inputs: deciding.map_or_else(Vec::new, |e| e.model_inputs.clone()),
+        by_construction: deciding.and_then(|e| e.by_construction.clone()),
         unit: r
             .limit
             .as_ref()
@@ -564,9 +885,191 @@ fn finish_row(
             .collect(),
         reason,
         evidence: entries,
-        tests,
+        tests: test_refs,
         tests_status,
         defined_at: format!("{}:{}", r.origin.file.display(), r.origin.line),
+    }
+}
+
+/// The short name of a model input in a verdict (`budget`, `capture inputs`, ...).
+fn input_word(name: &str) -> String {
+    match name {
+        "budget" => "budget".into(),
+        "capture" => "capture inputs".into(),
+        "charge" => "charge inputs".into(),
+        "design" => "design inputs".into(),
+        other => other.replace('_', " "),
+    }
+}
+
+/// Fills every row's findings and verdict text, once every status is known: what a flow-down
+/// assumes that is not verified (followed through the assumed rows' own assumptions), a model
+/// input a non-compliant row rejects, the traced tests, what holds by construction.
+fn findings(rows: &mut [Row], tests: Option<TestEvidence<'_>>) {
+    let status: BTreeMap<String, Status> = rows.iter().map(|r| (r.id.clone(), r.status)).collect();
+    let assumes: BTreeMap<String, Vec<String>> = rows
+        .iter()
+        .map(|r| (r.id.clone(), r.assumes.clone()))
+        .collect();
+    // the model inputs a non-compliant row rejects: input -> (row, its disposition)
+    let mut rejected: BTreeMap<String, (String, Option<String>)> = BTreeMap::new();
+    for r in rows.iter() {
+        if r.status != Status::NonCompliant {
+            continue;
+        }
+        for e in r.evidence.iter().filter(|e| e.value.is_some()) {
+            if let Some(i) = &e.judges_input {
+                rejected.entry(i.clone()).or_insert((
+                    r.id.clone(),
+                    r.disposition
+                        .as_ref()
+                        .map(|d| format!("{} {}", d.kind.as_str(), d.reference)),
+                ));
+            }
+        }
+    }
+    // the assumed rows that are not verified, through chains of assumptions
+    fn unmet(
+        id: &str,
+        status: &BTreeMap<String, Status>,
+        assumes: &BTreeMap<String, Vec<String>>,
+        seen: &mut BTreeSet<String>,
+        out: &mut Vec<(String, Status)>,
+    ) {
+        for a in assumes.get(id).into_iter().flatten() {
+            if !seen.insert(a.clone()) {
+                continue;
+            }
+            let s = status.get(a).copied().unwrap_or(Status::NotVerified);
+            if s != Status::Compliant {
+                out.push((a.clone(), s));
+            }
+            unmet(a, status, assumes, seen, out);
+        }
+    }
+    let fresh_run = tests.is_some_and(|t| t.freshness.is_fresh());
+    for r in rows.iter_mut() {
+        let mut qual: Vec<String> = Vec::new();
+        let mut found: Vec<String> = Vec::new();
+        if r.status == Status::NotVerified {
+            r.verdict = r.status.as_str().to_string();
+            if r.tests_status == TestsStatus::Stale {
+                found.push(format!(
+                    "traced test results are stale: {}",
+                    tests.and_then(|t| t.freshness.reason()).unwrap_or("")
+                ));
+            }
+            r.findings = found;
+            continue;
+        }
+        if r.status == Status::NonCompliant {
+            match &r.disposition {
+                Some(d) => qual.push(format!(
+                    "{} {}{}",
+                    d.kind.as_str(),
+                    d.reference,
+                    if d.expired { " EXPIRED" } else { "" }
+                )),
+                None => {
+                    qual.push("no disposition".into());
+                    found.push(
+                        "non-compliant with no disposition (NCR, waiver or RFD) in the dispositions file"
+                            .into(),
+                    );
+                }
+            }
+        }
+        if let Some(b) = r.basis
+            && b != Basis::Model
+        {
+            qual.push(b.label().to_string());
+        }
+        if let Some(why) = &r.by_construction {
+            qual.push("by construction".into());
+            found.push(format!("holds by construction: {why}"));
+        }
+        let mut miss = Vec::new();
+        unmet(
+            &r.id,
+            &status,
+            &assumes,
+            &mut BTreeSet::from([r.id.clone()]),
+            &mut miss,
+        );
+        match miss.as_slice() {
+            [] => {}
+            [(id, s)] => qual.push(format!("assumes {} {id}", s.as_str())),
+            many => qual.push(format!(
+                "assumes {} rows not verified or not met",
+                many.len()
+            )),
+        }
+        for (id, s) in &miss {
+            found.push(format!(
+                "takes {id} as met, which is {}: the verdict holds only if {id} does",
+                s.as_str()
+            ));
+        }
+        for i in &r.model_inputs {
+            if let Some((judge, disp)) = rejected.get(i)
+                && *judge != r.id
+            {
+                qual.push(format!("{} rejected by {judge}", input_word(i)));
+                found.push(format!(
+                    "computed from the {} that {judge} rejects (non-compliant{})",
+                    input_word(i),
+                    disp.as_ref().map_or(String::new(), |d| format!("; {d}"))
+                ));
+            }
+        }
+        match r.tests_status {
+            TestsStatus::Failed => {
+                qual.push("test failed".into());
+                let names: Vec<&str> = r
+                    .tests
+                    .iter()
+                    .filter(|t| t.result == TestResult::Failed)
+                    .map(|t| t.test.as_str())
+                    .collect();
+                found.push(format!("traced test failed: {}", names.join(", ")));
+            }
+            TestsStatus::Incomplete => {
+                qual.push("tests incomplete".into());
+                let names: Vec<String> = r
+                    .tests
+                    .iter()
+                    .filter(|t| matches!(t.result, TestResult::Ignored | TestResult::NotRun))
+                    .map(|t| format!("{} ({})", t.test, t.result.as_str()))
+                    .collect();
+                found.push(format!("traced test did not run: {}", names.join(", ")));
+            }
+            TestsStatus::Stale => {
+                qual.push("tests stale".into());
+                found.push(format!(
+                    "traced test results are stale: {}",
+                    tests.and_then(|t| t.freshness.reason()).unwrap_or("")
+                ));
+            }
+            TestsStatus::Passed | TestsStatus::None => {
+                let needs = matches!(
+                    r.basis,
+                    Some(Basis::Model | Basis::Measurement | Basis::MethodValidation)
+                );
+                if fresh_run && needs && !r.tests.iter().any(TestRef::is_evidence) {
+                    qual.push("no traced test".into());
+                    found.push(
+                        "no passing traced test asserts its limit or an independent reference"
+                            .into(),
+                    );
+                }
+            }
+        }
+        r.verdict = if qual.is_empty() {
+            r.status.as_str().to_string()
+        } else {
+            format!("{} ({})", r.status.as_str(), qual.join("; "))
+        };
+        r.findings = found;
     }
 }
 
@@ -731,6 +1234,267 @@ requirements:
         )];
         let m = Matrix::build(&r, &ev, None, &[]);
         assert_eq!(m.requirements[0].status, Status::NotVerified);
+    }
+
+    fn quantile_evidence(id: &str, n: usize, scale: f64) -> Evidence {
+        // |X'| = scale x k / n um/s, k = 1..n: the 99.73 % quantile is about 0.9973 scale
+        let v: Vec<f64> = (1..=n)
+            .map(|k| scale * 1e-6 * k as f64 / n as f64)
+            .collect();
+        let s = Sampling::quantile(&v, 0.9973, 0.95);
+        Evidence::measured(
+            id,
+            Quantity::new(s.estimate, Dim::VELOCITY),
+            Basis::Model,
+            "mc",
+        )
+        .with_sampling(s)
+    }
+
+    #[test]
+    fn a_sampled_quantile_is_decided_by_its_bound_never_its_estimate() {
+        let r = reqs();
+        // N = 200: no upper bound exists, the estimate (4.99 um/s) is within the limit
+        let m = Matrix::build(
+            &r,
+            &[("mc".into(), vec![quantile_evidence("A-ONE", 200, 5.0)])],
+            None,
+            &[],
+        );
+        let row = &m.requirements[0];
+        assert_eq!(row.status, Status::NotVerified);
+        let why = row.reason.as_deref().unwrap();
+        assert!(
+            why.contains(
+                "N = 200 cannot show the 99.73 % quantile at 95 % confidence; need N >= 1109"
+            ),
+            "{why}"
+        );
+        assert_eq!(row.sampling.as_ref().unwrap().n, 200);
+        // N = 100 000: the bound (rank 99 758 of 100 000, 4.9879) decides, with its margin
+        let m = Matrix::build(
+            &r,
+            &[("mc".into(), vec![quantile_evidence("A-ONE", 100_000, 5.0)])],
+            None,
+            &[],
+        );
+        let row = &m.requirements[0];
+        assert_eq!(row.status, Status::Compliant);
+        assert!(
+            (row.value.unwrap() - 5.0 * 99_758.0 / 100_000.0).abs() < 1e-9,
+            "{:?}",
+            row.value
+        );
+        // an estimate within the limit whose bound is not: not verified (inconclusive)
+        let m = Matrix::build(
+            &r,
+            &[(
+                "mc".into(),
+                vec![quantile_evidence("A-ONE", 100_000, 5.0 / 0.99745)],
+            )],
+            None,
+            &[],
+        );
+        let row = &m.requirements[0];
+        assert_eq!(row.status, Status::NotVerified, "{:?}", row.value);
+        assert!(
+            row.reason
+                .as_deref()
+                .unwrap()
+                .contains("straddle the limit")
+        );
+        // a lower bound beyond the limit: non-compliant
+        let m = Matrix::build(
+            &r,
+            &[("mc".into(), vec![quantile_evidence("A-ONE", 100_000, 5.2)])],
+            None,
+            &[],
+        );
+        assert_eq!(m.requirements[0].status, Status::NonCompliant);
+        assert_eq!(m.requirements[0].verdict, "non-compliant (no disposition)");
+    }
+
+    #[test]
+    fn a_probability_is_decided_by_its_lower_bound() {
+        let r = reqs();
+        let ev = |k: u64, n: u64| {
+            Evidence::measured(
+                "A-TWO",
+                Quantity::new(k as f64 / n as f64, Dim::DIMENSIONLESS),
+                Basis::Model,
+                "mc",
+            )
+            .with_sampling(Sampling::proportion(k, n, 0.9973, 0.95))
+        };
+        // every one of 200 captured: 0.05^(1/200) = 0.9851 cannot show 0.9973
+        let m = Matrix::build(&r, &[("mc".into(), vec![ev(200, 200)])], None, &[]);
+        assert_eq!(m.requirements[1].status, Status::NotVerified);
+        assert!(
+            m.requirements[1]
+                .reason
+                .as_deref()
+                .unwrap()
+                .contains("need N >= 1109")
+        );
+        let m = Matrix::build(&r, &[("mc".into(), vec![ev(100_000, 100_000)])], None, &[]);
+        let row = &m.requirements[1];
+        assert_eq!(row.status, Status::Compliant);
+        assert!((row.value.unwrap() - 0.05f64.powf(1e-5)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn verdicts_read_as_what_they_rest_on() {
+        let r = reqs();
+        let m = Matrix::build(
+            &r,
+            &[(
+                "mc".into(),
+                vec![
+                    // a flow-down that takes A-THREE (not verified) as met
+                    Evidence::measured(
+                        "A-ONE",
+                        Quantity::new(1e-6, Dim::VELOCITY),
+                        Basis::FlowDown,
+                        "fd",
+                    )
+                    .assuming(["A-THREE"]),
+                    // a model value from the budget, which A-TWO judges and rejects
+                    Evidence::measured(
+                        "A-TWO",
+                        Quantity::new(0.5, Dim::DIMENSIONLESS),
+                        Basis::Model,
+                        "cal",
+                    )
+                    .judging_input("budget"),
+                ],
+            )],
+            None,
+            &[],
+        );
+        assert_eq!(
+            m.requirements[0].verdict,
+            "compliant (flow-down; assumes not-verified A-THREE)"
+        );
+        assert!(m.requirements[0].findings[0].contains("takes A-THREE as met"));
+        assert!(!m.requirements[0].plainly_compliant());
+        assert_eq!(m.summary.compliant_by_basis["flow-down"], 1);
+        assert_eq!(m.summary.plainly_compliant, 0);
+        assert_eq!(m.summary.compliant_with_findings, 1);
+        let line = m.summary.line();
+        assert_eq!(
+            line,
+            "3 requirements: 1 compliant (1 flow-down; 0 plainly, 1 with findings), 1 non-compliant (1 without disposition), 1 not verified"
+        );
+        // a model row computed from the rejected budget carries the finding
+        let m = Matrix::build(
+            &r,
+            &[(
+                "mc".into(),
+                vec![
+                    Evidence::measured(
+                        "A-ONE",
+                        Quantity::new(1e-6, Dim::VELOCITY),
+                        Basis::Model,
+                        "mc",
+                    )
+                    .from_inputs(&["budget"]),
+                    Evidence::measured(
+                        "A-TWO",
+                        Quantity::new(0.5, Dim::DIMENSIONLESS),
+                        Basis::Model,
+                        "cal",
+                    )
+                    .judging_input("budget"),
+                ],
+            )],
+            None,
+            &[],
+        );
+        assert_eq!(
+            m.requirements[0].verdict,
+            "compliant (budget rejected by A-TWO)"
+        );
+    }
+
+    #[test]
+    fn a_stale_or_failed_run_shows_on_every_row() {
+        use crate::testrun::{RecordedTest, TestRun};
+        let r = reqs();
+        let ev = vec![(
+            "mc".to_string(),
+            vec![Evidence::measured(
+                "A-ONE",
+                Quantity::new(1e-6, Dim::VELOCITY),
+                Basis::Model,
+                "mc",
+            )],
+        )];
+        let mut run = TestRun {
+            commit: "0".repeat(40),
+            dirty: false,
+            tree_sha256: Some("x".into()),
+            proptest_rng_seed: None,
+            date: "2001-01-01T00:00:00Z".into(),
+            command: "forged".into(),
+            tests: vec![RecordedTest {
+                krate: "c".into(),
+                test: "t".into(),
+                result: crate::testrun::TestResult::Passed,
+                location: "f.rs:1".into(),
+                requirements: vec!["A-ONE".into()],
+                cases: 1,
+                assertions: vec![Assertion::Limit],
+                kind: "unit".into(),
+                asserted: Default::default(),
+            }],
+        };
+        let now = Ok(crate::testrun::TreeState {
+            commit: "1".repeat(40),
+            tree_sha256: "y".into(),
+            dirty: false,
+        });
+        let fr = run.freshness(&now);
+        assert!(!fr.is_fresh());
+        let t = TestEvidence {
+            file: "run.json",
+            run: &run,
+            freshness: &fr,
+        };
+        let m = Matrix::build_with(&r, &ev, Some(t), &[]);
+        assert_eq!(m.summary.tests, "stale");
+        assert!(!m.test_run.as_ref().unwrap().fresh);
+        for row in &m.requirements {
+            assert_eq!(row.tests_status, TestsStatus::Stale, "{}", row.id);
+        }
+        assert_eq!(m.requirements[0].verdict, "compliant (tests stale)");
+        // the same run, fresh, with its test failed
+        run.tests[0].result = crate::testrun::TestResult::Failed;
+        let fresh = Freshness::Fresh;
+        let m = Matrix::build_with(
+            &r,
+            &ev,
+            Some(TestEvidence {
+                file: "run.json",
+                run: &run,
+                freshness: &fresh,
+            }),
+            &[],
+        );
+        assert_eq!(m.requirements[0].verdict, "compliant (test failed)");
+        // and with no test at all: a model verdict without test evidence
+        run.tests.clear();
+        let m = Matrix::build_with(
+            &r,
+            &ev,
+            Some(TestEvidence {
+                file: "run.json",
+                run: &run,
+                freshness: &fresh,
+            }),
+            &[],
+        );
+        assert_eq!(m.requirements[0].verdict, "compliant (no traced test)");
+        assert_eq!(m.without_test_evidence(), ["A-ONE"]);
     }
 
     #[test]

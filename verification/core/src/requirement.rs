@@ -341,6 +341,70 @@ impl Limit {
     }
 }
 
+/// A requirement's `probability` as a fraction in (0, 1): `99.73 %`, `0.9973`, or a
+/// percentage with its sigma level, `95.45 % (2 sigma)`, which means the exact two-sided
+/// coverage `erf(k / sqrt 2)` of `k` standard deviations (0.954 499 7 for 2) and must agree
+/// with the percentage to its written digits.
+pub fn parse_probability(text: &str) -> Result<(f64, Option<f64>), String> {
+    let t = text.trim();
+    let (head, sigma) = match t.split_once('(') {
+        Some((h, rest)) => {
+            let inner = rest.strip_suffix(')').ok_or_else(|| {
+                format!("probability `{t}`: write `99.73 %`, `0.9973` or `95.45 % (2 sigma)`")
+            })?;
+            let k = inner
+                .trim()
+                .strip_suffix("sigma")
+                .map(str::trim)
+                .and_then(|k| k.parse::<f64>().ok())
+                .filter(|k| k.is_finite() && *k > 0.0 && *k <= 8.0)
+                .ok_or_else(|| {
+                    format!(
+                        "probability `{t}`: `({inner})` is not a sigma level such as `(2 sigma)`"
+                    )
+                })?;
+            (h.trim(), Some(k))
+        }
+        None => (t, None),
+    };
+    let (num, pct) = match head.strip_suffix('%') {
+        Some(n) => (n.trim(), true),
+        None => (head, false),
+    };
+    let v: f64 = num.parse().map_err(|_| {
+        format!("probability `{t}`: write `99.73 %`, `0.9973` or `95.45 % (2 sigma)`")
+    })?;
+    // a percentage divided by 100 in binary (99.73 / 100 = 0.9973000000000001): rounded to 15
+    // significant digits, the fraction is the number the percentage writes
+    let p = if pct {
+        format!("{:.14e}", v / 100.0).parse().unwrap_or(v / 100.0)
+    } else {
+        v
+    };
+    if !(p.is_finite() && p > 0.0 && p < 1.0) {
+        return Err(format!(
+            "probability `{t}` is not between 0 and 100 % (exclusive)"
+        ));
+    }
+    match sigma {
+        None => Ok((p, None)),
+        Some(k) => {
+            let exact = 1.0 - crate::normal::erfc(k / std::f64::consts::SQRT_2);
+            // the percentage as written carries its own digits: 95.45 % is good to 0.005 %
+            let decimals = num.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
+            let half_ulp = 0.5 * 10f64.powi(-decimals) * if pct { 0.01 } else { 1.0 };
+            if (exact - p).abs() > half_ulp + 2e-7 {
+                return Err(format!(
+                    "probability `{t}`: {k} sigma is {:.4} %, not {num}{}",
+                    100.0 * exact,
+                    if pct { " %" } else { "" }
+                ));
+            }
+            Ok((exact, Some(k)))
+        }
+    }
+}
+
 /// A requirement loaded and checked.
 #[derive(Clone, Debug, Serialize)]
 pub struct Requirement {
@@ -362,8 +426,14 @@ pub struct Requirement {
     /// For a limit that is a curve over frequency (an amplitude spectral density bound): its band
     /// and shape; the limit is then `limit x shape(f)` over the band (see [`crate::spectrum`]).
     pub spectrum: Option<crate::spectrum::Spectrum>,
-    /// Probability level the limit applies at (`99.73 %`), if any.
+    /// Probability level the limit applies at (`99.73 %`), if any, as written.
     pub probability: Option<String>,
+    /// The probability as a fraction (`0.9973`; `erf(k / sqrt 2)` for a written `(k sigma)`),
+    /// what a check that samples judges with (see [`parse_probability`]).
+    pub probability_value: Option<f64>,
+    /// The sigma level `k` when the probability was written with one (`(2 sigma)`): a model
+    /// with a normal output takes its `k`-sigma point exactly.
+    pub probability_sigma: Option<f64>,
     /// Verification method.
     pub method: Method,
     /// Verification level (`level:` of the entry, else of the file, else the family default of
@@ -593,6 +663,14 @@ impl Requirements {
                     ),
                     None => None,
                 };
+                let (probability_value, probability_sigma) = match &r.probability {
+                    Some(p) => {
+                        let (v, k) = parse_probability(&p.value)
+                            .map_err(|c| err(p, format!("requirement {id}: {c}")))?;
+                        (Some(v), k)
+                    }
+                    None => (None, None),
+                };
                 let idx = out.items.len();
                 if let Some(p) = r.parent {
                     if !(p.margin.is_finite() && p.margin > 0.0) {
@@ -613,6 +691,8 @@ impl Requirements {
                     limit,
                     spectrum,
                     probability: r.probability.map(|p| p.value),
+                    probability_value,
+                    probability_sigma,
                     method,
                     level,
                     stage,
@@ -865,6 +945,24 @@ pub(crate) fn first_line(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn probabilities_as_written() {
+        assert_eq!(parse_probability("99.73 %").unwrap(), (0.9973, None));
+        assert_eq!(parse_probability("0.9973").unwrap(), (0.9973, None));
+        let (p, k) = parse_probability("95.45 % (2 sigma)").unwrap();
+        assert!((p - 0.954_499_736).abs() < 1e-7 && k == Some(2.0), "{p}");
+        for bad in [
+            "95.45 % (3 sigma)",
+            "150 %",
+            "0 %",
+            "often",
+            "99.73 % (two sigma)",
+        ] {
+            let e = parse_probability(bad).unwrap_err();
+            assert!(e.contains(bad.split(' ').next().unwrap()), "{bad}: {e}");
+        }
+    }
 
     const GOOD: &str = "family: release
 requirements:

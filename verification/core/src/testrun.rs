@@ -149,12 +149,136 @@ pub struct TestRun {
     pub commit: String,
     /// Whether the work tree had uncommitted changes.
     pub dirty: bool,
+    /// Fingerprint of the work tree the tests ran on ([`tree_state`]: every file git tracks or
+    /// would track, as it was on disk); `None` when the tree changed while the tests ran, or
+    /// in a run recorded before this field existed. [`TestRun::freshness`] compares it with
+    /// the tree a verdict is computed on.
+    #[serde(default)]
+    pub tree_sha256: Option<String>,
+    /// The proptest RNG seed every property test ran with (`PROPTEST_RNG_SEED`), when fixed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub proptest_rng_seed: Option<String>,
     /// UTC date and time the run finished (RFC 3339).
     pub date: String,
     /// The command that ran the tests.
     pub command: String,
     /// Every test the run saw that traces to a requirement (or was declared to).
     pub tests: Vec<RecordedTest>,
+}
+
+/// The state of a git work tree: its commit and a fingerprint of its content.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TreeState {
+    /// `git rev-parse HEAD`.
+    pub commit: String,
+    /// SHA-256 over every file git tracks or would track (`git ls-files --cached --others
+    /// --exclude-standard`: ignored files such as `target/` and `reports/` are left out), each
+    /// framed by its path and length, in path order; a tracked file deleted from disk counts
+    /// as deleted. Uncommitted edits change it; a run of the tests and a verdict on the same
+    /// fingerprint saw the same sources and inputs.
+    pub tree_sha256: String,
+    /// Whether the tree differs from the commit (tracked files changed or untracked files).
+    pub dirty: bool,
+}
+
+fn git(dir: &Path, args: &[&str]) -> Result<Vec<u8>, String> {
+    let out = std::process::Command::new("git")
+        .arg("-C")
+        .arg(dir)
+        .args(args)
+        .stderr(std::process::Stdio::null())
+        .output()
+        .map_err(|e| format!("git: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "`git {}` failed in {}",
+            args.join(" "),
+            dir.display()
+        ));
+    }
+    Ok(out.stdout)
+}
+
+/// The commit and content fingerprint of the git work tree holding `dir`; `Err` outside a
+/// work tree (or without git), with why.
+pub fn tree_state(dir: &Path) -> Result<TreeState, String> {
+    let top = git(dir, &["rev-parse", "--show-toplevel"])
+        .map_err(|_| format!("{} is not in a git work tree", dir.display()))?;
+    let top = std::path::PathBuf::from(String::from_utf8_lossy(&top).trim().to_string());
+    let commit = String::from_utf8_lossy(&git(&top, &["rev-parse", "HEAD"])?)
+        .trim()
+        .to_string();
+    let list = git(
+        &top,
+        &[
+            "ls-files",
+            "-z",
+            "--cached",
+            "--others",
+            "--exclude-standard",
+        ],
+    )?;
+    let mut paths: Vec<&[u8]> = list.split(|b| *b == 0).filter(|p| !p.is_empty()).collect();
+    paths.sort_unstable();
+    paths.dedup();
+    let mut parts: Vec<(String, Vec<u8>)> = Vec::with_capacity(paths.len());
+    for p in paths {
+        let rel = String::from_utf8_lossy(p).into_owned();
+        let full = top.join(&rel);
+        let bytes = match std::fs::symlink_metadata(&full) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let mut b = b"symlink:".to_vec();
+                b.extend(
+                    std::fs::read_link(&full)
+                        .map(|t| t.display().to_string().into_bytes())
+                        .unwrap_or_default(),
+                );
+                b
+            }
+            Ok(m) if m.is_file() => {
+                std::fs::read(&full).map_err(|e| format!("{}: {e}", full.display()))?
+            }
+            Ok(_) => b"not-a-file".to_vec(),
+            Err(_) => b"deleted".to_vec(),
+        };
+        parts.push((rel, bytes));
+    }
+    let tree_sha256 =
+        crate::hash::sha256_parts(parts.iter().map(|(n, b)| (n.as_str(), b.as_slice())));
+    let dirty = !git(&top, &["status", "--porcelain"])?.is_empty();
+    Ok(TreeState {
+        commit,
+        tree_sha256,
+        dirty,
+    })
+}
+
+/// Whether a recorded test run is evidence for the tree a verdict is computed on.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "state", rename_all = "kebab-case")]
+pub enum Freshness {
+    /// Same commit and the same content fingerprint: the tests ran on these sources.
+    Fresh,
+    /// The run does not match the tree (another commit, edits since, no fingerprint, ...).
+    Stale {
+        /// Why, one line.
+        reason: String,
+    },
+}
+
+impl Freshness {
+    /// Whether fresh.
+    pub fn is_fresh(&self) -> bool {
+        matches!(self, Freshness::Fresh)
+    }
+
+    /// The reason when stale.
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            Freshness::Fresh => None,
+            Freshness::Stale { reason } => Some(reason),
+        }
+    }
 }
 
 impl TestRun {
@@ -171,6 +295,41 @@ impl TestRun {
                 crate::text::clip(&e.to_string(), 300)
             )
         })
+    }
+
+    /// Whether this run is evidence for the tree `now` (`Err`: the tree cannot be read, with
+    /// why): fresh only on the same commit with the same content fingerprint, so that a run
+    /// on another commit, a run before uncommitted edits, a run whose tree changed while it
+    /// ran, or a run without a fingerprint (older or foreign) is stale. A dirty tree is fine
+    /// as long as it is the tree the tests ran on.
+    pub fn freshness(&self, now: &Result<TreeState, String>) -> Freshness {
+        let stale = |reason: String| Freshness::Stale { reason };
+        let short = |c: &str| c.chars().take(12).collect::<String>();
+        let now = match now {
+            Ok(t) => t,
+            Err(why) => {
+                return stale(format!(
+                    "cannot be matched with the sources: {why} (run verify in the repository the tests ran in)"
+                ));
+            }
+        };
+        if self.commit != now.commit {
+            return stale(format!(
+                "recorded on commit {}, the work tree is at {}",
+                short(&self.commit),
+                short(&now.commit)
+            ));
+        }
+        match &self.tree_sha256 {
+            None => stale(
+                "the run has no tree fingerprint (recorded by an older `cargo xtask test`, or its tree changed while the tests ran): run `cargo xtask test` again".into(),
+            ),
+            Some(h) if *h != now.tree_sha256 => stale(format!(
+                "the work tree changed since the tests ran on commit {} (uncommitted edits): run `cargo xtask test` again",
+                short(&self.commit)
+            )),
+            Some(_) => Freshness::Fresh,
+        }
     }
 
     /// The recorded tests that executed a `verifies!` call naming `id`.

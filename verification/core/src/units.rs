@@ -445,6 +445,34 @@ pub fn parse_si(text: &str, dim: Dim) -> Result<f64, String> {
 /// Formats a number compactly with at most 4 significant digits, trailing zeros dropped (`5`,
 /// `1.503`, `3.13e8`, `3e8`): the same number is written the same way in every report.
 pub fn fmt_num(v: f64) -> String {
+    fmt_num_digits(v, 4)
+}
+
+/// [`fmt_num`] with as many more significant digits (up to 8) as it takes for the written
+/// number to be closer to `v` than a hundredth of its distance to `limit`: a value 0.27 % from
+/// its limit is not written as the round number beside it (`0.99997`, not `1`, against
+/// `>= 0.9973`).
+pub fn fmt_num_near(v: f64, limit: f64) -> String {
+    let gap = (v - limit).abs();
+    let mut d = 4;
+    loop {
+        let s = fmt_num_digits(v, d);
+        let back: f64 = s.parse().unwrap_or(v);
+        if d >= 8 || !v.is_finite() || (back - v).abs() <= 0.01 * gap {
+            return s;
+        }
+        d += 1;
+    }
+}
+
+/// A fraction as a percentage with up to 6 significant digits (`99.73 %`, `99.997 %`, `95 %`).
+pub fn fmt_pct(p: f64) -> String {
+    format!("{} %", fmt_num_digits(100.0 * p, 6))
+}
+
+/// [`fmt_num`] with `digits` significant digits (1 to 17).
+pub fn fmt_num_digits(v: f64, digits: usize) -> String {
+    let digits = digits.clamp(1, 17) as i32;
     if v == 0.0 {
         return "0".into();
     }
@@ -453,14 +481,18 @@ pub fn fmt_num(v: f64) -> String {
     }
     let a = v.abs();
     if (1e-3..1e5).contains(&a) {
-        let s = format!("{:.*}", (3 - a.log10().floor() as i32).max(0) as usize, v);
+        let s = format!(
+            "{:.*}",
+            (digits - 1 - a.log10().floor() as i32).max(0) as usize,
+            v
+        );
         if s.contains('.') {
             s.trim_end_matches('0').trim_end_matches('.').to_string()
         } else {
             s
         }
     } else {
-        let s = format!("{v:.3e}");
+        let s = format!("{v:.*e}", (digits - 1) as usize);
         match s.split_once('e') {
             Some((m, e)) if m.contains('.') => {
                 format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
@@ -473,6 +505,16 @@ pub fn fmt_num(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_near_their_limit_keep_the_digits_that_tell_them_apart() {
+        assert_eq!(fmt_num_near(0.999_970_043, 0.9973), "0.99997");
+        assert_eq!(fmt_num_near(1.3429, 5.0), "1.343");
+        assert_eq!(fmt_num_near(3.13e8, 3e8), "3.13e8");
+        assert_eq!(fmt_pct(0.9973), "99.73 %");
+        assert_eq!(fmt_pct(0.95), "95 %");
+        assert_eq!(fmt_num_digits(0.999_970_043, 6), "0.99997");
+    }
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() <= 1e-12 * b.abs().max(1e-30)

@@ -23,8 +23,15 @@ pub struct StatusError {
 pub struct RowStatus {
     /// `compliant`, `non-compliant` or `not-verified`.
     pub status: String,
-    /// `model`, `flow-down`, `accepted`, `illustration`; `None` when not verified.
+    /// `model`, `flow-down`, `measurement`, `method-validation`, `accepted`, `illustration`;
+    /// `None` when not verified.
     pub basis: Option<String>,
+    /// The status as it must be read (`compliant (flow-down; assumes not-verified TMS-X-VEL)`),
+    /// when the matrix states it.
+    pub verdict: Option<String>,
+    /// For a sampled value, the sample in words: the quantile or probability, N, the
+    /// confidence bounds.
+    pub sample: Option<String>,
     /// Value in the requirement's unit ([`RowStatus::unit`]).
     pub value: Option<f64>,
     /// The requirement's unit (empty for a dimensionless quantity).
@@ -87,7 +94,12 @@ impl StatusSet {
             if let Some(b) = &basis
                 && !matches!(
                     b.as_str(),
-                    "model" | "flow-down" | "measurement" | "accepted" | "illustration"
+                    "model"
+                        | "flow-down"
+                        | "measurement"
+                        | "method-validation"
+                        | "accepted"
+                        | "illustration"
                 )
             {
                 return Err(err(format!("{id}: unknown basis `{b}`")));
@@ -105,9 +117,30 @@ impl StatusSet {
                 let reference = d.get("reference").and_then(Value::as_str)?;
                 Some(format!("{kind} {reference}"))
             });
+            let sample = r.get("sampling").filter(|v| v.is_object()).map(|sm| {
+                let f = |k: &str| sm.get(k).and_then(Value::as_f64);
+                let num =
+                    |v: Option<f64>| v.map_or("none".to_string(), geodesic_core::units::fmt_num);
+                let pct = |v: Option<f64>| v.map_or("?".to_string(), geodesic_core::units::fmt_pct);
+                let unit = s("unit").unwrap_or_default();
+                format!(
+                    "{} {} of N = {}: estimate {} {unit}, {} bounds [{}, {}] {unit}",
+                    sm.get("statistic")
+                        .and_then(Value::as_str)
+                        .unwrap_or("sample"),
+                    pct(f("probability")),
+                    sm.get("n").and_then(Value::as_u64).unwrap_or(0),
+                    num(f("estimate")),
+                    pct(f("confidence")),
+                    num(f("lower")),
+                    num(f("upper")),
+                )
+            });
             let row = RowStatus {
                 status,
                 basis,
+                verdict: s("verdict"),
+                sample,
                 value: n("value"),
                 unit: s("unit").unwrap_or_default(),
                 margin: n("margin"),

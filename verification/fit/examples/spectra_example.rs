@@ -35,7 +35,7 @@ fn main() {
     std::fs::write(format!("{root}/lpf-da-example.csv"), csv).unwrap();
     std::fs::write(
         format!("{root}/lpf-da-example.yaml"),
-        "description: >-\n  SYNTHETIC differential acceleration (not a measurement): white 1.5e-14 m s^-2 Hz^-1/2\n  plus a random walk of ASD 2.5e-17/f, 0.1 Hz, 4096 samples, seed 1\n  (verification/fit/examples/spectra_example.rs).\ndata: lpf-da-example.csv\ntime_column: t\nchannel: da\nunit: fm/s^2\n",
+        "description: >-\n  SYNTHETIC differential acceleration (not a measurement): white 1.5e-14 m s^-2 Hz^-1/2\n  plus a random walk of ASD 2.5e-17/f, 0.1 Hz, 4096 samples, seed 1\n  (verification/fit/examples/spectra_example.rs).\norigin: synthetic\ndata: lpf-da-example.csv\ntime_column: t\nchannel: da\nunit: fm/s^2\n",
     )
     .unwrap();
     println!("wrote {root}/lpf-da-example.{{yaml,csv}}");

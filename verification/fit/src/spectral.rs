@@ -45,6 +45,38 @@ pub struct Series {
     pub dt_s: f64,
     /// Values in SI.
     pub values: Vec<f64>,
+    /// What the series is: a measurement, a simulation, or synthetic (`origin:`; unstated when
+    /// the file does not say).
+    pub origin: SeriesOrigin,
+    /// Where it comes from (`provenance:`: facility, instrument, date, run; or the model and
+    /// its inputs for a simulation); required for a measurement.
+    pub provenance: Option<String>,
+}
+
+/// What a series declares itself to be (`origin:` in its YAML).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SeriesOrigin {
+    /// Measured data, with its provenance: evidence on basis `measurement`.
+    Measurement,
+    /// The output of a simulation, with its provenance: evidence on basis `model`.
+    Simulation,
+    /// Made up for an example or a test: an illustration, never a verdict.
+    Synthetic,
+    /// The file does not say: an illustration, never a verdict.
+    Unstated,
+}
+
+impl SeriesOrigin {
+    /// As written in YAML (`unstated` when absent).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SeriesOrigin::Measurement => "measurement",
+            SeriesOrigin::Simulation => "simulation",
+            SeriesOrigin::Synthetic => "synthetic",
+            SeriesOrigin::Unstated => "unstated",
+        }
+    }
 }
 
 #[derive(Deserialize)]
@@ -52,6 +84,10 @@ pub struct Series {
 struct SeriesMeta {
     #[serde(default)]
     description: Option<String>,
+    #[serde(default)]
+    origin: Option<Spanned<String>>,
+    #[serde(default)]
+    provenance: Option<Spanned<String>>,
     data: Spanned<String>,
     #[serde(default)]
     time_column: Option<Spanned<String>>,
@@ -63,12 +99,48 @@ struct SeriesMeta {
 pub const UNIFORM_TOL: f64 = 1e-6;
 
 impl Series {
-    /// Loads a series YAML (`data`, `time_column` [default `t`, seconds], `channel`, `unit`)
-    /// and its CSV.
+    /// Loads a series YAML (`data`, `time_column` [default `t`, seconds], `channel`, `unit`,
+    /// optional `origin: measurement | simulation | synthetic` with `provenance`, which a
+    /// measurement or a simulation must give) and its CSV.
     pub fn load(path: &Path) -> Result<Series, FitError> {
         let file = path.display().to_string();
         let meta: SeriesMeta = crate::dataset::read_yaml(path)?;
         let line = |s: &Spanned<String>| s.referenced.line() as usize;
+        let origin = match &meta.origin {
+            None => SeriesOrigin::Unstated,
+            Some(o) => match o.value.trim() {
+                "measurement" => SeriesOrigin::Measurement,
+                "simulation" => SeriesOrigin::Simulation,
+                "synthetic" => SeriesOrigin::Synthetic,
+                other => {
+                    return Err(FitError::input(
+                        &file,
+                        line(o),
+                        format!(
+                            "origin `{}`: write measurement, simulation or synthetic",
+                            geodesic_core::text::clip(other, 40)
+                        ),
+                    ));
+                }
+            },
+        };
+        let provenance = meta
+            .provenance
+            .as_ref()
+            .map(|p| p.value.trim().to_string())
+            .filter(|p| !p.is_empty());
+        if matches!(origin, SeriesOrigin::Measurement | SeriesOrigin::Simulation)
+            && provenance.is_none()
+        {
+            return Err(FitError::input(
+                &file,
+                meta.origin.as_ref().map_or(0, line),
+                format!(
+                    "origin {}: state its `provenance` (facility, instrument, date and run of a measurement; the model and its inputs of a simulation)",
+                    origin.as_str()
+                ),
+            ));
+        }
         let unit = parse_unit(meta.unit.value.trim())
             .map_err(|e| FitError::input(&file, line(&meta.unit), format!("unit: {e}")))?;
         let time_col = meta
@@ -114,6 +186,8 @@ impl Series {
             dim: unit.dim,
             dt_s: dt,
             values,
+            origin,
+            provenance,
         })
     }
 }

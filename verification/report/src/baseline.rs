@@ -1,17 +1,27 @@
 //! The CI gate: compares a compliance report with a baseline `compliance.json` and lists, once
-//! per requirement, what changed, in plain words. `geodesic verify --baseline OLD.json` exits 1
-//! only on a **regression**:
+//! per requirement, what changed, in plain words, each line naming its requirement.
+//! `geodesic verify --baseline OLD.json` exits 1 only on a **regression**:
 //!
 //! - a new non-compliance (the requirement was compliant or not verified in the baseline);
-//! - a margin lost beyond the tolerance (absolute, as a fraction of the limit);
-//! - evidence lost (a value in the baseline, none now) or a weaker basis (model -> accepted);
-//! - a traced test that passed in the baseline and does not pass now (compared only when this
-//!   run has a recorded test run);
-//! - a disposition that expired or was withdrawn while the requirement is non-compliant;
+//! - a non-compliance without a disposition (NCR, waiver, RFD), whether it is new, was in the
+//!   baseline, or belongs to a requirement the baseline does not have; a disposition that
+//!   expired or was withdrawn;
+//! - a requirement whose limit, probability, method, quantity or text changed ("requirement
+//!   changed, needs review", in either direction: a loosened limit is not an improvement);
+//! - a margin lost beyond what the run can resolve: for a sampled value (a Monte Carlo
+//!   quantile, a probability from successes), beyond what the two runs' sampling explains
+//!   ([`sampling_tolerance`]); otherwise beyond the tolerance (absolute, a fraction of the
+//!   limit);
+//! - a smaller sample or a lower confidence than the baseline's behind a sampled verdict;
+//! - evidence lost (a value in the baseline, none now) or a weaker basis (model -> flow-down);
+//! - a traced test that passed in the baseline and does not pass now, or vanished (compared
+//!   only when this run's recorded test run is fresh);
 //! - a requirement that disappeared.
 //!
-//! A known non-compliance present in the baseline is not a regression; an improvement is listed
-//! but never fails the gate. Checks whose value or inputs changed are listed as suspect evidence.
+//! A known non-compliance with its disposition is not a regression; an improvement is listed but
+//! never fails the gate. Checks whose value or inputs changed (a seed, say) are listed as
+//! suspect evidence: a change of seed alone moves sampled values within their sampling
+//! uncertainty and fails nothing.
 
 use crate::Report;
 use geodesic_core::matrix::{Row, Status};
@@ -23,6 +33,14 @@ use std::path::Path;
 #[derive(Deserialize)]
 struct OldReport {
     requirements: Vec<OldRow>,
+    #[serde(default)]
+    run: Option<OldRun>,
+}
+
+#[derive(Deserialize)]
+struct OldRun {
+    #[serde(default)]
+    confidence: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -32,7 +50,23 @@ struct OldRow {
     value: Option<f64>,
     margin: Option<f64>,
     #[serde(default)]
+    limit: Option<f64>,
+    #[serde(default)]
     unit: String,
+    #[serde(default)]
+    limit_text: Option<String>,
+    #[serde(default)]
+    probability: Option<String>,
+    #[serde(default)]
+    method: Option<String>,
+    #[serde(default)]
+    text: Option<String>,
+    #[serde(default)]
+    quantity: Option<String>,
+    #[serde(default)]
+    sampling: Option<geodesic_core::check::Sampling>,
+    #[serde(default)]
+    verdict: Option<String>,
     #[serde(default)]
     basis: Option<String>,
     #[serde(default)]
@@ -101,10 +135,13 @@ pub struct Suspect {
 pub struct Diff {
     /// Baseline file.
     pub baseline: String,
-    /// Margin tolerance (absolute, as a fraction of the limit).
+    /// Margin tolerance of a value that is not sampled (absolute, as a fraction of the limit).
     pub tolerance: f64,
-    /// Whether test results were compared (this run has a recorded test run).
+    /// Whether test results were compared (this run's recorded test run is fresh).
     pub tests_compared: bool,
+    /// Why not, when they were not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tests_not_compared: Option<String>,
     /// Requirements that changed, one entry each.
     pub changes: Vec<Change>,
     /// Requirements new in this run.
@@ -128,10 +165,41 @@ fn rank(s: &str) -> u8 {
 fn basis_rank(b: Option<&str>) -> u8 {
     match b {
         Some("model") | Some("measurement") => 0,
-        Some("flow-down") => 1,
-        Some("accepted") => 2,
-        _ => 3,
+        Some("method-validation") => 1,
+        Some("flow-down") => 2,
+        Some("accepted") => 3,
+        _ => 4,
     }
+}
+
+/// One-sided normal quantile of the gate's test that a sampled margin fell (99.9 %): a change
+/// of seed alone moves a sampled value by more than this many of its standard deviations once
+/// in a thousand comparisons.
+pub const SAMPLING_Z: f64 = 3.090_232_306_167_813;
+
+/// The margin drop (a fraction of the limit) that a sampled value's two runs can explain:
+/// each run's sampling standard deviation is taken as its deciding bound's distance from its
+/// estimate over the one-sided normal quantile of its confidence, and the drop of the
+/// difference of two independent runs is significant beyond [`SAMPLING_Z`] of their combined
+/// deviation. It replaces a fixed tolerance, which a margin smaller than it (CAP-RELEASE-PROB:
+/// 0.27 %) could never exceed and which a Monte Carlo of 10^5 draws resolves 20 times finer.
+pub fn sampling_tolerance(
+    old: &geodesic_core::check::Sampling,
+    old_limit: f64,
+    new: &geodesic_core::check::Sampling,
+    new_limit: f64,
+) -> f64 {
+    let sd = |s: &geodesic_core::check::Sampling, limit: f64| {
+        let z = geodesic_core::normal::normal_quantile(s.confidence);
+        let w = [s.lower, s.upper]
+            .iter()
+            .flatten()
+            .map(|b| (b - s.estimate).abs())
+            .fold(0.0, f64::max);
+        w / z / limit.abs()
+    };
+    let (a, b) = (sd(old, old_limit), sd(new, new_limit));
+    SAMPLING_Z * (a * a + b * b).sqrt()
 }
 
 /// Compares `now` with the baseline file.
@@ -143,6 +211,11 @@ pub fn diff(now: &Report, baseline: &Path, tolerance: f64) -> Result<Diff, Basel
 
 fn pct(m: Option<f64>) -> String {
     m.map_or("—".into(), |m| format!("{:.1} %", 100.0 * m))
+}
+
+/// A small fraction as a percentage with the digits it needs (`0.0042 %`).
+fn pct_fine(m: f64) -> String {
+    format!("{} %", fmt_num(100.0 * m))
 }
 
 fn val(v: Option<f64>, unit: &str) -> String {
@@ -172,11 +245,21 @@ pub fn diff_text(
         .iter()
         .map(|r| (r.id.as_str(), r))
         .collect();
-    let tests_compared = now.matrix.test_run.is_some();
+    let tests_compared = now.matrix.test_run.as_ref().is_some_and(|t| t.fresh);
+    let tests_not_compared = match &now.matrix.test_run {
+        None => Some("no recorded test run".to_string()),
+        Some(t) if !t.fresh => Some(format!(
+            "the recorded test run is stale ({})",
+            t.stale_reason.as_deref().unwrap_or("")
+        )),
+        Some(_) => None,
+    };
+    let old_confidence = old.run.as_ref().and_then(|r| r.confidence);
     let mut d = Diff {
         baseline: label.to_string(),
         tolerance,
         tests_compared,
+        tests_not_compared,
         changes: vec![],
         added: vec![],
         removed: vec![],
@@ -186,9 +269,31 @@ pub fn diff_text(
     for r in &now.matrix.requirements {
         let Some(o) = old_by.get(r.id.as_str()) else {
             d.added.push(r.id.clone());
+            // a new requirement that is non-compliant with no disposition is a regression
+            if let Some(why) = undisposed(r) {
+                d.changes.push(Change {
+                    id: r.id.clone(),
+                    regression: true,
+                    regressions: vec![format!("new requirement, {why}")],
+                    notes: vec![],
+                    status: ("absent".into(), r.status.as_str().to_string()),
+                    margin: (None, r.margin),
+                });
+            }
             continue;
         };
-        let c = compare(r, o, tolerance, tests_compared);
+        let mut c = compare(r, o, tolerance, tests_compared);
+        if let Some(oc) = old_confidence
+            && r.sampling.is_some()
+            && now.run.confidence < oc
+        {
+            c.regressions.push(format!(
+                "its sampled verdict is decided at {} confidence, the baseline's at {}",
+                geodesic_core::units::fmt_pct(now.run.confidence),
+                geodesic_core::units::fmt_pct(oc)
+            ));
+            c.regression = true;
+        }
         if !c.regressions.is_empty() || !c.notes.is_empty() {
             d.changes.push(c);
         }
@@ -210,11 +315,59 @@ pub fn diff_text(
     Ok(d)
 }
 
+/// Why a non-compliant row without a disposition is a regression (`None` otherwise).
+fn undisposed(r: &Row) -> Option<String> {
+    (r.status == Status::NonCompliant && r.disposition.is_none()).then(|| {
+        format!(
+            "non-compliant with no disposition (NCR, waiver or RFD): value {} against {}",
+            val(r.value, &r.unit),
+            r.limit_text
+        )
+    })
+}
+
 fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change {
     let mut reg = Vec::new();
     let mut notes = Vec::new();
     let now = r.status.as_str();
     let unit = if r.unit.is_empty() { &o.unit } else { &r.unit };
+    // the requirement itself: any edit of what it asks is reviewed, whichever direction
+    let q = |s: &str| format!("`{}`", geodesic_core::text::clip(s, 120));
+    let edits: Vec<String> = [
+        (
+            "limit",
+            o.limit_text.as_deref(),
+            Some(r.limit_text.as_str()),
+        ),
+        (
+            "probability",
+            o.probability.as_deref(),
+            r.probability.as_deref(),
+        ),
+        ("method", o.method.as_deref(), Some(r.method.as_str())),
+        ("quantity", o.quantity.as_deref(), Some(r.quantity.as_str())),
+        ("text", o.text.as_deref(), Some(r.text.as_str())),
+    ]
+    .iter()
+    .filter(|(name, old, new)| {
+        // a baseline written before a field existed says nothing about it, except the
+        // probability, which a row always states (null when none)
+        (old.is_some() || *name == "probability") && old != new
+    })
+    .map(|(name, old, new)| {
+        format!(
+            "{name} {} -> {}",
+            old.map_or("none".into(), q),
+            new.map_or("none".into(), q)
+        )
+    })
+    .collect();
+    if !edits.is_empty() {
+        reg.push(format!(
+            "requirement changed, needs review: {}",
+            edits.join("; ")
+        ));
+    }
     if now != o.status {
         let msg = format!("status {} -> {}", o.status, now);
         if r.status == Status::NonCompliant {
@@ -236,17 +389,47 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
             notes.push(msg);
         }
     }
-    if let (Some(a), Some(b)) = (o.margin, r.margin) {
-        if b < a - tolerance {
+    // a sampled value: compared with what its sampling resolves, never a fixed tolerance
+    let (tol, tol_why) = match (&o.sampling, &r.sampling, o.limit, r.limit) {
+        (Some(os), Some(ns), Some(ol), Some(nl)) => {
+            let t = sampling_tolerance(os, ol, ns, nl);
+            (
+                t,
+                format!(
+                    "beyond the {} of the limit the two runs' sampling explains (N {} and {})",
+                    pct_fine(t),
+                    os.n,
+                    ns.n
+                ),
+            )
+        }
+        _ => (tolerance, format!("tolerance {:.1} %", 100.0 * tolerance)),
+    };
+    if let (Some(os), Some(ns)) = (&o.sampling, &r.sampling) {
+        if ns.n < os.n {
             reg.push(format!(
-                "margin fell from {} to {} of the limit (value {} -> {}; tolerance {:.1} %)",
+                "its sampled verdict rests on N = {}, the baseline's on N = {}",
+                ns.n, os.n
+            ));
+        }
+        if ns.confidence < os.confidence {
+            reg.push(format!(
+                "its bound is at {} confidence, the baseline's at {}",
+                geodesic_core::units::fmt_pct(ns.confidence),
+                geodesic_core::units::fmt_pct(os.confidence)
+            ));
+        }
+    }
+    if let (Some(a), Some(b)) = (o.margin, r.margin) {
+        if b < a - tol {
+            reg.push(format!(
+                "margin fell from {} to {} of the limit (value {} -> {}; {tol_why})",
                 pct(Some(a)),
                 pct(Some(b)),
                 val(o.value, unit),
                 val(r.value, unit),
-                100.0 * tolerance
             ));
-        } else if b > a + tolerance {
+        } else if b > a + tol {
             notes.push(format!(
                 "margin rose from {} to {} (value {} -> {})",
                 pct(Some(a)),
@@ -268,18 +451,29 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
         ));
     }
     if tests_compared {
-        for t in o
+        let passed: Vec<&OldTest> = o
             .tests
             .iter()
             .filter(|t| t.result.as_deref() == Some("passed"))
-        {
-            let res = r
-                .tests
-                .iter()
-                .find(|n| n.test == t.test)
-                .map_or("absent", |n| n.result.as_str());
-            if res != "passed" {
-                reg.push(format!("test {} passed in the baseline, now {res}", t.test));
+            .collect();
+        let vanished = passed
+            .iter()
+            .filter(|t| !r.tests.iter().any(|n| n.test == t.test))
+            .count();
+        if vanished > 0 && vanished == passed.len() && r.tests.is_empty() {
+            reg.push(format!(
+                "its {vanished} traced test(s) vanished (passed in the baseline, absent from this run)"
+            ));
+        } else {
+            for t in passed {
+                let res = r
+                    .tests
+                    .iter()
+                    .find(|n| n.test == t.test)
+                    .map_or("absent", |n| n.result.as_str());
+                if res != "passed" {
+                    reg.push(format!("test {} passed in the baseline, now {res}", t.test));
+                }
             }
         }
     }
@@ -295,8 +489,14 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
                 "its disposition {} was withdrawn while it is still non-compliant",
                 od.reference
             )),
+            (None, None) => reg.extend(undisposed(r)),
             _ => {}
         }
+    }
+    if let Some(ov) = &o.verdict
+        && *ov != r.verdict
+    {
+        notes.push(format!("verdict `{ov}` -> `{}`", r.verdict));
     }
     Change {
         id: r.id.clone(),
@@ -404,16 +604,16 @@ pub fn summary_lines(d: &Diff) -> Vec<String> {
 pub fn markdown(d: &Diff) -> String {
     let mut o = String::from("## geodesic: change impact against the baseline\n\n");
     o.push_str(&format!(
-        "Baseline `{}` · margin tolerance {:.1} % of the limit · **{} requirement(s) regressed**\n\n",
+        "Baseline `{}` · margin tolerance {:.1} % of the limit (sampled values: their sampling uncertainty) · **{} requirement(s) regressed**\n\n",
         d.baseline,
         100.0 * d.tolerance,
         d.regressions
     ));
     if !d.tests_compared {
-        o.push_str(
-            "Test results were not compared: this run has no recorded test run \
-             (`cargo xtask test` records one).\n\n",
-        );
+        o.push_str(&format!(
+            "Test results were not compared: {} (`cargo xtask test` records a run of this tree).\n\n",
+            d.tests_not_compared.as_deref().unwrap_or("no fresh test run")
+        ));
     }
     if d.changes.is_empty() && d.added.is_empty() && d.removed.is_empty() {
         o.push_str("No requirement changed status, margin, basis, tests or disposition.\n\n");
@@ -504,23 +704,149 @@ mod tests {
         assert!(!d.changes[0].regressions[0].contains("Some("));
     }
 
+    /// Gives row `id` an NCR.
+    fn ncr(mut r: Report, id: &str) -> Report {
+        let row = r
+            .matrix
+            .requirements
+            .iter_mut()
+            .find(|x| x.id == id)
+            .unwrap();
+        row.disposition = Some(geodesic_core::disposition::Disposition {
+            requirement: id.into(),
+            kind: geodesic_core::disposition::DispositionKind::Ncr,
+            reference: "NCR-1".into(),
+            reason: "known".into(),
+            owner: "o".into(),
+            date: "2026-01-01".into(),
+            expires: None,
+            expired: false,
+            defined_at: "d.yaml:1".into(),
+        });
+        r
+    }
+
     #[test]
     fn a_new_non_compliance_is_one_regression_and_back_is_none() {
-        // flips and loses margin: still one requirement, one count
+        // flips, loses margin and has no disposition: still one requirement, one count
         let d = diff_of(&report(1.3, 2.0), &report(6.0, 2.0), 0.01);
         assert_eq!(d.changes.len(), 1);
         assert_eq!(d.regressions, 1);
-        assert_eq!(d.changes[0].regressions.len(), 2);
+        assert_eq!(d.changes[0].regressions.len(), 3, "{:?}", d.changes[0]);
         assert_eq!(summary_lines(&d).len(), 1);
+        assert!(summary_lines(&d)[0].starts_with("REGRESSION F-A: "));
         let d = diff_of(&report(6.0, 2.0), &report(1.3, 2.0), 0.01);
         assert!(!d.changes[0].regression);
         assert_eq!(d.regressions, 0);
     }
 
     #[test]
-    fn a_known_non_compliance_is_not_a_regression() {
-        let d = diff_of(&report(1.3, 6.0), &report(1.3, 6.0), 0.01);
+    fn a_known_non_compliance_passes_only_with_its_disposition() {
+        let known = ncr(report(1.3, 6.0), "F-B");
+        let d = diff_of(&known, &known, 0.01);
         assert_eq!(d.regressions, 0);
+        // the same non-compliance with no disposition, in the baseline and now: a regression
+        let d = diff_of(&report(1.3, 6.0), &report(1.3, 6.0), 0.01);
+        assert_eq!(d.regressions, 1);
+        assert!(summary_lines(&d)[0].contains("F-B: non-compliant with no disposition"));
+        // the disposition dropped since the baseline
+        let d = diff_of(&known, &report(1.3, 6.0), 0.01);
+        assert_eq!(d.regressions, 1);
+        assert!(summary_lines(&d)[0].contains("NCR-1 was withdrawn"));
+    }
+
+    #[test]
+    fn a_requirement_edit_needs_review_in_either_direction() {
+        let old = report(1.3, 2.0);
+        for (text, limit) in [("<= 5.5 um/s", 5.5), ("<= 4.5 um/s", 4.5)] {
+            let mut new = report(1.3, 2.0);
+            let row = &mut new.matrix.requirements[1];
+            row.limit_text = text.into();
+            row.limit = Some(limit);
+            let d = diff_of(&old, &new, 0.01);
+            assert_eq!(d.regressions, 1, "{text}");
+            let line = &summary_lines(&d)[0];
+            assert!(
+                line.starts_with(
+                    "REGRESSION F-B: requirement changed, needs review: limit `<= 5 um/s` -> `"
+                ) && line.contains(text),
+                "{line}"
+            );
+        }
+        let mut new = report(1.3, 2.0);
+        new.matrix.requirements[0].text = "shall, more loosely".into();
+        new.matrix.requirements[0].probability = Some("50 %".into());
+        let d = diff_of(&old, &new, 0.01);
+        let line = &summary_lines(&d)[0];
+        assert!(
+            line.contains("probability none -> `50 %`") && line.contains("text `shall` -> "),
+            "{line}"
+        );
+    }
+
+    #[test]
+    fn a_new_non_compliant_requirement_without_disposition_fails() {
+        let mut old = report(1.3, 2.0);
+        old.matrix.requirements.pop();
+        let d = diff_of(&old, &report(1.3, 6.0), 0.01);
+        assert_eq!(d.added, ["F-B"]);
+        assert_eq!(d.regressions, 1);
+        assert!(
+            summary_lines(&d)[0]
+                .starts_with("REGRESSION F-B: new requirement, non-compliant with no disposition")
+        );
+        // with its disposition it is listed, not failed
+        let d = diff_of(&old, &ncr(report(1.3, 6.0), "F-B"), 0.01);
+        assert_eq!(d.regressions, 0);
+    }
+
+    /// A sampled row of `n` draws whose 99.73 % estimate is `est` um/s and upper bound `up`.
+    fn sampled(mut r: Report, n: u64, est: f64, up: f64) -> Report {
+        let row = &mut r.matrix.requirements[0];
+        row.value = Some(up);
+        row.margin = Some((5.0 - up) / 5.0);
+        row.sampling = Some(geodesic_core::check::Sampling {
+            statistic: geodesic_core::check::SampleStatistic::Quantile,
+            probability: 0.9973,
+            confidence: 0.95,
+            n,
+            successes: None,
+            estimate: est,
+            lower: Some(2.0 * est - up),
+            upper: Some(up),
+            lower_rank: None,
+            upper_rank: None,
+            n_required: 1109,
+            method: "test".into(),
+        });
+        r
+    }
+
+    #[test]
+    fn a_sampled_margin_is_judged_by_its_sampling_and_its_sample_size() {
+        // estimate 1.329 +- about 0.003 (bound 1.334): a move within sampling passes, ...
+        let old = sampled(report(1.3, 2.0), 100_000, 1.329, 1.334);
+        let d = diff_of(
+            &old,
+            &sampled(report(1.3, 2.0), 100_000, 1.331, 1.336),
+            0.01,
+        );
+        assert_eq!(d.regressions, 0, "{:?}", d.changes);
+        // ... 0.03 um/s (0.6 % of the limit, below the fixed 1 % tolerance) is beyond it
+        let d = diff_of(
+            &old,
+            &sampled(report(1.3, 2.0), 100_000, 1.359, 1.364),
+            0.01,
+        );
+        assert_eq!(d.regressions, 1);
+        assert!(
+            summary_lines(&d)[0].contains("sampling explains"),
+            "{:?}",
+            summary_lines(&d)
+        );
+        // a smaller sample than the baseline's fails even when its bound looks good
+        let d = diff_of(&old, &sampled(report(1.3, 2.0), 2_000, 1.2, 1.3), 0.01);
+        assert!(summary_lines(&d)[0].contains("N = 2000, the baseline's on N = 100000"));
     }
 
     #[test]

@@ -255,15 +255,18 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         o,
         "</ol></li><li><a href=\"#trace\">Trace views</a></li></ol></nav><div class=\"page\">"
     );
-    let s = &m.summary;
     let _ = write!(
         o,
         "<header><h1>{title}</h1><div class=\"doc\">{id} issue {issue} · {project}</div>\
-         <div><b>{} requirements: {} compliant, {} non-compliant, {} not verified</b> · run {date}</div></header><main>",
-        s.total,
-        s.compliant,
-        s.non_compliant,
-        s.not_verified,
+         <div><b>{}</b> · run {date}{stale}</div></header><main>",
+        esc(&m.summary.line()),
+        stale = match &m.test_run {
+            Some(t) if !t.fresh => format!(
+                " · <b>test results STALE</b>: {}",
+                esc(t.stale_reason.as_deref().unwrap_or(""))
+            ),
+            _ => String::new(),
+        },
         title = esc(&d.title),
         id = esc(&d.id),
         issue = esc(&d.issue),
@@ -321,7 +324,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     let _ = write!(
         o,
         "<h2 id=\"vcd\">3 Verification Control Document{UP}</h2>\
-         <p class=\"muted\">ECSS-E-ST-10-02C Annex B. Compliance: yes / yes (accepted) / no / partial (partly met) / not verified. \
+         <p class=\"muted\">ECSS-E-ST-10-02C Annex B. Compliance: yes / yes (basis or finding) / no / partial (partly met) / not verified. \
          Each line links to the section holding its evidence; the full evidence is one click away. \
          Also as <a href=\"vcd.html\">vcd.html</a>, <a href=\"vcd.xlsx\">vcd.xlsx</a>, <a href=\"vcd.csv\">vcd.csv</a>, <a href=\"vcd.md\">vcd.md</a>.</p>{}",
         vcd_table(rep, "")
@@ -423,6 +426,17 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
                 );
             }
         }
+        if let Some(sm) = crate::sampling_text(r) {
+            let _ = write!(
+                o,
+                "<li>Sample: {} ({})</li>",
+                esc(&sm),
+                esc(r.sampling.as_ref().map_or("", |s| s.method.as_str()))
+            );
+        }
+        for f in &r.findings {
+            let _ = write!(o, "<li>Finding: {}</li>", esc(f));
+        }
         let _ = write!(o, "</ul>");
         for e in &r.evidence {
             let inputs: String = e
@@ -442,9 +456,17 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
                         .as_ref()
                         .map_or(String::new(), |w| format!("— not verified: {}", esc(w))),
                     |v| format!(
-                        "— <b>{} {}</b>",
-                        geodesic_core::units::fmt_num(v),
-                        esc(&r.unit)
+                        "— <b>{} {}</b>{}",
+                        crate::units_near(v, r.limit.unwrap_or(f64::NAN)),
+                        esc(&r.unit),
+                        e.sampling.as_ref().map_or(String::new(), |sm| format!(
+                            " ({})",
+                            esc(&sm.describe(&|x| format!(
+                                "{} {}",
+                                crate::units_near(x, r.limit.unwrap_or(f64::NAN)),
+                                r.unit
+                            )))
+                        ))
                     )
                 ),
                 if inputs.is_empty() {
@@ -542,7 +564,7 @@ pub fn render_vcd(rep: &Report) -> String {
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{id} issue {issue}: Verification Control Document</title>\
          <style>{STYLE}</style></head><body><header><h1>Verification Control Document</h1>\
          <div class=\"doc\">{id} issue {issue}: {title} · {project}</div></header><main>{meta}\
-         <p class=\"muted\">ECSS-E-ST-10-02C Annex B. Compliance: yes / yes (accepted) / no / partial (partly met) / not verified. \
+         <p class=\"muted\">ECSS-E-ST-10-02C Annex B. Compliance: yes / yes (basis or finding) / no / partial (partly met) / not verified. \
          The evidence of each line is in <a href=\"index.html\">index.html</a> (the § evidence links).</p>{table}</main></body></html>\n",
         id = esc(&d.id),
         issue = esc(&d.issue),

@@ -1,6 +1,9 @@
 //! JUnit XML of the compliance checks, for CI dashboards: one test suite per requirement
 //! family, one test case per requirement (non-compliant is a failure, not-verified is skipped
-//! with its reason), and a suite `geodesic traced tests` with one test case per traced test of
+//! with its reason, and a compliant verdict that is not a plain model or measurement verdict
+//! with no finding (a flow-down, an accepted value, a method validation, an assumed row not
+//! verified, a rejected model input, a test problem) is skipped with its verdict: never a plain
+//! pass), each with its verdict, basis, findings and sample as properties, and a suite `geodesic traced tests` with one test case per traced test of
 //! the recorded test run, each naming the requirements it verifies in
 //! `<property name="requirement" value="ID"/>` (the convention Polarion, StrictDoc and
 //! sphinx-test-reports import): failed is a failure, ignored or not run is skipped.
@@ -42,7 +45,28 @@ fn run_properties(rep: &Report) -> String {
         ("budget_sha256", r.inputs.budget.sha256.clone()),
         ("capture", r.inputs.capture.label.clone()),
         ("capture_sha256", r.inputs.capture.sha256.clone()),
+        ("charge", r.inputs.charge.label.clone()),
+        ("charge_sha256", r.inputs.charge.sha256.clone()),
+        ("confidence", r.confidence.to_string()),
+        ("summary", rep.matrix.summary.line()),
+        (
+            "plainly_compliant",
+            rep.matrix.summary.plainly_compliant.to_string(),
+        ),
+        (
+            "compliant_with_findings",
+            rep.matrix.summary.compliant_with_findings.to_string(),
+        ),
+        ("test_results", rep.matrix.summary.tests.clone()),
     ];
+    let by_basis: Vec<(String, String)> = rep
+        .matrix
+        .summary
+        .compliant_by_basis
+        .iter()
+        .map(|(b, n)| (format!("compliant_{}", b.replace('-', "_")), n.to_string()))
+        .collect();
+    p.extend(by_basis.iter().map(|(k, v)| (k.as_str(), v.clone())));
     if let Some(d) = &r.dispositions {
         p.push(("dispositions", d.label.clone()));
         p.push(("dispositions_sha256", d.sha256.clone()));
@@ -65,10 +89,18 @@ pub fn render(rep: &Report) -> String {
         fam.entry(r.family.as_str()).or_default().push(r);
     }
     let s = &rep.matrix.summary;
+    let qualified = rep
+        .matrix
+        .requirements
+        .iter()
+        .filter(|r| r.status == Status::Compliant && !r.plainly_compliant())
+        .count();
     let mut o = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     o.push_str(&format!(
         "<testsuites name=\"geodesic compliance\" tests=\"{}\" failures=\"{}\" skipped=\"{}\">\n",
-        s.total, s.non_compliant, s.not_verified
+        s.total,
+        s.non_compliant,
+        s.not_verified + qualified
     ));
     for (f, rows) in fam {
         let fails = rows
@@ -77,7 +109,10 @@ pub fn render(rep: &Report) -> String {
             .count();
         let skips = rows
             .iter()
-            .filter(|r| r.status == Status::NotVerified)
+            .filter(|r| {
+                r.status == Status::NotVerified
+                    || (r.status == Status::Compliant && !r.plainly_compliant())
+            })
             .count();
         o.push_str(&format!(
             "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{fails}\" skipped=\"{skips}\">\n",
@@ -95,14 +130,36 @@ pub fn render(rep: &Report) -> String {
                 esc(&r.title)
             ));
             o.push_str(&format!(
-                "      <properties><property name=\"requirement\" value=\"{}\"/><property name=\"basis\" value=\"{}\"/><property name=\"method\" value=\"{}\"/><property name=\"level\" value=\"{}\"/><property name=\"stage\" value=\"{}\"/><property name=\"compliance\" value=\"{}\"/></properties>\n",
+                "      <properties><property name=\"requirement\" value=\"{}\"/><property name=\"basis\" value=\"{}\"/><property name=\"verdict\" value=\"{}\"/><property name=\"method\" value=\"{}\"/><property name=\"level\" value=\"{}\"/><property name=\"stage\" value=\"{}\"/><property name=\"compliance\" value=\"{}\"/>",
                 esc(&r.id),
                 crate::basis_word(r),
+                esc(&r.verdict),
                 esc(&r.method),
                 esc(&r.level),
                 esc(&r.stage),
-                crate::vcd::compliance(r)
+                esc(&crate::vcd::compliance(r))
             ));
+            if let Some(p) = &r.probability {
+                o.push_str(&format!(
+                    "<property name=\"probability\" value=\"{}\"/>",
+                    esc(p)
+                ));
+            }
+            if let (Some(sm), Some(text)) = (&r.sampling, crate::sampling_text(r)) {
+                o.push_str(&format!(
+                    "<property name=\"sample_n\" value=\"{}\"/><property name=\"confidence\" value=\"{}\"/><property name=\"sample\" value=\"{}\"/>",
+                    sm.n,
+                    sm.confidence,
+                    esc(&text)
+                ));
+            }
+            for f in &r.findings {
+                o.push_str(&format!(
+                    "<property name=\"finding\" value=\"{}\"/>",
+                    esc(f)
+                ));
+            }
+            o.push_str("</properties>\n");
             let detail = format!(
                 "value {} against {}, margin {}; evidence: {}",
                 fmt_value(r),
@@ -115,8 +172,21 @@ pub fn render(rep: &Report) -> String {
                 }
             );
             match r.status {
-                Status::Compliant => o.push_str(&format!(
+                Status::Compliant if r.plainly_compliant() => o.push_str(&format!(
                     "      <system-out>{}</system-out>\n",
+                    esc(&detail)
+                )),
+                Status::Compliant => o.push_str(&format!(
+                    "      <skipped message=\"{}\"/>\n      <system-out>{}</system-out>\n",
+                    esc(&format!(
+                        "{}: not a plain model verdict ({})",
+                        r.verdict,
+                        if r.findings.is_empty() {
+                            format!("basis {}", crate::basis_word(r))
+                        } else {
+                            r.findings.join("; ")
+                        }
+                    )),
                     esc(&detail)
                 )),
                 Status::NonCompliant => o.push_str(&format!(

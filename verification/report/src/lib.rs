@@ -58,6 +58,8 @@ pub struct RunInfo {
     pub mc_n: usize,
     /// Monte Carlo seed.
     pub seed: u64,
+    /// Confidence of the bounds a sampled verdict is decided by [-].
+    pub confidence: f64,
     /// Checks that ran, with the requirements they verify.
     pub checks: Vec<CheckRun>,
     /// geodesic's figures against the thesis's (the fidelity table).
@@ -133,6 +135,14 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
             ),
         ),
         (
+            "charge inputs",
+            format!(
+                "{} (sha256 {})",
+                r.inputs.charge.label,
+                short(&r.inputs.charge.sha256)
+            ),
+        ),
+        (
             "mission design inputs",
             r.inputs
                 .design
@@ -161,23 +171,74 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
             }),
         ),
         ("Monte Carlo", format!("N = {}, seed = {}", r.mc_n, r.seed)),
-    ];
-    v.push((
-        "test results",
-        rep.matrix.test_run.as_ref().map_or(
-            "none recorded (cargo xtask test records them)".into(),
-            |t| {
-                format!(
-                    "{} (commit {}{}, {})",
-                    t.file,
-                    t.commit.chars().take(12).collect::<String>(),
-                    if t.dirty { ", dirty" } else { "" },
-                    t.date
-                )
-            },
+        (
+            "sampled verdicts",
+            format!(
+                "decided by exact one-sided {} confidence bounds (order statistics for a quantile, Clopper-Pearson for a probability), at the probability each requirement states",
+                geodesic_core::units::fmt_pct(r.confidence)
+            ),
         ),
-    ));
+    ];
+    v.push(("test results", test_run_line(&rep.matrix)));
     v
+}
+
+/// The recorded test run in one line: file, commit, date, and `STALE: why` when it is not a
+/// run of this tree.
+pub fn test_run_line(m: &geodesic_core::matrix::Matrix) -> String {
+    m.test_run.as_ref().map_or(
+        "none recorded (cargo xtask test records them)".into(),
+        |t| {
+            format!(
+                "{} (commit {}{}, {}){}",
+                t.file,
+                t.commit.chars().take(12).collect::<String>(),
+                if t.dirty { ", dirty" } else { "" },
+                t.date,
+                match &t.stale_reason {
+                    Some(why) if !t.fresh => format!(" STALE: {why}; not evidence for this run"),
+                    _ => " fresh: a run of this work tree".into(),
+                }
+            )
+        },
+    )
+}
+
+/// A row's sample in a few words (`99.73 % quantile of N = 100 000: estimate 1.329 um/s,
+/// 95 % bounds [1.323, 1.334] um/s`), or `None` when its value is not sampled.
+pub fn sampling_text(r: &geodesic_core::matrix::Row) -> Option<String> {
+    let s = r.sampling.as_ref()?;
+    let limit = r.limit.unwrap_or(f64::NAN);
+    let unit = r.unit.clone();
+    Some(s.describe(&|v| {
+        format!("{} {unit}", geodesic_core::units::fmt_num_near(v, limit))
+            .trim_end()
+            .to_string()
+    }))
+}
+
+/// A row's sample in the fewest words for a table cell (`99.73 % quantile, N = 100000, 95 %
+/// bound`); empty when its value is not sampled.
+pub fn sampling_short(r: &geodesic_core::matrix::Row) -> String {
+    use geodesic_core::check::SampleStatistic;
+    use geodesic_core::units::fmt_pct;
+    let Some(s) = &r.sampling else {
+        return String::new();
+    };
+    format!(
+        "{}, N = {}, {} bound",
+        match s.statistic {
+            SampleStatistic::Quantile => format!("{} quantile", fmt_pct(s.probability)),
+            SampleStatistic::Proportion => format!("probability {}", fmt_pct(s.probability)),
+        },
+        s.n,
+        fmt_pct(s.confidence)
+    )
+}
+
+/// [`geodesic_core::units::fmt_num_near`], shorter to call from the writers.
+pub(crate) fn units_near(v: f64, limit: f64) -> String {
+    geodesic_core::units::fmt_num_near(v, limit)
 }
 
 /// Formats a value for a table: 4 significant digits, `—` when absent.
@@ -197,12 +258,20 @@ pub fn fmt_limit(r: &geodesic_core::matrix::Row) -> String {
     }
 }
 
-/// The deciding value of a row with its unit (`1.329 um/s`), `—` when absent.
+/// The deciding value of a row with its unit (`1.329 um/s`), `—` when absent; with the
+/// digits it takes not to read as its limit's neighbour (`0.99997`, not `1`).
 pub fn fmt_value(r: &geodesic_core::matrix::Row) -> String {
     match r.value {
-        Some(v) => format!("{} {}", geodesic_core::units::fmt_num(v), r.unit)
-            .trim_end()
-            .to_string(),
+        Some(v) => format!(
+            "{} {}",
+            match r.limit {
+                Some(l) => geodesic_core::units::fmt_num_near(v, l),
+                None => geodesic_core::units::fmt_num(v),
+            },
+            r.unit
+        )
+        .trim_end()
+        .to_string(),
         None => "—".into(),
     }
 }
@@ -216,26 +285,13 @@ pub fn id_list(ids: &[&str]) -> String {
     }
 }
 
-/// The verdict as a reader should take it: `compliant`, `compliant (accepted)`,
-/// `non-compliant (NCR NCR-GEO-001)`, `non-compliant (waiver W-1 EXPIRED)`, `not-verified`.
+/// The verdict as a reader should take it, the same words in every report ([`Row::verdict`]):
+/// `compliant`, `compliant (flow-down; assumes not-verified TMS-X-VEL)`, `compliant
+/// (accepted, by construction)`, `non-compliant (NCR NCR-GEO-001)`, `not-verified`.
+///
+/// [`Row::verdict`]: geodesic_core::matrix::Row::verdict
 pub fn verdict(r: &geodesic_core::matrix::Row) -> String {
-    use geodesic_core::Basis;
-    use geodesic_core::matrix::Status;
-    let mut s = r.status.as_str().to_string();
-    if r.status != Status::NotVerified && r.basis == Some(Basis::Accepted) {
-        s.push_str(" (accepted)");
-    }
-    if r.status == Status::NonCompliant
-        && let Some(d) = &r.disposition
-    {
-        s.push_str(&format!(
-            " ({} {}{})",
-            d.kind.as_str(),
-            d.reference,
-            if d.expired { " EXPIRED" } else { "" }
-        ));
-    }
-    s
+    r.verdict.clone()
 }
 
 /// The basis of a row as a word (`model`, `flow-down`, `accepted`, `—`).
@@ -251,6 +307,9 @@ pub fn tests_word(r: &geodesic_core::matrix::Row, run_recorded: bool) -> String 
         return "no run".into();
     }
     let mut parts = Vec::new();
+    if r.tests_status == geodesic_core::matrix::TestsStatus::Stale {
+        parts.push("STALE".to_string());
+    }
     for res in [
         TestResult::Failed,
         TestResult::Ignored,
@@ -270,8 +329,11 @@ pub fn tests_word(r: &geodesic_core::matrix::Row, run_recorded: bool) -> String 
     if change_only > 0 {
         parts.push(format!("({change_only} change detection only)"));
     }
-    if parts.is_empty() {
-        "none".into()
+    if parts.is_empty() || parts == ["STALE"] {
+        parts.push("none".into());
+    }
+    if parts[0] == "STALE" {
+        format!("STALE: {}", parts[1..].join(", "))
     } else {
         parts.join(", ")
     }
@@ -354,12 +416,14 @@ requirements:
                 inputs: geodesic_core::check::ModelInputs {
                     budget: geodesic_core::check::InputFile::new("b.yaml", "b"),
                     capture: geodesic_core::check::InputFile::new("c.yaml", "c"),
+                    charge: geodesic_core::check::InputFile::new("q.yaml", "q"),
                     design: None,
                     series: Default::default(),
                 },
                 dispositions: None,
                 mc_n: 1,
                 seed: 1,
+                confidence: 0.95,
                 checks: vec![],
                 fidelity: vec![],
             },
@@ -396,7 +460,12 @@ mod tests {
         let md = crate::markdown::render(&r);
         assert!(md.contains("### F-A") && md.contains("### F-B"));
         let table = crate::terminal::table(&r.matrix, false);
-        assert!(table.contains("2 requirements: 1 compliant, 1 non-compliant, 0 not verified"));
+        assert!(
+            table.contains(
+                "2 requirements: 1 compliant (1 model; 1 plainly, 0 with findings), 1 non-compliant (1 without disposition), 0 not verified"
+            ),
+            "{table}"
+        );
     }
 
     #[test]

@@ -28,13 +28,15 @@ pub fn render(rep: &Report) -> String {
         let _ = writeln!(o, "- {k}: {}", cell(&v));
     }
     let _ = writeln!(o);
-    let s = &m.summary;
     let _ = writeln!(
         o,
-        "**{} requirements: {} compliant, {} non-compliant, {} not verified.** Margin = (limit − value) / limit \
+        "**{}.** Margin = (limit − value) / limit \
          (sign-adjusted for lower bounds; positive means met). A requirement without a value is `not-verified`, \
-         never compliant.\n",
-        s.total, s.compliant, s.non_compliant, s.not_verified
+         never compliant. A sampled value is the confidence bound that decides, never the estimate. \
+         The status reads as what the verdict rests on: plain `compliant` is a model or measurement \
+         verdict with no finding; `flow-down`, `accepted`, `method validation`, `by construction`, \
+         an assumed row that is not verified, a rejected model input or a test problem say so.\n",
+        m.summary.line()
     );
     let _ = writeln!(
         o,
@@ -129,6 +131,17 @@ pub fn render(rep: &Report) -> String {
         }
         let _ = writeln!(o, "- Defined at: `{}`", r.defined_at);
         let _ = writeln!(o, "- Basis of the verdict: {}", crate::basis_word(r));
+        for f in &r.findings {
+            let _ = writeln!(o, "- Finding: {}", cell(f));
+        }
+        if let Some(sm) = crate::sampling_text(r) {
+            let _ = writeln!(
+                o,
+                "- Sample: {} ({})",
+                cell(&sm),
+                r.sampling.as_ref().map_or("", |s| s.method.as_str())
+            );
+        }
         if let Some(d) = &r.disposition {
             let _ = writeln!(
                 o,
@@ -157,7 +170,7 @@ pub fn render(rep: &Report) -> String {
                 let _ = writeln!(
                     o,
                     "- Status: {} — value {} against {}, margin {}",
-                    r.status.as_str(),
+                    r.verdict,
                     fmt_value(r),
                     fmt_limit(r),
                     fmt_margin(r.margin)
@@ -179,6 +192,20 @@ pub fn render(rep: &Report) -> String {
                     .collect();
                 let basis = e.basis.map_or(String::new(), |b| format!(" [{b}]"));
                 let _ = writeln!(o, "- `{}`{basis}: {} — {}", e.check, e.activity, what);
+                if let Some(sm) = &e.sampling {
+                    let lim = r.limit.unwrap_or(f64::NAN);
+                    let _ = writeln!(
+                        o,
+                        "  - sample: {}",
+                        sm.describe(&|v| format!("{} {}", crate::units_near(v, lim), r.unit))
+                    );
+                }
+                if !e.assumes.is_empty() {
+                    let _ = writeln!(o, "  - takes as met: {}", e.assumes.join(", "));
+                }
+                if !e.model_inputs.is_empty() {
+                    let _ = writeln!(o, "  - model inputs: {}", e.model_inputs.join(", "));
+                }
                 if !inputs.is_empty() {
                     let _ = writeln!(o, "  - inputs: {}", inputs.join(", "));
                 }
@@ -237,7 +264,7 @@ pub fn render(rep: &Report) -> String {
     let _ = writeln!(o, "{}", crate::id_list(&m.without_tests()));
     let _ = writeln!(
         o,
-        "\n### Requirements whose traced tests failed, were ignored or did not run\n"
+        "\n### Requirements whose traced tests failed, were ignored, did not run or are stale\n"
     );
     let _ = writeln!(o, "{}", crate::id_list(&m.with_test_problems()));
     o

@@ -54,19 +54,10 @@ pub fn table(m: &Matrix, color: bool) -> String {
         out.push_str(cells.join("  ").trim_end());
         out.push('\n');
     }
-    let s = &m.summary;
-    out.push_str(&format!(
-        "{} requirements: {} compliant, {} non-compliant, {} not verified\n",
-        s.total, s.compliant, s.non_compliant, s.not_verified
-    ));
+    out.push_str(&m.summary.line());
+    out.push('\n');
     match &m.test_run {
-        Some(t) => out.push_str(&format!(
-            "test results: {} (commit {}{}, {})\n",
-            t.file,
-            &t.commit[..t.commit.len().min(12)],
-            if t.dirty { ", dirty" } else { "" },
-            t.date
-        )),
+        Some(_) => out.push_str(&format!("test results: {}\n", crate::test_run_line(m))),
         None => out.push_str(
             "test results: none recorded (run `cargo xtask test` to record the traced tests)\n",
         ),

@@ -57,8 +57,12 @@ pub struct VcdLine {
     pub margin: String,
     /// What the verdict rests on: model, flow-down, accepted (empty when not verified).
     pub basis: &'static str,
-    /// yes / yes (accepted) / no / partial / not verified.
-    pub compliance: &'static str,
+    /// The sample behind a sampled value: the quantile or probability, N, the bounds at their
+    /// confidence (empty when the value is not sampled).
+    pub sampling: String,
+    /// yes / yes (with the verdict's qualifiers: `yes (flow-down; assumes not-verified
+    /// TMS-X-VEL)`) / no / partial / not verified.
+    pub compliance: String,
     /// open / closed.
     pub close_out: &'static str,
     /// Why open or closed.
@@ -88,15 +92,18 @@ fn holds(r: &Row, value: f64) -> bool {
 }
 
 /// Compliance as the VCD states it (ECSS-E-ST-10-02C Annex B): `yes` (compliant on a model or
-/// flow-down), `yes (accepted)` (compliant on a cited external result), `no` (non-compliant),
-/// `partial` (partly met: non-compliant, yet another deciding piece of evidence for the same
-/// requirement meets the limit), `not verified` (no evidence gives a value; in ECSS "partial"
-/// means partly met, which a missing verification is not).
-pub fn compliance(r: &Row) -> &'static str {
-    match (r.status, r.basis) {
-        (Status::Compliant, Some(geodesic_core::Basis::Accepted)) => "yes (accepted)",
-        (Status::Compliant, _) => "yes",
-        (Status::NonCompliant, _) => {
+/// a measurement with no finding), `yes (...)` with the verdict's qualifiers (`yes (accepted)`,
+/// `yes (flow-down; assumes not-verified TMS-X-VEL)`, `yes (budget rejected by FAC-ADH-CAL)`),
+/// `no` (non-compliant), `partial` (partly met: non-compliant, yet another deciding piece of
+/// evidence for the same requirement meets the limit), `not verified` (no evidence gives a
+/// value; in ECSS "partial" means partly met, which a missing verification is not).
+pub fn compliance(r: &Row) -> String {
+    match r.status {
+        Status::Compliant => match r.verdict.strip_prefix("compliant") {
+            Some(q) if !q.trim().is_empty() => format!("yes{q}"),
+            _ => "yes".into(),
+        },
+        Status::NonCompliant => {
             let deciding: Vec<f64> = r
                 .evidence
                 .iter()
@@ -104,12 +111,12 @@ pub fn compliance(r: &Row) -> &'static str {
                 .filter_map(|e| e.value)
                 .collect();
             if deciding.len() > 1 && deciding.iter().any(|v| holds(r, *v)) {
-                "partial"
+                "partial".into()
             } else {
-                "no"
+                "no".into()
             }
         }
-        (Status::NotVerified, _) => "not verified",
+        Status::NotVerified => "not verified".into(),
     }
 }
 
@@ -164,14 +171,50 @@ fn group(i: i64) -> String {
     if i < 0 { format!("-{out}") } else { out }
 }
 
-/// One check's evidence in a few words: `release-montecarlo: 1.329 um/s (N = 100 000, seed 1)`.
+/// One check's evidence in a few words: `release-montecarlo: 1.334 um/s (upper 95 % bound of
+/// the 99.73 % quantile, estimate 1.329 um/s; N = 100 000, seed 1)`.
 fn short_evidence(r: &Row, e: &EvidenceEntry) -> String {
-    let what = match (e.value, &e.reason) {
-        (Some(v), _) => format!("{} {}", fmt_num(v), r.unit).trim_end().to_string(),
-        (None, Some(_)) => "no value".into(),
-        (None, None) => "—".into(),
+    let lim = r.limit.unwrap_or(f64::NAN);
+    let num = |v: f64| {
+        format!("{} {}", geodesic_core::units::fmt_num_near(v, lim), r.unit)
+            .trim_end()
+            .to_string()
+    };
+    let what = match (e.value, &e.reason, &e.sampling) {
+        (Some(v), _, Some(s)) => {
+            let side = if Some(v) == s.upper { "upper" } else { "lower" };
+            format!(
+                "{} ({side} {} bound of {}, estimate {})",
+                num(v),
+                geodesic_core::units::fmt_pct(s.confidence),
+                match s.statistic {
+                    geodesic_core::check::SampleStatistic::Quantile => format!(
+                        "the {} quantile",
+                        geodesic_core::units::fmt_pct(s.probability)
+                    ),
+                    geodesic_core::check::SampleStatistic::Proportion =>
+                        format!("{} of {}", s.successes.unwrap_or(0), s.n),
+                },
+                num(s.estimate)
+            )
+        }
+        (Some(v), _, None) => num(v),
+        (None, Some(_), Some(s)) => format!(
+            "no verdict from N = {} (estimate {}; N >= {} can show {})",
+            s.n,
+            num(s.estimate),
+            s.n_required,
+            geodesic_core::units::fmt_pct(s.probability)
+        ),
+        (None, Some(_), None) => "no value".into(),
+        (None, None, _) => "—".into(),
     };
     let mut key = Vec::new();
+    if let Some(s) = &e.sampling
+        && !e.inputs.contains_key("n")
+    {
+        key.push(format!("N = {}", fmt_input(&serde_json::json!(s.n))));
+    }
     for (k, label) in [("n", "N"), ("seed", "seed"), ("dataset", "dataset")] {
         if let Some(v) = e.inputs.get(k) {
             key.push(if label == "N" {
@@ -250,8 +293,20 @@ pub fn lines(rep: &Report) -> Vec<VcdLine> {
                     (None, Some(w)) => format!("no value: {w}"),
                     (None, None) => "—".into(),
                 };
+                let sample = e.sampling.as_ref().map_or(String::new(), |s| {
+                    let lim = r.limit.unwrap_or(f64::NAN);
+                    format!(
+                        " Sample: {} ({}).",
+                        s.describe(&|v| format!(
+                            "{} {}",
+                            geodesic_core::units::fmt_num_near(v, lim),
+                            r.unit
+                        )),
+                        s.method
+                    )
+                });
                 detail.push(format!(
-                    "check {} [{}]: {what}. {}{}{}",
+                    "check {} [{}]: {what}.{sample} {}{}{}",
                     e.check,
                     e.basis.map_or("no basis", |b| b.as_str()),
                     e.activity,
@@ -303,7 +358,7 @@ pub fn lines(rep: &Report) -> Vec<VcdLine> {
                         },
                         fmt_value(r),
                         fmt_limit(r),
-                        crate::basis_word(r)
+                        r.verdict
                     ),
                 ),
                 (Status::NonCompliant, Some(d)) => (
@@ -364,6 +419,9 @@ pub fn lines(rep: &Report) -> Vec<VcdLine> {
             if r.status == Status::Compliant && r.basis == Some(geodesic_core::Basis::Accepted) {
                 remarks.push("value taken from the cited source, not computed".into());
             }
+            for f in &r.findings {
+                remarks.push(format!("Finding: {f}."));
+            }
             let reverify_reason = rep.reverify.get(&r.id).cloned().unwrap_or_default();
             VcdLine {
                 id: r.id.clone(),
@@ -384,6 +442,7 @@ pub fn lines(rep: &Report) -> Vec<VcdLine> {
                 limit: fmt_limit(r),
                 margin: fmt_margin(r.margin),
                 basis: r.basis.map_or("", |b| b.as_str()),
+                sampling: crate::sampling_text(r).unwrap_or_default(),
                 compliance: compliance(r),
                 close_out,
                 close_out_reason,
@@ -405,7 +464,7 @@ fn csv_field(s: &str) -> String {
 }
 
 /// The column names of the CSV and XLSX exports, in order.
-pub const COLUMNS: [&str; 26] = [
+pub const COLUMNS: [&str; 27] = [
     "id",
     "title",
     "text",
@@ -424,6 +483,7 @@ pub const COLUMNS: [&str; 26] = [
     "limit",
     "margin",
     "basis",
+    "sampling",
     "compliance",
     "close_out",
     "close_out_reason",
@@ -455,7 +515,8 @@ pub fn cells(rep: &Report, l: &VcdLine) -> Vec<String> {
         l.limit.clone(),
         l.margin.clone(),
         l.basis.to_string(),
-        l.compliance.to_string(),
+        l.sampling.clone(),
+        l.compliance.clone(),
         l.close_out.to_string(),
         l.close_out_reason.clone(),
         l.close_out_reference.clone(),
@@ -487,13 +548,13 @@ pub fn markdown(rep: &Report) -> String {
     for (k, v) in crate::run_lines(rep) {
         o.push_str(&format!("- {k}: {}\n", c(&v)));
     }
-    o.push_str("\nColumns follow ECSS-E-ST-10-02C Annex B. Compliance: yes / yes (accepted) / no / partial (partly met) / not verified. Full evidence per requirement below the table.\n\n");
-    o.push_str("| ID | Requirement | Source | Parent / children | Level / stage | Method | Activity / evidence | Value | Limit | Margin | Basis | Compliance | Close-out | Remarks | Re-verify |\n");
-    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    o.push_str("\nColumns follow ECSS-E-ST-10-02C Annex B. Compliance: yes (a model or measurement verdict with no finding) / yes (qualified: its basis, what it assumes, a rejected input, a test problem) / no / partial (partly met) / not verified. A sampled value is the confidence bound that decides (Sample column). Full evidence per requirement below the table.\n\n");
+    o.push_str("| ID | Requirement | Source | Parent / children | Level / stage | Method | Activity / evidence | Value | Limit | Margin | Basis | Sample | Compliance | Close-out | Remarks | Re-verify |\n");
+    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     let lines = lines(rep);
     for l in &lines {
         o.push_str(&format!(
-            "| [{id}](#{a}) | **{title}**: {text} | {src} | {par} / {ch} | {lev} / {st} | {meth} | {act}<br>{ev}<br>refs: {refs} | {val} | {lim} | {mg} | {basis} | {comp} | {co}: {cor}{cref} | {rem} | {rv} |\n",
+            "| [{id}](#{a}) | **{title}**: {text} | {src} | {par} / {ch} | {lev} / {st} | {meth} | {act}<br>{ev}<br>refs: {refs} | {val} | {lim} | {mg} | {basis} | {smp} | {comp} | {co}: {cor}{cref} | {rem} | {rv} |\n",
             id = l.id,
             a = l.id.to_lowercase(),
             title = c(&l.title),
@@ -515,6 +576,11 @@ pub fn markdown(rep: &Report) -> String {
             lim = c(&l.limit),
             mg = l.margin,
             basis = if l.basis.is_empty() { "—" } else { l.basis },
+            smp = if l.sampling.is_empty() {
+                "—".to_string()
+            } else {
+                c(&l.sampling)
+            },
             comp = l.compliance,
             co = l.close_out,
             cor = c(&l.close_out_reason),
@@ -603,7 +669,7 @@ mod tests {
         assert!(a.evidence.starts_with("mc: 1.3 um/s"), "{}", a.evidence);
         assert!(!a.reverify);
         let b = &ls[1];
-        assert_eq!((b.compliance, b.close_out), ("no", "open"));
+        assert_eq!((b.compliance.as_str(), b.close_out), ("no", "open"));
         assert!(
             b.close_out_reason
                 .contains("6 um/s does not meet <= 5 um/s")

@@ -23,8 +23,9 @@ pub const META_SHEET: &str = "Document";
 /// Fill colour of a compliance value: green (yes), red (no), amber (partial, not verified).
 pub fn status_color(compliance: &str) -> u32 {
     match compliance {
-        "yes" | "yes (accepted)" => 0xD7F5DD,
+        "yes" => 0xD7F5DD,
         "no" => 0xFBD5D5,
+        // qualified compliance (`yes (flow-down)`), partial, not verified
         _ => 0xFFF3CD,
     }
 }
@@ -76,7 +77,7 @@ pub fn render(rep: &Report) -> Result<Vec<u8>, XlsxError> {
             let row = i as u32 + 1;
             let colored = cell
                 .clone()
-                .set_background_color(Color::RGB(status_color(l.compliance)))
+                .set_background_color(Color::RGB(status_color(&l.compliance)))
                 .set_bold();
             for (c, (name, v)) in COLUMNS.iter().zip(cells(rep, l)).enumerate() {
                 let f = if matches!(*name, "id" | "compliance" | "close_out") {
@@ -109,14 +110,7 @@ pub fn render(rep: &Report) -> Result<Vec<u8>, XlsxError> {
                 .filter(|(k, _)| !matches!(*k, "document" | "project"))
                 .map(|(k, v)| (k.to_string(), v)),
         );
-        let s = &rep.matrix.summary;
-        rows.push((
-            "summary".into(),
-            format!(
-                "{} requirements: {} compliant, {} non-compliant, {} not verified",
-                s.total, s.compliant, s.non_compliant, s.not_verified
-            ),
-        ));
+        rows.push(("summary".into(), rep.matrix.summary.line()));
         for (i, (k, v)) in rows.iter().enumerate() {
             ws.write_string_with_format(i as u32 + 1, 0, k, &header)?;
             ws.write_string_with_format(i as u32 + 1, 1, v, &cell)?;

@@ -81,18 +81,16 @@ proptest! {
         prop_assert!((max_box_scale(&x) / scale - 1.0).abs() < 1e-12);
     }
 
-    /// z velocity alone: captured strictly below xlim_vz (12 um/s), not at or above it.
+    /// z velocity alone: captured strictly below xlim_vz (12 um/s), not at or above it. Not
+    /// traced to CAP-VZ-SINGLE: its 12 um/s is accepted from the thesis's E2E result and xlim_vz
+    /// was set from it, so a test comparing the two compares a number with itself (the row says
+    /// so: `compliant (accepted; by construction)`).
     #[test]
     fn vz_alone_is_captured_below_12_um_s(v in 0.0f64..30e-6, neg in any::<bool>()) {
-        geodesic_core::verifies!("CAP-VZ-SINGLE");
         let x = Xlim::default_set();
         let mut s = TmState::zero();
         s.set(StateName::Vz, if neg { -v } else { v });
         prop_assert_eq!(is_captured(&x, &s), v < 12e-6);
-        // the single-state limit is the thesis's E2E figure, and meets the requirement
-        let single = geodesic_capture::single_state_limits(&x)[StateName::Vz.index()];
-        assert_reference("CAP-VZ-SINGLE", "thesis ch. 7 E2E: 12 um/s", single, 12e-6, 0.0);
-        assert_limit("CAP-VZ-SINGLE", single);
     }
 
     /// With the other states at zero, the capture probability is the fraction of |v_z| below
@@ -203,11 +201,15 @@ fn shear_is_an_illustration() {
     }
 }
 
-/// Positions and angles at the start of control are flow-downs of the loaded rate limits:
-/// 15 s x the TMS-*-VEL / -RATE limit, recomputed here from the requirement set, within the
-/// requirements' own limits.
+/// Positions and angles at the start of control are flow-downs of the loaded rate limits. The
+/// check's closed form (the rate's 99.73 % value, 3 sigma = its limit, times 15 s) against an
+/// independent computation: the 99.73 % of |state| over 200 000 states drawn from the capture
+/// inputs' state model (the rates drawn, the positions drifted in the same draw), within 2 %
+/// (the quantile's sampling sd is 0.44 %). The limit is not asserted: a flow-down meets it only
+/// if the assumed rate requirement does, and that one is not verified (the rows say so), so an
+/// assertion of the limit on 15 s x the rate limit would be circular.
 #[test]
-fn drift_flow_downs_meet_their_limits() {
+fn drift_flow_downs_match_the_drawn_states() {
     geodesic_core::verifies!(
         "TMS-X-POS",
         "TMS-Y-POS",
@@ -217,13 +219,15 @@ fn drift_flow_downs_meet_their_limits() {
     );
     let ctx = geodesic_checks::builtin_context(std::env::temp_dir(), 10, 1);
     let ev = geodesic_core::Check::run(&TmStateBounds { release: None }, &ctx).unwrap();
-    let reqs = geodesic_core::trace::requirements();
-    for (id, rate) in [
-        ("TMS-X-POS", "TMS-X-VEL"),
-        ("TMS-Y-POS", "TMS-Y-VEL"),
-        ("TMS-X-ANG", "TMS-X-RATE"),
-        ("TMS-Y-ANG", "TMS-Y-RATE"),
-        ("TMS-Z-ANG", "TMS-Z-RATE"),
+    let model = StateModel::new(&CaptureInputs::default_inputs(), THESIS_BOX);
+    let n = 200_000u64;
+    let draws: Vec<TmState> = (0..n).map(|k| model.draw(1e-6, 17, k)).collect();
+    for (id, s) in [
+        ("TMS-X-POS", StateName::X),
+        ("TMS-Y-POS", StateName::Y),
+        ("TMS-X-ANG", StateName::Thx),
+        ("TMS-Y-ANG", StateName::Thy),
+        ("TMS-Z-ANG", StateName::Thz),
     ] {
         let e = ev
             .iter()
@@ -232,9 +236,18 @@ fn drift_flow_downs_meet_their_limits() {
         let Outcome::Measured(q) = &e.outcome else {
             panic!()
         };
-        let want = 15.0 * reqs.get(rate).unwrap().limit.as_ref().unwrap().value.value;
-        geodesic_core::trace::assert_reference(id, "15 s x the rate limit", q.value, want, 1e-12);
-        geodesic_core::trace::assert_limit(id, q.value);
+        let mut a: Vec<f64> = draws.iter().map(|d| d.get(s).abs()).collect();
+        a.sort_by(f64::total_cmp);
+        let sampled = a[(0.9973 * n as f64).ceil() as usize - 1];
+        assert_reference(
+            id,
+            "99.73 % of |state| over 200 000 drawn states",
+            q.value,
+            sampled,
+            0.02,
+        );
+        // and it takes the rate's requirement as met, which the matrix reports
+        assert_eq!(e.assumes.len(), 1, "{id}");
     }
 }
 

@@ -118,7 +118,13 @@ fn every_verdict_states_its_basis() {
             _ => assert!(
                 matches!(
                     r.basis,
-                    Some(Basis::Model | Basis::FlowDown | Basis::Accepted)
+                    Some(
+                        Basis::Model
+                            | Basis::FlowDown
+                            | Basis::Accepted
+                            | Basis::MethodValidation
+                            | Basis::Measurement
+                    )
                 ),
                 "{}: {:?}",
                 r.id,
@@ -126,4 +132,66 @@ fn every_verdict_states_its_basis() {
             ),
         }
     }
+}
+
+/// A verdict that is not a model's reads as what it rests on, in the status itself: a flow-down,
+/// an accepted value, a method validation; what holds by construction says so; a flow-down from
+/// a row that is not verified names it; a row computed from the budget FAC-ADH-CAL rejects
+/// carries that finding. Only a model verdict with no finding is plainly `compliant`.
+#[test]
+fn non_model_verdicts_read_as_such() {
+    use geodesic_core::Basis;
+    let m = matrix();
+    let row = |id: &str| m.requirements.iter().find(|r| r.id == id).unwrap();
+    for r in &m.requirements {
+        assert!(r.verdict.starts_with(r.status.as_str()), "{}", r.id);
+        if let Some(b) = r.basis
+            && b != Basis::Model
+            && r.status != Status::NotVerified
+        {
+            assert!(r.verdict.contains(b.label()), "{}: {}", r.id, r.verdict);
+        }
+        if r.verdict == "compliant" {
+            assert!(r.plainly_compliant(), "{}", r.id);
+        }
+    }
+    assert_eq!(
+        row("TMS-X-POS").verdict,
+        "compliant (flow-down; assumes not-verified TMS-X-VEL)"
+    );
+    assert_eq!(
+        row("TMS-Z-ANG").verdict,
+        "compliant (flow-down; assumes not-verified TMS-Z-RATE)"
+    );
+    assert!(row("CAP-QUARTIC").verdict.contains("by construction"));
+    assert!(
+        row("CAP-XLIM-CONSISTENCY")
+            .verdict
+            .contains("by construction")
+    );
+    assert_eq!(
+        row("CAP-VZ-SINGLE").verdict,
+        "compliant (accepted; by construction)"
+    );
+    assert!(
+        row("CAP-RELEASE-PROB")
+            .verdict
+            .contains("assumes 5 rows not verified")
+    );
+    for id in [
+        "REL-GPRM-VEL",
+        "REL-DFACS-VEL",
+        "TMS-Z-VEL",
+        "TMS-Z-POS",
+        "PLG-EXTRA-VEL",
+    ] {
+        assert!(
+            row(id).verdict.contains("budget rejected by FAC-ADH-CAL"),
+            "{id}: {}",
+            row(id).verdict
+        );
+    }
+    assert_eq!(row("FAC-SURF-REG").verdict, "compliant (method validation)");
+    assert_eq!(row("CHG-V").verdict, "compliant");
+    assert_eq!(m.summary.plainly_compliant, 1);
 }

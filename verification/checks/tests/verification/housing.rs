@@ -16,7 +16,7 @@ fn dfc_context(design: Option<&str>) -> (CheckContext, tempfile::TempDir) {
     inputs.design = design.map(|t| geodesic_core::check::InputFile::new("design.yaml", t));
     let reqs = mission_requirements("drag-free-cubesat").expect("the mission is embedded");
     (
-        geodesic_checks::context(reqs, inputs, dir.path().to_path_buf(), 100, 1, true),
+        geodesic_checks::context(reqs, inputs, dir.path().to_path_buf(), 100, 1, 0.95, true),
         dir,
     )
 }

@@ -17,9 +17,15 @@ fn impulse(a: f64, b: f64, g0: f64, k: f64, t: f64) -> f64 {
     a / k * (1.0 / g0 - 1.0 / g1) + b / k * (g1 / g0).ln()
 }
 
-/// The closed-form velocity change: each side's gap opens at the plunger rate minus (or plus)
-/// the TM's drift during the ramp, then closes (or opens) at the drift alone while held.
+/// The closed-form velocity change of a 1.96 kg TM: each side's gap opens at the plunger rate
+/// minus (or plus) the TM's drift during the ramp, then closes (or opens) at the drift alone
+/// while held.
 fn closed_form_dv(v_tm: f64, v0: f64, r: Retraction) -> f64 {
+    closed_form_dv_of(1.96, v_tm, v0, r)
+}
+
+/// [`closed_form_dv`] for a TM of `mass_kg`.
+fn closed_form_dv_of(mass_kg: f64, v_tm: f64, v0: f64, r: Retraction) -> f64 {
     let disc = default_model();
     let rad = disc.radius_m;
     let (a, b) = (
@@ -33,23 +39,34 @@ fn closed_form_dv(v_tm: f64, v0: f64, r: Retraction) -> f64 {
         let g_t = r.g0_m + k * r.ramp_s;
         impulse(a, b, r.g0_m, k, r.ramp_s) + impulse(a, b, g_t, -sign * v0, hold)
     };
-    (side(1.0) - side(-1.0)) / 1.96
+    (side(1.0) - side(-1.0)) / mass_kg
 }
 
+/// The check's values, the TM starting from the release Monte Carlo's 99.73 % bound (2000
+/// draws here), against both limits and against the closed-form impulse at that velocity.
 #[test]
 fn revised_retraction_meets_both_limits() {
     geodesic_core::verifies!("PLG-EXTRA-VEL", "PLG-FORCE-RATIO");
     let tmp = tempfile::tempdir().unwrap();
-    let ctx = geodesic_checks::builtin_context(tmp.path().to_path_buf(), 10, 1);
-    let ev = PlungerAttraction.run(&ctx).unwrap();
-    let val = |id: &str| match &ev.iter().find(|e| e.requirement == id).unwrap().outcome {
+    let ctx = geodesic_checks::builtin_context(tmp.path().to_path_buf(), 2000, 1);
+    let ev = PlungerAttraction::standalone().run(&ctx).unwrap();
+    let get = |id: &str| ev.iter().find(|e| e.requirement == id).unwrap();
+    let val = |id: &str| match &get(id).outcome {
         Outcome::Measured(q) => q.value,
         Outcome::NotVerified(w) => panic!("{w}"),
     };
     let dv = val("PLG-EXTRA-VEL");
     assert_limit("PLG-EXTRA-VEL", dv);
     assert_limit("PLG-FORCE-RATIO", val("PLG-FORCE-RATIO"));
-    let reference = closed_form_dv(v_tm_2sigma_v(), 5e-6, Retraction::REVISED);
+    let e = get("PLG-EXTRA-VEL");
+    let v0 = e.inputs["v0_um_s"].as_f64().unwrap() * 1e-6;
+    assert!(
+        v0 > 0.5e-6 && v0 < 5e-6,
+        "v0 {v0} from the Monte Carlo, not a limit"
+    );
+    assert_eq!(e.inputs["tm_mass_kg"], 1.96);
+    assert_eq!(e.model_inputs, ["budget", "charge"]);
+    let reference = closed_form_dv(v_tm_2sigma_v(), v0, Retraction::REVISED);
     assert_reference(
         "PLG-EXTRA-VEL",
         "closed-form impulse of the disc's A/g^2 + B/g at constant gap rates",
@@ -58,6 +75,54 @@ fn revised_retraction_meets_both_limits() {
         0.01,
     );
     assert!(tmp.path().join("plunger-attraction.svg").is_file());
+}
+
+/// The plunger rows move with their model inputs: a TM of half the budget's mass leaves the
+/// release twice as fast and gains twice the velocity per force (the rows moved not at all
+/// when they started from a limit and a constant mass), and a smaller pyramidal-plunger
+/// capacitance in the charge inputs raises the TM voltage.
+#[test]
+fn plunger_rows_move_with_the_budget_and_the_charge_inputs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let base_ctx = geodesic_checks::builtin_context(tmp.path().to_path_buf(), 2000, 1);
+    let dv = |ctx: &geodesic_core::CheckContext| {
+        let ev = PlungerAttraction::standalone().run(ctx).unwrap();
+        let e = ev
+            .iter()
+            .find(|e| e.requirement == "PLG-EXTRA-VEL")
+            .unwrap();
+        match &e.outcome {
+            Outcome::Measured(q) => (q.value, e.inputs["v0_um_s"].as_f64().unwrap()),
+            Outcome::NotVerified(w) => panic!("{w}"),
+        }
+    };
+    let (base, v0) = dv(&base_ctx);
+    let mut lighter = base_ctx.clone();
+    let mut inputs = (*lighter.inputs).clone();
+    inputs.budget = geodesic_core::check::InputFile::new(
+        "lighter.yaml",
+        geodesic_release::budget::DEFAULT_BUDGET_YAML
+            .replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.98}"),
+    );
+    lighter.inputs = std::sync::Arc::new(inputs);
+    let (light, v0_light) = dv(&lighter);
+    assert!(
+        (v0_light / v0 - 2.0).abs() < 0.1,
+        "v0 {v0} -> {v0_light} um/s"
+    );
+    assert!(light > 1.5 * base, "PLG-EXTRA-VEL {base} -> {light} m/s");
+    let mut charged = base_ctx.clone();
+    let mut inputs = (*charged.inputs).clone();
+    inputs.charge = geodesic_core::check::InputFile::new(
+        "charge.yaml",
+        geodesic_charge::DEFAULT_CHARGE_YAML.replace("c_eh_f: 34.4e-12", "c_eh_f: 20e-12"),
+    );
+    charged.inputs = std::sync::Arc::new(inputs);
+    let (more, _) = dv(&charged);
+    assert!(
+        more > 2.0 * base,
+        "PLG-EXTRA-VEL {base} -> {more} m/s at a higher V_TM"
+    );
 }
 
 #[test]

@@ -315,15 +315,49 @@ fn fast_integrator_matches_tight_reference_over_random_draws() {
     }
 }
 
-/// A fixed-seed Monte Carlo summary (N = 2000, seed 1, case all), rounded to 4 digits; its
-/// 99.73 % |X'| within each requirement's limit.
+/// The release velocity against each requirement's limit, computed independently of the
+/// check: 1200 releases of another seed (7) drawn from the budget and integrated with the
+/// Dormand-Prince reference integrator (the check's Monte Carlo uses the exponential Gauss
+/// collocation), and the upper 95 % order-statistic bound of each requirement's quantile (the
+/// sample maximum at N = 1200: 1 - 0.9973^1200 = 0.961) within its limit. It does not rerun
+/// the check's computation: another integrator, other draws, the bound rather than the estimate.
+#[test]
+fn velocity_bound_from_the_reference_integrator_meets_the_limits() {
+    use rayon::prelude::*;
+    geodesic_core::verifies!("REL-GPRM-VEL", "REL-DFACS-VEL", "TMS-Z-VEL");
+    let b = Budget::default_budget();
+    let mut v: Vec<f64> = (0..1200u64)
+        .into_par_iter()
+        .map(|i| {
+            draw_inputs(&b, Case::All, 7, i)
+                .simulate(&DormandPrince::fast())
+                .unwrap()
+                .v_tm_m_s
+                .abs()
+        })
+        .collect();
+    v.sort_by(f64::total_cmp);
+    let reqs = geodesic_core::trace::requirements();
+    for id in ["REL-GPRM-VEL", "REL-DFACS-VEL", "TMS-Z-VEL"] {
+        let p = reqs
+            .get(id)
+            .unwrap()
+            .probability_value
+            .expect("a probability");
+        let s = geodesic_core::check::Sampling::quantile(&v, p, 0.95);
+        let upper = s
+            .upper
+            .expect("N = 1200 bounds the 99.73 % quantile at 95 %");
+        assert_limit(id, upper);
+    }
+}
+
+/// A fixed-seed Monte Carlo summary (N = 2000, seed 1, case all), rounded to 4 digits: change
+/// detection only (the limits are asserted on an independent computation above).
 #[test]
 fn montecarlo_summary_snapshot() {
     geodesic_core::verifies!("REL-GPRM-VEL", "REL-DFACS-VEL", "TMS-Z-VEL");
     let r = montecarlo::run(&Budget::default_budget(), Case::All, 2000, 1, None, &|_| {}).unwrap();
-    for id in ["REL-GPRM-VEL", "REL-DFACS-VEL", "TMS-Z-VEL"] {
-        assert_limit(id, r.summary().p9973_um_s * 1e-6);
-    }
     insta::assert_json_snapshot!(r.summary(), {
         ".p9973_um_s" => insta::rounded_redaction(4),
         ".mean_um_s" => insta::rounded_redaction(4),
@@ -355,7 +389,7 @@ fn release_checks_give_evidence() {
         let Outcome::Measured(q) = &e.outcome else {
             panic!("not measured")
         };
-        assert_eq!(q.value, direct.p9973_um_s * 1e-6);
+        assert!((q.value / (direct.p9973_um_s * 1e-6) - 1.0).abs() < 1e-12);
         assert_eq!(e.inputs["n"], 500);
         assert_eq!(e.inputs["seed"], 3);
     }

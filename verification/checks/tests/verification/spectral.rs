@@ -21,7 +21,11 @@ fn white_series(dir: &Path, asd: f64, fs: f64, n: usize, seed: u64) -> std::path
     }
     std::fs::write(dir.join("s.csv"), csv).unwrap();
     let y = dir.join("s.yaml");
-    std::fs::write(&y, "data: s.csv\nchannel: a\nunit: m/s^2\n").unwrap();
+    std::fs::write(
+        &y,
+        "origin: measurement\nprovenance: \"test bench of this test, white noise drawn with a known ASD\"\ndata: s.csv\nchannel: a\nunit: m/s^2\n",
+    )
+    .unwrap();
     y
 }
 
@@ -32,11 +36,75 @@ fn run(series: &Path, dir: &Path) -> geodesic_core::Evidence {
         geodesic_core::check::InputFile::read(series).unwrap(),
     );
     let reqs = geodesic_core::trace::requirements().clone();
-    let ctx = geodesic_checks::context(reqs, inputs, dir.to_path_buf(), 10, 1, true);
+    let ctx = geodesic_checks::context(reqs, inputs, dir.to_path_buf(), 10, 1, 0.95, true);
     let ev = SpectralAsd.run(&ctx).unwrap();
     ev.into_iter()
-        .find(|e| e.requirement == "LPF-DA-ASD")
+        .find(|e| e.requirement == "LPF-DA-ASD" && matches!(e.outcome, Outcome::Measured(_)))
         .unwrap()
+}
+
+/// A series is evidence of what its file declares: the repository's synthetic example is an
+/// illustration and leaves the row not verified with that reason; the same series declared a
+/// measurement with its provenance gives a measurement verdict.
+#[test]
+fn only_a_declared_measurement_is_measurement_evidence() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let example = root.join("data/spectra/lpf-da-example.yaml");
+    let mut inputs = geodesic_checks::builtin_inputs();
+    inputs.series.insert(
+        "LPF-DA-ASD".into(),
+        geodesic_core::check::InputFile::read(&example).unwrap(),
+    );
+    let reqs = geodesic_core::trace::requirements().clone();
+    let ctx = geodesic_checks::context(
+        reqs.clone(),
+        inputs,
+        tmp.path().to_path_buf(),
+        10,
+        1,
+        0.95,
+        true,
+    );
+    let ev = SpectralAsd.run(&ctx).unwrap();
+    let m = geodesic_core::matrix::Matrix::build(&reqs, &[("spectral-asd".into(), ev)], None, &[]);
+    let row = m
+        .requirements
+        .iter()
+        .find(|r| r.id == "LPF-DA-ASD")
+        .unwrap();
+    assert_eq!(row.status, geodesic_core::matrix::Status::NotVerified);
+    assert!(row.basis.is_none());
+    let why = row.reason.as_deref().unwrap();
+    assert!(why.contains("declares itself synthetic"), "{why}");
+    // the same data declared a measurement
+    let text = std::fs::read_to_string(&example).unwrap().replace(
+        "origin: synthetic",
+        "origin: measurement\nprovenance: \"a named facility run\"",
+    );
+    std::fs::copy(
+        root.join("data/spectra/lpf-da-example.csv"),
+        tmp.path().join("lpf-da-example.csv"),
+    )
+    .unwrap();
+    let y = tmp.path().join("declared.yaml");
+    std::fs::write(&y, text).unwrap();
+    let e = run(&y, tmp.path());
+    assert_eq!(e.basis, Some(Basis::Measurement));
+    assert_eq!(e.inputs["provenance"], "a named facility run");
+    // a measurement without its provenance is refused with its line
+    std::fs::write(
+        &y,
+        "origin: measurement\ndata: lpf-da-example.csv\nchannel: da\nunit: fm/s^2\n",
+    )
+    .unwrap();
+    let err = geodesic_fit::spectral::Series::load(&y)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("declared.yaml:1") && err.contains("provenance"),
+        "{err}"
+    );
 }
 
 #[test]

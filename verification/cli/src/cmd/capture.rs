@@ -105,6 +105,7 @@ pub fn run(args: Args) -> CmdResult {
         std::env::temp_dir(),
         1,
         args.seed,
+        geodesic_checks::DEFAULT_CONFIDENCE,
         true,
     );
     let req = geodesic_checks::capture::requirement_box(&ctx).map_err(CliError::bad)?;

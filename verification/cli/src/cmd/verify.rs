@@ -27,6 +27,10 @@ pub struct Args {
     /// if present, else the built-in copy].
     #[arg(long, value_name = "FILE.yaml")]
     pub capture: Option<PathBuf>,
+    /// Charge inputs: capacitances, contact voltage spread, release-tip geometry [default:
+    /// ./models/charge/charge.yaml if present, else the built-in copy].
+    #[arg(long, value_name = "FILE.yaml")]
+    pub charge: Option<PathBuf>,
     /// Dispositions of known non-compliances (NCR, waiver, RFD) [default:
     /// ./verification/dispositions.yaml if present, else none].
     #[arg(long, value_name = "FILE.yaml")]
@@ -40,8 +44,10 @@ pub struct Args {
     /// ./target/geodesic/test-run.json if present, else none: `cargo xtask test` writes it].
     #[arg(long, value_name = "FILE.json")]
     pub tests: Option<PathBuf>,
-    /// Exit 1 when a requirement's traced tests failed, were ignored or did not run, or when no
-    /// test run is recorded.
+    /// Exit 1 when no test run is recorded, when the recorded run is stale (another commit,
+    /// or the work tree changed since it ran), when a requirement's traced tests failed, were
+    /// ignored or did not run, or when a model, measurement or method-validation verdict has no
+    /// passing traced test that asserts its limit or a reference.
     #[arg(long = "require-tests")]
     pub require_tests: bool,
     /// Directory the reports are written to.
@@ -53,6 +59,10 @@ pub struct Args {
     /// Monte Carlo seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Confidence of the bounds a sampled verdict (a Monte Carlo quantile, a probability from
+    /// successes) is decided by, between 0 and 1.
+    #[arg(long, value_name = "C", default_value_t = geodesic_checks::DEFAULT_CONFIDENCE)]
+    pub confidence: f64,
     /// Also write the compliance checks as JUnit XML to FILE (for CI dashboards).
     #[arg(long, value_name = "FILE")]
     pub junit: Option<PathBuf>,
@@ -183,6 +193,12 @@ pub fn run(args: Args) -> CmdResult {
             geodesic_release::montecarlo::MAX_N
         )));
     }
+    if !(args.confidence.is_finite() && args.confidence > 0.0 && args.confidence < 1.0) {
+        return Err(CliError::bad(format!(
+            "--confidence {}: must be between 0 and 1 (exclusive), e.g. 0.95",
+            args.confidence
+        )));
+    }
     if !(args.margin_tolerance.is_finite() && args.margin_tolerance >= 0.0) {
         return Err(CliError::bad(
             "--margin-tolerance must be a non-negative number",
@@ -254,9 +270,12 @@ pub fn run(args: Args) -> CmdResult {
     let inputs = geodesic_core::check::ModelInputs {
         budget: budget_file(args.budget.as_ref())?,
         capture: capture_file(args.capture.as_ref())?,
+        charge: charge_file(args.charge.as_ref())?,
         design,
         series,
     };
+    geodesic_charge::ChargeFile::from_yaml_str(&inputs.charge.text, &inputs.charge.label)
+        .map_err(|e| CliError::bad(e.to_string()))?;
     let b = geodesic_release::budget::Budget::from_yaml(&inputs.budget.text, &inputs.budget.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
     if !inputs.budget.label.starts_with("<built-in>") {
@@ -309,6 +328,12 @@ pub fn run(args: Args) -> CmdResult {
         Some(p) => Some(geodesic_core::testrun::TestRun::load(p).map_err(CliError::bad)?),
         None => None,
     };
+    // the recorded run counts only for the tree it ran on: same commit, same content
+    let freshness = test_run.as_ref().map(|t| {
+        t.freshness(&geodesic_core::testrun::tree_state(std::path::Path::new(
+            ".",
+        )))
+    });
 
     let staging = geodesic_report::write::Staging::new(&args.reports)
         .map_err(|e| CliError::Io(e.to_string()))?;
@@ -318,6 +343,7 @@ pub fn run(args: Args) -> CmdResult {
         staging.path().to_path_buf(),
         args.mc_n,
         args.seed,
+        args.confidence,
         !crate::progress::enabled(args.json),
     );
     let to_run = registry
@@ -357,10 +383,17 @@ pub fn run(args: Args) -> CmdResult {
         task.inc(1);
     }
     let tests_label = tests_path.as_ref().map(|p| p.display().to_string());
-    let mut matrix = Matrix::build(
+    let mut matrix = Matrix::build_with(
         &reqs,
         &evidence,
-        tests_label.as_deref().zip(test_run.as_ref()),
+        match (&tests_label, &test_run, &freshness) {
+            (Some(file), Some(run), Some(freshness)) => Some(geodesic_core::matrix::TestEvidence {
+                file,
+                run,
+                freshness,
+            }),
+            _ => None,
+        },
         &dispositions,
     );
     for check in &registry {
@@ -411,6 +444,7 @@ pub fn run(args: Args) -> CmdResult {
             dispositions: disp_file,
             mc_n: args.mc_n,
             seed: args.seed,
+            confidence: args.confidence,
             checks: runs,
             fidelity,
         },
@@ -498,16 +532,59 @@ pub fn run(args: Args) -> CmdResult {
             );
         }
     }
-    let tests_fail = args.require_tests
-        && (report.matrix.test_run.is_none() || !report.matrix.with_test_problems().is_empty());
+    let mut tests_fail = false;
     if args.require_tests {
-        if report.matrix.test_run.is_none() {
-            eprintln!("geodesic: --require-tests: no recorded test run (run `cargo xtask test`)");
+        let m = &report.matrix;
+        match &m.test_run {
+            None => {
+                tests_fail = true;
+                eprintln!(
+                    "geodesic: --require-tests: no recorded test run (run `cargo xtask test`)"
+                );
+            }
+            Some(t) if !t.fresh => {
+                tests_fail = true;
+                eprintln!(
+                    "geodesic: --require-tests: the recorded test run {} is STALE: {}",
+                    t.file,
+                    t.stale_reason.as_deref().unwrap_or("")
+                );
+            }
+            Some(_) => {}
         }
-        for id in report.matrix.with_test_problems() {
-            eprintln!(
-                "geodesic: --require-tests: {id}: a traced test failed, was ignored or did not run"
-            );
+        for r in &m.requirements {
+            let why = match r.tests_status {
+                geodesic_core::matrix::TestsStatus::Stale => {
+                    Some("its traced test results are stale".to_string())
+                }
+                geodesic_core::matrix::TestsStatus::Failed
+                | geodesic_core::matrix::TestsStatus::Incomplete => {
+                    let bad: Vec<String> = r
+                        .tests
+                        .iter()
+                        .filter(|t| t.result != geodesic_core::testrun::TestResult::Passed)
+                        .map(|t| format!("{} {}", t.test, t.result.as_str()))
+                        .collect();
+                    Some(format!("traced test {}", bad.join(", ")))
+                }
+                _ => None,
+            };
+            if let Some(why) = why {
+                tests_fail = true;
+                eprintln!("geodesic: --require-tests: {}: {why}", r.id);
+            }
+        }
+        if m.test_run.as_ref().is_some_and(|t| t.fresh) {
+            for id in m.without_test_evidence() {
+                tests_fail = true;
+                eprintln!(
+                    "geodesic: --require-tests: {id}: its verdict ({}) has no passing traced test that asserts its limit or a reference",
+                    m.requirements
+                        .iter()
+                        .find(|r| r.id == id)
+                        .map_or("", |r| r.verdict.as_str())
+                );
+            }
         }
     }
     // With a baseline the gate is the regression count; without one, the verdict.
@@ -547,6 +624,15 @@ pub fn budget_file(path: Option<&PathBuf>) -> Result<geodesic_core::check::Input
         path,
         "models/release/budget.yaml",
         geodesic_release::budget::DEFAULT_BUDGET_YAML,
+    )
+}
+
+/// The charge inputs file (see [`input_file`]).
+pub fn charge_file(path: Option<&PathBuf>) -> Result<geodesic_core::check::InputFile, CliError> {
+    input_file(
+        path,
+        "models/charge/charge.yaml",
+        geodesic_charge::DEFAULT_CHARGE_YAML,
     )
 }
 

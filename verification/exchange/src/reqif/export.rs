@@ -222,10 +222,22 @@ const STATUS_ATTRS: &[Attr] = &[
         "what the verdict rests on",
     ),
     attr(
+        "geodesic-ad-req-verdict",
+        "geodesic.Verdict",
+        Kind::String,
+        "the status as it must be read: its basis when not a model, what it assumes, a rejected input, a test problem",
+    ),
+    attr(
+        "geodesic-ad-req-sample",
+        "geodesic.Sample",
+        Kind::String,
+        "for a sampled value: the quantile or probability, N, the confidence bounds",
+    ),
+    attr(
         "geodesic-ad-req-value",
         "geodesic.Value",
         Kind::Real,
-        "verified value in the unit of geodesic.Unit",
+        "verified value in the unit of geodesic.Unit (a sampled value: the deciding confidence bound)",
     ),
     attr(
         "geodesic-ad-req-margin",
@@ -266,6 +278,7 @@ const BASES: &[&str] = &[
     "model",
     "flow-down",
     "measurement",
+    "method-validation",
     "accepted",
     "illustration",
 ];
@@ -465,6 +478,12 @@ fn requirement_values(r: &Requirement, st: Option<&RowStatus>) -> Vec<(&'static 
         v.push(("geodesic-ad-req-status", Val::Enum(s.status.clone())));
         if let Some(b) = &s.basis {
             v.push(("geodesic-ad-req-basis", Val::Enum(b.clone())));
+        }
+        if let Some(t) = &s.verdict {
+            v.push(("geodesic-ad-req-verdict", Val::Str(t.clone())));
+        }
+        if let Some(t) = &s.sample {
+            v.push(("geodesic-ad-req-sample", Val::Str(t.clone())));
         }
         if let Some(x) = s.value.filter(|x| x.is_finite()) {
             v.push(("geodesic-ad-req-value", Val::Real(x)));
