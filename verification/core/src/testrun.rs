@@ -171,11 +171,15 @@ pub struct TestRun {
 pub struct TreeState {
     /// `git rev-parse HEAD`.
     pub commit: String,
-    /// SHA-256 over every file git tracks or would track (`git ls-files --cached --others
-    /// --exclude-standard`: ignored files such as `target/` and `reports/` are left out), each
-    /// framed by its path and length, in path order; a tracked file deleted from disk counts
-    /// as deleted. Uncommitted edits change it; a run of the tests and a verdict on the same
-    /// fingerprint saw the same sources and inputs.
+    /// SHA-256 over every file git tracks, as it is on disk, and every untracked file git
+    /// would track (not ignored) in a directory that holds tracked files, each framed by its
+    /// path and length, in path order; a tracked file deleted from disk counts as deleted.
+    /// Ignored files (`target/`, `reports/`) are left out, and so are untracked files in
+    /// directories of their own (a `verify --reports DIR` written inside the repository does
+    /// not make the tests stale): what tests read is tracked, or sits beside tracked files (a
+    /// new requirement file in `requirements/`, which the build embeds). Uncommitted edits
+    /// change it; a run of the tests and a verdict on the same fingerprint saw the same
+    /// sources and inputs.
     pub tree_sha256: String,
     /// Whether the tree differs from the commit (tracked files changed or untracked files).
     pub dirty: bool,
@@ -208,21 +212,30 @@ pub fn tree_state(dir: &Path) -> Result<TreeState, String> {
     let commit = String::from_utf8_lossy(&git(&top, &["rev-parse", "HEAD"])?)
         .trim()
         .to_string();
-    let list = git(
-        &top,
-        &[
-            "ls-files",
-            "-z",
-            "--cached",
-            "--others",
-            "--exclude-standard",
-        ],
-    )?;
-    let mut paths: Vec<&[u8]> = list.split(|b| *b == 0).filter(|p| !p.is_empty()).collect();
+    let tracked = git(&top, &["ls-files", "-z", "--cached"])?;
+    let untracked = git(&top, &["ls-files", "-z", "--others", "--exclude-standard"])?;
+    let split = |l: &[u8]| -> Vec<Vec<u8>> {
+        l.split(|b| *b == 0)
+            .filter(|p| !p.is_empty())
+            .map(<[u8]>::to_vec)
+            .collect()
+    };
+    let parent = |p: &[u8]| -> Vec<u8> {
+        p.iter()
+            .rposition(|b| *b == b'/')
+            .map_or_else(Vec::new, |i| p[..i].to_vec())
+    };
+    let mut paths = split(&tracked);
+    let dirs: std::collections::BTreeSet<Vec<u8>> = paths.iter().map(|p| parent(p)).collect();
+    paths.extend(
+        split(&untracked)
+            .into_iter()
+            .filter(|p| dirs.contains(&parent(p))),
+    );
     paths.sort_unstable();
     paths.dedup();
     let mut parts: Vec<(String, Vec<u8>)> = Vec::with_capacity(paths.len());
-    for p in paths {
+    for p in &paths {
         let rel = String::from_utf8_lossy(p).into_owned();
         let full = top.join(&rel);
         let bytes = match std::fs::symlink_metadata(&full) {
@@ -337,5 +350,94 @@ impl TestRun {
         self.tests
             .iter()
             .filter(move |t| t.requirements.iter().any(|r| r == id))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn git_in(d: &Path, args: &[&str]) {
+        let ok = std::process::Command::new("git")
+            .args(["-c", "user.name=t", "-c", "user.email=t@t"])
+            .args(args)
+            .current_dir(d)
+            .output()
+            .unwrap()
+            .status
+            .success();
+        assert!(ok, "git {args:?}");
+    }
+
+    fn run_of(t: &TreeState) -> TestRun {
+        TestRun {
+            commit: t.commit.clone(),
+            dirty: t.dirty,
+            tree_sha256: Some(t.tree_sha256.clone()),
+            proptest_rng_seed: None,
+            date: "2026-01-01T00:00:00Z".into(),
+            command: "cargo xtask test".into(),
+            tests: vec![],
+        }
+    }
+
+    /// The fingerprint follows what the tests read: tracked files and new files beside them;
+    /// not ignored files, nor untracked output folders of their own.
+    #[test]
+    fn the_tree_fingerprint_follows_the_sources_not_the_outputs() {
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path();
+        std::fs::create_dir_all(d.join("src")).unwrap();
+        std::fs::write(d.join("src/a.rs"), "fn a() {}\n").unwrap();
+        std::fs::write(d.join(".gitignore"), "/target\n").unwrap();
+        git_in(d, &["init", "-q"]);
+        git_in(d, &["add", "-A"]);
+        git_in(d, &["commit", "-q", "-m", "one"]);
+        let t0 = tree_state(d).unwrap();
+        assert!(!t0.dirty);
+        let run = run_of(&t0);
+        assert!(run.freshness(&tree_state(d)).is_fresh());
+        // outputs: an ignored folder, an untracked folder of its own
+        std::fs::create_dir_all(d.join("target/x")).unwrap();
+        std::fs::write(d.join("target/x/run.json"), "{}").unwrap();
+        std::fs::create_dir_all(d.join("my-reports")).unwrap();
+        std::fs::write(d.join("my-reports/compliance.json"), "{}").unwrap();
+        assert!(run.freshness(&tree_state(d)).is_fresh());
+        // an uncommitted edit, then a new file beside the sources: stale
+        std::fs::write(d.join("src/a.rs"), "fn a() { }\n").unwrap();
+        let why = run.freshness(&tree_state(d));
+        assert!(
+            why.reason()
+                .unwrap()
+                .contains("changed since the tests ran"),
+            "{why:?}"
+        );
+        std::fs::write(d.join("src/a.rs"), "fn a() {}\n").unwrap();
+        assert!(run.freshness(&tree_state(d)).is_fresh());
+        std::fs::write(d.join("src/b.rs"), "fn b() {}\n").unwrap();
+        assert!(!run.freshness(&tree_state(d)).is_fresh());
+        // a dirty tree is fresh for a run of that same dirty tree
+        let dirty = tree_state(d).unwrap();
+        assert!(dirty.dirty);
+        assert!(run_of(&dirty).freshness(&tree_state(d)).is_fresh());
+        // another commit; no fingerprint; not a work tree
+        git_in(d, &["add", "-A"]);
+        git_in(d, &["commit", "-q", "-m", "two"]);
+        assert!(
+            run.freshness(&tree_state(d))
+                .reason()
+                .unwrap()
+                .starts_with("recorded on commit")
+        );
+        let mut old = run_of(&tree_state(d).unwrap());
+        old.tree_sha256 = None;
+        assert!(!old.freshness(&tree_state(d)).is_fresh());
+        let outside = tempfile::tempdir().unwrap();
+        assert!(
+            run.freshness(&tree_state(outside.path()))
+                .reason()
+                .unwrap()
+                .contains("not in a git work tree")
+        );
     }
 }

@@ -415,7 +415,7 @@ fn release_checks_give_evidence() {
         &Budget::default_budget().adhesion,
         &HOLD_OUT,
         CALIBRATION_DRAWS,
-        3,
+        geodesic_checks::release::CALIBRATION_SEED,
     )
     .unwrap();
     assert_eq!(q.value, direct.worst_z);
