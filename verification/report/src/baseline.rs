@@ -33,14 +33,6 @@ use std::path::Path;
 #[derive(Deserialize)]
 struct OldReport {
     requirements: Vec<OldRow>,
-    #[serde(default)]
-    run: Option<OldRun>,
-}
-
-#[derive(Deserialize)]
-struct OldRun {
-    #[serde(default)]
-    confidence: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -254,7 +246,6 @@ pub fn diff_text(
         )),
         Some(_) => None,
     };
-    let old_confidence = old.run.as_ref().and_then(|r| r.confidence);
     let mut d = Diff {
         baseline: label.to_string(),
         tolerance,
@@ -282,18 +273,7 @@ pub fn diff_text(
             }
             continue;
         };
-        let mut c = compare(r, o, tolerance, tests_compared);
-        if let Some(oc) = old_confidence
-            && r.sampling.is_some()
-            && now.run.confidence < oc
-        {
-            c.regressions.push(format!(
-                "its sampled verdict is decided at {} confidence, the baseline's at {}",
-                geodesic_core::units::fmt_pct(now.run.confidence),
-                geodesic_core::units::fmt_pct(oc)
-            ));
-            c.regression = true;
-        }
+        let c = compare(r, o, tolerance, tests_compared);
         if !c.regressions.is_empty() || !c.notes.is_empty() {
             d.changes.push(c);
         }
@@ -847,6 +827,21 @@ mod tests {
         // a smaller sample than the baseline's fails even when its bound looks good
         let d = diff_of(&old, &sampled(report(1.3, 2.0), 2_000, 1.2, 1.3), 0.01);
         assert!(summary_lines(&d)[0].contains("N = 2000, the baseline's on N = 100000"));
+        // so does a lower confidence
+        let mut lower = sampled(report(1.3, 2.0), 100_000, 1.329, 1.333);
+        lower.matrix.requirements[0]
+            .sampling
+            .as_mut()
+            .unwrap()
+            .confidence = 0.9;
+        let d = diff_of(&old, &lower, 0.01);
+        assert_eq!(d.regressions, 1);
+        assert!(
+            summary_lines(&d)[0]
+                .contains("its bound is at 90 % confidence, the baseline's at 95 %"),
+            "{:?}",
+            summary_lines(&d)
+        );
     }
 
     #[test]
