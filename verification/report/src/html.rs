@@ -143,7 +143,7 @@ fn vcd_table(rep: &Report, link: &str) -> String {
              <td>{level}<br>{stage}<br>{method}</td>\
              <td class=\"ev\">{act}<br><b>{ev}</b> <a href=\"{link}#{id}\">§ evidence</a>\
              <details><summary>full evidence and references</summary><ul>{detail}</ul><b>References</b><ul>{refs}</ul></details></td>\
-             <td>{value}<br>{limit}<br>margin {margin}<br><span class=\"small muted\">basis {basis}</span></td>\
+             <td>{value}<br>{limit}<br>margin {margin}<br><span class=\"small muted\">basis {basis}{sample}</span></td>\
              <td><span class=\"badge\">{comp}</span><br><b>{co}</b>: {cor}{cref}</td><td class=\"small\">{rem}</td><td>{rv}</td></tr>",
             id = esc(&l.id),
             idl = idlink(&l.id),
@@ -164,7 +164,12 @@ fn vcd_table(rep: &Report, link: &str) -> String {
             limit = esc(&l.limit),
             margin = esc(&l.margin).replace(" %", "&nbsp;%"),
             basis = if l.basis.is_empty() { "—" } else { l.basis },
-            comp = l.compliance,
+            sample = if l.sampling.is_empty() {
+                String::new()
+            } else {
+                format!("<br>sample: {}", esc(&l.sampling))
+            },
+            comp = esc(&l.compliance),
             co = l.close_out,
             cor = esc(&l.close_out_reason),
             cref = if l.close_out_reference.is_empty() {

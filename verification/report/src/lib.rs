@@ -468,6 +468,58 @@ mod tests {
         );
     }
 
+    /// The verdict as it must be read, the sample (N, the probability, the confidence) and the
+    /// summary by basis, in every writer.
+    #[test]
+    fn every_writer_states_the_verdict_the_sample_and_the_counts() {
+        let mut r = report(1.3, 6.0);
+        let row = &mut r.matrix.requirements[0];
+        row.basis = Some(geodesic_core::Basis::FlowDown);
+        row.verdict = "compliant (flow-down; assumes not-verified F-B)".into();
+        row.findings = vec!["takes F-B as met".into()];
+        row.sampling = Some(geodesic_core::check::Sampling::quantile(
+            &(1..=2000).map(|k| k as f64 * 1e-3).collect::<Vec<f64>>(),
+            0.9973,
+            0.95,
+        ));
+        r.matrix.summary.compliant_by_basis = [("flow-down".to_string(), 1)].into();
+        r.matrix.summary.compliant_with_findings = 1;
+        let line = r.matrix.summary.line();
+        assert!(line.contains("1 flow-down"), "{line}");
+        let junit = crate::junit::render(&r);
+        let html = crate::html::render(&r, &[]);
+        let vcd_html = crate::html::render_vcd(&r);
+        let md = crate::markdown::render(&r);
+        let vcd_md = crate::vcd::markdown(&r);
+        let csv = crate::vcd::csv(&r);
+        let table = crate::terminal::table(&r.matrix, false);
+        for (name, text) in [
+            ("junit", &junit),
+            ("html", &html),
+            ("vcd.html", &vcd_html),
+            ("md", &md),
+            ("vcd.md", &vcd_md),
+            ("csv", &csv),
+            ("terminal", &table),
+        ] {
+            assert!(
+                text.contains("flow-down; assumes not-verified F-B"),
+                "{name}: no verdict"
+            );
+            if name != "terminal" {
+                assert!(text.contains("N = 2000"), "{name}: no N");
+                assert!(text.contains("95 %"), "{name}: no confidence");
+                assert!(text.contains("99.73 %"), "{name}: no probability");
+            }
+        }
+        // a qualified compliant is not a plain JUnit pass
+        assert!(junit.contains("<skipped message=\"compliant (flow-down; assumes not-verified F-B): not a plain model verdict"));
+        assert!(junit.contains("<property name=\"sample_n\" value=\"2000\"/>"));
+        assert!(junit.contains("<property name=\"compliant_flow_down\" value=\"1\"/>"));
+        let xlsx = crate::xlsx::render(&r).unwrap();
+        assert!(!xlsx.is_empty());
+    }
+
     #[test]
     fn html_escapes_requirement_text() {
         let mut r = report(1.0, 1.0);
