@@ -19,6 +19,14 @@ pub struct Args {
 #[derive(clap::Subcommand, Debug)]
 enum Format {
     /// Read a ReqIF file into requirement YAML (one file per family).
+    #[command(after_help = "Examples:
+  geodesic import reqif from-doors.reqif --out imported/            # then: geodesic verify --requirements imported/
+  geodesic import reqif from-doors.reqif --out imported/ --report   # which attribute went to which field
+  geodesic import reqif polarion.reqif --out imported/ --attribute limit=\"Max Value\" --attribute method=\"V&V Method\"
+  geodesic import reqif supplier.reqif --out imported/ --strict     # refuse at the first problem (exit 2)
+  geodesic import reqif supplier.reqif --out imported/ --json | jq '.warnings | length'
+What other tools get wrong (dangling references, duplicated IDs, missing types) is imported with a
+warning per problem (file:line) on standard error; see docs/exchange.md.")]
     Reqif(ReqifArgs),
 }
 

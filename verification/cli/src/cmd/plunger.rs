@@ -29,7 +29,7 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', default_values_t = ["baseline".to_string(), "revised".to_string()])]
     pub retraction: Vec<String>,
     /// Release velocity towards one plunger (a unit may be given).
-    #[arg(long, default_value = "5um/s", value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::VELOCITY, 1.0))]
+    #[arg(long, default_value = "5um/s", allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::VELOCITY, 1.0))]
     pub v0: f64,
     /// Capacitance model.
     #[arg(long, default_value = "disc")]

@@ -53,19 +53,19 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Sampling frequency [Hz] (default: the scenario's examples).
-    #[arg(long, value_parser = crate::quantity::frequency())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::positive(crate::quantity::frequency(), "a sampling frequency"))]
     pub fs: Option<f64>,
     /// Record before the trigger [s].
-    #[arg(long, value_parser = crate::quantity::time())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::non_negative(crate::quantity::time(), "the record before the trigger"))]
     pub pre: Option<f64>,
     /// Record after the trigger [s].
-    #[arg(long, value_parser = crate::quantity::time())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::positive(crate::quantity::time(), "the record after the trigger"))]
     pub post: Option<f64>,
     /// Tip profile jerk [m/s^3] (tmmf-release).
-    #[arg(long, value_parser = crate::quantity::jerk())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::positive(crate::quantity::jerk(), "the tip profile's jerk"))]
     pub jerk: Option<f64>,
     /// Tip profile final speed [m/s] (tmmf-release).
-    #[arg(long, value_parser = crate::quantity::velocity())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::positive(crate::quantity::velocity(), "the tip profile's final speed"))]
     pub v: Option<f64>,
     /// Output YAML path (CSV and truth JSON are written beside it).
     #[arg(long)]
