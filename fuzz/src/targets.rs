@@ -748,6 +748,12 @@ fn seeds_reqif(root: &Path) -> Vec<Vec<u8>> {
             .into_iter()
             .filter(|f| f.len() < 50_000),
     );
+    // and .reqifz archives of them
+    v.extend(files_in(
+        root,
+        "verification/exchange/tests/fixtures/tools",
+        "reqifz",
+    ));
     v
 }
 
@@ -1055,17 +1061,22 @@ fn run_reqif(_ctx: &Ctx, data: &[u8]) -> Outcome {
 }
 
 fn reqif_with(data: &[u8], strict: bool, skip_incomplete: bool) -> Outcome {
-    use geodesic_exchange::reqif::{ImportOptions, import};
+    use geodesic_exchange::reqif::{ImportOptions, import_file};
     let file = Path::new("fuzz.reqif");
     let opts = ImportOptions {
         skip_incomplete,
         strict,
         ..ImportOptions::default()
     };
-    match import(file, &text(data), &opts) {
+    // as `geodesic import reqif` reads it: the bytes, a .reqif or a .reqifz archive
+    match import_file(file, data, &opts) {
         Ok(imp) => {
-            // each warning is one line at a line of the file
-            let lines = text(data).lines().count().max(1) as u32;
+            // each warning is one line at a line of the file (of the document, in an archive)
+            let lines = if geodesic_exchange::reqif::is_archive(data) {
+                u32::MAX - 1
+            } else {
+                text(data).lines().count().max(1) as u32
+            };
             if let Some(w) = imp
                 .warnings
                 .iter()

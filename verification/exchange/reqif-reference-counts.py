@@ -3,7 +3,7 @@
 
 Usage: reqif-reference-counts.py [--check] DIR
 
-For every DIR/*.reqif, parses the file with the PyPI package `reqif` (strictdoc-project/reqif,
+For every DIR/*.reqif (and DIR/*.reqifz: each document in it), parses the file with the PyPI package `reqif` (strictdoc-project/reqif,
 the parser bundled with the OMG schema; pinned in reqif-venv.sh) and records how many
 SPEC-OBJECTs, SPECIFICATIONs and SPEC-RELATIONs it reads, and, independently of any ReqIF
 model, how many SPEC-OBJECT elements the XML holds (lxml). Writes DIR/reference-counts.json;
@@ -19,10 +19,45 @@ import os
 import sys
 
 
+def count_archive(path: str) -> dict:
+    """A .reqifz: the counts of each ReqIF document in it, by name (the reference parser's
+    ReqIFZParser), and which one `geodesic import reqif` reads (the first .reqif by name)."""
+    import zipfile
+
+    from reqif.parser import ReqIFZParser
+
+    out = {"documents": {}}
+    try:
+        bundle = ReqIFZParser.parse(path)
+        for name, b in sorted(bundle.reqif_bundles.items()):
+            c = b.core_content.req_if_content if b.core_content else None
+            out["documents"][name] = {
+                "spec_objects": len(c.spec_objects or []) if c else 0,
+                "specifications": len(c.specifications or []) if c else 0,
+                "spec_relations": len(c.spec_relations or []) if c else 0,
+            }
+    except Exception as e:
+        out["parser_error"] = f"{type(e).__name__}: {str(e).splitlines()[0][:160]}"
+    with zipfile.ZipFile(path) as z:
+        docs = sorted(
+            n
+            for n in z.namelist()
+            if n.lower().endswith(".reqif")
+            and not n.startswith("__MACOSX/")
+            and not n.rsplit("/", 1)[-1].startswith("._")
+        )
+    out["imported_document"] = docs[0] if docs else None
+    if docs and docs[0] in out["documents"]:
+        out["spec_objects"] = out["documents"][docs[0]]["spec_objects"]
+    return out
+
+
 def count(path: str) -> dict:
     from lxml import etree
     from reqif.parser import ReqIFParser
 
+    if path.endswith(".reqifz"):
+        return count_archive(path)
     out = {}
     try:
         bundle = ReqIFParser.parse(path)
@@ -56,7 +91,7 @@ def main() -> int:
         "files": {
             f: count(os.path.join(folder, f))
             for f in sorted(os.listdir(folder))
-            if f.endswith(".reqif")
+            if f.endswith(".reqif") or f.endswith(".reqifz")
         },
     }
     target = os.path.join(folder, "reference-counts.json")

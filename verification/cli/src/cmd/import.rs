@@ -3,7 +3,7 @@
 
 use crate::error::{CliError, CmdResult};
 use geodesic_core::Requirements;
-use geodesic_exchange::reqif::{Field, ImportOptions, import};
+use geodesic_exchange::reqif::{Field, ImportOptions, import_file};
 use std::path::PathBuf;
 
 /// Largest ReqIF file read [bytes] (256 MiB).
@@ -22,7 +22,7 @@ enum Format {
     #[command(after_help = "Examples:
   geodesic import reqif from-doors.reqif --out imported/            # then: geodesic verify --requirements imported/
   geodesic import reqif from-doors.reqif --out imported/ --report   # which attribute went to which field
-  geodesic import reqif polarion.reqif --out imported/ --attribute limit=\"Max Value\" --attribute method=\"V&V Method\"
+  geodesic import reqif polarion.reqifz --out imported/ --attribute limit=\"Max Value\" --attribute method=\"V&V Method\"
   geodesic import reqif supplier.reqif --out imported/ --strict     # refuse at the first problem (exit 2)
   geodesic import reqif supplier.reqif --out imported/ --json | jq '.warnings | length'
 What other tools get wrong (dangling references, duplicated IDs, missing types) is imported with a
@@ -33,7 +33,7 @@ warning per problem (file:line) on standard error; see docs/exchange.md.")]
 /// Flags of `geodesic import reqif`.
 #[derive(clap::Args, Debug)]
 pub struct ReqifArgs {
-    /// The ReqIF file.
+    /// The ReqIF file (.reqif, or a .reqifz archive of one).
     pub file: PathBuf,
     /// Directory the YAML files are written to (created; must hold no YAML file yet).
     #[arg(long, value_name = "DIR", default_value = "imported-requirements")]
@@ -103,7 +103,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         }
         opts.attribute.insert(field, name.trim().to_string());
     }
-    let text = geodesic_core::fsio::read_text(&a.file, MAX_REQIF_BYTES).map_err(|e| {
+    let bytes = geodesic_core::fsio::read_bytes(&a.file, MAX_REQIF_BYTES).map_err(|e| {
         CliError::bad(format!(
             "{}:{}: {}",
             a.file.display(),
@@ -111,7 +111,8 @@ fn reqif(a: ReqifArgs) -> CmdResult {
             e.cause()
         ))
     })?;
-    let imported = import(&a.file, &text, &opts).map_err(|e| CliError::bad(e.to_string()))?;
+    // a .reqif file, or a .reqifz archive of one
+    let imported = import_file(&a.file, &bytes, &opts).map_err(|e| CliError::bad(e.to_string()))?;
     // what is written loads, with registered checks only (the import left the others out)
     let sources: Vec<(PathBuf, String)> = imported
         .families
@@ -160,15 +161,13 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     for w in &imported.warnings[..shown] {
         eprintln!(
             "geodesic: warning: {}:{}: {}",
-            a.file.display(),
-            w.line,
-            w.cause
+            imported.document, w.line, w.cause
         );
     }
     if imported.warnings.len() > shown {
         eprintln!(
             "geodesic: warning: {}: {} more warnings (all of them in --json)",
-            a.file.display(),
+            imported.document,
             imported.warnings.len() - shown
         );
     }
@@ -180,7 +179,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     {
         eprintln!(
             "geodesic: {}:{}: skipped requirement {}: {}",
-            a.file.display(),
+            imported.document,
             s.line,
             s.id,
             s.missing.join("; ")
@@ -194,6 +193,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     if a.json {
         let v = serde_json::json!({
             "file": a.file.display().to_string(),
+            "document": imported.document,
             "out": a.out.display().to_string(),
             "source_tool": imported.source_tool,
             "requirements": imported.count(),
@@ -226,7 +226,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     if a.report {
         println!(
             "{}: ReqIF attribute -> geodesic field, over the {} requirements imported:",
-            a.file.display(),
+            imported.document,
             imported.count()
         );
         for m in &imported.mapping {

@@ -149,6 +149,9 @@ pub struct MappingRow {
 /// The result of an import.
 #[derive(Clone, Debug)]
 pub struct Imported {
+    /// The document read, as messages name it: the file, or `ARCHIVE!DOCUMENT` for a
+    /// `.reqifz` ([`super::import_file`]).
+    pub document: String,
     /// Families in document order.
     pub families: Vec<ImportedFamily>,
     /// Requirements left out.
@@ -560,7 +563,10 @@ fn read_content<'a, 'i>(
 
     // what each object is: a heading, a requirement (with its text and where it came from), or
     // an object without text
-    let stem = file
+    // the document's own name: in an archive (`a.reqifz!dir/doc.reqif`), the document's
+    let name = file.to_string_lossy();
+    let inner = name.rsplit(['!', '/']).next().unwrap_or("");
+    let stem = Path::new(inner)
         .file_stem()
         .map_or("imported".to_string(), |s| s.to_string_lossy().into_owned());
     let mut heading_objects: Vec<(usize, Place)> = Vec::new();
@@ -1136,6 +1142,7 @@ fn read_content<'a, 'i>(
                 let qualitative = kept.iter().filter(|p| p.qualitative.is_some()).count();
                 let (mapping, unmapped) = mapping(&kept, &objects, &by_ident);
                 return Ok(Imported {
+                    document: fname.to_string(),
                     families: fams,
                     skipped,
                     qualitative,

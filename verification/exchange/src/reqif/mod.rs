@@ -16,12 +16,14 @@
 //! | `parent: {id, margin}` | a SPEC-RELATION of type `geodesic.DerivedFrom` from the child (source) to the parent (target) with `geodesic.DerivationMargin` |
 //! | VCD status (with `--matrix`) | `geodesic.Status`, `geodesic.Basis`, `geodesic.CloseOut` (enumerations), `geodesic.Value`, `geodesic.Margin` (reals), `geodesic.Disposition`, `geodesic.Remarks` |
 
+mod archive;
 mod export;
 mod fields;
 mod import;
 mod read;
 mod xhtml;
 
+pub use archive::{MAX_DOCUMENT_BYTES, import_file, is_archive};
 pub use export::{ExportOptions, export};
 pub use fields::Field;
 pub use import::{
