@@ -190,8 +190,15 @@ const EXPECTED: &[(&str, usize, usize, usize, &str)] = &[
         0,
         "none of the text attributes",
     ),
-    // StrictDoc: sections as ReqIF.ChapterName objects
-    ("strictdoc-sample.reqif", 8, 10, 0, ""),
+    // StrictDoc: sections as ReqIF.ChapterName objects; no LAST-CHANGE nor MAX-LENGTH, which
+    // the schema requires
+    (
+        "strictdoc-sample.reqif",
+        8,
+        10,
+        0,
+        "lacks the LAST-CHANGE the ReqIF schema requires",
+    ),
     // .reqifz archives: Polarion's (STRING values of an XHTML definition), one with its
     // attachments in nested folders and macOS resource forks, and an RMF test case of two
     // documents (the second holds only a relation to the first: not imported, said)

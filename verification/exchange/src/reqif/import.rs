@@ -458,6 +458,8 @@ fn read_content<'a, 'i>(
         .trim()
         .to_string();
 
+    schema_attributes(content, model);
+
     // objects, in document order; a second definition of an identifier is ignored
     let mut objects: Vec<Object> = Vec::new();
     let mut by_ident: HashMap<String, usize> = HashMap::new();
@@ -1215,6 +1217,47 @@ fn read_content<'a, 'i>(
                 });
             }
         }
+    }
+}
+
+/// The attributes the ReqIF schema requires and tools leave out: `LAST-CHANGE` on every
+/// identifiable element, `MAX-LENGTH` of a string datatype, `MIN` and `MAX` of an integer one,
+/// `ACCURACY`, `MIN` and `MAX` of a real one. The import needs none of them: one warning per
+/// element kind and attribute, with the count and the first line.
+fn schema_attributes(content: Node, model: &mut Model) {
+    let mut missing: BTreeMap<(String, &'static str), (u32, usize)> = BTreeMap::new();
+    for n in content.descendants().filter(|n| n.is_element()) {
+        let tag = n.tag_name().name();
+        let mut need: Vec<&'static str> = Vec::new();
+        if n.attribute("IDENTIFIER").is_some() && tag != "ALTERNATIVE-ID" {
+            need.push("LAST-CHANGE");
+        }
+        match tag {
+            "DATATYPE-DEFINITION-STRING" => need.push("MAX-LENGTH"),
+            "DATATYPE-DEFINITION-INTEGER" => need.extend(["MIN", "MAX"]),
+            "DATATYPE-DEFINITION-REAL" => need.extend(["ACCURACY", "MIN", "MAX"]),
+            _ => {}
+        }
+        for a in need {
+            if n.attribute(a).is_none() {
+                let line = model.line(n);
+                let e = missing.entry((tag.to_string(), a)).or_insert((line, 0));
+                e.1 += 1;
+            }
+        }
+    }
+    for ((tag, a), (line, n)) in missing {
+        let what = if n == 1 {
+            format!("1 {tag} element lacks")
+        } else {
+            format!("{n} {tag} elements lack")
+        };
+        model.problems.warn(
+            line,
+            format!(
+                "{what} the {a} the ReqIF schema requires (the first at line {line}): read all the same"
+            ),
+        );
     }
 }
 
