@@ -52,6 +52,48 @@ fn a_wrong_argument_or_value_is_named() {
         ],
     );
     usage_error(&["frobnicate"], &["unrecognized subcommand 'frobnicate'"]);
+    // the commands' own checks name the flag too
+    for (args, want) in [
+        (
+            &[
+                "synth",
+                "--scenario",
+                "foo",
+                "--effects",
+                "piezo",
+                "--out",
+                "x.yaml",
+            ][..],
+            "--scenario foo: unknown scenario",
+        ),
+        (
+            &[
+                "synth",
+                "--scenario",
+                "rt-retraction",
+                "--effects",
+                "nope",
+                "--out",
+                "x.yaml",
+            ],
+            "--effects nope: unknown effect for rt-retraction",
+        ),
+        (
+            &["montecarlo", "--shard", "3/2", "--out", "p.json"],
+            "--shard 3/2",
+        ),
+        (
+            &["fit", "d.yaml", "--effects", "piezo", "--fix", "piezo.R"],
+            "--fix `piezo.R`",
+        ),
+    ] {
+        let d = scratch("own");
+        let o = common::geodesic(args, &d);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+        assert!(e.contains(want), "{args:?}: `{want}` not in {e}");
+    }
 }
 
 #[test]

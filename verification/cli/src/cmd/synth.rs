@@ -96,10 +96,23 @@ pub fn run(args: Args) -> CmdResult {
     let scenario_name = args.scenario.clone().unwrap_or_default();
     let scenario = Scenario::from_name(&scenario_name).ok_or_else(|| {
         CliError::bad(format!(
-            "unknown scenario `{scenario_name}` (tmmf-release, rt-retraction)"
+            "--scenario {scenario_name}: unknown scenario (tmmf-release, rt-retraction)"
         ))
     })?;
     let effects: Vec<&str> = args.effects.iter().map(|s| s.trim()).collect();
+    // the flag named with what it names wrongly
+    let known: Vec<&str> = geodesic_facility::effects::catalogue()
+        .iter()
+        .filter(|e| e.scenario() == scenario)
+        .map(|e| e.name())
+        .collect();
+    if let Some(bad) = effects.iter().find(|e| !known.contains(e)) {
+        return Err(CliError::bad(format!(
+            "--effects {bad}: unknown effect for {} (known: {})",
+            scenario.name(),
+            known.join(", ")
+        )));
+    }
     let mut spec = SynthSpec::defaults(scenario, &effects);
     spec.params = pairs(&args.param, "param", crate::quantity::param_dim)?;
     spec.known
