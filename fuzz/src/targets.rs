@@ -742,7 +742,21 @@ fn seeds_parts(_root: &Path) -> Vec<Vec<u8>> {
 }
 
 fn seeds_reqif(root: &Path) -> Vec<Vec<u8>> {
-    files_in(root, "verification/exchange/tests/fixtures", "reqif")
+    // geodesic's own test files and the small real exports of other tools (Enterprise
+    // Architect, DOORS Next, RMF, Capella, ...: dangling references, missing types)
+    let mut v = files_in(root, "verification/exchange/tests/fixtures", "reqif");
+    v.extend(
+        files_in(root, "verification/exchange/tests/fixtures/tools", "reqif")
+            .into_iter()
+            .filter(|f| f.len() < 50_000),
+    );
+    // and .reqifz archives of them
+    v.extend(files_in(
+        root,
+        "verification/exchange/tests/fixtures/tools",
+        "reqifz",
+    ));
+    v
 }
 
 // ---------------------------------------------------------------- checks
@@ -1032,29 +1046,58 @@ fn part_and_merge(t: &str) -> Outcome {
 }
 
 fn run_reqif(_ctx: &Ctx, data: &[u8]) -> Outcome {
-    // both paths of the importer on every input: strict, and `--skip-incomplete` (a sample
-    // whose requirements are partly incomplete is refused by the first and taken by the second)
-    let strict = reqif_with(data, false);
+    // every path of the importer on every input: strict (refuses at the first problem), the
+    // default (imports what is meaningful with a warning per problem) and `--skip-incomplete`;
+    // the outcome is the strict one unless a path broke the contract
+    let strict = reqif_with(data, true, false);
     if matches!(strict, Outcome::Violation(_)) {
         return strict;
     }
-    let lenient = reqif_with(data, true);
-    match (&strict, &lenient) {
-        (_, Outcome::Violation(_)) => lenient,
-        (Outcome::Accepted, _) => strict,
-        _ => lenient,
+    for skip_incomplete in [false, true] {
+        let o = reqif_with(data, false, skip_incomplete);
+        if matches!(o, Outcome::Violation(_)) {
+            return o;
+        }
     }
+    strict
 }
 
-fn reqif_with(data: &[u8], skip_incomplete: bool) -> Outcome {
-    use geodesic_exchange::reqif::{ImportOptions, import};
+fn reqif_with(data: &[u8], strict: bool, skip_incomplete: bool) -> Outcome {
+    use geodesic_exchange::reqif::{ImportOptions, import_file};
     let file = Path::new("fuzz.reqif");
     let opts = ImportOptions {
         skip_incomplete,
+        strict,
         ..ImportOptions::default()
     };
-    match import(file, &text(data), &opts) {
+    // as `geodesic import reqif` reads it: the bytes, a .reqif or a .reqifz archive
+    match import_file(file, data, &opts) {
         Ok(imp) => {
+            // each warning is one line at a line of the file (of the document, in an archive)
+            let lines = if geodesic_exchange::reqif::is_archive(data) {
+                u32::MAX - 1
+            } else {
+                text(data).lines().count().max(1) as u32
+            };
+            if let Some(w) = imp
+                .warnings
+                .iter()
+                .find(|w| w.cause.contains(['\n', '\r']) || w.line == 0 || w.line > lines + 1)
+            {
+                return Outcome::Violation(format!("warning not one line in the file: {w:?}"));
+            }
+            if strict && !imp.warnings.is_empty() {
+                return Outcome::Violation("--strict accepted a file with warnings".into());
+            }
+            // every SPEC-OBJECT is accounted for
+            let accounted =
+                imp.count() + imp.headings + imp.other_objects + imp.duplicates + imp.skipped.len();
+            if accounted != imp.spec_objects {
+                return Outcome::Violation(format!(
+                    "{accounted} objects accounted for of {} SPEC-OBJECTs",
+                    imp.spec_objects
+                ));
+            }
             // `geodesic import reqif` loads the YAML it writes: that must not panic either
             let sources: Vec<(PathBuf, String)> = imp
                 .families
@@ -1063,7 +1106,7 @@ fn reqif_with(data: &[u8], skip_incomplete: bool) -> Outcome {
                 .collect();
             match Requirements::from_sources(&sources) {
                 Ok(_) => checked(Ok::<_, String>(imp), None),
-                Err(e) => refused(format!("imported YAML: {e}"), None),
+                Err(e) => Outcome::Violation(format!("the imported YAML does not load: {e}")),
             }
         }
         Err(e) => refused(e.to_string(), Some("fuzz.reqif")),

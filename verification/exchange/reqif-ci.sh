@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The ReqIF check of CI with the release binary: export the built-in requirements (and, given a
 # compliance.json, their verification status), validate both against the OMG ReqIF 1.2 schema
-# with verification/exchange/validate-reqif.py, import the export, export the imported set again
-# and require the same file apart from its CREATION-TIME.
+# with verification/exchange/validate-reqif.py, check the reference parser's counts of the other
+# tools' test files (reqif-reference-counts.py --check), import the export, export the imported
+# set again and require the same file apart from its CREATION-TIME.
 # Usage: reqif-ci.sh GEODESIC_BINARY [compliance.json]   (GEODESIC_REQIF_VALIDATOR: a python)
 set -euo pipefail
 bin=$(realpath "$1")
@@ -20,6 +21,8 @@ if [ -n "$matrix" ]; then
   files+=(status.reqif)
 fi
 "$py" "$here/validate-reqif.py" "${files[@]}"
+# the reference parser's counts of the other tools' test files are the committed ones
+"$py" "$here/reqif-reference-counts.py" --check "$here/tests/fixtures/tools"
 "$bin" import reqif first.reqif --out imported
 "$bin" export reqif --requirements imported --out second.reqif
 if ! diff <(grep -v '<CREATION-TIME>' first.reqif) <(grep -v '<CREATION-TIME>' second.reqif) >/dev/null; then

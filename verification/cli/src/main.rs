@@ -11,15 +11,26 @@ mod cmd;
 mod error;
 mod progress;
 mod quantity;
+mod usage;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
 #[command(
     name = "geodesic",
     version,
-    about = "Verify the LISA Pathfinder test-mass release against its requirements"
+    about = "Verify the LISA Pathfinder test-mass release against its requirements",
+    after_help = "Examples:
+  geodesic verify                                   # every requirement; reports/compliance.{md,json}, the VCD
+  geodesic montecarlo --n 100000 --seed 1 --json    # the in-flight release Monte Carlo
+  geodesic fit data/examples/tmmf-adhesion.yaml --effects needle_contact,tip_contact,tip_adhesion
+  geodesic import reqif from-doors.reqif --out imported/ && geodesic verify --requirements imported/
+  geodesic COMMAND --help                           # a command's options and examples
+
+Exit status: 0 success, 1 a verdict (verify: a non-compliance; capture, tiptrack, asd: not met),
+2 bad input or usage (one line on standard error), 128 + N when interrupted by signal N.
+`geodesic` alone prints this list of commands on standard error and exits 2."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -100,8 +111,16 @@ Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
   geodesic effects --scenario rt-retraction --json")]
     Effects(cmd::effects::Args),
     /// Export the requirement set to another tool's format (reqif).
+    #[command(after_help = "Examples:
+  geodesic export reqif                                              # reports/requirements.reqif
+  geodesic export reqif --matrix reports/compliance.json --out reqs.reqif   # with the VCD status
+See docs/exchange.md.")]
     Export(cmd::export::Args),
     /// Import requirements from another tool's format (reqif) into requirement YAML.
+    #[command(after_help = "Examples:
+  geodesic import reqif from-doors.reqif --out imported/ --report
+  geodesic import reqif polarion.reqif --out imported/ --attribute limit=\"Max Value\" --strict
+See docs/exchange.md.")]
     Import(cmd::import::Args),
     /// Fit every release of a campaign, tabulate P_x, F_peak, dt and estimate the adhesion population
     Campaign(cmd::campaign::Args),
@@ -164,36 +183,13 @@ fn handle_interrupts() {
     }
 }
 
-/// A clap usage error as one line: `geodesic: usage: <first line of the cause> (see --help)`.
-fn usage_line(e: &clap::Error) -> String {
-    let text = e.render().to_string();
-    let first = text
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("invalid usage");
-    let first = first.strip_prefix("error: ").unwrap_or(first);
-    format!("geodesic: usage: {first} (see geodesic --help)")
-}
-
 fn main() -> ExitCode {
     reset_sigpipe();
     handle_interrupts();
-    let cli = match Cli::try_parse() {
+    // usage errors: one line naming the argument (src/usage.rs); negative numbers are values
+    let cli: Cli = match usage::parse(Cli::command()) {
         Ok(c) => c,
-        Err(e) => {
-            use clap::error::ErrorKind;
-            let code = match e.kind() {
-                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => 0,
-                _ => 2,
-            };
-            if code == 0 {
-                let _ = e.print();
-            } else {
-                eprintln!("{}", usage_line(&e));
-            }
-            return ExitCode::from(code);
-        }
+        Err(code) => return ExitCode::from(code),
     };
     progress::set_mode(if cli.quiet {
         progress::Mode::Never

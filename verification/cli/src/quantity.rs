@@ -60,6 +60,37 @@ pub fn jerk() -> impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 's
     parser(Dim([1, 0, -3, 0, 0, 0]))
 }
 
+/// `value_parser` `p` whose value must be > 0: `what` names it in the refusal
+/// (`--fs -100`: "a sampling frequency must be > 0, not -100 (SI)").
+pub fn positive(
+    p: impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 'static,
+    what: &'static str,
+) -> impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 'static {
+    move |s: &str| {
+        let v = p(s)?;
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{what} must be > 0, not {v} (SI)"))
+        }
+    }
+}
+
+/// `value_parser` `p` whose value must be >= 0: `what` names it in the refusal.
+pub fn non_negative(
+    p: impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 'static,
+    what: &'static str,
+) -> impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 'static {
+    move |s: &str| {
+        let v = p(s)?;
+        if v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{what} cannot be negative, not {v} (SI)"))
+        }
+    }
+}
+
 /// The dimension of an effect parameter (`tip_adhesion.A1`) from the catalogue's unit, if the
 /// parameter is known and its unit parses.
 pub fn param_dim(name: &str) -> Option<Dim> {
@@ -134,5 +165,16 @@ mod tests {
         assert_eq!(v, 1e5);
         assert!(pair("nosuch.p=nan", "fix", param_dim).is_err());
         assert!(pair("novalue", "fix", param_dim).is_err());
+        let fs = positive(frequency(), "a sampling frequency");
+        assert_eq!(fs("1kHz").unwrap(), 1e3);
+        assert!(
+            fs("-100")
+                .unwrap_err()
+                .contains("a sampling frequency must be > 0")
+        );
+        assert!(fs("0").is_err());
+        let pre = non_negative(time(), "the record before the trigger");
+        assert_eq!(pre("0").unwrap(), 0.0);
+        assert!(pre("-1ms").unwrap_err().contains("cannot be negative"));
     }
 }

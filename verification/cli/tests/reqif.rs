@@ -164,7 +164,7 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
         ),
         "unknown field `colour`",
     );
-    // a DOORS module whose limits have no method (the method attribute named wrongly): refused
+    // an attribute the file does not have: the flag is named
     let doors = fixtures.join("doors-style-lpf.reqif");
     one_line(
         &geodesic(
@@ -179,9 +179,37 @@ fn bad_input_exits_2_with_one_line_naming_the_file() {
             ],
             &dir,
         ),
+        "--attribute method=V&V Method: no attribute `V&V Method` in this file",
+    );
+    // a DOORS module whose limits have no method readable (the method attribute named
+    // wrongly): with --strict, refused at the first one; without, they are left out, each said
+    let wrong_method = [
+        "import",
+        "reqif",
+        doors.to_str().unwrap(),
+        "--out",
+        "d",
+        "--attribute",
+        "method=ReqIF.ForeignCreatedBy",
+    ];
+    let mut strict = wrong_method.to_vec();
+    strict.push("--strict");
+    one_line(
+        &geodesic(&strict, &dir),
         "doors-style-lpf.reqif:83: requirement GRS-12",
     );
     assert!(!dir.join("d").exists() || std::fs::read_dir(dir.join("d")).unwrap().count() == 0);
+    let out = geodesic(&wrong_method, &dir);
+    let s = ok(&out);
+    // GRS-12 (method `jdoe`), GRS-13 and GRS-20 (none) left out; GRS-21 is qualitative
+    assert!(s.contains("imported 1 requirement (1 qualitative)"), "{s}");
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.lines().any(|l| l.starts_with("geodesic: warning: ")
+            && l.contains("doors-style-lpf.reqif:83: requirement GRS-12 ")),
+        "{e}"
+    );
+    std::fs::remove_dir_all(dir.join("d")).unwrap();
     // ... or imported without its qualitative requirement GRS-21 when only quantitative ones
     // are wanted
     let out = geodesic(
@@ -328,4 +356,79 @@ fn prose_requirements_of_polarion_import_and_verify_lists_them_not_verified() {
     assert_ne!(a, b, "the creation time differs");
     assert_eq!(without_creation_time(&a), without_creation_time(&b));
     validate(&[&dir.join("a.reqif")]);
+}
+
+/// Files of other tools with problems (here Enterprise Architect's: no text attribute by name,
+/// a hierarchy naming objects the export left out): imported with a warning per problem on
+/// standard error, the count of SPEC-OBJECTs the reference parser's; `--strict` refuses them
+/// with the first problem; `--report` says which attribute went to which field.
+#[test]
+fn files_of_other_tools_import_with_warnings_and_a_report() {
+    let dir = scratch("reqif-tools");
+    let ea =
+        workspace().join("verification/exchange/tests/fixtures/tools/enterprise-architect-8.reqif");
+    let ea = ea.to_str().unwrap();
+    let out = geodesic(&["import", "reqif", ea, "--out", "ea", "--json"], &dir);
+    let v: serde_json::Value = serde_json::from_str(&ok(&out)).unwrap();
+    assert_eq!(v["requirements"], 3);
+    assert_eq!(v["spec_objects"], 3);
+    let warnings = v["warnings"].as_array().unwrap();
+    assert!(warnings.len() >= 3, "{warnings:?}");
+    // the same warnings on standard error, one line each naming file and line
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(e.lines().count(), warnings.len(), "{e}");
+    for (l, w) in e.lines().zip(warnings) {
+        assert_eq!(
+            l,
+            format!(
+                "geodesic: warning: {ea}:{}: {}",
+                w["line"],
+                w["cause"].as_str().unwrap()
+            )
+        );
+    }
+    assert!(
+        v["mapping"]["text"][0]["source"]
+            .as_str()
+            .unwrap()
+            .contains("FUNC-REQ-TXT")
+    );
+    // the report, for the user to correct with --attribute
+    let out = geodesic(&["import", "reqif", ea, "--out", "ea2", "--report"], &dir);
+    let s = ok(&out);
+    assert!(
+        s.lines().any(
+            |l| l.trim_start().starts_with("text") && l.contains("<- attribute `FUNC-REQ-TXT`")
+        ),
+        "{s}"
+    );
+    assert!(
+        s.contains("id              <- SPEC-OBJECT IDENTIFIER (no ID attribute) (3)"),
+        "{s}"
+    );
+    assert!(s.contains("--attribute FIELD=NAME"), "{s}");
+    // refused with --strict, exit 2 with the first problem, nothing written
+    let out = geodesic(&["import", "reqif", ea, "--out", "ea3", "--strict"], &dir);
+    assert_eq!(out.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    assert!(
+        e.starts_with(&format!("geodesic: {ea}:{}: ", warnings[0]["line"])),
+        "{e}"
+    );
+    assert!(!dir.join("ea3").exists());
+    // what was imported loads in verify
+    let out = geodesic(
+        &[
+            "verify",
+            "--requirements",
+            "ea",
+            "--mc-n",
+            "1000",
+            "--no-fidelity",
+            "--json",
+        ],
+        &dir,
+    );
+    assert!(matches!(out.status.code(), Some(0 | 1)), "{out:?}");
 }

@@ -73,10 +73,14 @@ pub fn family_file(fam: &ImportedFamily, comment: &str) -> (String, Vec<(u64, u6
     }
     o.push_str("requirements:\n");
     let mut spans = Vec::new();
+    // lines so far, counted once per entry (not over the whole text each time)
+    let mut lines = o.lines().count() as u64;
     for r in &fam.requirements {
-        let start = o.lines().count() as u64 + 1;
+        let start = lines + 1;
+        let at = o.len();
         entry(&mut o, r);
-        spans.push((start, o.lines().count() as u64));
+        lines += o[at..].lines().count() as u64;
+        spans.push((start, lines));
     }
     (o, spans)
 }

@@ -41,7 +41,19 @@ pub struct Unresolved {
     pub param: String,
     /// Covariance 1-sigma from differences over half the steps divided by the one from the
     /// steps used: about 2 when the sigma is made by the truncation error of the differences.
+    /// Absent from the JSON when it is not finite (the covariance has no finite sigma for the
+    /// parameter at one of the two steps: a direction the data do not constrain at all).
+    #[serde(default = "not_a_number", skip_serializing_if = "not_finite")]
     pub step_ratio: f64,
+}
+
+fn not_a_number() -> f64 {
+    f64::NAN
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn not_finite(v: &f64) -> bool {
+    !v.is_finite()
 }
 
 /// The fit object of interface.md (`geodesic fit --json`), extended.
@@ -205,5 +217,29 @@ impl FitReport {
             posterior: None,
             posterior_method: None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Unresolved;
+
+    #[test]
+    fn a_step_ratio_that_is_not_finite_is_absent_not_null() {
+        let u = Unresolved {
+            param: "piezo.m".into(),
+            step_ratio: f64::NAN,
+        };
+        assert_eq!(serde_json::to_string(&u).unwrap(), r#"{"param":"piezo.m"}"#);
+        let back: Unresolved = serde_json::from_str(r#"{"param":"piezo.m"}"#).unwrap();
+        assert!(back.step_ratio.is_nan());
+        let u = Unresolved {
+            param: "piezo.m".into(),
+            step_ratio: 2.0,
+        };
+        assert_eq!(
+            serde_json::to_string(&u).unwrap(),
+            r#"{"param":"piezo.m","step_ratio":2.0}"#
+        );
     }
 }

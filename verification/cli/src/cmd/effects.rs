@@ -51,13 +51,21 @@ pub fn run(args: Args) -> CmdResult {
                     "scenario": e.scenario().name(),
                     "kind": kind(e.kind()),
                     "description": e.summary(),
-                    "parameters": e.params().iter().map(|p| json!({
-                        "name": format!("{}.{}", e.name(), p.name),
-                        "unit": p.unit,
-                        "nominal": p.nominal,
-                        "min": p.lower,
-                        "max": p.upper,
-                    })).collect::<Vec<_>>(),
+                    "parameters": e.params().iter().map(|p| {
+                        let mut o = json!({
+                            "name": format!("{}.{}", e.name(), p.name),
+                            "unit": p.unit,
+                            "nominal": p.nominal,
+                        });
+                        // an unbounded side has no number: `min` or `max` is absent
+                        // (docs/outputs.md)
+                        for (k, v) in [("min", p.lower), ("max", p.upper)] {
+                            if v.is_finite() {
+                                o[k] = json!(v);
+                            }
+                        }
+                        o
+                    }).collect::<Vec<_>>(),
                 })
             })
             .collect();

@@ -18,6 +18,13 @@ pub struct Args {
 #[derive(clap::Subcommand, Debug)]
 enum Format {
     /// Write the requirement set as ReqIF 1.2 (OMG), with the VCD status when --matrix is given.
+    #[command(after_help = "Examples:
+  geodesic export reqif                                  # ./requirements (or the built-in set) -> reports/requirements.reqif
+  geodesic export reqif --requirements missions/drag-free-cubesat/requirements --out cubesat.reqif
+  geodesic verify && geodesic export reqif --matrix reports/compliance.json --out status.reqif
+  geodesic export reqif --json | jq .sha256
+Deterministic: the same requirements give the same file apart from CREATION-TIME
+(SOURCE_DATE_EPOCH fixes it). Valid against the OMG ReqIF 1.2 schema; see docs/exchange.md.")]
     Reqif(ReqifArgs),
 }
 

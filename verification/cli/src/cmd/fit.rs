@@ -172,7 +172,13 @@ pub fn summary(r: &FitReport) -> String {
         let list: Vec<String> = r
             .unresolved
             .iter()
-            .map(|u| format!("{} (x{:.2})", u.param, u.step_ratio))
+            .map(|u| {
+                if u.step_ratio.is_finite() {
+                    format!("{} (x{:.2})", u.param, u.step_ratio)
+                } else {
+                    format!("{} (no finite sigma)", u.param)
+                }
+            })
             .collect();
         s += &format!(
             "  not resolved by the data: {}: the covariance sigma moves by that factor when the \

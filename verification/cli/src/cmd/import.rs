@@ -3,7 +3,7 @@
 
 use crate::error::{CliError, CmdResult};
 use geodesic_core::Requirements;
-use geodesic_exchange::reqif::{Field, ImportOptions, import};
+use geodesic_exchange::reqif::{Field, ImportOptions, import_file};
 use std::path::PathBuf;
 
 /// Largest ReqIF file read [bytes] (256 MiB).
@@ -19,29 +19,46 @@ pub struct Args {
 #[derive(clap::Subcommand, Debug)]
 enum Format {
     /// Read a ReqIF file into requirement YAML (one file per family).
+    #[command(after_help = "Examples:
+  geodesic import reqif from-doors.reqif --out imported/            # then: geodesic verify --requirements imported/
+  geodesic import reqif from-doors.reqif --out imported/ --report   # which attribute went to which field
+  geodesic import reqif polarion.reqifz --out imported/ --attribute limit=\"Max Value\" --attribute method=\"V&V Method\"
+  geodesic import reqif supplier.reqif --out imported/ --strict     # refuse at the first problem (exit 2)
+  geodesic import reqif supplier.reqif --out imported/ --json | jq '.warnings | length'
+What other tools get wrong (dangling references, duplicated IDs, missing types) is imported with a
+warning per problem (file:line) on standard error; see docs/exchange.md.")]
     Reqif(ReqifArgs),
 }
 
 /// Flags of `geodesic import reqif`.
 #[derive(clap::Args, Debug)]
 pub struct ReqifArgs {
-    /// The ReqIF file.
+    /// The ReqIF file (.reqif, or a .reqifz archive of one).
     pub file: PathBuf,
     /// Directory the YAML files are written to (created; must hold no YAML file yet).
     #[arg(long, value_name = "DIR", default_value = "imported-requirements")]
     pub out: PathBuf,
-    /// Import only complete quantitative requirements: leave out those with a limit but no
-    /// verification method (or one that cannot be read) instead of failing, and the qualitative
-    /// ones (no limit; imported by default, method review-of-design unless the file states
-    /// one). Each is listed on standard error.
+    /// Import only complete quantitative requirements: leave out the qualitative ones too (no
+    /// limit; imported by default, method review-of-design unless the file states one). Each
+    /// is listed on standard error.
     #[arg(long = "skip-incomplete")]
     pub skip_incomplete: bool,
+    /// Refuse the file at its first problem (a dangling reference, a duplicated ID, a value
+    /// that cannot be read, ...), exit 2, instead of importing what is meaningful with a
+    /// warning per problem.
+    #[arg(long)]
+    pub strict: bool,
+    /// Print which ReqIF attribute was taken for each field (and the attributes no field
+    /// took), to correct with --attribute.
+    #[arg(long)]
+    pub report: bool,
     /// The attribute (its LONG-NAME) that holds a field, e.g. `limit=Max Value` or
     /// `method=V-Method`; repeatable. Fields: id, title, text, source, quantity, dimension,
-    /// limit, probability, method, activity, check, note.
+    /// limit, probability, spectrum-band, spectrum-shape, level, stage, method, activity,
+    /// check, note.
     #[arg(long = "attribute", value_name = "FIELD=NAME")]
     pub attribute: Vec<String>,
-    /// Print a JSON summary on standard output.
+    /// Print a JSON summary on standard output (with the warnings and the mapping).
     #[arg(long)]
     pub json: bool,
 }
@@ -53,9 +70,19 @@ pub fn run(args: Args) -> CmdResult {
     }
 }
 
+/// Warnings printed on standard error before the rest are only counted (all are in `--json`).
+const MAX_PRINTED_WARNINGS: usize = 100;
+
 fn reqif(a: ReqifArgs) -> CmdResult {
     let mut opts = ImportOptions {
         skip_incomplete: a.skip_incomplete,
+        strict: a.strict,
+        checks: Some(
+            geodesic_checks::check_names()
+                .into_iter()
+                .map(str::to_string)
+                .collect(),
+        ),
         ..ImportOptions::default()
     };
     for m in &a.attribute {
@@ -69,9 +96,14 @@ fn reqif(a: ReqifArgs) -> CmdResult {
                 all.join(", ")
             ))
         })?;
+        if name.trim().is_empty() {
+            return Err(CliError::bad(format!(
+                "--attribute `{m}`: the attribute name is empty"
+            )));
+        }
         opts.attribute.insert(field, name.trim().to_string());
     }
-    let text = geodesic_core::fsio::read_text(&a.file, MAX_REQIF_BYTES).map_err(|e| {
+    let bytes = geodesic_core::fsio::read_bytes(&a.file, MAX_REQIF_BYTES).map_err(|e| {
         CliError::bad(format!(
             "{}:{}: {}",
             a.file.display(),
@@ -79,8 +111,9 @@ fn reqif(a: ReqifArgs) -> CmdResult {
             e.cause()
         ))
     })?;
-    let imported = import(&a.file, &text, &opts).map_err(|e| CliError::bad(e.to_string()))?;
-    // the check names must be registered ones, as verify requires
+    // a .reqif file, or a .reqifz archive of one
+    let imported = import_file(&a.file, &bytes, &opts).map_err(|e| CliError::bad(e.to_string()))?;
+    // what is written loads, with registered checks only (the import left the others out)
     let sources: Vec<(PathBuf, String)> = imported
         .families
         .iter()
@@ -88,28 +121,8 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         .collect();
     let reqs = Requirements::from_sources(&sources).map_err(|e| CliError::bad(e.to_string()))?;
     let names = geodesic_checks::check_names();
-    if let Err(e) = reqs.validate_checks(&names) {
-        let id = reqs
-            .items
-            .iter()
-            .find(|r| r.check_origin.as_ref() == Some(&e.origin))
-            .map(|r| r.id.to_string());
-        let line = id
-            .as_ref()
-            .and_then(|id| {
-                imported
-                    .families
-                    .iter()
-                    .flat_map(|f| &f.requirements)
-                    .find(|r| &r.id == id)
-            })
-            .map_or(1, |r| r.line);
-        return Err(CliError::bad(format!(
-            "{}:{line}: {}",
-            a.file.display(),
-            e.cause
-        )));
-    }
+    reqs.validate_checks(&names)
+        .map_err(|e| CliError::bad(format!("{}: {}", a.file.display(), e.cause)))?;
 
     // write whole or not at all: stage in DIR/.staging-PID, then move the files into DIR
     if a.out.is_dir() {
@@ -144,10 +157,29 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     let _ = std::fs::remove_dir_all(&stage);
     staged.map_err(io)?;
 
-    for s in &imported.skipped {
+    let shown = imported.warnings.len().min(MAX_PRINTED_WARNINGS);
+    for w in &imported.warnings[..shown] {
+        eprintln!(
+            "geodesic: warning: {}:{}: {}",
+            imported.document, w.line, w.cause
+        );
+    }
+    if imported.warnings.len() > shown {
+        eprintln!(
+            "geodesic: warning: {}: {} more warnings (all of them in --json)",
+            imported.document,
+            imported.warnings.len() - shown
+        );
+    }
+    // the qualitative requirements --skip-incomplete left out (the incomplete ones are warned)
+    for s in imported
+        .skipped
+        .iter()
+        .filter(|s| s.missing.len() == 1 && s.missing[0].ends_with(": qualitative"))
+    {
         eprintln!(
             "geodesic: {}:{}: skipped requirement {}: {}",
-            a.file.display(),
+            imported.document,
             s.line,
             s.id,
             s.missing.join("; ")
@@ -161,9 +193,11 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     if a.json {
         let v = serde_json::json!({
             "file": a.file.display().to_string(),
+            "document": imported.document,
             "out": a.out.display().to_string(),
             "source_tool": imported.source_tool,
             "requirements": imported.count(),
+            "spec_objects": imported.spec_objects,
             "families": imported.families.iter().map(|f| serde_json::json!({
                 "family": f.family, "file": f.file_name, "requirements": f.requirements.len()
             })).collect::<Vec<_>>(),
@@ -172,25 +206,65 @@ fn reqif(a: ReqifArgs) -> CmdResult {
             })).collect::<Vec<_>>(),
             "headings": imported.headings,
             "other_objects": imported.other_objects,
+            "duplicates": imported.duplicates,
             "relations": imported.relations,
             "qualitative": imported.qualitative,
+            "warnings": imported.warnings.iter().map(|w| serde_json::json!({
+                "line": w.line, "cause": w.cause
+            })).collect::<Vec<_>>(),
+            "mapping": imported.mapping.iter().map(|m| (
+                m.field.name().to_string(),
+                serde_json::Value::Array(m.sources.iter().map(|(s, n)| serde_json::json!({"source": s, "requirements": n})).collect()),
+            )).collect::<serde_json::Map<_, _>>(),
+            "unmapped": imported.unmapped.iter().map(|(n, k)| serde_json::json!({
+                "attribute": n, "requirements": k
+            })).collect::<Vec<_>>(),
         });
         println!("{v}");
-    } else {
+        return Ok(0);
+    }
+    if a.report {
         println!(
-            "imported {} requirements ({} qualitative, {} headings, {} relations{}) into {}/{{{}}}",
-            imported.count(),
-            imported.qualitative,
-            imported.headings,
-            imported.relations,
-            if imported.skipped.is_empty() {
-                String::new()
-            } else {
-                format!(", {} skipped", imported.skipped.len())
-            },
-            a.out.display(),
-            files.join(",")
+            "{}: ReqIF attribute -> geodesic field, over the {} requirements imported:",
+            imported.document,
+            imported.count()
+        );
+        for m in &imported.mapping {
+            let parts: Vec<String> = m
+                .sources
+                .iter()
+                .map(|(s, n)| format!("{s} ({n})"))
+                .collect();
+            println!("  {:<15} <- {}", m.field.name(), parts.join("; "));
+        }
+        if imported.unmapped.is_empty() {
+            println!("  every attribute with a value was taken by a field");
+        } else {
+            let parts: Vec<String> = imported
+                .unmapped
+                .iter()
+                .map(|(n, k)| format!("`{n}` ({k})"))
+                .collect();
+            println!("  not taken by any field: {}", parts.join(", "));
+        }
+        println!(
+            "  to take another attribute for a field: --attribute FIELD=NAME (docs/exchange.md)"
         );
     }
+    println!(
+        "imported {} requirement{} ({} qualitative) of {} SPEC-OBJECTs ({} headings, {} without text, {} duplicates, {} skipped), {} relations, {} warnings, into {}/{{{}}}",
+        imported.count(),
+        if imported.count() == 1 { "" } else { "s" },
+        imported.qualitative,
+        imported.spec_objects,
+        imported.headings,
+        imported.other_objects,
+        imported.duplicates,
+        imported.skipped.len(),
+        imported.relations,
+        imported.warnings.len(),
+        a.out.display(),
+        files.join(",")
+    );
     Ok(0)
 }

@@ -29,7 +29,7 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', default_values_t = ["baseline".to_string(), "revised".to_string()])]
     pub retraction: Vec<String>,
     /// Release velocity towards one plunger (a unit may be given).
-    #[arg(long, default_value = "5um/s", value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::VELOCITY, 1.0))]
+    #[arg(long, default_value = "5um/s", allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::VELOCITY, 1.0))]
     pub v0: f64,
     /// Capacitance model.
     #[arg(long, default_value = "disc")]
@@ -132,7 +132,7 @@ pub fn run(args: Args) -> CmdResult {
     for (name, r) in &procs {
         for &v in &args.voltage {
             let run = simulate(cap.as_ref(), &case(v, args.v0, *r));
-            rows.push(json!({
+            let mut row = json!({
                 "retraction": name,
                 "v_tm_v": v,
                 "extra_velocity_um_s": run.extra_velocity_m_s * 1e6,
@@ -142,7 +142,14 @@ pub fn run(args: Args) -> CmdResult {
                 "touched_at_s": run.touched_at_s,
                 "force_ratio_at_4_3_s": run.force_ratio_at_compare,
                 "force_above_1pct_until_s": run.force_above_1pct_until_s,
-            }));
+            });
+            // a run that touched a plunger stops there: what it did not reach (the force at
+            // 4.3 s) has no number and is absent (docs/outputs.md); `touched_at_s` is null
+            // when the TM never touched
+            if let Some(o) = row.as_object_mut() {
+                o.retain(|k, v| !v.is_null() || k == "touched_at_s");
+            }
+            rows.push(row);
             // the plot's legend names the procedure; the check's plot takes static names
             let label: &'static str = match name.as_str() {
                 "baseline" => "baseline",
@@ -186,10 +193,12 @@ pub fn run(args: Args) -> CmdResult {
                     r["extra_velocity_um_s"].as_f64().unwrap_or(f64::NAN)
                 ),
                 None => println!(
-                    "{head} extra {:.4} um/s, smallest gap {:.2} um, F/u_max at 4.3 s {:.2e}, >= 1 % until {:.2} s",
+                    "{head} extra {:.4} um/s, smallest gap {:.2} um, F/u_max at 4.3 s {}, >= 1 % until {:.2} s",
                     r["extra_velocity_um_s"].as_f64().unwrap_or(f64::NAN),
                     r["min_gap_um"].as_f64().unwrap_or(f64::NAN),
-                    r["force_ratio_at_4_3_s"].as_f64().unwrap_or(f64::NAN),
+                    r["force_ratio_at_4_3_s"]
+                        .as_f64()
+                        .map_or("-".to_string(), |x| format!("{x:.2e}")),
                     r["force_above_1pct_until_s"].as_f64().unwrap_or(f64::NAN)
                 ),
             }

@@ -53,19 +53,19 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Sampling frequency [Hz] (default: the scenario's examples).
-    #[arg(long, value_parser = crate::quantity::frequency())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::positive(crate::quantity::frequency(), "a sampling frequency"))]
     pub fs: Option<f64>,
     /// Record before the trigger [s].
-    #[arg(long, value_parser = crate::quantity::time())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::non_negative(crate::quantity::time(), "the record before the trigger"))]
     pub pre: Option<f64>,
     /// Record after the trigger [s].
-    #[arg(long, value_parser = crate::quantity::time())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::positive(crate::quantity::time(), "the record after the trigger"))]
     pub post: Option<f64>,
     /// Tip profile jerk [m/s^3] (tmmf-release).
-    #[arg(long, value_parser = crate::quantity::jerk())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::positive(crate::quantity::jerk(), "the tip profile's jerk"))]
     pub jerk: Option<f64>,
     /// Tip profile final speed [m/s] (tmmf-release).
-    #[arg(long, value_parser = crate::quantity::velocity())]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::positive(crate::quantity::velocity(), "the tip profile's final speed"))]
     pub v: Option<f64>,
     /// Output YAML path (CSV and truth JSON are written beside it).
     #[arg(long)]
@@ -96,10 +96,23 @@ pub fn run(args: Args) -> CmdResult {
     let scenario_name = args.scenario.clone().unwrap_or_default();
     let scenario = Scenario::from_name(&scenario_name).ok_or_else(|| {
         CliError::bad(format!(
-            "unknown scenario `{scenario_name}` (tmmf-release, rt-retraction)"
+            "--scenario {scenario_name}: unknown scenario (tmmf-release, rt-retraction)"
         ))
     })?;
     let effects: Vec<&str> = args.effects.iter().map(|s| s.trim()).collect();
+    // the flag named with what it names wrongly
+    let known: Vec<&str> = geodesic_facility::effects::catalogue()
+        .iter()
+        .filter(|e| e.scenario() == scenario)
+        .map(|e| e.name())
+        .collect();
+    if let Some(bad) = effects.iter().find(|e| !known.contains(e)) {
+        return Err(CliError::bad(format!(
+            "--effects {bad}: unknown effect for {} (known: {})",
+            scenario.name(),
+            known.join(", ")
+        )));
+    }
     let mut spec = SynthSpec::defaults(scenario, &effects);
     spec.params = pairs(&args.param, "param", crate::quantity::param_dim)?;
     spec.known

@@ -21,7 +21,7 @@ adhesion = 120 MPa x Hertz area x 0.8 um / v_RT / M; the Monte Carlo scales A1 w
 area (R / R0)^(2/3). See docs/release.md.")]
 pub struct Args {
     /// Radii of the Monte Carlo cross-check, in mm, comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = [0.5, 1.0, 2.0, 5.0, 10.0, 20.0])]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true, default_values_t = [0.5, 1.0, 2.0, 5.0, 10.0, 20.0])]
     pub radii: Vec<f64>,
     /// Monte Carlo draws per radius (0: no cross-check).
     #[arg(long = "mc-n", default_value_t = 20_000)]

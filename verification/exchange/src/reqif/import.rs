@@ -1,45 +1,42 @@
 //! A ReqIF file read into geodesic requirements.
 //!
-//! Reads what geodesic writes and what DOORS, DOORS Next, Polarion, ReqIF Studio and other
-//! tools write: attribute values of every datatype (XHTML read as text, enumerations by the
-//! label of their values, defaults of attribute definitions), the SPEC-HIERARCHY of each
-//! specification (headings become families), and SPEC-RELATIONs (derivations become parents;
-//! other links are kept in the note). Elements are matched by local name, so files of the
-//! ReqIF 1.0.1 namespace (`http://www.omg.org/spec/ReqIF/20101201`) are read too.
+//! Reads what geodesic writes and what DOORS, DOORS Next, Polarion, ReqIF Studio, Enterprise
+//! Architect, Capella and other tools write: attribute values of every datatype (XHTML read as
+//! text, enumerations by the label of their values, defaults of attribute definitions), the
+//! SPEC-HIERARCHY of each specification (headings become families), and SPEC-RELATIONs
+//! (derivations become parents; other links are kept in the note). Elements are matched by
+//! local name, so files of the ReqIF 1.0.1 namespace (`http://www.omg.org/spec/ReqIF/20101201`)
+//! are read too.
+//!
+//! **What real tools write is imported, and each problem is said.** A reference to an element
+//! the export left out (an object of the hierarchy or of a relation, a type, an attribute
+//! definition, an enumeration value), an object defined twice, an ID attribute whose values are
+//! empty or shared by several objects, an attribute value that cannot be read: each is a
+//! [`Warning`] with its line, and the import goes on with what is meaningful (see
+//! `docs/exchange.md`). [`ImportOptions::strict`] refuses the file with its first problem
+//! instead. The file is refused whatever the options only when it is not a ReqIF document or
+//! holds no requirement at all.
 //!
 //! Field by field (the first attribute present wins; names compared without case, spaces,
-//! `_` and `-`; `ImportOptions::attribute` replaces a list by one name):
-//!
-//! | field | attributes | when the file has none |
-//! | --- | --- | --- |
-//! | id | `ReqIF.ForeignID` (with `ReqIF.Prefix`), `geodesic.ID`, `ID`, `Identifier`, `PUID`, `IE PUID`, `Object Identifier`, `Absolute Number` | the object's LONG-NAME, else its IDENTIFIER; made a geodesic ID (upper case, `-`), the original kept in the note |
-//! | title | `ReqIF.Name`, `geodesic.Title`, `Title`, `Name` | `ReqIF.ChapterName`, the object's LONG-NAME, else the text's first 80 characters |
-//! | text | `ReqIF.Text`, `geodesic.Text`, `Object Text`, `Text`, `ReqIF.Description`, `Description` | not a requirement (an object without text or heading is skipped) |
-//! | source | `geodesic.Source`, `Source` | the file, its specification and the object |
-//! | quantity | `geodesic.Quantity`, `Quantity` | empty |
-//! | dimension | `geodesic.Dimension`, `Dimension` | the dimension of the limit's unit |
-//! | limit | `geodesic.Limit`, `Limit` | none: a *qualitative* requirement (closed by its method) |
-//! | probability | `geodesic.Probability`, `Probability` | none |
-//! | method | `geodesic.Method`, `Verification Method`, `Verification Methods`, `Method` | `review-of-design` for a qualitative requirement; **incomplete** for one with a limit |
-//! | activity | `geodesic.Activity`, `Verification Activity`, `Activity` | "not stated in the ReqIF file" |
-//! | check | `geodesic.Check` | none (verify reports the requirement not verified) |
-//! | note | `geodesic.Note`, `Note`, `Comment`, `Comments` | none |
-//!
-//! A requirement without a limit (the prose requirements of most DOORS and Polarion modules) is
-//! imported as *qualitative*: no limit, dimension, probability, check nor parent (its
-//! derivation links are kept in the note), method `review-of-design` (ECSS-E-ST-10-02C review
-//! of design) unless the file states one; `verify` reports it not verified. A requirement
-//! with a limit but no method, or with a limit, method or check geodesic cannot read, is never
-//! given an invented one: the import fails naming each such requirement (file and line), or
-//! with `ImportOptions::skip_incomplete` leaves them out, with the qualitative ones, and lists
-//! them in `Imported::skipped`.
+//! `_` and `-`; `ImportOptions::attribute` replaces a list by one name), see [`Field`] and
+//! `docs/exchange.md`. Every object is accounted for: it is a requirement, a heading (a
+//! family), an object without any text, a duplicate, or a requirement left out (listed in
+//! [`Imported::skipped`]); [`Imported::spec_objects`] counts them all, as a ReqIF parser counts
+//! SPEC-OBJECTs.
 
-use super::{CHAPTER_NAME, DESCRIPTION, FOREIGN_ID, NAME, PREFIX, TEXT, xhtml_to_text};
+use super::CHAPTER_NAME;
+use super::fields::{
+    BOOKKEEPING, Field, HEADING_ATTRIBUTES, lenient_number, method_of, norm, parse_limit, slug,
+    to_req_id,
+};
+pub use super::read::Warning;
+use super::read::{AttrValue, Kind, Model, Object, child, elements, ref_in};
 use crate::yaml;
 use geodesic_core::Requirements;
-use geodesic_core::units::{Quantity, parse_quantity};
+use geodesic_core::text::clip;
+use geodesic_core::units::Quantity;
 use roxmltree::{Document, Node, ParsingOptions};
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 /// Largest number of XML nodes read (a guard on memory: about 20 million nodes of a ReqIF file
@@ -58,158 +55,20 @@ pub struct ImportError {
     pub cause: String,
 }
 
-/// A field of a geodesic requirement that an attribute of the file can supply.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Field {
-    /// `id`
-    Id,
-    /// `title`
-    Title,
-    /// `text`
-    Text,
-    /// `source`
-    Source,
-    /// `quantity`
-    Quantity,
-    /// `dimension`
-    Dimension,
-    /// `limit`
-    Limit,
-    /// `probability`
-    Probability,
-    /// `level` (ECSS verification level)
-    Level,
-    /// `stage` (ECSS verification stage)
-    Stage,
-    /// `spectrum.band`
-    SpectrumBand,
-    /// `spectrum.shape`
-    SpectrumShape,
-    /// `method`
-    Method,
-    /// `activity`
-    Activity,
-    /// `check`
-    Check,
-    /// `note`
-    Note,
-}
-
-impl Field {
-    /// Every field, in YAML order.
-    pub const ALL: [Field; 16] = [
-        Field::Id,
-        Field::Title,
-        Field::Text,
-        Field::Source,
-        Field::Quantity,
-        Field::Dimension,
-        Field::Limit,
-        Field::Probability,
-        Field::SpectrumBand,
-        Field::SpectrumShape,
-        Field::Level,
-        Field::Stage,
-        Field::Method,
-        Field::Activity,
-        Field::Check,
-        Field::Note,
-    ];
-
-    /// The YAML key.
-    pub fn name(self) -> &'static str {
-        match self {
-            Field::Id => "id",
-            Field::Title => "title",
-            Field::Text => "text",
-            Field::Source => "source",
-            Field::Quantity => "quantity",
-            Field::Dimension => "dimension",
-            Field::Limit => "limit",
-            Field::Probability => "probability",
-            Field::Level => "level",
-            Field::Stage => "stage",
-            Field::SpectrumBand => "spectrum-band",
-            Field::SpectrumShape => "spectrum-shape",
-            Field::Method => "method",
-            Field::Activity => "activity",
-            Field::Check => "check",
-            Field::Note => "note",
-        }
-    }
-
-    /// The field of a YAML key.
-    pub fn parse(s: &str) -> Option<Field> {
-        Field::ALL.into_iter().find(|f| f.name() == s)
-    }
-
-    fn candidates(self) -> &'static [&'static str] {
-        match self {
-            Field::Id => &[
-                FOREIGN_ID,
-                "geodesic.ID",
-                "ID",
-                "Identifier",
-                "PUID",
-                "IE PUID",
-                "Object Identifier",
-                "Absolute Number",
-                "Requirement ID",
-                "Req ID",
-                "Key",
-                "Document Key",
-                "Item ID",
-            ],
-            Field::Title => &[NAME, "geodesic.Title", "Title", "Name"],
-            // the names tools give the statement: DOORS ("Object Text"), DOORS Next
-            // ("Primary Text"), Polarion and Jama ("Description"), Codebeamer and Integrity
-            // ("Text"), Enterprise Architect ("Notes"), and generic exports
-            Field::Text => &[
-                TEXT,
-                "geodesic.Text",
-                "Object Text",
-                "Primary Text",
-                "Text",
-                "Requirement Text",
-                "Statement",
-                "Shall Statement",
-                DESCRIPTION,
-                "Description",
-                "Notes",
-                "Content",
-                "Body",
-            ],
-            Field::Source => &["geodesic.Source", "Source"],
-            Field::Quantity => &["geodesic.Quantity", "Quantity"],
-            Field::Dimension => &["geodesic.Dimension", "Dimension"],
-            Field::Limit => &["geodesic.Limit", "Limit"],
-            Field::Probability => &["geodesic.Probability", "Probability"],
-            Field::Level => &["geodesic.Level", "Verification Level"],
-            Field::Stage => &["geodesic.Stage", "Verification Stage"],
-            Field::SpectrumBand => &["geodesic.SpectrumBand", "Spectrum Band"],
-            Field::SpectrumShape => &["geodesic.SpectrumShape", "Spectrum Shape"],
-            Field::Method => &[
-                "geodesic.Method",
-                "Verification Method",
-                "Verification Methods",
-                "Method",
-            ],
-            Field::Activity => &["geodesic.Activity", "Verification Activity", "Activity"],
-            Field::Check => &["geodesic.Check"],
-            Field::Note => &["geodesic.Note", "Note", "Comment", "Comments"],
-        }
-    }
-}
-
 /// How to import.
 #[derive(Clone, Debug, Default)]
 pub struct ImportOptions {
-    /// Import only complete quantitative requirements: leave out the incomplete ones (a limit
-    /// without a method, a limit or method that cannot be read) instead of failing, and the
-    /// qualitative ones (no limit); all are listed in [`Imported::skipped`].
+    /// Import only complete quantitative requirements: leave out the qualitative ones (no
+    /// limit) too; all are listed in [`Imported::skipped`].
     pub skip_incomplete: bool,
     /// The attribute (LONG-NAME) that supplies a field, replacing the built-in list.
     pub attribute: BTreeMap<Field, String>,
+    /// Refuse the file at its first problem (by line) instead of importing what is meaningful
+    /// with a warning per problem.
+    pub strict: bool,
+    /// The checks `verify` can run: a `geodesic.Check` naming another is left out with a
+    /// warning (`None`: not checked here).
+    pub checks: Option<BTreeSet<String>>,
 }
 
 /// One requirement as read, ready to be written as YAML.
@@ -266,8 +125,8 @@ pub struct ImportedFamily {
     pub yaml: String,
 }
 
-/// A requirement left out because a field geodesic needs is missing (or, with
-/// [`ImportOptions::skip_incomplete`], because it is qualitative).
+/// A requirement left out: a field geodesic needs is missing or cannot be read (a warning
+/// says so), or, with [`ImportOptions::skip_incomplete`], it is qualitative.
 #[derive(Clone, Debug)]
 pub struct Skipped {
     /// geodesic ID it would have had.
@@ -278,23 +137,47 @@ pub struct Skipped {
     pub missing: Vec<String>,
 }
 
+/// Where one field's values came from: `attribute `NAME``, or the fallback used.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MappingRow {
+    /// The field.
+    pub field: Field,
+    /// Each source with the number of requirements it supplied.
+    pub sources: Vec<(String, usize)>,
+}
+
 /// The result of an import.
 #[derive(Clone, Debug)]
 pub struct Imported {
+    /// The document read, as messages name it: the file, or `ARCHIVE!DOCUMENT` for a
+    /// `.reqifz` ([`super::import_file`]).
+    pub document: String,
     /// Families in document order.
     pub families: Vec<ImportedFamily>,
-    /// Requirements left out (only with `skip_incomplete`).
+    /// Requirements left out.
     pub skipped: Vec<Skipped>,
     /// Requirements imported as qualitative (no limit).
     pub qualitative: usize,
     /// `SOURCE-TOOL-ID` of the header.
     pub source_tool: String,
-    /// Heading objects read.
+    /// SPEC-OBJECT elements in the file (what a ReqIF parser counts): requirements imported,
+    /// headings, objects without text, duplicates and skipped requirements add up to it.
+    pub spec_objects: usize,
+    /// Heading objects read (families).
     pub headings: usize,
-    /// Objects that are neither requirement nor heading (no text).
+    /// Objects without any text: not requirements.
     pub other_objects: usize,
+    /// SPEC-OBJECTs defined a second time with the same IDENTIFIER (ignored).
+    pub duplicates: usize,
     /// SPEC-RELATIONs read.
     pub relations: usize,
+    /// The file's problems, by line; empty for a file geodesic wrote.
+    pub warnings: Vec<Warning>,
+    /// Which attribute supplied each field (the import's report).
+    pub mapping: Vec<MappingRow>,
+    /// Attributes with values on the imported requirements that no field took, with the
+    /// number of requirements carrying each (candidates for `--attribute`).
+    pub unmapped: Vec<(String, usize)>,
 }
 
 impl Imported {
@@ -304,212 +187,37 @@ impl Imported {
     }
 }
 
-fn norm(s: &str) -> String {
-    s.chars()
-        .filter(|c| !c.is_whitespace() && *c != '_' && *c != '-')
-        .flat_map(char::to_lowercase)
-        .collect()
-}
-
-#[derive(Clone, Debug)]
-struct AttrValue {
-    name: String,
-    text: String,
-}
-
-#[derive(Debug)]
-struct Object {
-    ident: String,
-    long_name: Option<String>,
-    type_name: String,
-    values: Vec<AttrValue>,
-    line: u32,
-}
-
-impl Object {
-    fn get_any(&self, names: &[&str]) -> Option<&str> {
-        for n in names {
-            let k = norm(n);
-            if let Some(v) = self
-                .values
-                .iter()
-                .find(|v| norm(&v.name) == k && !v.text.trim().is_empty())
-            {
-                return Some(v.text.trim());
-            }
-        }
-        None
-    }
-
-    fn get(&self, f: Field, opts: &ImportOptions) -> Option<&str> {
-        match opts.attribute.get(&f) {
-            Some(name) => self.get_any(&[name.as_str()]),
-            None => self.get_any(f.candidates()),
-        }
+fn get<'o>(o: &'o Object, f: Field, opts: &ImportOptions) -> Option<&'o AttrValue> {
+    match opts.attribute.get(&f) {
+        Some(name) => o.get_any(&[name.as_str()]),
+        None => o.get_keys(f.candidate_keys()),
     }
 }
 
-struct Ctx<'a, 'input> {
-    file: String,
-    doc: &'a Document<'input>,
+fn text_of<'o>(o: &'o Object, f: Field, opts: &ImportOptions) -> Option<&'o str> {
+    get(o, f, opts).map(|v| v.text.trim())
 }
 
-impl Ctx<'_, '_> {
-    fn line(&self, n: Node) -> u32 {
-        self.doc.text_pos_at(n.range().start).row
-    }
-
-    fn err(&self, n: Node, cause: impl Into<String>) -> ImportError {
-        ImportError {
-            file: self.file.clone(),
-            line: self.line(n),
-            cause: cause.into(),
-        }
+/// The text attributes, shortly: the one named with `--attribute`, else the first few known.
+fn text_attribute_names(opts: &ImportOptions) -> String {
+    match opts.attribute.get(&Field::Text) {
+        Some(n) => format!("attribute `{}`", clip(n, 80)),
+        None => format!(
+            "`ReqIF.Text`, `Object Text`, `Description` or the {} others of docs/exchange.md",
+            Field::Text.candidates().len() - 3
+        ),
     }
 }
 
-fn child<'a, 'i>(n: Node<'a, 'i>, name: &str) -> Option<Node<'a, 'i>> {
-    n.children()
-        .find(|c| c.is_element() && c.tag_name().name() == name)
-}
-
-fn elements<'a, 'i>(n: Node<'a, 'i>) -> impl Iterator<Item = Node<'a, 'i>> {
-    n.children().filter(|c| c.is_element())
-}
-
-/// The text of the `*-REF` element inside `n`'s child `wrapper` (`TYPE`, `DEFINITION`, ...).
-fn ref_in<'a, 'i>(n: Node<'a, 'i>, wrapper: &str) -> Option<(String, Node<'a, 'i>)> {
-    let w = child(n, wrapper)?;
-    let r = elements(w).next()?;
-    Some((r.text().unwrap_or("").trim().to_string(), r))
-}
-
-/// Everything with an IDENTIFIER, by identifier (first occurrence).
-fn index<'a, 'i>(root: Node<'a, 'i>) -> HashMap<String, Node<'a, 'i>> {
-    let mut m = HashMap::new();
-    for n in root.descendants().filter(|n| n.is_element()) {
-        if let Some(id) = n.attribute("IDENTIFIER") {
-            m.entry(id.to_string()).or_insert(n);
-        }
-    }
-    m
-}
-
-struct Model<'a, 'i> {
-    ids: HashMap<String, Node<'a, 'i>>,
-}
-
-impl<'a, 'i> Model<'a, 'i> {
-    fn resolve(
-        &self,
-        ctx: &Ctx,
-        r: (String, Node<'a, 'i>),
-        what: &str,
-    ) -> Result<Node<'a, 'i>, ImportError> {
-        let (id, at) = r;
-        if id.is_empty() {
-            return Err(ctx.err(at, format!("empty {what} reference")));
-        }
-        self.ids.get(&id).copied().ok_or_else(|| {
-            ctx.err(
-                at,
-                format!("dangling reference: {what} `{id}` is not defined in this file"),
-            )
-        })
-    }
-
-    /// The text of one ATTRIBUTE-VALUE-* element.
-    fn value_text(&self, ctx: &Ctx, v: Node<'a, 'i>) -> Result<String, ImportError> {
-        let kind = v.tag_name().name().trim_start_matches("ATTRIBUTE-VALUE-");
-        Ok(match kind {
-            "XHTML" => match child(v, "THE-VALUE") {
-                Some(tv) => xhtml_to_text(tv),
-                None => String::new(),
-            },
-            "ENUMERATION" => {
-                let mut labels = Vec::new();
-                if let Some(vals) = child(v, "VALUES") {
-                    for r in elements(vals) {
-                        let id = r.text().unwrap_or("").trim().to_string();
-                        let ev = self.resolve(ctx, (id, r), "enumeration value")?;
-                        let label = ev
-                            .attribute("LONG-NAME")
-                            .map(str::to_string)
-                            .or_else(|| {
-                                ev.descendants()
-                                    .find(|d| d.tag_name().name() == "EMBEDDED-VALUE")
-                                    .and_then(|e| e.attribute("OTHER-CONTENT"))
-                                    .map(str::to_string)
-                            })
-                            .unwrap_or_default();
-                        labels.push(label);
-                    }
-                }
-                labels.join(", ")
-            }
-            _ => v.attribute("THE-VALUE").unwrap_or("").to_string(),
-        })
-    }
-
-    fn attr_name(&self, ctx: &Ctx, v: Node<'a, 'i>) -> Result<String, ImportError> {
-        let r = ref_in(v, "DEFINITION")
-            .ok_or_else(|| ctx.err(v, "attribute value without DEFINITION"))?;
-        let def = self.resolve(ctx, r, "attribute definition")?;
-        Ok(def
-            .attribute("LONG-NAME")
-            .or(def.attribute("IDENTIFIER"))
-            .unwrap_or("")
-            .to_string())
-    }
-
-    fn values(&self, ctx: &Ctx, n: Node<'a, 'i>) -> Result<Vec<AttrValue>, ImportError> {
-        let mut out = Vec::new();
-        if let Some(vals) = child(n, "VALUES") {
-            for v in elements(vals) {
-                if !v.tag_name().name().starts_with("ATTRIBUTE-VALUE-") {
-                    continue;
-                }
-                out.push(AttrValue {
-                    name: self.attr_name(ctx, v)?,
-                    text: self.value_text(ctx, v)?,
-                });
-            }
-        }
-        Ok(out)
-    }
-
-    fn object(&self, ctx: &Ctx, n: Node<'a, 'i>) -> Result<Object, ImportError> {
-        let ident = n
-            .attribute("IDENTIFIER")
-            .ok_or_else(|| ctx.err(n, "SPEC-OBJECT without IDENTIFIER"))?
-            .to_string();
-        let tr = ref_in(n, "TYPE")
-            .ok_or_else(|| ctx.err(n, format!("SPEC-OBJECT {ident} has no TYPE")))?;
-        let ty = self.resolve(ctx, tr, "SPEC-OBJECT-TYPE")?;
-        let mut values = self.values(ctx, n)?;
-        // defaults of the type's attribute definitions for values the object does not carry
-        if let Some(attrs) = child(ty, "SPEC-ATTRIBUTES") {
-            for def in elements(attrs) {
-                let Some(dv) = child(def, "DEFAULT-VALUE").and_then(|d| elements(d).next()) else {
-                    continue;
-                };
-                let name = def.attribute("LONG-NAME").unwrap_or("").to_string();
-                if values.iter().any(|v| v.name == name) {
-                    continue;
-                }
-                values.push(AttrValue {
-                    name,
-                    text: self.value_text(ctx, dv)?,
-                });
-            }
-        }
-        Ok(Object {
-            ident,
-            long_name: n.attribute("LONG-NAME").map(str::to_string),
-            type_name: ty.attribute("LONG-NAME").unwrap_or("").to_string(),
-            values,
-            line: ctx.line(n),
-        })
+fn attr_names(f: Field, opts: &ImportOptions) -> String {
+    match opts.attribute.get(&f) {
+        Some(n) => format!("`{n}`"),
+        None => f
+            .candidates()
+            .iter()
+            .map(|c| format!("`{c}`"))
+            .collect::<Vec<_>>()
+            .join(" or "),
     }
 }
 
@@ -521,92 +229,89 @@ struct Place {
 }
 
 fn is_heading(o: &Object, opts: &ImportOptions) -> bool {
-    let chapter = o.get_any(&[CHAPTER_NAME]).is_some();
-    let text = o.get(Field::Text, opts).is_some();
+    let chapter = o.get_any(HEADING_ATTRIBUTES).is_some();
+    let text = get(o, Field::Text, opts).is_some();
     o.type_name.to_lowercase().contains("heading") || (chapter && !text)
 }
 
 fn heading_of(o: &Object, opts: &ImportOptions) -> (String, Option<String>) {
     let name = o
-        .get_any(&[CHAPTER_NAME])
-        .or(o.get(Field::Title, opts))
+        .get_any(HEADING_ATTRIBUTES)
+        .or(get(o, Field::Title, opts))
+        .map(|v| v.text.trim())
         .or(o.long_name.as_deref())
         .unwrap_or(&o.ident)
         .to_string();
-    let desc = o.get(Field::Text, opts).map(str::to_string);
+    let desc = text_of(o, Field::Text, opts).map(str::to_string);
     (name, desc)
 }
 
-/// A geodesic requirement ID made from an identifier of another tool.
-fn to_req_id(s: &str) -> String {
-    let mut o = String::new();
-    for c in s.chars() {
-        if c.is_ascii_alphanumeric() {
-            o.push(c.to_ascii_uppercase());
-        } else if !o.ends_with('-') {
-            o.push('-');
-        }
-    }
-    let o = o.trim_matches('-').to_string();
-    if o.is_empty() || o.starts_with(|c: char| c.is_ascii_digit()) {
-        format!("REQ-{o}").trim_end_matches('-').to_string()
-    } else {
-        o
-    }
-}
-
-fn slug(s: &str) -> String {
-    let mut o = String::new();
-    for c in s.chars() {
-        if c.is_ascii_alphanumeric() {
-            o.push(c.to_ascii_lowercase());
-        } else if !o.ends_with('-') {
-            o.push('-');
-        }
-    }
-    o.trim_matches('-').to_string()
-}
-
-fn method_of(s: &str) -> Result<&'static str, String> {
-    let first = s.split([',', ';', '/']).next().unwrap_or("").trim();
-    let k: String = first
-        .chars()
-        .filter(char::is_ascii_alphanumeric)
-        .flat_map(|c| c.to_lowercase())
-        .collect();
-    Ok(match k.as_str() {
-        "test" | "t" | "testing" => "test",
-        "analysis" | "a" | "simulation" | "similarity" => "analysis",
-        "reviewofdesign" | "rod" | "r" | "review" | "designreview" => "review-of-design",
-        "inspection" | "i" => "inspection",
-        _ => {
-            return Err(format!(
-                "verification method `{first}` is none of test, analysis, review-of-design, inspection (ECSS-E-ST-10-02C)"
-            ));
-        }
+/// Names (as [`norm`]ed) that are never an object's text when the file has no text attribute.
+fn not_text(key: &str) -> bool {
+    static SET: std::sync::OnceLock<HashSet<String>> = std::sync::OnceLock::new();
+    SET.get_or_init(|| {
+        BOOKKEEPING
+            .iter()
+            .chain(HEADING_ATTRIBUTES)
+            .chain(
+                Field::ALL
+                    .iter()
+                    .filter(|f| **f != Field::Text)
+                    .flat_map(|f| f.candidates()),
+            )
+            .map(|n| norm(n))
+            .collect()
     })
+    .contains(key)
 }
 
-/// The comparison and the SI quantity of a limit as written (`<= 5 um/s`).
-fn parse_limit(s: &str) -> Result<(Quantity, String), String> {
-    let t = s.trim();
-    for sym in ["<=", "≤", ">=", "≥", "<", ">"] {
-        if let Some(rest) = t.strip_prefix(sym) {
-            // an amplitude spectral density limit (`... Hz^-1/2`): the dimension is that of the
-            // quantity whose spectrum is bounded
-            let stripped = geodesic_core::spectrum::strip_asd_unit(rest.trim());
-            let rest = stripped.as_deref().unwrap_or(rest);
-            let (q, _) = parse_quantity(rest.trim()).map_err(|e| format!("limit `{t}`: {e}"))?;
-            let dim = q
-                .dim
-                .name()
-                .ok_or_else(|| format!("limit `{t}`: its unit has no dimension geodesic names"))?;
-            return Ok((q, dim.to_string()));
+/// Bookkeeping and heading attributes (as [`norm`]ed): never listed as unmapped.
+fn bookkeeping(key: &str) -> bool {
+    static SET: std::sync::OnceLock<HashSet<String>> = std::sync::OnceLock::new();
+    SET.get_or_init(|| {
+        BOOKKEEPING
+            .iter()
+            .chain(HEADING_ATTRIBUTES)
+            .chain(&[super::PREFIX])
+            .map(|n| norm(n))
+            .collect()
+    })
+    .contains(key)
+}
+
+/// The text of an object with none of the text attributes: its longest XHTML value, else its
+/// longest string value (bookkeeping and other fields' attributes excluded).
+fn auto_text(o: &Object) -> Option<&AttrValue> {
+    let longest = |kind: Kind| {
+        o.values
+            .iter()
+            .filter(|v| v.kind == kind && !v.text.trim().is_empty() && !not_text(&v.key))
+            .max_by_key(|v| v.text.trim().chars().count())
+    };
+    longest(Kind::Xhtml).or_else(|| longest(Kind::String))
+}
+
+/// An object that is a requirement: its text and where the text came from.
+struct Cand {
+    index: usize,
+    place: Place,
+    text: String,
+    source: String,
+    key: Option<String>,
+    embedded: Vec<String>,
+}
+
+impl Cand {
+    fn of(index: usize, place: &Place, v: &AttrValue, source: String) -> Cand {
+        Cand {
+            index,
+            place: place.clone(),
+            text: v.text.trim().to_string(),
+            source,
+            key: Some(v.key.clone()),
+            embedded: v.embedded.clone(),
         }
     }
-    Err(format!(
-        "limit `{t}` must start with <=, <, >= or > (e.g. `<= 5 um/s`)"
-    ))
 }
 
 const PARENT_RELATIONS: &[&str] = &[
@@ -622,6 +327,8 @@ const PARENT_RELATIONS: &[&str] = &[
 struct Pending {
     req: ImportedRequirement,
     ident: String,
+    /// The value of the ID attribute (with its prefix), if the object has one.
+    raw_id: Option<(String, String)>,
     family: (String, Option<String>),
     missing: Vec<String>,
     /// No limit in the file: imported as a qualitative requirement (`missing` says why not
@@ -629,32 +336,71 @@ struct Pending {
     qualitative: Option<String>,
     limit_si: Option<Quantity>,
     extra_notes: Vec<String>,
+    /// Field -> where its value came from.
+    sources: Vec<(Field, String)>,
+    /// Attributes a field took.
+    used: HashSet<String>,
 }
 
 /// Reads a ReqIF document (`file` names it in messages) into requirement families.
 pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported, ImportError> {
-    let fname = file.display().to_string();
-    if text.starts_with("PK") {
+    let (result, warnings) = read(file, text, opts);
+    if opts.strict
+        && let Some(first) = warnings.first()
+    {
+        let more = match warnings.len() {
+            1 => String::new(),
+            n => format!("; {} more problems", n - 1),
+        };
         return Err(ImportError {
-            file: fname,
-            line: 1,
-            cause: "this is a zip archive (.reqifz): unzip it and import the .reqif file inside"
-                .into(),
+            file: file.display().to_string(),
+            line: first.line,
+            cause: format!(
+                "{} (--strict refuses the file at its first problem{more}; without it, each is a warning)",
+                first.cause
+            ),
         });
+    }
+    result.map(|mut imp| {
+        imp.warnings = warnings;
+        imp
+    })
+}
+
+fn read(
+    file: &Path,
+    text: &str,
+    opts: &ImportOptions,
+) -> (Result<Imported, ImportError>, Vec<Warning>) {
+    let fname = file.display().to_string();
+    let fail = |line: u32, cause: String| ImportError {
+        file: fname.clone(),
+        line,
+        cause,
+    };
+    if text.starts_with("PK") {
+        return (
+            Err(fail(
+                1,
+                "this is a zip archive (.reqifz): unzip it and import the .reqif file inside"
+                    .into(),
+            )),
+            Vec::new(),
+        );
     }
     let po = ParsingOptions {
         allow_dtd: false,
         nodes_limit: MAX_NODES,
         ..ParsingOptions::default()
     };
-    let doc = Document::parse_with_options(text, po).map_err(|e| ImportError {
-        file: fname.clone(),
-        line: e.pos().row,
-        cause: format!("malformed XML: {e}"),
-    })?;
-    let ctx = Ctx {
-        file: fname.clone(),
-        doc: &doc,
+    let doc = match Document::parse_with_options(text, po) {
+        Ok(d) => d,
+        Err(e) => {
+            return (
+                Err(fail(e.pos().row, format!("malformed XML: {e}"))),
+                Vec::new(),
+            );
+        }
     };
     let root = doc.root_element();
     let ns_ok = root
@@ -662,16 +408,48 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         .namespace()
         .is_some_and(|n| n.starts_with("http://www.omg.org/spec/ReqIF/"));
     if root.tag_name().name() != "REQ-IF" || !ns_ok {
-        return Err(ctx.err(
-            root,
-            format!(
-                "not a ReqIF file: the root element is `{}` in namespace `{}` (expected REQ-IF in {})",
-                root.tag_name().name(),
-                root.tag_name().namespace().unwrap_or(""),
-                super::NAMESPACE
-            ),
-        ));
+        return (
+            Err(fail(
+                doc.text_pos_at(root.range().start).row,
+                format!(
+                    "not a ReqIF file: the root element is `{}` in namespace `{}` (expected REQ-IF in {})",
+                    clip(root.tag_name().name(), 80),
+                    clip(root.tag_name().namespace().unwrap_or(""), 120),
+                    super::NAMESPACE
+                ),
+            )),
+            Vec::new(),
+        );
     }
+    let Some(content) = child(root, "CORE-CONTENT").and_then(|c| child(c, "REQ-IF-CONTENT")) else {
+        return (
+            Err(fail(
+                doc.text_pos_at(root.range().start).row,
+                "no CORE-CONTENT/REQ-IF-CONTENT: the file holds no requirement".into(),
+            )),
+            Vec::new(),
+        );
+    };
+    let mut model = Model::new(&doc, content);
+    let result = read_content(file, &fname, root, content, &mut model, opts);
+    let problems = std::mem::take(&mut model.problems);
+    (result, problems.finish())
+}
+
+#[allow(clippy::too_many_lines)]
+fn read_content<'a, 'i>(
+    file: &Path,
+    fname: &str,
+    root: Node<'a, 'i>,
+    content: Node<'a, 'i>,
+    model: &mut Model<'a, 'i>,
+    opts: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    let fail = |line: u32, cause: String| ImportError {
+        file: fname.to_string(),
+        line,
+        cause,
+    };
     let source_tool = child(root, "THE-HEADER")
         .and_then(|h| child(h, "REQ-IF-HEADER"))
         .and_then(|h| child(h, "SOURCE-TOOL-ID"))
@@ -679,24 +457,69 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         .unwrap_or("")
         .trim()
         .to_string();
-    let content = child(root, "CORE-CONTENT")
-        .and_then(|c| child(c, "REQ-IF-CONTENT"))
-        .ok_or_else(|| ctx.err(root, "no CORE-CONTENT/REQ-IF-CONTENT"))?;
-    let model = Model {
-        ids: index(content),
-    };
 
-    // objects, in document order
+    schema_attributes(content, model);
+
+    // objects, in document order; a second definition of an identifier is ignored
     let mut objects: Vec<Object> = Vec::new();
     let mut by_ident: HashMap<String, usize> = HashMap::new();
+    let mut spec_objects = 0;
+    let mut duplicates = 0;
     if let Some(so) = child(content, "SPEC-OBJECTS") {
         for n in elements(so).filter(|n| n.tag_name().name() == "SPEC-OBJECT") {
-            let o = model.object(&ctx, n)?;
-            if by_ident.contains_key(&o.ident) {
-                return Err(ctx.err(n, format!("SPEC-OBJECT {} is defined twice", o.ident)));
+            spec_objects += 1;
+            let o = model.object(n);
+            if let Some(&first) = by_ident.get(&o.ident) {
+                duplicates += 1;
+                model.problems.warn(
+                    o.line,
+                    format!(
+                        "SPEC-OBJECT `{}` is defined twice (first at line {}): this definition is ignored",
+                        clip(&o.ident, 100),
+                        objects[first].line
+                    ),
+                );
+                continue;
             }
             by_ident.insert(o.ident.clone(), objects.len());
             objects.push(o);
+        }
+    }
+
+    // the attributes the user named must exist
+    for (field, name) in &opts.attribute {
+        let key = norm(name);
+        let mut known: BTreeSet<String> = BTreeSet::new();
+        for d in content
+            .descendants()
+            .filter(|d| d.is_element() && d.tag_name().name().starts_with("ATTRIBUTE-DEFINITION-"))
+        {
+            if let Some(n) = d.attribute("LONG-NAME").or(d.attribute("IDENTIFIER")) {
+                known.insert(n.to_string());
+            }
+        }
+        known.extend(
+            objects
+                .iter()
+                .flat_map(|o| o.values.iter().map(|v| v.name.clone())),
+        );
+        if !known.iter().any(|k| norm(k) == key) {
+            let list: Vec<String> = known.iter().take(30).map(|k| clip(k, 60)).collect();
+            return Err(fail(
+                1,
+                format!(
+                    "--attribute {}={}: no attribute `{}` in this file (its attributes: {}{})",
+                    field.name(),
+                    clip(name, 80),
+                    clip(name, 80),
+                    if list.is_empty() {
+                        "none".to_string()
+                    } else {
+                        list.join(", ")
+                    },
+                    if known.len() > 30 { ", ..." } else { "" }
+                ),
+            ));
         }
     }
 
@@ -705,21 +528,24 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
     let mut placed: HashSet<usize> = HashSet::new();
     if let Some(specs) = child(content, "SPECIFICATIONS") {
         for spec in elements(specs).filter(|n| n.tag_name().name() == "SPECIFICATION") {
-            let spec_values = model.values(&ctx, spec)?;
-            let spec_name = spec.attribute("LONG-NAME").map(str::to_string).or_else(|| {
-                spec_values
-                    .iter()
-                    .find(|v| norm(&v.name) == norm(NAME) && !v.text.trim().is_empty())
-                    .map(|v| v.text.trim().to_string())
-            });
+            let spec_values = model.values(spec);
+            let spec_name = spec
+                .attribute("LONG-NAME")
+                .filter(|l| !l.trim().is_empty())
+                .map(str::to_string)
+                .or_else(|| {
+                    spec_values
+                        .iter()
+                        .find(|v| v.key == norm(super::NAME) && !v.text.trim().is_empty())
+                        .map(|v| v.text.trim().to_string())
+                });
             let place = Place {
                 family: None,
                 spec: spec_name,
             };
             if let Some(ch) = child(spec, "CHILDREN") {
                 walk(
-                    &ctx,
-                    &model,
+                    model,
                     ch,
                     &place,
                     &objects,
@@ -727,7 +553,7 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                     opts,
                     &mut order,
                     &mut placed,
-                )?;
+                );
             }
         }
     }
@@ -737,69 +563,224 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         }
     }
 
-    let stem = file
+    // what each object is: a heading, a requirement (with its text and where it came from), or
+    // an object without text
+    // the document's own name: in an archive (`a.reqifz!dir/doc.reqif`), the document's
+    let name = file.to_string_lossy();
+    let inner = name.rsplit(['!', '/']).next().unwrap_or("");
+    let stem = Path::new(inner)
         .file_stem()
         .map_or("imported".to_string(), |s| s.to_string_lossy().into_owned());
-    let mut headings = 0;
+    let mut heading_objects: Vec<(usize, Place)> = Vec::new();
+    let mut cands: Vec<Cand> = Vec::new();
     let mut other_objects = 0;
-    // attributes with a value on the objects without text: the candidates for --attribute text=
-    let mut untexted_attributes: Vec<String> = Vec::new();
-    let mut pending: Vec<Pending> = Vec::new();
-    let mut ids_seen: HashMap<String, u32> = HashMap::new();
-    let mut req_of_ident: HashMap<String, usize> = HashMap::new();
+    let mut auto_used: BTreeMap<String, (u32, usize)> = BTreeMap::new();
     for (i, place) in &order {
         let o = &objects[*i];
         if is_heading(o, opts) {
-            headings += 1;
+            heading_objects.push((*i, place.clone()));
             continue;
         }
-        let Some(text) = o.get(Field::Text, opts) else {
-            other_objects += 1;
-            for v in &o.values {
-                if !v.text.trim().is_empty() && !untexted_attributes.contains(&v.name) {
-                    untexted_attributes.push(v.name.clone());
-                }
-            }
+        if let Some(v) = get(o, Field::Text, opts) {
+            cands.push(Cand::of(*i, place, v, format!("attribute `{}`", v.name)));
             continue;
-        };
-        let mut notes: Vec<String> = Vec::new();
-        let raw_id = match o.get(Field::Id, opts) {
-            Some(fid) => match o.get_any(&[PREFIX]) {
-                Some(p) if !fid.starts_with(p) => format!("{p}{fid}"),
-                _ => fid.to_string(),
-            },
-            None => o.long_name.clone().unwrap_or_else(|| o.ident.clone()),
-        };
-        let id = to_req_id(&raw_id);
-        if id != raw_id {
-            notes.push(format!(
-                "imported from ReqIF object {} (identifier in the source tool: {raw_id})",
-                o.ident
-            ));
         }
-        if let Some(prev) = ids_seen.insert(id.clone(), o.line) {
-            return Err(ImportError {
-                file: fname.clone(),
-                line: o.line,
-                cause: format!(
-                    "requirement ID {id} (from `{raw_id}`) is also the ID of the object at line {prev}; IDs must be unique"
+        if !opts.attribute.contains_key(&Field::Text)
+            && let Some(v) = auto_text(o)
+        {
+            let e = auto_used.entry(v.name.clone()).or_insert((o.line, 0));
+            e.1 += 1;
+            cands.push(Cand::of(
+                *i,
+                place,
+                v,
+                format!(
+                    "attribute `{}` (the object's longest text; no text attribute)",
+                    v.name
                 ),
+            ));
+            continue;
+        }
+        let title = get(o, Field::Title, opts)
+            .map(|v| {
+                (
+                    v.text.trim().to_string(),
+                    format!("attribute `{}` (the title; no text)", v.name),
+                )
+            })
+            .or_else(|| {
+                o.long_name
+                    .clone()
+                    .map(|l| (l, "SPEC-OBJECT LONG-NAME (no text)".to_string()))
+            });
+        match title {
+            Some((t, src)) => {
+                model.problems.warn(
+                    o.line,
+                    format!(
+                        "SPEC-OBJECT `{}` has no text ({}): its title is its text",
+                        clip(&o.ident, 100),
+                        text_attribute_names(opts)
+                    ),
+                );
+                cands.push(Cand {
+                    index: *i,
+                    place: place.clone(),
+                    text: t,
+                    source: src,
+                    key: None,
+                    embedded: Vec::new(),
+                });
+            }
+            None => {
+                other_objects += 1;
+                model.problems.warn(
+                    o.line,
+                    format!(
+                        "SPEC-OBJECT `{}` has no text, title nor name (attributes with a value: {}): not a requirement",
+                        clip(&o.ident, 100),
+                        {
+                            let names: Vec<String> = o
+                                .values
+                                .iter()
+                                .filter(|v| !v.text.trim().is_empty())
+                                .map(|v| clip(&v.name, 60))
+                                .collect();
+                            if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                        }
+                    ),
+                );
+            }
+        }
+    }
+    for (name, (line, n)) in &auto_used {
+        let (objs, their) = if *n == 1 {
+            ("1 object has".to_string(), "its")
+        } else {
+            (format!("{n} objects have"), "their")
+        };
+        model.problems.warn(
+            *line,
+            format!(
+                "{objs} none of the text attributes ({}): {their} longest text value, attribute `{}`, is taken as the text (--attribute text=NAME names another)",
+                text_attribute_names(opts),
+                clip(name, 80)
+            ),
+        );
+    }
+    let mut headings = heading_objects.len();
+    if cands.is_empty() && !heading_objects.is_empty() {
+        // a document of headings only: its headings are what it says
+        model.problems.warn(
+            objects[heading_objects[0].0].line,
+            format!(
+                "no object has a requirement text: the {} headings are imported as requirements, their heading as text",
+                heading_objects.len()
+            ),
+        );
+        for (i, place) in heading_objects.drain(..) {
+            let o = &objects[i];
+            let (name, desc) = heading_of(o, opts);
+            let text = match desc {
+                Some(d) if d != name => format!("{name}\n{d}"),
+                _ => name,
+            };
+            let key = o.get_any(HEADING_ATTRIBUTES).map(|v| v.key.clone());
+            cands.push(Cand {
+                index: i,
+                place,
+                text,
+                source: "heading (no object has a requirement text)".into(),
+                key,
+                embedded: Vec::new(),
             });
         }
-        let title = o
-            .get(Field::Title, opts)
-            .or(o.get_any(&[CHAPTER_NAME]))
-            .or(o.long_name.as_deref().filter(|l| !l.trim().is_empty()))
-            .map(str::to_string)
-            .unwrap_or_else(|| {
-                let first = text.lines().next().unwrap_or(text);
-                if first.chars().count() > 80 {
-                    let cut: String = first.chars().take(80).collect();
-                    format!("{}...", cut.trim_end())
-                } else {
-                    first.to_string()
+        headings = 0;
+    }
+
+    // the fields of each requirement
+    let mut pending: Vec<Pending> = Vec::new();
+    for c in cands {
+        let o = &objects[c.index];
+        let (place, text) = (c.place, c.text);
+        for data in &c.embedded {
+            model.problems.warn(
+                o.line,
+                format!(
+                    "SPEC-OBJECT `{}` embeds the object `{}` in its text: kept as [object: {}]; the object's file is not imported",
+                    clip(&o.ident, 100),
+                    clip(data, 200),
+                    clip(data, 200)
+                ),
+            );
+        }
+        let mut sources: Vec<(Field, String)> = vec![(Field::Text, c.source)];
+        let mut used: HashSet<String> = c.key.into_iter().collect();
+        let mut used_later: Vec<String> = Vec::new();
+        let take = |f: Field, sources: &mut Vec<(Field, String)>| -> Option<String> {
+            get(o, f, opts).map(|v| {
+                sources.push((f, format!("attribute `{}`", v.name)));
+                v.text.trim().to_string()
+            })
+        };
+        for f in Field::ALL {
+            if f != Field::Text
+                && let Some(v) = get(o, f, opts)
+            {
+                used_later.push(v.key.clone());
+            }
+        }
+        used.extend(used_later);
+        let mut notes: Vec<String> = Vec::new();
+        let raw_id = get(o, Field::Id, opts).map(|v| {
+            let fid = v.text.trim();
+            let id = match o.get_any(&[super::PREFIX]) {
+                Some(p) if !fid.starts_with(p.text.trim()) => format!("{}{fid}", p.text.trim()),
+                _ => fid.to_string(),
+            };
+            (id, v.name.clone())
+        });
+        if let Some((_, name)) = &raw_id {
+            used.insert(norm(name));
+        } else if let Some(v) = o.has_any(match opts.attribute.get(&Field::Id) {
+            Some(_) => &[],
+            None => Field::Id.candidates(),
+        }) {
+            model.problems.warn(
+                o.line,
+                format!(
+                    "SPEC-OBJECT `{}`: its ID attribute `{}` is empty: its SPEC-OBJECT identifier gives its ID",
+                    clip(&o.ident, 100),
+                    v.name
+                ),
+            );
+        }
+        let title = match take(Field::Title, &mut sources) {
+            Some(t) => t,
+            None => match o.get_any(&[CHAPTER_NAME]) {
+                Some(v) => {
+                    sources.push((Field::Title, format!("attribute `{}`", v.name)));
+                    v.text.trim().to_string()
                 }
-            });
+                None => match &o.long_name {
+                    Some(l) => {
+                        sources.push((Field::Title, "SPEC-OBJECT LONG-NAME".into()));
+                        l.clone()
+                    }
+                    None => {
+                        sources
+                            .push((Field::Title, "the text's first line (80 characters)".into()));
+                        let first = text.lines().next().unwrap_or(&text);
+                        if first.chars().count() > 80 {
+                            let cut: String = first.chars().take(80).collect();
+                            format!("{}...", cut.trim_end())
+                        } else {
+                            first.to_string()
+                        }
+                    }
+                },
+            },
+        };
         let spec_part = place
             .spec
             .as_ref()
@@ -809,24 +790,38 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         } else {
             format!(" ({source_tool})")
         };
-        let source = o.get(Field::Source, opts).map_or_else(
-            || {
+        let source = match take(Field::Source, &mut sources) {
+            Some(s) => s,
+            None => {
+                sources.push((Field::Source, "the file, specification and object".into()));
                 format!(
-                    "ReqIF file {}{tool_part}{spec_part}, object {raw_id}",
+                    "ReqIF file {}{tool_part}{spec_part}, object {}",
                     file.file_name()
-                        .map_or(fname.clone(), |n| n.to_string_lossy().into_owned())
+                        .map_or(fname.to_string(), |n| n.to_string_lossy().into_owned()),
+                    raw_id
+                        .as_ref()
+                        .map_or(o.ident.as_str(), |(r, _)| r.as_str())
                 )
-            },
-            str::to_string,
-        );
+            }
+        };
         let mut missing = Vec::new();
         let mut qualitative = None;
-        let (limit, limit_si, dim_from_limit) = match o.get(Field::Limit, opts) {
-            Some(l) => match parse_limit(l) {
-                Ok((q, d)) => (l.to_string(), Some(q), Some(d)),
+        let (limit, limit_si, dim_from_limit) = match take(Field::Limit, &mut sources) {
+            Some(l) => match parse_limit(&l) {
+                Ok((q, d, fixed)) => match fixed {
+                    Some(f) => {
+                        model.problems.warn(
+                            o.line,
+                            format!("limit `{}` read as `{f}` (a decimal comma)", clip(&l, 80)),
+                        );
+                        notes.push(format!("limit written `{l}` in the ReqIF file"));
+                        (f, Some(q), Some(d))
+                    }
+                    None => (l, Some(q), Some(d)),
+                },
                 Err(e) => {
                     missing.push(e);
-                    (l.to_string(), None, None)
+                    (l, None, None)
                 }
             },
             None => {
@@ -837,17 +832,35 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                 (String::new(), None, None)
             }
         };
-        let method = match o.get(Field::Method, opts) {
-            Some(m) => match method_of(m) {
+        let method_attr = get(o, Field::Method, opts).map_or(String::new(), |v| v.name.clone());
+        let method = match take(Field::Method, &mut sources) {
+            Some(m) => match method_of(&m).map_err(|e| format!("attribute `{method_attr}`: {e}")) {
                 Ok(m) => m.to_string(),
+                // a qualitative requirement is closed by review of design unless the file says
+                // otherwise: a method that cannot be read is said, and kept in the note
+                Err(e) if qualitative.is_some() => {
+                    model.problems.warn(
+                        o.line,
+                        format!(
+                            "SPEC-OBJECT `{}`: {e}: review-of-design, as for a requirement without a limit that states no method",
+                            clip(&o.ident, 100)
+                        ),
+                    );
+                    notes.push(format!("verification method '{m}' in the ReqIF file"));
+                    "review-of-design".to_string()
+                }
                 Err(e) => {
                     missing.push(e);
                     String::new()
                 }
             },
-            // a qualitative requirement is closed by review of design unless the file says
-            // otherwise; a limit without a method is not given one
-            None if qualitative.is_some() => "review-of-design".to_string(),
+            None if qualitative.is_some() => {
+                sources.push((
+                    Field::Method,
+                    "default for a qualitative requirement: review-of-design".into(),
+                ));
+                "review-of-design".to_string()
+            }
             None => {
                 missing.push(format!(
                     "no verification method (attribute {})",
@@ -856,18 +869,16 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                 String::new()
             }
         };
-        let mut dimension = o
-            .get(Field::Dimension, opts)
-            .map(str::to_string)
-            .or(dim_from_limit)
-            .unwrap_or_default();
-        let mut probability = o.get(Field::Probability, opts).map(str::to_string);
-        let check = o.get(Field::Check, opts).map(str::to_string);
-        let mut spectrum = match (
-            o.get(Field::SpectrumBand, opts),
-            o.get(Field::SpectrumShape, opts),
-        ) {
-            (Some(b), Some(sh)) => Some((b.to_string(), sh.to_string())),
+        let mut dimension = match take(Field::Dimension, &mut sources) {
+            Some(d) => d,
+            None => dim_from_limit.unwrap_or_default(),
+        };
+        let mut probability = take(Field::Probability, &mut sources);
+        let mut check = take(Field::Check, &mut sources);
+        let band = take(Field::SpectrumBand, &mut sources);
+        let shape = take(Field::SpectrumShape, &mut sources);
+        let mut spectrum = match (band, shape) {
+            (Some(b), Some(sh)) => Some((b, sh)),
             (None, None) => None,
             _ => {
                 missing.push(format!(
@@ -897,76 +908,120 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
                 ));
             }
         }
+        if let (Some(c), Some(known)) = (&check, &opts.checks)
+            && !known.contains(c)
+            && qualitative.is_none()
+        {
+            model.problems.warn(
+                o.line,
+                format!(
+                    "SPEC-OBJECT `{}`: check `{}` is not one geodesic runs: left out (verify reports the requirement not verified, no check)",
+                    clip(&o.ident, 100),
+                    clip(c, 80)
+                ),
+            );
+            notes.push(format!(
+                "check '{c}' named in the ReqIF file is not registered"
+            ));
+            check = None;
+        }
         let family = place
             .family
             .clone()
             .or_else(|| place.spec.clone().map(|s| (s, None)))
             .unwrap_or_else(|| (stem.clone(), None));
-        let note = o.get(Field::Note, opts).map(str::to_string);
-        req_of_ident.insert(o.ident.clone(), pending.len());
+        let note = take(Field::Note, &mut sources);
+        let quantity = take(Field::Quantity, &mut sources).unwrap_or_default();
+        let level = take(Field::Level, &mut sources);
+        let stage = take(Field::Stage, &mut sources);
+        let activity = take(Field::Activity, &mut sources).unwrap_or_else(|| {
+            sources.push((
+                Field::Activity,
+                "default: not stated in the ReqIF file".into(),
+            ));
+            "not stated in the ReqIF file".to_string()
+        });
         pending.push(Pending {
             req: ImportedRequirement {
-                id,
+                id: String::new(),
                 title,
-                text: text.to_string(),
+                text,
                 source,
-                quantity: o.get(Field::Quantity, opts).unwrap_or("").to_string(),
+                quantity,
                 dimension,
                 limit,
                 probability,
                 spectrum,
-                level: o.get(Field::Level, opts).map(str::to_string),
-                stage: o.get(Field::Stage, opts).map(str::to_string),
+                level,
+                stage,
                 method,
-                activity: o
-                    .get(Field::Activity, opts)
-                    .unwrap_or("not stated in the ReqIF file")
-                    .to_string(),
+                activity,
                 check,
                 parent: None,
                 note,
                 line: o.line,
             },
             ident: o.ident.clone(),
+            raw_id,
             family,
             missing,
             qualitative,
             limit_si,
             extra_notes: notes,
+            sources,
+            used,
         });
     }
 
+    assign_ids(&mut pending, model);
+
     // relations
+    let req_of_ident: HashMap<String, usize> = pending
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.ident.clone(), k))
+        .collect();
     let mut relations = 0;
     if let Some(rels) = child(content, "SPEC-RELATIONS") {
         for rel in elements(rels).filter(|n| n.tag_name().name() == "SPEC-RELATION") {
             relations += 1;
-            let tr =
-                ref_in(rel, "TYPE").ok_or_else(|| ctx.err(rel, "SPEC-RELATION without TYPE"))?;
-            let ty = model.resolve(&ctx, tr, "SPEC-RELATION-TYPE")?;
-            let type_name = ty.attribute("LONG-NAME").unwrap_or("relation").to_string();
-            let end = |w: &str| -> Result<String, ImportError> {
-                let r = ref_in(rel, w)
-                    .ok_or_else(|| ctx.err(rel, format!("SPEC-RELATION without {w}")))?;
-                let at = r.1;
-                let n = model.resolve(&ctx, r, "SPEC-OBJECT")?;
-                let id = n.attribute("IDENTIFIER").unwrap_or("").to_string();
-                if !by_ident.contains_key(&id) {
-                    return Err(ctx.err(at, format!("{w} `{id}` is not a SPEC-OBJECT")));
+            let line = model.line(rel);
+            let type_name = match ref_in(rel, "TYPE") {
+                Some(tr) => match model.resolve(
+                    &tr,
+                    "SPEC-RELATION-TYPE",
+                    "the relation's type is named by the reference",
+                ) {
+                    Some(ty) => ty.attribute("LONG-NAME").unwrap_or("relation").to_string(),
+                    None => tr.0.clone(),
+                },
+                None => {
+                    model
+                        .problems
+                        .warn(line, "SPEC-RELATION without TYPE: read as a plain link");
+                    "relation".to_string()
                 }
-                Ok(id)
             };
-            let (src, dst) = (end("SOURCE")?, end("TARGET")?);
+            let mut end = |w: &str| -> Option<String> {
+                let Some(r) = ref_in(rel, w) else {
+                    model
+                        .problems
+                        .warn(line, format!("SPEC-RELATION without {w}: left out"));
+                    return None;
+                };
+                let n = model.resolve(&r, "SPEC-OBJECT", "the relation is left out")?;
+                Some(n.attribute("IDENTIFIER").unwrap_or("").to_string())
+            };
+            let (Some(src), Some(dst)) = (end("SOURCE"), end("TARGET")) else {
+                continue;
+            };
             let (Some(&si), Some(&ti)) = (req_of_ident.get(&src), req_of_ident.get(&dst)) else {
-                continue; // a link to or from a heading or a non-requirement object
+                continue; // a link to or from a heading or an object without text
             };
-            let values = model.values(&ctx, rel)?;
+            let values = model.values(rel);
             let margin_attr = values
                 .iter()
-                .find(|v| {
-                    norm(&v.name) == norm("geodesic.DerivationMargin")
-                        || norm(&v.name) == norm("Margin")
-                })
+                .find(|v| v.key == norm("geodesic.DerivationMargin") || v.key == norm("Margin"))
                 .map(|v| v.text.trim().to_string());
             let is_parent = PARENT_RELATIONS.iter().any(|p| norm(p) == norm(&type_name));
             let target_id = pending[ti].req.id.clone();
@@ -976,12 +1031,22 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
             let mut as_note = !is_parent || !both_limits || pending[si].req.parent.is_some();
             if !as_note {
                 let margin = match margin_attr {
-                    Some(m) => Some(m.parse::<f64>().map_err(|_| {
-                        ctx.err(rel, format!("derivation margin `{m}` is not a number"))
-                    })?),
+                    Some(m) => match lenient_number(&m) {
+                        Some(v) => Some(v),
+                        None => {
+                            model.problems.warn(
+                                line,
+                                format!(
+                                    "derivation margin `{}` is not a number: the link is kept in the note",
+                                    clip(&m, 80)
+                                ),
+                            );
+                            None
+                        }
+                    },
                     None => match (pending[si].limit_si, pending[ti].limit_si) {
                         (Some(c), Some(p)) if c.dim == p.dim && p.value != 0.0 => {
-                            Some(c.value / p.value)
+                            Some(c.value / p.value).filter(|m| m.is_finite())
                         }
                         _ => None,
                     },
@@ -999,40 +1064,24 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         }
     }
 
-    // incomplete requirements
-    let incomplete: Vec<&Pending> = pending.iter().filter(|p| !p.missing.is_empty()).collect();
-    if !incomplete.is_empty() && !opts.skip_incomplete {
-        let p = incomplete[0];
-        let more = if incomplete.len() > 1 {
+    check_derivations(&mut pending, model);
+
+    // incomplete requirements are left out, each with a warning; with skip_incomplete the
+    // qualitative ones too (the user's choice, not a problem of the file)
+    for p in pending.iter().filter(|p| !p.missing.is_empty()) {
+        model.problems.warn(
+            p.req.line,
             format!(
-                " (and {} more requirements: {}; --skip-incomplete imports the others)",
-                incomplete.len() - 1,
-                incomplete[1..]
-                    .iter()
-                    .take(5)
-                    .map(|p| format!("{} at line {}", p.req.id, p.req.line))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-                    + if incomplete.len() > 6 { ", ..." } else { "" }
-            )
-        } else {
-            String::new()
-        };
-        return Err(ImportError {
-            file: fname,
-            line: p.req.line,
-            cause: format!(
-                "requirement {} (object {}) cannot be judged by geodesic: {}{more}",
+                "requirement {} (object {}) cannot be judged by geodesic: {}: left out",
                 p.req.id,
-                p.ident,
+                clip(&p.ident, 100),
                 p.missing.join("; ")
             ),
-        });
+        );
     }
-    // with skip_incomplete, only complete quantitative requirements are kept
     let left_out =
         |p: &Pending| !p.missing.is_empty() || (opts.skip_incomplete && p.qualitative.is_some());
-    let skipped: Vec<Skipped> = pending
+    let mut skipped: Vec<Skipped> = pending
         .iter()
         .filter(|p| left_out(p))
         .map(|p| Skipped {
@@ -1041,62 +1090,433 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
             missing: p.qualitative.iter().chain(&p.missing).cloned().collect(),
         })
         .collect();
-    let skipped_ids: HashSet<String> = skipped.iter().map(|s| s.id.clone()).collect();
     let mut kept: Vec<Pending> = pending.into_iter().filter(|p| !left_out(p)).collect();
-    let qualitative = kept.iter().filter(|p| p.qualitative.is_some()).count();
-    for p in &mut kept {
-        if let Some((pid, _)) = &p.req.parent
-            && skipped_ids.contains(pid)
-        {
-            p.extra_notes.push(format!(
-                "parent {pid} not imported (incomplete or qualitative in the ReqIF file)"
-            ));
-            p.req.parent = None;
-        }
-        if !p.extra_notes.is_empty() {
-            let mut parts: Vec<String> = p.req.note.take().into_iter().collect();
-            parts.append(&mut p.extra_notes);
-            p.req.note = Some(parts.join("; "));
-        }
-    }
-    if kept.is_empty() {
-        let line = skipped.first().map_or(1, |s| s.line);
-        return Err(ImportError {
-            file: fname,
-            line,
-            cause: if skipped.is_empty() {
-                if untexted_attributes.is_empty() {
-                    format!(
-                        "no requirement in this file ({headings} headings, {other_objects} objects without text)"
-                    )
+
+    // what is written must load: a requirement the loader refuses is left out, said at its
+    // line in the ReqIF file
+    let mut checked_alone = false;
+    loop {
+        if kept.is_empty() {
+            let line = skipped.first().map_or(1, |s| s.line);
+            let cause = if skipped.is_empty() {
+                let mut names: Vec<&str> = Vec::new();
+                for o in &objects {
+                    for v in o.values.iter().filter(|v| !v.text.trim().is_empty()) {
+                        if !names.contains(&v.name.as_str()) {
+                            names.push(&v.name);
+                        }
+                    }
+                }
+                let hint = if names.is_empty() {
+                    String::new()
                 } else {
                     format!(
-                        "no requirement in this file ({headings} headings, {other_objects} objects without text); \
-                         their attributes with a value: {}; if one holds the requirement text, name it with \
-                         --attribute text=NAME",
-                        untexted_attributes.join(", ")
+                        "; their attributes with a value: {}{}; if one holds the requirement text, name it with --attribute text=NAME",
+                        names
+                            .iter()
+                            .take(20)
+                            .map(|n| clip(n, 60))
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        if names.len() > 20 { ", ..." } else { "" }
                     )
-                }
-            } else {
+                };
+                format!(
+                    "no requirement in this file ({spec_objects} SPEC-OBJECTs: {headings} headings, {other_objects} without any text, {duplicates} duplicates){hint}"
+                )
+            } else if opts.skip_incomplete {
                 format!(
                     "none of its {} requirements has both a limit and a verification method: nothing to import",
                     skipped.len()
                 )
-            },
-        });
+            } else {
+                format!(
+                    "none of its {} requirements can be imported (the first: {}): nothing to import",
+                    skipped.len(),
+                    skipped[0].missing.join("; ")
+                )
+            };
+            return Err(fail(line, cause));
+        }
+        let (fams, sources, spans) = families(&kept, &skipped, file, fname, &source_tool);
+        match Requirements::from_sources(&sources) {
+            Ok(_) => {
+                let qualitative = kept.iter().filter(|p| p.qualitative.is_some()).count();
+                let (mapping, unmapped) = mapping(&kept, &objects, &by_ident);
+                return Ok(Imported {
+                    document: fname.to_string(),
+                    families: fams,
+                    skipped,
+                    qualitative,
+                    source_tool,
+                    spec_objects,
+                    headings,
+                    other_objects,
+                    duplicates,
+                    relations,
+                    warnings: Vec::new(),
+                    mapping,
+                    unmapped,
+                });
+            }
+            Err(e) => {
+                // first every requirement the loader refuses on its own, all at once (one
+                // load per requirement, not one load of the whole set per refusal)
+                if !checked_alone {
+                    checked_alone = true;
+                    let mut k = 0;
+                    let mut removed = false;
+                    while k < kept.len() {
+                        match loads_alone(&kept[k].req) {
+                            Ok(()) => k += 1,
+                            Err(cause) => {
+                                let p = kept.remove(k);
+                                model.problems.warn(
+                                    p.req.line,
+                                    format!("requirement {}: {cause}: left out", p.req.id),
+                                );
+                                skipped.push(Skipped {
+                                    id: p.req.id,
+                                    line: p.req.line,
+                                    missing: vec![cause],
+                                });
+                                removed = true;
+                            }
+                        }
+                    }
+                    if removed {
+                        continue;
+                    }
+                }
+                let fi = sources.iter().position(|(p, _)| *p == e.origin.file);
+                let hit = fi.and_then(|fi| {
+                    spans[fi]
+                        .iter()
+                        .position(|(a, b)| (*a..=*b).contains(&e.origin.line))
+                        .map(|k| fams[fi].requirements[k].line)
+                });
+                let Some(line) = hit else {
+                    return Err(fail(
+                        1,
+                        format!("the imported requirements do not load: {}", e.cause),
+                    ));
+                };
+                let k = kept
+                    .iter()
+                    .position(|p| p.req.line == line)
+                    .expect("each written requirement is a kept one");
+                let p = kept.remove(k);
+                model.problems.warn(
+                    line,
+                    format!("requirement {}: {}: left out", p.req.id, e.cause),
+                );
+                skipped.push(Skipped {
+                    id: p.req.id,
+                    line,
+                    missing: vec![e.cause.clone()],
+                });
+            }
+        }
     }
+}
 
-    // families in order of first appearance, one file each
+/// The attributes the ReqIF schema requires and tools leave out: `LAST-CHANGE` on every
+/// identifiable element, `MAX-LENGTH` of a string datatype, `MIN` and `MAX` of an integer one,
+/// `ACCURACY`, `MIN` and `MAX` of a real one. The import needs none of them: one warning per
+/// element kind and attribute, with the count and the first line.
+fn schema_attributes(content: Node, model: &mut Model) {
+    let mut missing: BTreeMap<(String, &'static str), (u32, usize)> = BTreeMap::new();
+    for n in content.descendants().filter(|n| n.is_element()) {
+        let tag = n.tag_name().name();
+        let mut need: Vec<&'static str> = Vec::new();
+        if n.attribute("IDENTIFIER").is_some() && tag != "ALTERNATIVE-ID" {
+            need.push("LAST-CHANGE");
+        }
+        match tag {
+            "DATATYPE-DEFINITION-STRING" => need.push("MAX-LENGTH"),
+            "DATATYPE-DEFINITION-INTEGER" => need.extend(["MIN", "MAX"]),
+            "DATATYPE-DEFINITION-REAL" => need.extend(["ACCURACY", "MIN", "MAX"]),
+            _ => {}
+        }
+        for a in need {
+            if n.attribute(a).is_none() {
+                let line = model.line(n);
+                let e = missing.entry((tag.to_string(), a)).or_insert((line, 0));
+                e.1 += 1;
+            }
+        }
+    }
+    for ((tag, a), (line, n)) in missing {
+        let what = if n == 1 {
+            format!("1 {tag} element lacks")
+        } else {
+            format!("{n} {tag} elements lack")
+        };
+        model.problems.warn(
+            line,
+            format!(
+                "{what} the {a} the ReqIF schema requires (the first at line {line}): read all the same"
+            ),
+        );
+    }
+}
+
+/// IDs: the ID attribute's value made a geodesic ID; where it is empty, or not unique, the
+/// SPEC-OBJECT identifier (said once per shared value); where two IDs still collide, a
+/// numbered suffix.
+fn assign_ids(pending: &mut [Pending], model: &mut Model) {
+    let mut groups: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for (k, p) in pending.iter().enumerate() {
+        if let Some((raw, _)) = &p.raw_id {
+            groups.entry(to_req_id(raw)).or_default().push(k);
+        }
+    }
+    let mut from_ident: HashSet<usize> = (0..pending.len())
+        .filter(|k| pending[*k].raw_id.is_none())
+        .collect();
+    for (id, ks) in &groups {
+        if ks.len() < 2 {
+            continue;
+        }
+        let raws: BTreeSet<&str> = ks
+            .iter()
+            .filter_map(|k| pending[*k].raw_id.as_ref().map(|(r, _)| r.as_str()))
+            .collect();
+        let attr = pending[ks[0]]
+            .raw_id
+            .as_ref()
+            .map_or("", |(_, n)| n.as_str())
+            .to_string();
+        let mut at: Vec<u32> = ks.iter().map(|k| pending[*k].req.line).collect();
+        at.sort_unstable();
+        let lines: Vec<String> = at.iter().take(6).map(u32::to_string).collect();
+        let what = if raws.len() == 1 {
+            format!(
+                "value `{}` of the ID attribute `{attr}`",
+                clip(raws.first().unwrap_or(&""), 80)
+            )
+        } else {
+            format!(
+                "values {} of the ID attribute `{attr}` (all make the ID {id})",
+                raws.iter()
+                    .take(4)
+                    .map(|r| format!("`{}`", clip(r, 40)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        model.problems.warn(
+            at[0],
+            format!(
+                "{what} is shared by {} objects (lines {}{}): their SPEC-OBJECT identifiers give their IDs",
+                ks.len(),
+                lines.join(", "),
+                if ks.len() > 6 { ", ..." } else { "" }
+            ),
+        );
+        from_ident.extend(ks.iter().copied());
+    }
+    let mut taken: HashSet<String> = HashSet::new();
+    // IDs from the attribute first, so that a fallback never takes an attribute's ID
+    for (k, p) in pending.iter_mut().enumerate() {
+        if from_ident.contains(&k) {
+            continue;
+        }
+        let Some((raw, attr)) = p.raw_id.clone() else {
+            continue;
+        };
+        let id = to_req_id(&raw);
+        if id != raw {
+            p.extra_notes.push(format!(
+                "imported from ReqIF object {} (identifier in the source tool: {raw})",
+                p.ident
+            ));
+        }
+        taken.insert(id.clone());
+        p.req.id = id;
+        p.sources.push((Field::Id, format!("attribute `{attr}`")));
+    }
+    for (k, p) in pending.iter_mut().enumerate() {
+        if !from_ident.contains(&k) {
+            continue;
+        }
+        let ident = p.ident.clone();
+        let base = to_req_id(&ident);
+        let mut id = base.clone();
+        let mut n = 2;
+        while taken.contains(&id) {
+            id = format!("{base}-{n}");
+            n += 1;
+        }
+        if id != base {
+            model.problems.warn(
+                p.req.line,
+                format!(
+                    "SPEC-OBJECT `{}` gives the ID {base}, already taken: imported as {id}",
+                    clip(&ident, 100)
+                ),
+            );
+        }
+        taken.insert(id.clone());
+        let note = match &p.raw_id {
+            Some((raw, attr)) => format!(
+                "imported from ReqIF object {ident} (its {attr} `{raw}` is not unique in the file)"
+            ),
+            None => format!("imported from ReqIF object {ident}"),
+        };
+        if id != ident || p.raw_id.is_some() {
+            p.extra_notes.insert(0, note);
+        }
+        p.req.id = id;
+        p.sources.push((
+            Field::Id,
+            match &p.raw_id {
+                Some((_, n)) => format!("SPEC-OBJECT IDENTIFIER (`{n}` not unique)"),
+                None => "SPEC-OBJECT IDENTIFIER (no ID attribute)".into(),
+            },
+        ));
+    }
+}
+
+/// A derivation the loader would refuse (a margin that is not positive, limits of other
+/// dimensions, a child limit that is not margin x parent limit, a chain that returns to where
+/// it started) is dropped, kept in the note and said: the requirements themselves stay.
+fn check_derivations(pending: &mut [Pending], model: &mut Model) {
+    let index: HashMap<String, usize> = pending
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (p.req.id.clone(), k))
+        .collect();
+    let mut drop = |pending: &mut [Pending], k: usize, why: String| {
+        let (pid, m) = pending[k].req.parent.take().expect("a derivation to drop");
+        model.problems.warn(
+            pending[k].req.line,
+            format!(
+                "derivation of {} from {pid} (margin {m}): {why}: kept in the note only",
+                pending[k].req.id
+            ),
+        );
+        pending[k]
+            .extra_notes
+            .push(format!("ReqIF derivation from {pid} (margin {m}): {why}"));
+    };
+    for k in 0..pending.len() {
+        let Some((pid, m)) = pending[k].req.parent.clone() else {
+            continue;
+        };
+        let why = match (index.get(&pid), pending[k].limit_si) {
+            _ if !(m.is_finite() && m > 0.0) => Some("a margin must be a positive number".into()),
+            (Some(&t), _) if t == k => Some("it names itself".into()),
+            (Some(&t), Some(c)) => match pending[t].limit_si {
+                Some(p) if p.dim != c.dim => Some("the two limits are of other dimensions".into()),
+                Some(p) => {
+                    let expect = p.value * m;
+                    ((c.value - expect).abs() > 1e-9 * expect.abs()).then(|| {
+                        format!(
+                            "the child's limit {} is not the margin times the parent's limit {}",
+                            pending[k].req.limit, pending[t].req.limit
+                        )
+                    })
+                }
+                None => Some("the parent has no limit".into()),
+            },
+            _ => None,
+        };
+        if let Some(why) = why {
+            drop(pending, k, why);
+        }
+    }
+    // a chain of derivations must end
+    for start in 0..pending.len() {
+        let mut seen: HashSet<usize> = HashSet::from([start]);
+        let mut at = start;
+        while let Some(next) = pending[at]
+            .req
+            .parent
+            .as_ref()
+            .and_then(|(pid, _)| index.get(pid).copied())
+        {
+            if !seen.insert(next) {
+                drop(
+                    pending,
+                    at,
+                    "the chain of derivations returns to itself".into(),
+                );
+                break;
+            }
+            at = next;
+        }
+    }
+}
+
+/// Whether a requirement loads as a set of its own (without its parent, which is checked
+/// with the whole set): the loader's cause when it does not.
+fn loads_alone(req: &ImportedRequirement) -> Result<(), String> {
+    let fam = ImportedFamily {
+        family: "check".into(),
+        description: None,
+        file_name: "check.yaml".into(),
+        requirements: vec![ImportedRequirement {
+            parent: None,
+            ..req.clone()
+        }],
+        yaml: String::new(),
+    };
+    let (text, _) = yaml::family_file(&fam, "");
+    Requirements::from_sources(&[(PathBuf::from("check.yaml"), text)])
+        .map(|_| ())
+        .map_err(|e| e.cause)
+}
+
+/// Requirements per YAML file: a family with more is written in several files.
+pub const MAX_PER_FILE: usize = 2000;
+
+type Written = (
+    Vec<ImportedFamily>,
+    Vec<(PathBuf, String)>,
+    Vec<Vec<(u64, u64)>>,
+);
+
+/// Families in order of first appearance, one YAML file each.
+fn families(
+    kept: &[Pending],
+    skipped: &[Skipped],
+    file: &Path,
+    fname: &str,
+    source_tool: &str,
+) -> Written {
+    let skipped_ids: HashSet<&str> = skipped.iter().map(|s| s.id.as_str()).collect();
     let mut fams: Vec<ImportedFamily> = Vec::new();
     for p in kept {
-        let (name, desc) = p.family;
-        match fams.iter_mut().find(|f| f.family == name) {
-            Some(f) => f.requirements.push(p.req),
+        let mut req = p.req.clone();
+        let mut notes = p.extra_notes.clone();
+        if let Some((pid, _)) = &req.parent
+            && skipped_ids.contains(pid.as_str())
+        {
+            notes.push(format!(
+                "parent {pid} not imported (incomplete or qualitative in the ReqIF file)"
+            ));
+            req.parent = None;
+        }
+        if !notes.is_empty() {
+            let mut parts: Vec<String> = req.note.take().into_iter().collect();
+            parts.append(&mut notes);
+            req.note = Some(parts.join("; "));
+        }
+        let (name, desc) = p.family.clone();
+        // a family's requirements in files of at most MAX_PER_FILE (the YAML loader's node
+        // budget holds about 20 000 entries per file)
+        match fams
+            .iter_mut()
+            .rev()
+            .find(|f| f.family == name && f.requirements.len() < MAX_PER_FILE)
+        {
+            Some(f) => f.requirements.push(req),
             None => fams.push(ImportedFamily {
                 family: name,
                 description: desc,
                 file_name: String::new(),
-                requirements: vec![p.req],
+                requirements: vec![req],
                 yaml: String::new(),
             }),
         }
@@ -1106,7 +1526,12 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
     for f in &fams {
         let base = match slug(&f.family) {
             s if s.is_empty() => "requirements".to_string(),
-            s => s,
+            s => s
+                .chars()
+                .take(80)
+                .collect::<String>()
+                .trim_end_matches('-')
+                .to_string(),
         };
         let mut n = base.clone();
         let mut k = 2;
@@ -1120,10 +1545,11 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
     let mut sorted = names.clone();
     sorted.sort();
     let numbered = sorted != names;
+    let width = fams.len().to_string().len().max(2);
     let comment = format!(
         "Imported by `geodesic import reqif` from {}{}.\nThe ReqIF attributes read for each field are listed in docs/exchange.md.",
         file.file_name()
-            .map_or(fname.clone(), |n| n.to_string_lossy().into_owned()),
+            .map_or(fname.to_string(), |n| n.to_string_lossy().into_owned()),
         if source_tool.is_empty() {
             String::new()
         } else {
@@ -1134,7 +1560,7 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
     let mut spans: Vec<Vec<(u64, u64)>> = Vec::new();
     for (i, (f, n)) in fams.iter_mut().zip(&names).enumerate() {
         f.file_name = if numbered {
-            format!("{:02}-{n}.yaml", i + 1)
+            format!("{:0width$}-{n}.yaml", i + 1)
         } else {
             format!("{n}.yaml")
         };
@@ -1143,56 +1569,63 @@ pub fn import(file: &Path, text: &str, opts: &ImportOptions) -> Result<Imported,
         sources.push((PathBuf::from(&f.file_name), f.yaml.clone()));
         spans.push(sp);
     }
-    // what is written must load: a limit, unit or derivation the loader refuses is reported at
-    // the requirement's line in the ReqIF file
-    if let Err(e) = Requirements::from_sources(&sources) {
-        let fi = sources
-            .iter()
-            .position(|(p, _)| *p == e.origin.file)
-            .unwrap_or(0);
-        let hit = spans[fi]
-            .iter()
-            .position(|(a, b)| (*a..=*b).contains(&e.origin.line));
-        let (line, id) = match hit {
-            Some(k) => {
-                let r = &fams[fi].requirements[k];
-                (r.line, r.id.clone())
+    (fams, sources, spans)
+}
+
+/// The import's report: the sources of each field, and the attributes no field took.
+fn mapping(
+    kept: &[Pending],
+    objects: &[Object],
+    by_ident: &HashMap<String, usize>,
+) -> (Vec<MappingRow>, Vec<(String, usize)>) {
+    let mut rows: Vec<MappingRow> = Vec::new();
+    for f in Field::ALL {
+        let mut counts: Vec<(String, usize)> = Vec::new();
+        for p in kept {
+            for (g, s) in &p.sources {
+                if *g == f {
+                    match counts.iter_mut().find(|(c, _)| c == s) {
+                        Some(c) => c.1 += 1,
+                        None => counts.push((s.clone(), 1)),
+                    }
+                }
             }
-            None => (1, "?".into()),
+        }
+        if !counts.is_empty() {
+            rows.push(MappingRow {
+                field: f,
+                sources: counts,
+            });
+        }
+    }
+    let mut unmapped: Vec<(String, usize)> = Vec::new();
+    for p in kept {
+        let Some(o) = by_ident.get(&p.ident).map(|&i| &objects[i]) else {
+            continue;
         };
-        return Err(ImportError {
-            file: fname,
-            line,
-            cause: format!("requirement {id}: {}", e.cause),
-        });
+        let mut seen: HashSet<&str> = HashSet::new();
+        for v in &o.values {
+            if v.text.trim().is_empty()
+                || p.used.contains(&v.key)
+                || bookkeeping(&v.key)
+                || !seen.insert(v.key.as_str())
+            {
+                continue;
+            }
+            match unmapped.iter_mut().find(|(n, _)| norm(n) == v.key) {
+                Some(u) => u.1 += 1,
+                None => unmapped.push((v.name.clone(), 1)),
+            }
+        }
     }
-    Ok(Imported {
-        families: fams,
-        skipped,
-        qualitative,
-        source_tool,
-        headings,
-        other_objects,
-        relations,
-    })
+    (rows, unmapped)
 }
 
-fn attr_names(f: Field, opts: &ImportOptions) -> String {
-    match opts.attribute.get(&f) {
-        Some(n) => format!("`{n}`"),
-        None => f
-            .candidates()
-            .iter()
-            .map(|c| format!("`{c}`"))
-            .collect::<Vec<_>>()
-            .join(" or "),
-    }
-}
-
+/// The objects of a specification's hierarchy in document order, each with the heading above
+/// it (depth first, with a stack: a hierarchy nested arbitrarily deep cannot overflow it).
 #[allow(clippy::too_many_arguments)]
 fn walk<'a, 'i>(
-    ctx: &Ctx,
-    model: &Model<'a, 'i>,
+    model: &mut Model<'a, 'i>,
     children: Node<'a, 'i>,
     place: &Place,
     objects: &[Object],
@@ -1200,57 +1633,40 @@ fn walk<'a, 'i>(
     opts: &ImportOptions,
     order: &mut Vec<(usize, Place)>,
     placed: &mut HashSet<usize>,
-) -> Result<(), ImportError> {
-    for h in elements(children).filter(|n| n.tag_name().name() == "SPEC-HIERARCHY") {
+) {
+    let entries = |n: Node<'a, 'i>| {
+        let mut v: Vec<Node<'a, 'i>> = elements(n)
+            .filter(|c| c.tag_name().name() == "SPEC-HIERARCHY")
+            .collect();
+        v.reverse();
+        v
+    };
+    let mut stack: Vec<(Node<'a, 'i>, Place)> = entries(children)
+        .into_iter()
+        .map(|h| (h, place.clone()))
+        .collect();
+    while let Some((h, place)) = stack.pop() {
         let mut inner = place.clone();
         if let Some(r) = ref_in(h, "OBJECT") {
-            let at = r.1;
-            let n = model.resolve(ctx, r, "SPEC-OBJECT")?;
-            let id = n.attribute("IDENTIFIER").unwrap_or("");
-            let &i = by_ident
-                .get(id)
-                .ok_or_else(|| ctx.err(at, format!("`{id}` is not a SPEC-OBJECT")))?;
-            if placed.insert(i) {
-                order.push((i, place.clone()));
-            }
-            if is_heading(&objects[i], opts) {
-                inner.family = Some(heading_of(&objects[i], opts));
+            let found = model
+                .resolve(
+                    &r,
+                    "SPEC-OBJECT",
+                    "the hierarchy entry is left out (its children are kept)",
+                )
+                .and_then(|n| n.attribute("IDENTIFIER"))
+                .and_then(|id| by_ident.get(id).copied());
+            if let Some(i) = found {
+                if placed.insert(i) {
+                    order.push((i, place.clone()));
+                }
+                if is_heading(&objects[i], opts) {
+                    inner.family = Some(heading_of(&objects[i], opts));
+                }
             }
         }
         if let Some(ch) = child(h, "CHILDREN") {
-            walk(
-                ctx, model, ch, &inner, objects, by_ident, opts, order, placed,
-            )?;
+            stack.extend(entries(ch).into_iter().map(|c| (c, inner.clone())));
         }
-    }
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ids_from_other_tools() {
-        assert_eq!(to_req_id("REL-GPRM-VEL"), "REL-GPRM-VEL");
-        assert_eq!(to_req_id("LOREM-818"), "LOREM-818");
-        assert_eq!(to_req_id("sys_req 12"), "SYS-REQ-12");
-        assert_eq!(to_req_id("42"), "REQ-42");
-        assert_eq!(to_req_id("_3a15c15b-8af5"), "REQ-3A15C15B-8AF5");
-        assert_eq!(to_req_id("--"), "REQ");
-    }
-
-    #[test]
-    fn methods_as_tools_write_them() {
-        assert_eq!(method_of("Test").unwrap(), "test");
-        assert_eq!(method_of("A").unwrap(), "analysis");
-        assert_eq!(method_of("Review of Design").unwrap(), "review-of-design");
-        assert_eq!(method_of("RoD").unwrap(), "review-of-design");
-        assert_eq!(method_of("Inspection, Test").unwrap(), "inspection");
-        assert!(
-            method_of("Demonstration")
-                .unwrap_err()
-                .contains("Demonstration")
-        );
     }
 }

@@ -16,16 +16,21 @@
 //! | `parent: {id, margin}` | a SPEC-RELATION of type `geodesic.DerivedFrom` from the child (source) to the parent (target) with `geodesic.DerivationMargin` |
 //! | VCD status (with `--matrix`) | `geodesic.Status`, `geodesic.Basis`, `geodesic.CloseOut` (enumerations), `geodesic.Value`, `geodesic.Margin` (reals), `geodesic.Disposition`, `geodesic.Remarks` |
 
+mod archive;
 mod export;
+mod fields;
 mod import;
+mod read;
 mod xhtml;
 
+pub use archive::{MAX_DOCUMENT_BYTES, import_file, is_archive};
 pub use export::{ExportOptions, export};
+pub use fields::Field;
 pub use import::{
-    Field, ImportError, ImportOptions, Imported, ImportedFamily, ImportedRequirement, Skipped,
-    import,
+    ImportError, ImportOptions, Imported, ImportedFamily, ImportedRequirement, MappingRow, Skipped,
+    Warning, import,
 };
-pub use xhtml::{text_to_xhtml, xhtml_to_text};
+pub use xhtml::{text_to_xhtml, xhtml_objects, xhtml_to_text};
 
 /// The ReqIF 1.2 XML namespace.
 pub const NAMESPACE: &str = "http://www.omg.org/spec/ReqIF/20110401/reqif.xsd";

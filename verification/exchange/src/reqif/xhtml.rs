@@ -3,8 +3,9 @@
 //! geodesic's texts are plain: exported as one `xhtml:div`, a line break as `xhtml:br`. On
 //! import, XHTML is read as a browser shows it: runs of white space collapse to one space,
 //! `br` is a line break, block elements (`p`, `div`, `li`, headings, table rows) start a new
-//! line, list items get a `- ` bullet, table cells are separated by ` | `; images and objects
-//! keep their alternative text. So a text with two spaces in a row or leading spaces does not
+//! line, list items get a `- ` bullet, table cells are separated by ` | `; an image keeps its
+//! alternative text (else `[image: SRC]`), an embedded object becomes `[object: DATA]` (its
+//! content is the fallback shown when the object cannot be). So a text with two spaces in a row or leading spaces does not
 //! survive a round trip through XHTML (none of geodesic's requirements has one).
 
 use crate::xml::escape_xhtml;
@@ -40,8 +41,22 @@ fn is_block(name: &str) -> bool {
     )
 }
 
+/// The text of `node`'s content as a browser lays it out, before white space is collapsed
+/// (depth first with a stack: XHTML nested arbitrarily deep cannot overflow it).
 fn walk(node: roxmltree::Node, out: &mut String) {
-    for c in node.children() {
+    enum Step<'a, 'i> {
+        Enter(roxmltree::Node<'a, 'i>),
+        Push(&'static str),
+    }
+    let mut stack: Vec<Step> = node.children().rev().map(Step::Enter).collect();
+    while let Some(step) = stack.pop() {
+        let c = match step {
+            Step::Push(s) => {
+                out.push_str(s);
+                continue;
+            }
+            Step::Enter(c) => c,
+        };
         if c.is_text() {
             // a line break in the source is white space; only `br` and blocks break lines
             out.extend(
@@ -50,32 +65,62 @@ fn walk(node: roxmltree::Node, out: &mut String) {
                     .chars()
                     .map(|ch| if ch.is_whitespace() { ' ' } else { ch }),
             );
-        } else if c.is_element() {
-            let name = c.tag_name().name();
-            match name {
-                "br" => out.push('\n'),
-                "img" | "object" => {
-                    if let Some(alt) = c.attribute("alt").or_else(|| c.attribute("name")) {
-                        out.push_str(alt);
-                    }
-                    walk(c, out);
-                }
-                "td" | "th" => {
-                    walk(c, out);
-                    out.push_str(" | ");
-                }
-                _ if is_block(name) => {
-                    out.push('\n');
-                    if name == "li" {
-                        out.push_str("- ");
-                    }
-                    walk(c, out);
-                    out.push('\n');
-                }
-                _ => walk(c, out),
-            }
+            continue;
         }
+        if !c.is_element() {
+            continue;
+        }
+        let name = c.tag_name().name();
+        let (before, after): (&'static str, &'static str) = match name {
+            "br" => {
+                out.push('\n');
+                continue;
+            }
+            "img" => {
+                match (c.attribute("alt"), c.attribute("src")) {
+                    (Some(alt), _) if !alt.trim().is_empty() => out.push_str(alt),
+                    (_, Some(src)) => out.push_str(&format!("[image: {src}]")),
+                    _ => {}
+                }
+                continue;
+            }
+            // an embedded object (a picture, an OLE object, a PDF): a reference to its file;
+            // its content is the fallback shown when the object cannot be, not more text
+            "object" if c.attribute("data").is_some() => {
+                out.push_str(&format!("[object: {}]", c.attribute("data").unwrap_or("")));
+                continue;
+            }
+            "td" | "th" => ("", " | "),
+            "li" => ("\n- ", "\n"),
+            _ if is_block(name) => ("\n", "\n"),
+            _ => ("", ""),
+        };
+        out.push_str(before);
+        if !after.is_empty() {
+            stack.push(Step::Push(after));
+        }
+        stack.extend(c.children().rev().map(Step::Enter));
     }
+}
+
+/// The `data` of every embedded object (`xhtml:object`, outermost only) in `node`.
+pub fn xhtml_objects(node: roxmltree::Node) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack: Vec<roxmltree::Node> = node.children().collect();
+    stack.reverse();
+    while let Some(n) = stack.pop() {
+        if !n.is_element() {
+            continue;
+        }
+        if n.tag_name().name() == "object" && n.attribute("data").is_some() {
+            out.push(n.attribute("data").unwrap_or_default().to_string());
+            continue;
+        }
+        let mut kids: Vec<roxmltree::Node> = n.children().collect();
+        kids.reverse();
+        stack.extend(kids);
+    }
+    out
 }
 
 /// The text a reader sees in the XHTML content of `node` (a `THE-VALUE` element).
@@ -129,5 +174,17 @@ mod tests {
             back(m),
             "The TM shall be released.\n- first\n- second\na | b"
         );
+    }
+
+    #[test]
+    fn embedded_objects_are_references() {
+        let m = "<xhtml:div>See <xhtml:object data=\"f/spec.pdf\" type=\"application/pdf\">\
+                 <xhtml:object data=\"f/icon.png\" type=\"image/png\">no viewer</xhtml:object>\
+                 </xhtml:object> and <xhtml:img src=\"a.png\"/>.</xhtml:div>";
+        assert_eq!(back(m), "See [object: f/spec.pdf] and [image: a.png].");
+        let doc =
+            format!("<THE-VALUE xmlns:xhtml=\"http://www.w3.org/1999/xhtml\">{m}</THE-VALUE>");
+        let d = roxmltree::Document::parse(&doc).unwrap();
+        assert_eq!(xhtml_objects(d.root_element()), ["f/spec.pdf"]);
     }
 }
