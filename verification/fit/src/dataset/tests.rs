@@ -459,3 +459,19 @@ fn wild_samples_are_glitches_not_signals() {
         assert!(wild_samples(&gauss(5000, 100 + seed), 0.0).is_empty());
     }
 }
+
+#[test]
+fn the_committed_lab_fixture_loads_to_the_bits_of_the_example() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/examples");
+    let plain = Dataset::load(&dir.join("tmmf-adhesion.yaml")).unwrap();
+    let lab = Dataset::load(&dir.join("lab/tmmf-adhesion-lab.yaml")).unwrap();
+    assert_eq!(lab.t.len(), plain.t.len());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&lab.t), bits(&plain.t));
+    for ch in ["x", "y"] {
+        assert_eq!(bits(lab.channel(ch)), bits(plain.channel(ch)), "{ch}");
+        assert_eq!(lab.noise[ch].to_bits(), plain.noise[ch].to_bits(), "{ch}");
+    }
+    assert_eq!(lab.known, plain.known);
+    assert!(lab.rows.warnings.is_empty() && lab.rows.wild.is_empty());
+}
