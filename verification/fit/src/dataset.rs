@@ -636,7 +636,7 @@ impl Dataset {
         if table.t.len() < 10 {
             return Err(FitError::input(
                 &csv,
-                0,
+                table.rows.lines.last().copied().unwrap_or(1),
                 format!(
                     "only {} samples{}: a fit needs at least 10 rows",
                     table.t.len(),
