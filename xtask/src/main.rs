@@ -1,19 +1,21 @@
 //! geodesic developer tasks.
 //!
-//! `cargo xtask test [-- CARGO-TEST-ARGS]` runs `cargo test --workspace` (with the extra
-//! arguments), streams its output, records which traced tests ran, with what result and what they
+//! `cargo xtask test [-- CARGO-TEST-ARGS]` runs `cargo test --workspace --release` (with the
+//! extra arguments), streams its output with a status of what runs (`progress`), records which traced tests ran, with what result and what they
 //! asserted, into `target/geodesic/test-run.json` (a `geodesic_core::testrun::TestRun`, read by
 //! the compliance matrix), and exits with cargo's status. The run records the commit and a
 //! fingerprint of the work tree it ran on (`geodesic verify` counts it only for that tree), and
 //! runs every property test from one fixed proptest seed ([`PROPTEST_RNG_SEED`]).
 
+mod features;
 mod join;
 mod output;
+mod progress;
 mod scan;
 
 use geodesic_core::testrun::{TestResult, TestRun, TraceRecord};
 use std::collections::BTreeMap;
-use std::io::{IsTerminal, Read, Write};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
@@ -21,10 +23,16 @@ use std::process::{Command, ExitCode};
 /// sets one.
 pub const PROPTEST_RNG_SEED: u64 = 20_261_127;
 
-const USAGE: &str = "usage: cargo xtask test [-- CARGO-TEST-ARGS]
+/// How long a fresh clone's first build takes on the 2-core machine (README, measured).
+const FRESH_BUILD: &str = "10 minutes";
 
-  test   run `cargo test --workspace [CARGO-TEST-ARGS]` and record the traced tests'
-         results in target/geodesic/test-run.json";
+const USAGE: &str = "usage: cargo xtask test [-- CARGO-TEST-ARGS] | cargo xtask features
+
+  test   run `cargo test --workspace --release [CARGO-TEST-ARGS]` and record the traced tests'
+         results in target/geodesic/test-run.json
+  features
+         check that workspace-hack/Cargo.toml gives every member's own build the workspace's
+         features of each shared dependency (exit 1 with the lines to add when not)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -42,6 +50,13 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Some("features") => match features::run(&root()) {
+            Ok(code) => code,
+            Err(e) => {
+                eprintln!("xtask features: {e}");
+                ExitCode::from(2)
+            }
+        },
         Some("-h" | "--help" | "help") => {
             println!("{USAGE}");
             ExitCode::SUCCESS
@@ -102,32 +117,6 @@ pub fn rfc3339(secs: u64) -> String {
     )
 }
 
-/// Runs cargo with stdout and stderr into one pipe (so that cargo's `Running` lines and the
-/// tests' output stay in order), copies it to our stdout as it comes, and returns the text and
-/// the exit status.
-fn run_streamed(mut cmd: Command) -> std::io::Result<(String, std::process::ExitStatus)> {
-    let (mut reader, writer) = std::io::pipe()?;
-    cmd.stdout(writer.try_clone()?).stderr(writer);
-    let mut child = cmd.spawn()?;
-    drop(cmd); // closes our copies of the pipe's write end
-    let mut text = Vec::new();
-    let mut buf = [0u8; 8192];
-    let mut out = std::io::stdout().lock();
-    loop {
-        let n = match reader.read(&mut buf) {
-            Ok(0) => break,
-            Ok(n) => n,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
-        let _ = out.write_all(&buf[..n]);
-        let _ = out.flush();
-        text.extend_from_slice(&buf[..n]);
-    }
-    let status = child.wait()?;
-    Ok((String::from_utf8_lossy(&text).into_owned(), status))
-}
-
 /// Reads every record the tests wrote in `dir`.
 fn read_records(dir: &Path) -> Vec<TraceRecord> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -170,15 +159,25 @@ fn test(extra: &[String]) -> Result<ExitCode, String> {
 
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let mut cmd = Command::new(cargo);
+    // the release profile: the tests share every compiled crate with `cargo build --release`
+    // (README, "Tests and build profiles")
     cmd.current_dir(&root)
-        .args(["test", "--workspace"])
+        .args(["test", "--workspace", "--release"])
         .args(extra)
         .env(geodesic_core::trace::TRACE_DIR_ENV, &trace_dir)
         .env("PROPTEST_RNG_SEED", &proptest_seed);
     if std::io::stdout().is_terminal() && std::env::var_os("CARGO_TERM_COLOR").is_none() {
         cmd.env("CARGO_TERM_COLOR", "always");
     }
-    let (text, status) = run_streamed(cmd).map_err(|e| format!("running cargo test: {e}"))?;
+    println!(
+        "xtask test: cargo test --workspace --release{}{} (a fresh clone builds for about {} on \
+         2 cores first; the status says what runs)",
+        if extra.is_empty() { "" } else { " " },
+        extra.join(" "),
+        FRESH_BUILD
+    );
+    let (text, status) =
+        progress::run_streamed(cmd).map_err(|e| format!("running cargo test: {e}"))?;
 
     let listed = output::parse(&text);
     let records = read_records(&trace_dir);

@@ -1,16 +1,30 @@
-//! Measurement datasets (interface.md): a YAML metadata file beside a CSV file.
+//! Measurement datasets (interface.md): a YAML metadata file beside a CSV file, in the form a
+//! lab delivers them.
 //!
-//! Every refusal names the file and line: malformed YAML, missing file or column, unknown or
-//! wrong-dimension unit, NaN or empty cells, time not strictly increasing, a channel or known
-//! constant the scenario needs but lacks. Values are converted to SI with
-//! `geodesic_core::units::parse_unit`.
+//! * `time_unit` (default `s`) and each channel's unit are any unit of
+//!   [`geodesic_core::units`] of the right dimension; a channel names its CSV column when the
+//!   header is not the channel's name (`x: {column: "TM displacement [nm]", unit: nm}`; the short
+//!   form `x: m` means column `x`). Values are converted to SI; a power-of-ten unit (`ms`, `nm`)
+//!   is applied to the number as written (its decimal exponent shifted), so that a record in
+//!   `ms` and `nm` loads to the same bits as the same record in `s` and `m`.
+//! * Lines of the CSV starting with `#` are comments. A row with an empty cell in a column the
+//!   dataset uses (a missing value, also a row cut short) is skipped, counted and named in a
+//!   warning; [`LoadOptions::strict`] refuses it instead.
+//! * A sample far outside the envelope of its neighbours ([`wild_samples`]: a glitch no
+//!   continuous signal makes) is excluded from the record the same way, said out loud, and
+//!   refused under `strict`.
+//! * Unknown keys are refused with file, line and the nearest valid key, as the requirement
+//!   files are (serde's `deny_unknown_fields`); every other refusal names file and line and says
+//!   what to write instead: malformed YAML, missing file or column, unknown or wrong-dimension
+//!   unit, NaN or infinite cells, time not strictly increasing, a channel or known constant the
+//!   scenario needs but lacks.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use geodesic_core::units::{Dim, parse_unit};
 use geodesic_facility::Scenario;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use serde_saphyr::Spanned;
 
 use crate::error::FitError;
@@ -36,9 +50,121 @@ pub struct Dataset {
     pub known: BTreeMap<String, f64>,
     /// 1-sigma white noise per channel from the YAML, in SI.
     pub noise: BTreeMap<String, f64>,
+    /// Where each sample came from and what was left out (empty for a record made in memory).
+    pub rows: Rows,
 }
 
+/// Where the samples of a dataset came from in its CSV, and what was left out of it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Rows {
+    /// The CSV file as named in messages (empty for a record made in memory).
+    pub file: String,
+    /// CSV line (1-based) of each sample kept, in order; empty for a record made in memory.
+    /// Meaningful only while it has one entry per sample ([`Dataset::line_of`]).
+    pub lines: Vec<usize>,
+    /// Comment lines (`#`) read past.
+    pub comments: usize,
+    /// Rows skipped for a missing value.
+    pub skipped: Vec<Skipped>,
+    /// Rows excluded as wild samples ([`wild_samples`]).
+    pub wild: Vec<WildSample>,
+    /// One-line warnings for the user (skipped rows, excluded samples).
+    pub warnings: Vec<String>,
+}
+
+/// A row skipped because a cell the dataset uses is empty.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Skipped {
+    /// CSV line (1-based).
+    pub line: usize,
+    /// The first empty column of the row (its CSV header).
+    pub column: String,
+}
+
+/// A sample excluded from the record because it lies far outside its neighbours.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WildSample {
+    /// CSV line (1-based).
+    pub line: usize,
+    /// The channel.
+    pub channel: String,
+    /// Its time [s].
+    pub t: f64,
+    /// Its value [SI].
+    pub value: f64,
+    /// Its distance from the median of its neighbours [SI].
+    pub deviation: f64,
+    /// That distance over the channel's robust scale ([`wild_samples`]).
+    pub robust_sigma: f64,
+}
+
+/// How strictly a dataset is read.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LoadOptions {
+    /// Refuse a row with a missing value and a wild sample (exit 2) instead of skipping it
+    /// with a warning.
+    pub strict: bool,
+}
+
+/// A channel's unit: the short form `x: nm` (column `x`) or `x: {column: "...", unit: nm}`.
+#[derive(Debug)]
+struct ChannelSpec {
+    column: Option<String>,
+    unit: Option<String>,
+}
+
+const CHANNEL_KEYS: &[&str] = &["column", "unit"];
+
+impl<'de> Deserialize<'de> for ChannelSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = ChannelSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a unit (`x: nm`) or `{column: NAME, unit: UNIT}`")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<ChannelSpec, E> {
+                Ok(ChannelSpec {
+                    column: None,
+                    unit: Some(v.to_string()),
+                })
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut m: A,
+            ) -> Result<ChannelSpec, A::Error> {
+                let mut out = ChannelSpec {
+                    column: None,
+                    unit: None,
+                };
+                while let Some(k) = m.next_key::<String>()? {
+                    match k.as_str() {
+                        "column" => out.column = Some(m.next_value()?),
+                        "unit" => out.unit = Some(m.next_value()?),
+                        _ => return Err(serde::de::Error::unknown_field(&k, CHANNEL_KEYS)),
+                    }
+                }
+                Ok(out)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// The keys of a dataset YAML (interface.md), in the order the format lists them.
+pub const KEYS: &[&str] = &[
+    "scenario",
+    "description",
+    "data",
+    "time_column",
+    "time_unit",
+    "channels",
+    "known",
+    "noise",
+];
+
 #[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 struct Meta {
     scenario: Spanned<String>,
     #[serde(default)]
@@ -46,9 +172,11 @@ struct Meta {
     data: Spanned<String>,
     #[serde(default)]
     time_column: Option<Spanned<String>>,
-    channels: Spanned<BTreeMap<String, Spanned<String>>>,
     #[serde(default)]
-    known: Option<BTreeMap<String, Spanned<f64>>>,
+    time_unit: Option<Spanned<String>>,
+    channels: Spanned<BTreeMap<String, Spanned<ChannelSpec>>>,
+    #[serde(default)]
+    known: Option<Spanned<BTreeMap<String, Spanned<f64>>>>,
     #[serde(default)]
     noise: Option<BTreeMap<String, Spanned<f64>>>,
 }
@@ -66,22 +194,182 @@ fn channel_dim(name: &str) -> Option<Dim> {
     }
 }
 
-/// Reads a YAML file (size-limited) into `T`; a read or parse error is `file:line: cause`.
-pub(crate) fn read_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, FitError> {
-    let file = path.display().to_string();
-    let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
-        .map_err(|e| FitError::input(&file, e.line(), e.cause()))?;
-    serde_saphyr::from_str(&text).map_err(|e| {
-        let line = e.location().map_or(0, |l| l.line() as usize);
-        let msg = e.to_string();
-        let first = msg.lines().next().unwrap_or("malformed YAML").to_string();
-        FitError::input(&file, line, format!("malformed YAML: {first}"))
+/// The channels a scenario reads (interface.md): those it needs, then the optional ones.
+pub fn scenario_channels(s: Scenario) -> &'static [&'static str] {
+    match s {
+        Scenario::TmmfRelease => &["x", "y"],
+        Scenario::RtRetraction => &["y", "E"],
+    }
+}
+
+/// What a channel is, for messages.
+fn channel_hint(name: &str) -> &'static str {
+    match name {
+        "x" => "a length such as m, um or nm",
+        "y" => "a length such as m, um or nm",
+        "E" => "a voltage such as V or mV",
+        _ => "a unit",
+    }
+}
+
+/// The candidate closest to `word`: equal but for case, or within a case-insensitive
+/// Damerau-Levenshtein distance of a third of the longer word (one edit at least when both
+/// have two characters or more, so that `x` never suggests `t`), if any.
+pub fn nearest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let w = word.to_lowercase();
+    candidates
+        .into_iter()
+        .map(|c| (strsim::damerau_levenshtein(&w, &c.to_lowercase()), c))
+        .filter(|(d, c)| {
+            let (a, b) = (w.chars().count(), c.chars().count());
+            let min_edit = usize::from(a.min(b) >= 2);
+            *d <= (a.max(b) / 3).max(min_edit)
+        })
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c)
+}
+
+/// ` (did you mean `x`?)` when a candidate is near `word`, else empty.
+fn did_you_mean<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> String {
+    nearest(word, candidates).map_or(String::new(), |n| format!(": did you mean `{n}`?"))
+}
+
+/// The message of serde's `unknown field `K`, expected one of A, B` rewritten with the nearest
+/// valid key and what to do; `None` for any other message.
+fn unknown_key_message(msg: &str, what: &str) -> Option<String> {
+    let rest = msg.split("unknown field `").nth(1)?;
+    let (key, rest) = rest.split_once('`')?;
+    let expected: Vec<String> = rest
+        .split_once("expected")
+        .map(|(_, e)| e.trim().trim_start_matches("one of").trim())
+        .unwrap_or("")
+        .split([','])
+        .flat_map(|s| s.split(" or "))
+        .map(|s| s.trim().trim_matches('`').to_string())
+        .filter(|s| !s.is_empty())
+        .collect();
+    let hint = nearest(key, expected.iter().map(String::as_str));
+    Some(match hint {
+        Some(n) => format!(
+            "unknown key `{}` in {what}: did you mean `{n}`? (valid keys: {})",
+            geodesic_core::text::clip(key, 60),
+            expected.join(", ")
+        ),
+        None => format!(
+            "unknown key `{}` in {what}: remove it (valid keys: {})",
+            geodesic_core::text::clip(key, 60),
+            expected.join(", ")
+        ),
     })
 }
 
+/// Reads a YAML file (size-limited) into `T`; a read or parse error is `file:line: cause`, an
+/// unknown key names the nearest valid one.
+pub(crate) fn read_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, FitError> {
+    let file = path.display().to_string();
+    let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
+        .map_err(|e| FitError::input(&file, e.line(), format!("{}: check the path", e.cause())))?;
+    serde_saphyr::from_str(&text).map_err(|e| {
+        let line = e.location().map_or(1, |l| (l.line() as usize).max(1));
+        let msg = e.to_string();
+        let first = msg.lines().next().unwrap_or("malformed YAML").to_string();
+        let first = strip_location(&first);
+        if let Some(m) = unknown_key_message(&first, "the dataset YAML") {
+            return FitError::input(&file, line, m);
+        }
+        if let Some(f) = first.strip_prefix("missing field `") {
+            let f = f.trim_end_matches('`');
+            return FitError::input(
+                &file,
+                line,
+                format!(
+                    "the dataset YAML lacks `{f}:` (interface.md: scenario, data, channels are \
+                     required): add it"
+                ),
+            );
+        }
+        FitError::input(
+            &file,
+            line,
+            format!(
+                "malformed YAML: {first}: check the indentation, the `key: value` form and the \
+                 quoting of names with `:` or `#` near this line"
+            ),
+        )
+    })
+}
+
+/// A serde-saphyr message without its `error: line N column M: ` prefix (the location is
+/// printed by us).
+fn strip_location(s: &str) -> String {
+    let l = s.trim();
+    let l = l.strip_prefix("error: ").unwrap_or(l);
+    match l.find(": ") {
+        Some(i) if l.starts_with("line ") => l[i + 2..].to_string(),
+        _ => l.to_string(),
+    }
+}
+
+/// A channel read from a CSV column.
+struct Column {
+    /// The channel.
+    channel: String,
+    /// Its CSV header.
+    header: String,
+    /// SI per unit of the values as written.
+    scale: f64,
+    /// The YAML line that declared it.
+    line: usize,
+}
+
+/// `Some(k)` when `scale` is exactly `10^k`.
+fn power_of_ten(scale: f64) -> Option<i32> {
+    let k = scale.log10().round();
+    if !(-300.0..=300.0).contains(&k) {
+        return None;
+    }
+    let k = k as i32;
+    (format!("1e{k}").parse::<f64>().ok() == Some(scale)).then_some(k)
+}
+
+/// A number of a CSV cell (`text`, parsed as `v`) in SI: `text` with its decimal exponent
+/// shifted by `k` when the unit is `10^k` (the same bits as the number written in SI), else
+/// `v * scale`.
+fn to_si(text: &str, v: f64, scale: f64, pow10: Option<i32>) -> f64 {
+    match pow10 {
+        Some(0) => v,
+        Some(k) => {
+            let (mant, exp) = match text.find(['e', 'E']) {
+                Some(i) => match text[i + 1..].parse::<i32>() {
+                    Ok(e) => (&text[..i], e),
+                    Err(_) => return v * scale,
+                },
+                None => (text, 0),
+            };
+            format!("{mant}e{}", exp.saturating_add(k))
+                .parse()
+                .unwrap_or(v * scale)
+        }
+        None => v * scale,
+    }
+}
+
 impl Dataset {
-    /// Loads the YAML at `path` and its CSV.
+    /// Loads the YAML at `path` and its CSV (missing values and wild samples skipped with a
+    /// warning).
     pub fn load(path: &Path) -> Result<Dataset, FitError> {
+        Dataset::load_with(path, LoadOptions::default())
+    }
+
+    /// CSV line of sample `i`, when the record was read from a CSV.
+    pub fn line_of(&self, i: usize) -> Option<usize> {
+        (self.rows.lines.len() == self.t.len())
+            .then(|| self.rows.lines.get(i).copied())
+            .flatten()
+    }
+
+    /// Loads the YAML at `path` and its CSV with `opts`.
+    pub fn load_with(path: &Path, opts: LoadOptions) -> Result<Dataset, FitError> {
         let file = path.display().to_string();
         let meta: Meta = read_yaml(path)?;
         let scenario = Scenario::from_name(&meta.scenario.value).ok_or_else(|| {
@@ -89,136 +377,304 @@ impl Dataset {
                 &file,
                 line_of(&meta.scenario),
                 format!(
-                    "unknown scenario `{}` (known: tmmf-release, rt-retraction)",
-                    meta.scenario.value
+                    "unknown scenario `{}`{}: write `scenario: tmmf-release` or `scenario: \
+                     rt-retraction`",
+                    geodesic_core::text::clip(&meta.scenario.value, 60),
+                    did_you_mean(&meta.scenario.value, ["tmmf-release", "rt-retraction"])
                 ),
             )
         })?;
-        // units
-        let mut scales = BTreeMap::new();
+        let known_channels = scenario_channels(scenario);
+        // channels: unit, column
+        let mut columns: Vec<Column> = Vec::new();
         let mut units = BTreeMap::new();
-        for (ch, u) in &meta.channels.value {
-            let unit = parse_unit(u.value.trim())
-                .map_err(|e| FitError::input(&file, line_of(u), format!("channel `{ch}`: {e}")))?;
+        for (ch, spec) in &meta.channels.value {
+            let line = line_of(spec);
+            if !known_channels.contains(&ch.as_str()) {
+                return Err(FitError::input(
+                    &file,
+                    line,
+                    format!(
+                        "channel `{}` is not one of scenario {} ({}){}; the CSV column goes under \
+                         the channel: `{}: {{column: \"{}\", unit: ...}}`",
+                        geodesic_core::text::clip(ch, 60),
+                        scenario.name(),
+                        known_channels.join(", "),
+                        did_you_mean(ch, known_channels.iter().copied()),
+                        nearest(ch, known_channels.iter().copied()).unwrap_or(known_channels[0]),
+                        geodesic_core::text::clip(ch, 60)
+                    ),
+                ));
+            }
+            let Some(u) = spec.value.unit.as_deref() else {
+                return Err(FitError::input(
+                    &file,
+                    line,
+                    format!(
+                        "channel `{ch}` has no unit: add `unit:` ({})",
+                        channel_hint(ch)
+                    ),
+                ));
+            };
+            let unit = parse_unit(u.trim()).map_err(|e| {
+                FitError::input(
+                    &file,
+                    line,
+                    format!(
+                        "channel `{ch}`: {e}: write {} (docs/spec/interface.md)",
+                        channel_hint(ch)
+                    ),
+                )
+            })?;
             if let Some(d) = channel_dim(ch)
                 && unit.dim != d
             {
                 return Err(FitError::input(
                     &file,
-                    line_of(u),
+                    line,
                     format!(
-                        "channel `{ch}` has unit `{}` of dimension {}, expected {d}",
-                        u.value, unit.dim
+                        "channel `{ch}` has unit `{}` of dimension {}, expected {d}: write {}",
+                        geodesic_core::text::clip(u, 40),
+                        unit.dim,
+                        channel_hint(ch)
                     ),
                 ));
             }
-            scales.insert(ch.clone(), unit.scale);
-            units.insert(ch.clone(), u.value.clone());
+            let header = spec.value.column.clone().unwrap_or_else(|| ch.clone());
+            columns.push(Column {
+                channel: ch.clone(),
+                header,
+                scale: unit.scale,
+                line,
+            });
+            units.insert(ch.clone(), u.to_string());
         }
         for need in scenario.required_channels() {
-            if !scales.contains_key(*need) {
+            if !units.contains_key(*need) {
+                let found = meta
+                    .channels
+                    .value
+                    .keys()
+                    .map(|k| format!("`{k}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ");
                 return Err(FitError::input(
                     &file,
                     line_of(&meta.channels),
                     format!(
-                        "scenario {} needs channel `{need}`, not declared under channels",
-                        scenario.name()
+                        "scenario {} needs channel `{need}` under channels: (declared: {}); add \
+                         `{need}: m` when the CSV column is named `{need}`, or `{need}: {{column: \
+                         \"HEADER\", unit: m}}` to read it from the column HEADER",
+                        scenario.name(),
+                        if found.is_empty() {
+                            "none".into()
+                        } else {
+                            found
+                        }
                     ),
                 ));
             }
         }
+        // known constants: those the scenario uses
+        let known_line = meta.known.as_ref().map_or(1, line_of);
         let mut known = BTreeMap::new();
-        for (k, v) in meta.known.iter().flatten() {
+        let wanted = scenario.required_known();
+        for (k, v) in meta.known.iter().flat_map(|m| m.value.iter()) {
+            if !wanted.contains(&k.as_str()) {
+                return Err(FitError::input(
+                    &file,
+                    line_of(v),
+                    format!(
+                        "known constant `{}` is not one scenario {} uses ({}){}",
+                        geodesic_core::text::clip(k, 60),
+                        scenario.name(),
+                        wanted.join(", "),
+                        match nearest(k, wanted.iter().copied()).or_else(|| {
+                            // the one constant the scenario needs is absent: a rename
+                            let m = meta.known.as_ref().map(|m| &m.value);
+                            match wanted {
+                                [w] if m.is_some_and(|m| !m.contains_key(*w)) => Some(*w),
+                                _ => None,
+                            }
+                        }) {
+                            Some(n) => format!(": did you mean `{n}` ({})?", known_what(n)),
+                            None => ": remove it".into(),
+                        }
+                    ),
+                ));
+            }
             if !v.value.is_finite() {
                 return Err(FitError::input(
                     &file,
                     line_of(v),
-                    format!("known `{k}` is not a finite number"),
+                    format!("known `{k}` is not a finite number: write its value in SI"),
                 ));
             }
             known.insert(k.clone(), v.value);
         }
-        for need in scenario.required_known() {
+        for need in wanted {
             if !known.contains_key(*need) {
                 return Err(FitError::input(
                     &file,
-                    0,
+                    known_line,
                     format!(
-                        "scenario {} needs the known constant `{need}` (under known:)",
-                        scenario.name()
+                        "scenario {} needs the known constant `{need}` ({}): add it under known:",
+                        scenario.name(),
+                        known_what(need)
                     ),
                 ));
             }
         }
         for (k, what) in [("m", "TM mass, kg"), ("E0", "electrode voltage, V")] {
-            if let Some(v) = meta.known.as_ref().and_then(|m| m.get(k))
-                && v.value <= 0.0
+            if let Some(v) = meta
+                .known
+                .as_ref()
+                .and_then(|m| m.value.get(k))
+                .filter(|v| v.value <= 0.0)
             {
                 return Err(FitError::input(
                     &file,
                     line_of(v),
-                    format!("known `{k}` ({what}) must be positive, not {}", v.value),
+                    format!(
+                        "known `{k}` ({what}) must be positive, not {}: write it in SI",
+                        v.value
+                    ),
                 ));
             }
         }
         let mut noise = BTreeMap::new();
         for (ch, v) in meta.noise.iter().flatten() {
-            let Some(s) = scales.get(ch) else {
+            let Some(c) = columns.iter().find(|c| &c.channel == ch) else {
+                let declared: Vec<&str> = columns.iter().map(|c| c.channel.as_str()).collect();
                 return Err(FitError::input(
                     &file,
                     line_of(v),
-                    format!("noise given for undeclared channel `{ch}`"),
+                    format!(
+                        "noise given for undeclared channel `{}` (channels: {}){}",
+                        geodesic_core::text::clip(ch, 60),
+                        declared.join(", "),
+                        match nearest(ch, declared.iter().copied()) {
+                            Some(n) => format!(": did you mean `{n}`?"),
+                            None => ": remove it or declare the channel".into(),
+                        }
+                    ),
                 ));
             };
             if !(v.value.is_finite() && v.value > 0.0) {
                 return Err(FitError::input(
                     &file,
                     line_of(v),
-                    format!("noise of `{ch}` must be a positive number"),
+                    format!(
+                        "noise of `{ch}` must be a positive number (1 sigma, in the channel's \
+                         unit {}), or leave it out to have it estimated",
+                        units[ch]
+                    ),
                 ));
             }
-            noise.insert(ch.clone(), v.value * s);
+            // as the CSV's cells: the decimal written, its exponent shifted (exact)
+            noise.insert(
+                ch.clone(),
+                to_si(
+                    &format!("{:e}", v.value),
+                    v.value,
+                    c.scale,
+                    power_of_ten(c.scale),
+                ),
+            );
         }
         let time_col = meta
             .time_column
             .as_ref()
             .map_or("t".to_string(), |s| s.value.clone());
+        let time_scale = match &meta.time_unit {
+            None => 1.0,
+            Some(u) => {
+                let unit = parse_unit(u.value.trim()).map_err(|e| {
+                    FitError::input(
+                        &file,
+                        line_of(u),
+                        format!("time_unit: {e}: write a time unit such as s, ms or us"),
+                    )
+                })?;
+                if unit.dim != Dim::TIME {
+                    return Err(FitError::input(
+                        &file,
+                        line_of(u),
+                        format!(
+                            "time_unit `{}` is of dimension {}, not a time: write s, ms or us",
+                            geodesic_core::text::clip(&u.value, 40),
+                            unit.dim
+                        ),
+                    ));
+                }
+                unit.scale
+            }
+        };
         let csv_path = path
             .parent()
             .unwrap_or(Path::new("."))
             .join(&meta.data.value);
-        let (t, mut channels) = read_csv(&csv_path, &time_col, &scales)?;
-        if t.len() < 10 {
+        let csv = csv_path.display().to_string();
+        let spec = TableSpec {
+            time: Column {
+                channel: "time".into(),
+                header: time_col,
+                scale: time_scale,
+                line: meta.time_column.as_ref().map_or(0, line_of),
+            },
+            channels: columns,
+            missing: if opts.strict {
+                Missing::Refuse
+            } else {
+                Missing::Skip
+            },
+            comments: true,
+            yaml: file.clone(),
+            data_line: line_of(&meta.data),
+        };
+        let mut table = read_table(&csv_path, &spec)?;
+        if table.t.len() < 10 {
             return Err(FitError::input(
-                csv_path.display().to_string(),
-                0,
-                format!("only {} samples", t.len()),
-            ));
-        }
-        if !t.iter().any(|&v| v >= 0.0) {
-            return Err(FitError::input(
-                csv_path.display().to_string(),
-                0,
-                "no sample at or after the trigger t = 0",
-            ));
-        }
-        for (ch, s) in &scales {
-            if let Some(v) = channels.get_mut(ch) {
-                v.iter_mut().for_each(|x| *x *= s);
-                // values near the largest float overflow once in SI (or in any sum of squares
-                // downstream): a channel must stay well inside the float range
-                if let Some(k) = v.iter().position(|x| x.is_nan() || x.abs() > MAX_ABS_SI) {
-                    return Err(FitError::input(
-                        csv_path.display().to_string(),
-                        0,
+                &csv,
+                table.rows.lines.last().copied().unwrap_or(1),
+                format!(
+                    "only {} samples{}: a fit needs at least 10 rows",
+                    table.t.len(),
+                    if table.rows.skipped.is_empty() {
+                        String::new()
+                    } else {
                         format!(
-                            "channel `{ch}` sample {} is {:e} in SI, beyond the supported magnitude {MAX_ABS_SI:e}",
-                            k + 1,
-                            v[k]
-                        ),
-                    ));
-                }
-            }
+                            " after skipping {} rows with a missing value",
+                            table.rows.skipped.len()
+                        )
+                    }
+                ),
+            ));
+        }
+        if !table.t.iter().any(|&v| v >= 0.0) {
+            return Err(FitError::input(
+                &csv,
+                table.rows.lines.last().copied().unwrap_or(0),
+                format!(
+                    "no sample at or after the trigger t = 0 (the last is at {:e} s): the time \
+                     column is measured from the trigger; check `time_unit` and `time_column`",
+                    table.t.last().copied().unwrap_or(f64::NAN)
+                ),
+            ));
+        }
+        // wild samples: excluded, or refused under --strict
+        exclude_wild(&mut table, &spec, &noise, opts.strict)?;
+        let mut rows = table.rows;
+        if !rows.skipped.is_empty() {
+            let n = rows.skipped.len();
+            let first = &rows.skipped[0];
+            rows.warnings.push(format!(
+                "{csv}:{}: {n} row{} skipped for a missing value (first: an empty `{}`); \
+                 fill the cells in, or pass --strict to refuse such a record",
+                first.line,
+                if n == 1 { "" } else { "s" },
+                geodesic_core::text::clip(&first.column, 60)
+            ));
         }
         let name = path
             .file_name()
@@ -228,11 +684,12 @@ impl Dataset {
             name,
             scenario,
             description: meta.description.unwrap_or_default(),
-            t,
-            channels,
+            t: table.t,
+            channels: table.channels,
             units,
             known,
             noise,
+            rows,
         })
     }
 
@@ -246,6 +703,14 @@ impl Dataset {
         self.yaml_path
             .file_stem()
             .map_or("dataset".into(), |s| s.to_string_lossy().to_string())
+    }
+}
+
+fn known_what(k: &str) -> &'static str {
+    match k {
+        "m" => "the TM mock-up mass in kg, e.g. `m: 0.089`",
+        "E0" => "the initial electrode voltage in V, e.g. `E0: 120`",
+        _ => "in SI",
     }
 }
 
@@ -270,69 +735,206 @@ type Columns = (Vec<f64>, BTreeMap<String, Vec<f64>>);
 
 /// Reads the time column and the named channels (scaled by nothing: values as written) of a
 /// CSV, with the dataset format's checks (finite numbers, strictly increasing time, file and
-/// line in every error); used by the spectral series reader too.
+/// line in every error; an empty cell refused, no comment lines); used by the spectral series
+/// reader.
 pub(crate) fn read_csv_columns(
     path: &Path,
     time_col: &str,
     channels: &BTreeMap<String, f64>,
 ) -> Result<Columns, FitError> {
-    read_csv(path, time_col, channels)
+    let spec = TableSpec {
+        time: Column {
+            channel: "time".into(),
+            header: time_col.to_string(),
+            scale: 1.0,
+            line: 0,
+        },
+        channels: channels
+            .keys()
+            .map(|c| Column {
+                channel: c.clone(),
+                header: c.clone(),
+                scale: 1.0,
+                line: 0,
+            })
+            .collect(),
+        missing: Missing::Refuse,
+        comments: false,
+        yaml: String::new(),
+        data_line: 0,
+    };
+    let t = read_table(path, &spec)?;
+    Ok((t.t, t.channels))
 }
 
-fn read_csv(
-    path: &Path,
-    time_col: &str,
-    channels: &BTreeMap<String, f64>,
-) -> Result<Columns, FitError> {
+/// What to do with an empty cell.
+#[derive(Clone, Copy, PartialEq)]
+enum Missing {
+    /// Skip the row (counted).
+    Skip,
+    /// Refuse the file.
+    Refuse,
+}
+
+struct TableSpec {
+    time: Column,
+    channels: Vec<Column>,
+    missing: Missing,
+    /// `#` lines are comments.
+    comments: bool,
+    /// The YAML that names the columns (empty: none), for messages.
+    yaml: String,
+    /// Its `data:` line.
+    data_line: usize,
+}
+
+struct Table {
+    t: Vec<f64>,
+    channels: BTreeMap<String, Vec<f64>>,
+    rows: Rows,
+}
+
+/// Reads a CSV by its [`TableSpec`]: values in SI, checked.
+fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
     let file = path.display().to_string();
-    let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_CSV_BYTES)
-        .map_err(|e| FitError::input(&file, e.line(), format!("data file: {}", e.cause())))?;
+    let text =
+        geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_CSV_BYTES).map_err(|e| {
+            if spec.yaml.is_empty() {
+                FitError::input(&file, e.line(), format!("data file: {}", e.cause()))
+            } else {
+                FitError::input(
+                    &spec.yaml,
+                    spec.data_line,
+                    format!(
+                        "data file {}: {}: `data:` is a path relative to the YAML file",
+                        geodesic_core::text::clip(&file, 120),
+                        e.cause()
+                    ),
+                )
+            }
+        })?;
+    // `#` lines become empty lines, which the reader skips while counting them (its own
+    // comment option loses the count: the lines of the records after a comment would be off)
+    let body: std::borrow::Cow<str> = if spec.comments && text.contains('#') {
+        text.split_inclusive('\n')
+            .map(|l| {
+                if l.starts_with('#') {
+                    &l[l.trim_end_matches(['\r', '\n']).len()..]
+                } else {
+                    l
+                }
+            })
+            .collect::<String>()
+            .into()
+    } else {
+        text.as_str().into()
+    };
+    let blank: Vec<bool> = body.lines().map(|l| l.trim().is_empty()).collect();
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
+        .flexible(true)
         .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
+        .from_reader(body.as_bytes());
     let headers = rdr
         .headers()
-        .map_err(|e| FitError::input(&file, 1, format!("bad header: {e}")))?
-        .clone();
-    let col = |name: &str| -> Result<usize, FitError> {
-        headers.iter().position(|h| h == name).ok_or_else(|| {
+        .map_err(|e| {
             FitError::input(
                 &file,
                 1,
                 format!(
-                    "no column `{name}` in the header ({})",
-                    geodesic_core::text::clip(&headers.iter().collect::<Vec<_>>().join(","), 200)
+                    "bad header: {}: the first line that is not a `#` comment names the columns",
+                    short(&e.to_string())
+                ),
+            )
+        })?
+        .clone();
+    // the header's line: the first that is neither empty nor a comment
+    let header_line = text
+        .lines()
+        .position(|l| !(l.trim().is_empty() || (spec.comments && l.starts_with('#'))))
+        .map_or(1, |i| i + 1);
+    let names: Vec<&str> = headers.iter().collect();
+    let col = |c: &Column| -> Result<usize, FitError> {
+        names.iter().position(|h| *h == c.header).ok_or_else(|| {
+            let mut fix = match nearest(&c.header, names.iter().copied()) {
+                Some(n) => format!("did you mean `{n}`? "),
+                None => String::new(),
+            };
+            if names.len() == 1 && names[0].contains([';', '\t']) {
+                fix += "the columns are separated by `;` or tabs: geodesic reads comma-separated \
+                        values; ";
+            }
+            if spec.comments
+                && text
+                    .lines()
+                    .take(header_line.saturating_sub(1))
+                    .filter_map(|l| l.strip_prefix('#'))
+                    .any(|l| l.split(',').any(|h| h.trim() == c.header))
+            {
+                fix += "the header seems to be in a `#` comment line: remove its `#`; ";
+            }
+            fix += &if spec.yaml.is_empty() {
+                "rename the column".to_string()
+            } else if c.channel == "time" {
+                "set `time_column:` to the time column's header".to_string()
+            } else {
+                format!(
+                    "name the column in the YAML: `{}: {{column: \"HEADER\", unit: ...}}`",
+                    c.channel
+                )
+            };
+            FitError::input(
+                &file,
+                header_line,
+                format!(
+                    "no column `{}` in the header ({}): {fix}",
+                    geodesic_core::text::clip(&c.header, 80),
+                    geodesic_core::text::clip(&names.join(","), 200)
                 ),
             )
         })
     };
-    let it = col(time_col)?;
-    let idx: Vec<(String, usize)> = channels
-        .keys()
-        .map(|c| col(c).map(|i| (c.clone(), i)))
-        .collect::<Result<_, _>>()?;
+    let it = col(&spec.time)?;
+    let idx: Vec<usize> = spec.channels.iter().map(&col).collect::<Result<_, _>>()?;
+    let pow_t = power_of_ten(spec.time.scale);
+    let pows: Vec<Option<i32>> = spec
+        .channels
+        .iter()
+        .map(|c| power_of_ten(c.scale))
+        .collect();
     let mut t = Vec::new();
-    let mut out: BTreeMap<String, Vec<f64>> =
-        channels.keys().map(|c| (c.clone(), Vec::new())).collect();
+    let mut vals: Vec<Vec<f64>> = vec![Vec::new(); spec.channels.len()];
+    let mut rows = Rows {
+        file: file.clone(),
+        ..Rows::default()
+    };
+    let mut row_vals = vec![0.0; spec.channels.len()];
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line() as usize);
+            let mut line = e.position().map_or(0, |p| p.line() as usize);
+            while line > 0 && blank.get(line - 1).copied().unwrap_or(false) {
+                line += 1;
+            }
             FitError::input(
                 &file,
                 line,
-                format!("malformed CSV row: {}", short(&e.to_string())),
+                format!(
+                    "malformed CSV row: {}: check the quotes of this row",
+                    short(&e.to_string())
+                ),
             )
         })?;
-        let line = rec.position().map_or(0, |p| p.line() as usize);
-        let cell = |i: usize, name: &str| -> Result<f64, FitError> {
+        // the reader gives the line it started from: past the empty and comment lines it
+        // skipped, the record's own
+        let mut line = rec.position().map_or(0, |p| p.line() as usize);
+        while line > 0 && blank.get(line - 1).copied().unwrap_or(false) {
+            line += 1;
+        }
+        // a cell: Ok(None) when empty (a missing value)
+        let cell = |i: usize, c: &Column, pow: Option<i32>| -> Result<Option<f64>, FitError> {
             let s = rec.get(i).unwrap_or("");
             if s.is_empty() {
-                return Err(FitError::input(
-                    &file,
-                    line,
-                    format!("empty cell in column `{name}`"),
-                ));
+                return Ok(None);
             }
             let v: f64 = s.parse().map_err(|_| {
                 FitError::input(
@@ -340,11 +942,23 @@ fn read_csv(
                     line,
                     if s.starts_with('"') {
                         format!(
-                            "`{}` in column `{name}` is not a number (unbalanced quote?)",
-                            short(s)
+                            "`{}` in column `{}` is not a number (unbalanced quote?): write a \
+                             plain or scientific number",
+                            short(s),
+                            c.header
                         )
                     } else {
-                        format!("`{}` in column `{name}` is not a number", short(s))
+                        format!(
+                            "`{}` in column `{}` is not a number: write a plain or scientific \
+                             number with a `.` decimal point{}",
+                            short(s),
+                            c.header,
+                            if spec.missing == Missing::Skip {
+                                ", or leave the cell empty for a missing value"
+                            } else {
+                                ""
+                            }
+                        )
                     },
                 )
             })?;
@@ -352,154 +966,294 @@ fn read_csv(
                 return Err(FitError::input(
                     &file,
                     line,
-                    format!("`{}` in column `{name}` is not a finite number", short(s)),
+                    format!(
+                        "`{}` in column `{}` is not a finite number: correct it{}",
+                        short(s),
+                        c.header,
+                        if spec.missing == Missing::Skip {
+                            ", or leave the cell empty to skip the row (a missing value)"
+                        } else {
+                            ""
+                        }
+                    ),
                 ));
             }
-            Ok(v)
+            Ok(Some(to_si(s, v, c.scale, pow)))
         };
-        let tv = cell(it, time_col)?;
+        let mut empty: Option<&str> = None;
+        let tv = cell(it, &spec.time, pow_t)?;
+        if tv.is_none() {
+            empty = Some(&spec.time.header);
+        }
+        for (k, (c, &i)) in spec.channels.iter().zip(&idx).enumerate() {
+            match cell(i, c, pows[k])? {
+                Some(v) => row_vals[k] = v,
+                None => {
+                    empty.get_or_insert(&c.header);
+                }
+            }
+        }
+        if let Some(column) = empty {
+            if spec.missing == Missing::Refuse {
+                return Err(FitError::input(
+                    &file,
+                    line,
+                    if spec.yaml.is_empty() {
+                        format!("empty cell in column `{column}`: fill it in")
+                    } else {
+                        format!(
+                            "empty cell in column `{column}` (a missing value): fill it in, or \
+                             run without --strict to skip the row with a warning"
+                        )
+                    },
+                ));
+            }
+            rows.skipped.push(Skipped {
+                line,
+                column: column.to_string(),
+            });
+            continue;
+        }
+        let tv = tv.expect("not empty");
         if let Some(&prev) = t.last()
             && tv <= prev
         {
             return Err(FitError::input(
                 &file,
                 line,
-                format!("time not strictly increasing ({tv} after {prev})"),
+                format!(
+                    "time not strictly increasing ({tv:e} s after {prev:e} s): sort the rows by \
+                     time and remove repeated samples"
+                ),
             ));
         }
         t.push(tv);
-        for (c, i) in &idx {
-            let v = cell(*i, c)?;
-            out.get_mut(c).expect("channel").push(v);
+        rows.lines.push(line);
+        for (k, v) in row_vals.iter().enumerate() {
+            // values near the largest float overflow once in SI (or in any sum of squares
+            // downstream): a channel must stay well inside the float range
+            if v.abs() > MAX_ABS_SI {
+                let c = &spec.channels[k];
+                return Err(FitError::input(
+                    &file,
+                    line,
+                    format!(
+                        "channel `{}` (column `{}`) is {v:e} in SI, beyond the supported \
+                         magnitude {MAX_ABS_SI:e}: check the value and the channel's unit{}",
+                        c.channel,
+                        c.header,
+                        if c.line > 0 {
+                            format!(" ({}:{})", spec.yaml, c.line)
+                        } else {
+                            String::new()
+                        }
+                    ),
+                ));
+            }
+            vals[k].push(*v);
         }
     }
-    Ok((t, out))
+    rows.comments = text
+        .lines()
+        .filter(|l| spec.comments && l.starts_with('#'))
+        .count();
+    Ok(Table {
+        t,
+        channels: spec
+            .channels
+            .iter()
+            .zip(vals)
+            .map(|(c, v)| (c.channel.clone(), v))
+            .collect(),
+        rows,
+    })
+}
+
+/// Neighbours of a sample [`wild_samples`] compares it with (five on each side; at the ends
+/// the ten nearest).
+const NEIGHBOURS: usize = 10;
+/// Neighbours left out at each end of their sorted values when taking their spread: a glitch
+/// of up to this many samples (plus the sample itself) cannot widen it.
+const TRIM: usize = 3;
+/// A wild sample is this many times the channel's robust scale from its neighbours' median...
+pub const WILD_ROBUST_SIGMA: f64 = 20.0;
+/// ...and this many times the spread of its neighbours (their range without the three lowest
+/// and the three highest): outside any curve its neighbours trace.
+pub const WILD_SPREAD: f64 = 10.0;
+
+/// Median of a short slice (sorted in place).
+fn median_of(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// For each sample of `v`: its deviation from the median of its [`NEIGHBOURS`] and their
+/// spread (their range without the [`TRIM`] lowest and highest). Empty when `v` has no more
+/// samples than [`NEIGHBOURS`]. A glitch of up to four samples moves neither: each of its
+/// samples has at most three glitched neighbours.
+pub fn local_deviation(v: &[f64]) -> Vec<(f64, f64)> {
+    let n = v.len();
+    if n <= NEIGHBOURS {
+        return Vec::new();
+    }
+    let half = NEIGHBOURS / 2;
+    let mut buf = [0.0; NEIGHBOURS];
+    (0..n)
+        .map(|i| {
+            let start = i.saturating_sub(half).min(n - NEIGHBOURS - 1);
+            let mut k = 0;
+            for (j, &x) in v.iter().enumerate().skip(start).take(NEIGHBOURS + 1) {
+                if j != i {
+                    buf[k] = x;
+                    k += 1;
+                }
+            }
+            let m = median_of(&mut buf[..k]);
+            // buf is sorted now: the spread without the extremes
+            let spread = buf[k - 1 - TRIM] - buf[TRIM];
+            (v[i] - m, spread)
+        })
+        .collect()
+}
+
+/// The robust scale of local deviations: 1.4826 times their median absolute value (the
+/// standard deviation for Gaussian noise).
+pub fn robust_scale(dev: &[(f64, f64)]) -> f64 {
+    if dev.is_empty() {
+        return 0.0;
+    }
+    let mut a: Vec<f64> = dev.iter().map(|(d, _)| d.abs()).collect();
+    let mid = a.len() / 2;
+    a.select_nth_unstable_by(mid, f64::total_cmp);
+    1.4826 * a[mid]
+}
+
+/// The samples of `v` that no continuous signal explains: farther from the median of their ten
+/// neighbours than [`WILD_ROBUST_SIGMA`] times the channel's robust scale (the median absolute
+/// deviation from the neighbours, floored at `floor` [SI] and at the channel's quantum, its
+/// smallest step between samples) and than [`WILD_SPREAD`] times the neighbours' own spread.
+/// A smooth signal, however steep or oscillating, stays within its neighbours' envelope (a
+/// peak sampled six times per period lies one spread off their median; a step, half of one);
+/// Gaussian noise never reaches 20 sigma. Glitches of one to four adjacent samples are found.
+/// Returns (index, deviation, deviation over the scale).
+pub fn wild_samples(v: &[f64], floor: f64) -> Vec<(usize, f64, f64)> {
+    let dev = local_deviation(v);
+    if dev.is_empty() {
+        return Vec::new();
+    }
+    let quantum = v
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let quantum = if quantum.is_finite() { quantum } else { 0.0 };
+    let s = robust_scale(&dev).max(floor).max(quantum);
+    dev.iter()
+        .enumerate()
+        .filter(|(_, (d, spread))| {
+            d.abs() > WILD_ROBUST_SIGMA * s && d.abs() > WILD_SPREAD * spread
+        })
+        .map(|(i, (d, _))| (i, *d, if s > 0.0 { d.abs() / s } else { f64::INFINITY }))
+        .collect()
+}
+
+/// Removes the wild samples of every channel from `table` (or refuses the first under
+/// `strict`), recording them and a warning.
+fn exclude_wild(
+    table: &mut Table,
+    spec: &TableSpec,
+    noise: &BTreeMap<String, f64>,
+    strict: bool,
+) -> Result<(), FitError> {
+    let csv = table.rows.file.clone();
+    let mut drop = vec![false; table.t.len()];
+    let mut found: Vec<WildSample> = Vec::new();
+    for c in &spec.channels {
+        let v = &table.channels[&c.channel];
+        let floor = noise.get(&c.channel).copied().unwrap_or(0.0);
+        for (i, d, z) in wild_samples(v, floor) {
+            let w = WildSample {
+                line: table.rows.lines[i],
+                channel: c.channel.clone(),
+                t: table.t[i],
+                value: v[i],
+                deviation: d,
+                robust_sigma: z,
+            };
+            if strict {
+                return Err(FitError::input(
+                    csv.clone(),
+                    w.line,
+                    format!(
+                        "`{}` = {:e} (SI) lies {} robust sigma off its neighbours (a wild sample): \
+                         correct it or leave the cell empty; without --strict it is excluded with \
+                         a warning",
+                        c.header,
+                        w.value,
+                        crate::outliers::fmt_sig(z)
+                    ),
+                ));
+            }
+            drop[i] = true;
+            found.push(w);
+        }
+    }
+    if found.is_empty() {
+        return Ok(());
+    }
+    found.sort_by_key(|w| w.line);
+    let keep = |v: &mut Vec<f64>| {
+        let mut k = 0;
+        v.retain(|_| {
+            k += 1;
+            !drop[k - 1]
+        });
+    };
+    keep(&mut table.t);
+    for v in table.channels.values_mut() {
+        keep(v);
+    }
+    let mut k = 0;
+    table.rows.lines.retain(|_| {
+        k += 1;
+        !drop[k - 1]
+    });
+    let list: Vec<String> = found
+        .iter()
+        .take(5)
+        .map(|w| {
+            format!(
+                "line {} ({} = {:e}, {} robust sigma off its neighbours)",
+                w.line,
+                w.channel,
+                w.value,
+                crate::outliers::fmt_sig(w.robust_sigma)
+            )
+        })
+        .collect();
+    table.rows.warnings.push(format!(
+        "{}:{}: {} wild sample{} excluded from the fit: {}{}; correct or delete {}, or pass \
+         --strict to refuse the record",
+        csv.clone(),
+        found[0].line,
+        found.len(),
+        if found.len() == 1 { "" } else { "s" },
+        list.join(", "),
+        if found.len() > 5 { ", ..." } else { "" },
+        if found.len() == 1 {
+            "that row"
+        } else {
+            "those rows"
+        }
+    ));
+    table.rows.wild = found;
+    Ok(())
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn write(dir: &Path, yaml: &str, csv: &str) -> PathBuf {
-        std::fs::create_dir_all(dir).unwrap();
-        std::fs::write(dir.join("d.csv"), csv).unwrap();
-        let p = dir.join("d.yaml");
-        std::fs::write(&p, yaml).unwrap();
-        p
-    }
-
-    const YAML: &str = "scenario: rt-retraction\ndata: d.csv\ntime_column: t\nchannels:\n  y: nm\nknown:\n  E0: 120\n";
-
-    /// `n` data rows `t,y` with t in us from -2 us; row `k` (0-based, CSV line `k + 2`)
-    /// replaced by `bad` when given.
-    fn csv_rows_with(n: usize, bad: Option<(usize, &str)>) -> String {
-        let mut s = String::from("t,y\n");
-        for i in 0..n {
-            match bad {
-                Some((k, row)) if k == i => s += row,
-                _ => s += &format!("{}e-6,{}", i as i64 - 2, i),
-            }
-            s.push('\n');
-        }
-        s
-    }
-
-    fn csv_rows(n: usize) -> String {
-        csv_rows_with(n, None)
-    }
-
-    fn err_of(yaml: &str, csv: &str, _tag: &str) -> String {
-        let tmp = tempfile::tempdir().unwrap();
-        let dir = tmp.path().to_path_buf();
-        let p = write(&dir, yaml, csv);
-        Dataset::load(&p).unwrap_err().to_string()
-    }
-
-    #[test]
-    fn loads_and_converts_units() {
-        let tmp = tempfile::tempdir().unwrap();
-        let dir = tmp.path().to_path_buf();
-        let p = write(&dir, YAML, &csv_rows(20));
-        let d = Dataset::load(&p).unwrap();
-        assert_eq!(d.t.len(), 20);
-        assert!((d.channel("y")[3] - 3e-9).abs() < 1e-20);
-    }
-
-    #[test]
-    fn refuses_bad_input_with_file_and_line() {
-        let e = err_of(&YAML.replace("y: nm", "y: furlong"), &csv_rows(20), "unit");
-        assert!(e.contains("d.yaml:5:") && e.contains("furlong"), "{e}");
-        let e = err_of(YAML, &csv_rows_with(20, Some((3, "1e-6,NaN"))), "nan");
-        assert!(e.contains("d.csv:5:") && e.contains("NaN"), "{e}");
-        let e = err_of(YAML, &csv_rows_with(20, Some((3, "1e-6,"))), "empty");
-        assert!(e.contains("d.csv:5:") && e.contains("empty"), "{e}");
-        let e = err_of(YAML, &csv_rows_with(20, Some((3, "-5e-6,3"))), "time");
-        assert!(e.contains("d.csv:5:") && e.contains("increasing"), "{e}");
-        let e = err_of(&YAML.replace("d.csv", "none.csv"), "", "missing");
-        assert!(e.contains("none.csv") && e.contains("cannot read"), "{e}");
-        let e = err_of(&YAML.replace("  y: nm", "  E: V"), &csv_rows(20), "chan");
-        assert!(e.contains("needs channel `y`"), "{e}");
-        let e = err_of(&YAML.replace("y: nm", "y: V"), &csv_rows(20), "dim");
-        assert!(e.contains("dimension"), "{e}");
-        let e = err_of(
-            &YAML.replace("channels:", "channels: ["),
-            &csv_rows(20),
-            "yaml",
-        );
-        assert!(e.contains("d.yaml:") && e.contains("malformed YAML"), "{e}");
-        let e = err_of(YAML, &csv_rows(20).replace("t,y", "t,z"), "col");
-        assert!(e.contains("d.csv:1:") && e.contains("no column `y`"), "{e}");
-        let e = err_of(
-            &YAML.replace("  E0: 120\n", "  Q: 1\n"),
-            &csv_rows(20),
-            "known",
-        );
-        assert!(e.contains("`E0`"), "{e}");
-    }
-
-    #[test]
-    fn refuses_non_regular_overflowing_quoted_and_unphysical_input() {
-        #[cfg(unix)]
-        {
-            let e = Dataset::load(Path::new("/dev/zero"))
-                .unwrap_err()
-                .to_string();
-            assert!(
-                e.contains("/dev/zero") && e.contains("not a regular file"),
-                "{e}"
-            );
-        }
-        let e = err_of(YAML, &csv_rows_with(20, Some((3, "1e-6,1e300"))), "huge");
-        assert!(e.contains("d.csv") && e.contains("magnitude"), "{e}");
-        let mut q = csv_rows_with(20, Some((3, "1e-6,\"4")));
-        q += &"x".repeat(5000);
-        let e = err_of(YAML, &q, "quote");
-        assert!(
-            e.contains("d.csv:5:") && e.len() < 300 && !e.contains('\n'),
-            "{e}"
-        );
-        let e = err_of(&YAML.replace("E0: 120", "E0: 0"), &csv_rows(20), "e0");
-        assert!(e.contains("d.yaml:7:") && e.contains("`E0`"), "{e}");
-        let e = err_of(&YAML.replace("E0: 120", "E0: -5"), &csv_rows(20), "e0neg");
-        assert!(e.contains("positive"), "{e}");
-    }
-
-    proptest::proptest! {
-        #![proptest_config(proptest::test_runner::Config::with_cases(24))]
-        /// Whatever row is bad and however, the refusal names the CSV file and that row's line.
-        #[test]
-        fn a_bad_row_is_reported_at_its_line(row in 0usize..30, kind in 0usize..4) {
-            let bad = match kind {
-                0 => format!("{}e-6,NaN", row as i64 - 2),
-                1 => format!("{}e-6,", row as i64 - 2),
-                2 => format!("{}e-6,inf", row as i64 - 2),
-                _ => "-1e-3,0".to_string(),
-            };
-            // a time going back is only detectable after the first row
-            let row = if kind == 3 { row.max(1) } else { row };
-            let e = err_of(YAML, &csv_rows_with(30, Some((row, &bad))), &format!("prop{row}-{kind}"));
-            let at = format!("d.csv:{}:", row + 2);
-            proptest::prop_assert!(e.contains(&at), "{} does not name {}", e, at);
-        }
-    }
-}
+mod tests;

@@ -1,5 +1,10 @@
-//! Fit history per dataset: every fit appends one JSON line (`<stem>.history.jsonl` under the
-//! output directory), so the error can be watched falling as the model grows.
+//! Fit history per dataset (`<stem>.history.jsonl` under the output directory, one JSON line a
+//! row), so the error can be watched falling as the model grows: **one row per model version**.
+//! A model version is a set of effects with its number of free parameters (a `--fix` makes
+//! another); a fit of a version already in the history replaces that row, keeping its number
+//! and place (the latest fit of each version is what the table and plot show), a new version
+//! is appended. So `fit` after `diagnose` of the same model, or `verify` run twice, add no row.
+//! Histories written before, with a row per fit, read as one row per version.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -52,7 +57,8 @@ impl Entry {
                         .map(|e| format!("-{e}")),
                 );
                 if d.is_empty() {
-                    format!("v{} (same effects)", self.version)
+                    // the same effects: another number of free parameters (`--fix`)
+                    format!("v{} ({} free)", self.version, self.n_free)
                 } else {
                     format!("v{} {}", self.version, d.join(" "))
                 }
@@ -66,8 +72,38 @@ pub fn path_for(out_dir: &Path, stem: &str) -> PathBuf {
     out_dir.join(format!("{stem}.history.jsonl"))
 }
 
-/// Reads a history (empty when the file does not exist).
+/// The model version of an entry: its effects as a set, and its free parameters.
+fn version_key(e: &Entry) -> (Vec<String>, usize) {
+    let mut k = e.effects.clone();
+    k.sort();
+    k.dedup();
+    (k, e.n_free)
+}
+
+/// One entry per model version, in the order of each version's first fit, each the latest fit
+/// of its version, numbered from 1.
+pub fn versions(raw: Vec<Entry>) -> Vec<Entry> {
+    let mut out: Vec<Entry> = Vec::with_capacity(raw.len());
+    for e in raw {
+        match out.iter().position(|o| version_key(o) == version_key(&e)) {
+            Some(i) => out[i] = e,
+            None => out.push(e),
+        }
+    }
+    for (i, e) in out.iter_mut().enumerate() {
+        e.version = i + 1;
+    }
+    out
+}
+
+/// Reads a history, one entry per model version ([`versions`]); empty when the file does not
+/// exist.
 pub fn read(path: &Path) -> Result<Vec<Entry>, FitError> {
+    read_rows(path).map(versions)
+}
+
+/// Every row of a history file as written.
+fn read_rows(path: &Path) -> Result<Vec<Entry>, FitError> {
     if !path.exists() {
         return Ok(Vec::new());
     }
@@ -88,10 +124,13 @@ pub fn read(path: &Path) -> Result<Vec<Entry>, FitError> {
         .collect()
 }
 
-/// Appends the fit to the history of its dataset; returns the entry.
+/// Records the fit in the history of its dataset: replaces the row of its model version, or
+/// appends a row for a new version; returns the entry.
 pub fn append(out_dir: &Path, stem: &str, r: &FitReport) -> Result<Entry, FitError> {
     let path = path_for(out_dir, stem);
-    let prev = read(&path)?;
+    let rows = read_rows(&path)?;
+    let n_rows = rows.len();
+    let mut prev = versions(rows);
     let vals: Vec<f64> = r.rms.values().copied().collect();
     let rms = (vals.iter().map(|v| v * v).sum::<f64>() / vals.len().max(1) as f64).sqrt();
     let noise: Vec<f64> = r
@@ -101,7 +140,7 @@ pub fn append(out_dir: &Path, stem: &str, r: &FitReport) -> Result<Entry, FitErr
         .collect();
     let noise_rms = (noise.len() == vals.len() && !noise.is_empty())
         .then(|| (noise.iter().map(|v| v * v).sum::<f64>() / noise.len() as f64).sqrt());
-    let e = Entry {
+    let mut e = Entry {
         version: prev.len() + 1,
         dataset: r.dataset.clone(),
         effects: r.effects.clone(),
@@ -116,6 +155,26 @@ pub fn append(out_dir: &Path, stem: &str, r: &FitReport) -> Result<Entry, FitErr
         cause: x.to_string(),
     };
     std::fs::create_dir_all(out_dir).map_err(werr)?;
+    let same = prev.iter().position(|p| version_key(p) == version_key(&e));
+    if same.is_some() || n_rows != prev.len() {
+        // a version already there (or a history of an older tool with a row per fit): the
+        // history is written again whole, one row per version (atomically: never half)
+        match same {
+            Some(i) => {
+                e.version = prev[i].version;
+                prev[i] = e.clone();
+            }
+            None => prev.push(e.clone()),
+        }
+        let mut text = String::new();
+        for p in &prev {
+            text += &serde_json::to_string(p)
+                .map_err(|x| FitError::input("history", 0, x.to_string()))?;
+            text.push('\n');
+        }
+        crate::error::write_atomic(&path, text.as_bytes())?;
+        return Ok(e);
+    }
     let line =
         serde_json::to_string(&e).map_err(|x| FitError::input("history", 0, x.to_string()))? + "\n";
     if path.is_symlink() {
@@ -180,6 +239,38 @@ mod tests {
     }
 
     #[test]
+    fn a_history_of_an_older_tool_reads_and_heals_to_one_row_per_version() {
+        let e = |effects: &[&str], n_free, rms| Entry {
+            version: 0,
+            dataset: "d.yaml".into(),
+            effects: effects.iter().map(|s| s.to_string()).collect(),
+            n_free,
+            rms,
+            chi2_red: rms,
+            bic: rms,
+            noise_rms: None,
+        };
+        // base, base again (a diagnose), +b, base again, base with the effects reordered
+        let raw = vec![
+            e(&["a"], 2, 9.0),
+            e(&["a"], 2, 8.0),
+            e(&["a", "b"], 3, 1.0),
+            e(&["a"], 2, 7.0),
+        ];
+        let v = versions(raw.clone());
+        assert_eq!(v.len(), 2);
+        assert_eq!(
+            (v[0].version, v[0].rms),
+            (1, 7.0),
+            "the latest fit, first place"
+        );
+        assert_eq!((v[1].version, v[1].effects.len()), (2, 2));
+        let mut r = raw;
+        r.push(e(&["b", "a"], 3, 0.5));
+        assert_eq!(versions(r)[1].rms, 0.5, "a set of effects, in any order");
+    }
+
+    #[test]
     fn appends_versions_and_plots_them() {
         let mut spec = SynthSpec::defaults(Scenario::RtRetraction, &["piezo", "voltage_ramp"]);
         spec.post_s = 2e-4;
@@ -192,6 +283,30 @@ mod tests {
         }
         let h = read(&path_for(&dir, "h")).unwrap();
         assert_eq!(h.iter().map(|e| e.version).collect::<Vec<_>>(), vec![1, 2]);
+        // the base model fitted again (diagnose after fit, verify run twice): its row is
+        // replaced, no row added; a --fix makes another version
+        let o = fit(&prep, &["piezo"], &FitOptions::default()).unwrap();
+        let again = append(&dir, "h", &FitReport::new(&prep, &o)).unwrap();
+        assert_eq!(again.version, 1);
+        let text = std::fs::read_to_string(path_for(&dir, "h")).unwrap();
+        assert_eq!(text.lines().count(), 2, "{text}");
+        let fixed = FitOptions {
+            fixed: [("piezo.R".to_string(), 371.2)].into(),
+            ..FitOptions::default()
+        };
+        let o = fit(&prep, &["piezo"], &fixed).unwrap();
+        assert_eq!(
+            append(&dir, "h", &FitReport::new(&prep, &o))
+                .unwrap()
+                .version,
+            3
+        );
+        let h3 = read(&path_for(&dir, "h")).unwrap();
+        assert_eq!(h3[2].name(Some(&h3[1])), "v3 -voltage_ramp");
+        assert_eq!(
+            h3[2].name(Some(&h3[0])),
+            format!("v3 ({} free)", h3[2].n_free)
+        );
         assert!(h[1].rms < h[0].rms / 3.0, "{} vs {}", h[1].rms, h[0].rms);
         assert!(table(&h).contains("piezo,voltage_ramp"));
         let svg = crate::plot::history_svg(&h).unwrap();

@@ -5,6 +5,7 @@
 //! - [`prepare`]: noise per channel, the smooth tip profile, data-driven guesses.
 //! - [`fit`]: data-driven multi-start fits, covariance, profile likelihood.
 //! - [`report`]: the fit object of interface.md.
+//! - [`outliers`]: outliers and stuck parameters, said out loud.
 //! - [`residual`]: reduced chi-square, whiteness test, failure windows.
 //! - [`diagnose`]: fits every candidate effect a model lacks and ranks them by delta BIC.
 //! - [`synth`]: synthetic datasets from a truth model built from the same effect code.
@@ -24,6 +25,7 @@ pub mod history;
 pub mod kinds;
 pub mod lm;
 pub mod noise;
+pub mod outliers;
 pub mod plot;
 pub mod posterior;
 pub mod prepare;

@@ -21,6 +21,10 @@ pub struct ParamOut {
     pub unit: String,
     /// Held fixed (by the user, or superseded by another effect).
     pub fixed: bool,
+    /// `start` (the data did not move it from its start value), `lower bound` or `upper
+    /// bound` (held by its range or a user's bound): `crate::outliers`. Absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flag: Option<String>,
 }
 
 /// A strongly correlated pair of parameters.
@@ -107,6 +111,14 @@ pub struct FitReport {
     pub unresolved: Vec<Unresolved>,
     /// Windows where the residual leaves the noise band.
     pub failures: Vec<Failure>,
+    /// Samples far off the model, and those the loader excluded as wild (`crate::outliers`);
+    /// absent when there are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub outliers: Vec<crate::outliers::Outlier>,
+    /// One-line warnings: rows skipped, samples excluded or far off the model, an astronomical
+    /// chi2_red, parameters at a start value or on a bound; absent when there are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// Tip profile fitted to `y` and driving the model (`tmmf-release`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tip_profile: Option<ProfileFit>,
@@ -151,6 +163,7 @@ impl FitReport {
                     },
                     unit: specs[i].unit.to_string(),
                     fixed: !o.free[i],
+                    flag: None,
                 },
             );
         }
@@ -168,7 +181,7 @@ impl FitReport {
                 }
             }
         }
-        FitReport {
+        let mut report = FitReport {
             dataset: prep.dataset.name.clone(),
             scenario: prep.dataset.scenario.name().to_string(),
             effects: o
@@ -211,12 +224,17 @@ impl FitReport {
                 })
                 .collect(),
             failures: failures(prep.channel, &prep.dataset.t, &resid, band),
+            outliers: Vec::new(),
+            warnings: Vec::new(),
             tip_profile: prep.profile,
             starts: o.starts,
             svg: None,
             posterior: None,
             posterior_method: None,
-        }
+        };
+        // outliers, stuck parameters, whiteness they make meaningless (issue 37)
+        crate::outliers::assess(prep, o, &resid, &mut report);
+        report
     }
 }
 

@@ -315,6 +315,7 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
         units,
         known: spec.known.clone(),
         noise,
+        rows: Default::default(),
     })
 }
 

@@ -5,6 +5,11 @@
 //! `Document` with the document identification and the run (date, tool version, commit,
 //! hashes, command line).
 //!
+//! `value` and `margin` are number cells, so that a spreadsheet sorts and filters them: the value
+//! in the requirement's unit with the unit in its number format (`1.329 um/s` shown, 1.329
+//! stored), the margin as a fraction in a percentage format (`73.4%` shown, 0.734 stored); a
+//! row with none has an empty cell. Every other column is text, as in `vcd.csv`.
+//!
 //! Written with `rust_xlsxwriter` (pure Rust, no system library, default features off). The
 //! workbook's creation date is the run's date, so two runs of the same inputs differ in the
 //! date only.
@@ -41,6 +46,16 @@ fn width(col: &str) -> f64 {
     }
 }
 
+/// `base` with a number format showing the value followed by `unit` (`General" um/s"`).
+fn unit_format(base: &Format, unit: &str) -> Format {
+    let unit = unit.trim().replace(['"', '\\'], "'");
+    if unit.is_empty() {
+        base.clone()
+    } else {
+        base.clone().set_num_format(format!("General\" {unit}\""))
+    }
+}
+
 /// The workbook as bytes.
 pub fn render(rep: &Report) -> Result<Vec<u8>, XlsxError> {
     let mut wb = Workbook::new();
@@ -73,19 +88,37 @@ pub fn render(rep: &Report) -> Result<Vec<u8>, XlsxError> {
             ws.write_string_with_format(0, c, *name, &header)?;
             ws.set_column_width(c, width(name))?;
         }
+        let percent = cell.clone().set_num_format("0.0%");
         for (i, l) in ls.iter().enumerate() {
             let row = i as u32 + 1;
             let colored = cell
                 .clone()
                 .set_background_color(Color::RGB(status_color(&l.compliance)))
                 .set_bold();
+            // `lines` has one line per matrix row, in order
+            let r = rep.matrix.requirements.iter().find(|r| r.id == l.id);
             for (c, (name, v)) in COLUMNS.iter().zip(cells(rep, l)).enumerate() {
-                let f = if matches!(*name, "id" | "compliance" | "close_out") {
-                    &colored
-                } else {
-                    &cell
+                let c = c as u16;
+                match (*name, r) {
+                    ("value", Some(r)) => match r.value.filter(|v| v.is_finite()) {
+                        Some(x) => {
+                            ws.write_number_with_format(row, c, x, &unit_format(&cell, &r.unit))?
+                        }
+                        None => ws.write_blank(row, c, &cell)?,
+                    },
+                    ("margin", Some(r)) => match r.margin.filter(|v| v.is_finite()) {
+                        Some(m) => ws.write_number_with_format(row, c, m, &percent)?,
+                        None => ws.write_blank(row, c, &cell)?,
+                    },
+                    _ => {
+                        let f = if matches!(*name, "id" | "compliance" | "close_out") {
+                            &colored
+                        } else {
+                            &cell
+                        };
+                        ws.write_string_with_format(row, c, v, f)?
+                    }
                 };
-                ws.write_string_with_format(row, c as u16, v, f)?;
             }
         }
         ws.set_freeze_panes(1, 1)?;
@@ -148,10 +181,23 @@ mod tests {
         assert_eq!(rows[0], COLUMNS.map(String::from).to_vec());
         let expect: Vec<Vec<String>> = lines(&r).iter().map(|l| cells(&r, l)).collect();
         assert_eq!(rows.len(), expect.len() + 1, "one row per requirement");
-        for (got, want) in rows[1..].iter().zip(&expect) {
-            assert_eq!(got, want, "every cell of every row reads back");
-        }
         let col = |name: &str| COLUMNS.iter().position(|c| *c == name).unwrap();
+        for (got, want) in rows[1..].iter().zip(&expect) {
+            for (c, (g, w)) in got.iter().zip(want).enumerate() {
+                if c != col("value") && c != col("margin") {
+                    assert_eq!(g, w, "every text cell of every row reads back");
+                }
+            }
+        }
+        // value and margin are numbers: the value in the requirement's unit, the margin a
+        // fraction (shown as a percentage)
+        for (i, row) in vcd.rows().skip(1).enumerate() {
+            let m = &r.matrix.requirements[i];
+            assert_eq!(row[col("value")], Data::Float(m.value.unwrap()));
+            assert_eq!(row[col("margin")], Data::Float(m.margin.unwrap()));
+        }
+        assert!(((r.matrix.requirements[0].value.unwrap()) - 1.3).abs() < 1e-12);
+        assert!((r.matrix.requirements[1].margin.unwrap() + 0.2).abs() < 1e-12);
         assert_eq!(rows[1][col("compliance")], "yes");
         assert_eq!(rows[2][col("compliance")], "no");
         assert_eq!(rows[2][col("reverify")], "yes");

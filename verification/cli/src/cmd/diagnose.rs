@@ -3,7 +3,7 @@
 
 use geodesic_fit::fit::FitReport;
 
-use crate::cmd::fit::{effect_list, fits_dir, load, options, outputs, summary};
+use crate::cmd::fit::{effect_list, fits_dir, load, options, outputs, summary, warn};
 use crate::error::{CliError, CmdResult};
 
 /// Flags of `geodesic diagnose`: the same as `geodesic fit` (the model to start from).
@@ -13,7 +13,7 @@ pub use crate::cmd::fit::Args;
 pub fn run(args: Args) -> CmdResult {
     let fits = fits_dir(&args)?;
     let opts = options(&args.fix, &args.bound)?;
-    let prep = load(&args.dataset)?;
+    let prep = load(&args.dataset, args.strict)?;
     let effects = effect_list(&args.effects);
     let task = crate::progress::Task::spinner(
         args.json,
@@ -28,7 +28,9 @@ pub fn run(args: Args) -> CmdResult {
     task.finish();
     let (mut report, base) = r?;
     let mut fr: FitReport = report.fit.clone();
+    geodesic_fit::outliers::flag_user_bounds(&mut fr, &opts.bounds);
     outputs(&prep, &base.pred, &mut fr, &fits)?;
+    warn(&fr);
     report.fit = fr;
     if args.json {
         println!(
@@ -41,12 +43,12 @@ pub fn run(args: Args) -> CmdResult {
         for c in &report.candidates {
             let rms: Vec<String> = c.rms.iter().map(|(k, v)| format!("{k} {v:.3e}")).collect();
             println!(
-                "  {:<24} delta_bic {:>12.1}  -2 delta ln Z {:>12}  chi2_red {:>10.4}  rms {}",
+                "  {:<24} delta_bic {:>12}  -2 delta ln Z {:>12}  chi2_red {:>10}  rms {}",
                 c.effect,
-                c.delta_bic,
+                geodesic_fit::outliers::fmt_sig(c.delta_bic),
                 c.delta_evidence
-                    .map_or("-".to_string(), |v| format!("{v:.1}")),
-                c.chi2_red,
+                    .map_or("-".to_string(), geodesic_fit::outliers::fmt_sig),
+                geodesic_fit::outliers::fmt_sig(c.chi2_red),
                 rms.join(", ")
             );
         }

@@ -4,7 +4,7 @@
 //! whether the model explains the data and describe what is left. Thin: the loop is in
 //! `geodesic_fit::discover`.
 
-use crate::cmd::fit::{effect_list, fits_under, load, options, outputs, summary};
+use crate::cmd::fit::{effect_list, fits_under, load, options, outputs, summary, warn};
 use crate::error::{CliError, CmdResult};
 use geodesic_fit::discover::{DiscoverOptions, discover};
 use std::path::PathBuf;
@@ -36,6 +36,10 @@ pub struct Args {
     /// Reports folder: plots and the history go into DIR/fits/.
     #[arg(long, value_name = "DIR", default_value = "reports")]
     pub reports: PathBuf,
+    /// Refuse a record with a missing value (an empty cell) or a wild sample instead of
+    /// skipping that row with a warning.
+    #[arg(long)]
+    pub strict: bool,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
@@ -45,7 +49,7 @@ pub struct Args {
 pub fn run(args: Args) -> CmdResult {
     let fits = fits_under(&args.reports, None)?;
     let fit = options(&args.fix, &args.bound)?;
-    let prep = load(&args.dataset)?;
+    let prep = load(&args.dataset, args.strict)?;
     let effects = effect_list(&args.effects);
     let mut task = crate::progress::Task::spinner(
         args.json,
@@ -71,6 +75,8 @@ pub fn run(args: Args) -> CmdResult {
         outputs(&prep, &o.pred, &mut fr, &fits)?;
     }
     let mut fr = report.final_fit.clone();
+    geodesic_fit::outliers::flag_user_bounds(&mut fr, &opts.fit.bounds);
+    warn(&fr);
     let svg = geodesic_fit::plot::fit_svg(&prep, &last.pred, &fr)
         .map_err(|e| CliError::Io(e.to_string()))?;
     let path = fits.join(format!("{}.discover.svg", prep.dataset.stem()));
@@ -88,11 +94,11 @@ pub fn run(args: Args) -> CmdResult {
         "round  model                                        chi2_red    delta_bic   margin  added / removed"
     );
     for (k, r) in report.rounds.iter().enumerate() {
-        let fmt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+        let fmt = |v: Option<f64>| v.map_or("-".to_string(), geodesic_fit::outliers::fmt_sig);
         println!(
-            "{k:>5}  {:<44} {:>9.4} {:>12} {:>8}  {}{}",
+            "{k:>5}  {:<44} {:>9} {:>12} {:>8}  {}{}",
             r.effects.join("+"),
-            r.chi2_red,
+            geodesic_fit::outliers::fmt_sig(r.chi2_red),
             fmt(r.delta_bic),
             fmt(r.margin),
             r.added.as_deref().unwrap_or("-"),
@@ -114,19 +120,22 @@ pub fn run(args: Args) -> CmdResult {
     let d = &report.residual;
     for w in &d.windows {
         println!(
-            "  window {} {:.4e}..{:.4e} s ({}): peak {:.3e} ({:.1} sigma)",
+            "  window {} {:.4e}..{:.4e} s ({}): peak {:.3e} ({} sigma)",
             w.failure.channel,
             w.failure.t_start,
             w.failure.t_end,
             w.phase,
             w.failure.peak,
-            w.failure.peak_sigma
+            geodesic_fit::outliers::fmt_sig(w.failure.peak_sigma)
         );
     }
     for p in &d.peaks {
         println!(
-            "  peak {} {:.4e} Hz, amplitude {:.3e}, {:.0} x the floor",
-            p.channel, p.hz, p.amplitude, p.over_floor
+            "  peak {} {:.4e} Hz, amplitude {:.3e}, {} x the floor",
+            p.channel,
+            p.hz,
+            p.amplitude,
+            geodesic_fit::outliers::fmt_sig(p.over_floor)
         );
     }
     for c in d.correlations.iter().take(3) {
@@ -137,8 +146,13 @@ pub fn run(args: Args) -> CmdResult {
     }
     for t in &d.terms {
         println!(
-            "  term [{}] {}: {:+.3e} +- {:.2e} {} (delta BIC {:.1})",
-            t.kind, t.term, t.coefficient, t.sigma, t.coefficient_unit, t.delta_bic
+            "  term [{}] {}: {:+.3e} +- {:.2e} {} (delta BIC {})",
+            t.kind,
+            t.term,
+            t.coefficient,
+            t.sigma,
+            t.coefficient_unit,
+            geodesic_fit::outliers::fmt_sig(t.delta_bic)
         );
     }
     for t in &report.thresholds {

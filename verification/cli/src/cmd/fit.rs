@@ -49,6 +49,10 @@ pub struct Args {
     /// Seed of the ensemble sampler.
     #[arg(long, value_name = "SEED", default_value_t = 1)]
     pub posterior_seed: u64,
+    /// Refuse a record with a missing value (an empty cell) or a wild sample instead of
+    /// skipping that row with a warning.
+    #[arg(long)]
+    pub strict: bool,
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
@@ -115,10 +119,19 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
     })
 }
 
-/// Loads and prepares a dataset, mapping errors to exit 2.
-pub fn load(path: &Path) -> Result<Prepared, CliError> {
-    let ds = Dataset::load(path).map_err(|e| CliError::bad(e.to_string()))?;
+/// Loads and prepares a dataset (`strict`: a missing value or a wild sample refused instead
+/// of skipped), mapping errors to exit 2.
+pub fn load(path: &Path, strict: bool) -> Result<Prepared, CliError> {
+    let ds = Dataset::load_with(path, geodesic_fit::dataset::LoadOptions { strict })
+        .map_err(|e| CliError::bad(e.to_string()))?;
     Ok(Prepared::new(ds))
+}
+
+/// Prints a fit report's warnings on standard error, one line each.
+pub fn warn(r: &FitReport) {
+    for w in &r.warnings {
+        eprintln!("geodesic: warning: {w}");
+    }
 }
 
 /// Writes the SVG of a fit and appends it to the history; returns the SVG path.
@@ -140,8 +153,10 @@ pub fn outputs(
     Ok(())
 }
 
-/// Human-readable summary of a fit.
+/// Human-readable summary of a fit (numbers to four significant digits:
+/// [`geodesic_fit::outliers::fmt_sig`]).
 pub fn summary(r: &FitReport) -> String {
+    use geodesic_fit::outliers::fmt_sig;
     let mut s = format!(
         "{} [{}]: {}\n",
         r.dataset,
@@ -155,14 +170,37 @@ pub fn summary(r: &FitReport) -> String {
         );
     }
     s += &format!(
-        "  chi2_red = {:.4}  (N = {}, k = {})  residual white: {}  BIC = {:.1}\n",
-        r.chi2_red, r.n_samples, r.n_free, r.residual_white, r.bic
+        "  chi2_red = {}  (N = {}, k = {})  residual white: {}  BIC = {}\n",
+        fmt_sig(r.chi2_red),
+        r.n_samples,
+        r.n_free,
+        r.residual_white,
+        fmt_sig(r.bic)
     );
     for (k, p) in &r.params {
-        let fixed = if p.fixed { "  (fixed)" } else { "" };
+        let mut note = if p.fixed { "  (fixed)" } else { "" }.to_string();
+        if let Some(f) = &p.flag {
+            note += &format!("  AT {}", f.to_uppercase());
+        }
         s += &format!(
-            "  {k:<30} = {:>12.5e} +- {:<10.3e} {}{fixed}\n",
+            "  {k:<30} = {:>12.5e} +- {:<10.3e} {}{note}\n",
             p.value, p.sigma, p.unit
+        );
+    }
+    for o in &r.outliers {
+        s += &format!(
+            "  outlier {}{}: t = {} s, {} = {:.4e}, {} robust sigma off{}\n",
+            o.channel,
+            o.line.map_or(String::new(), |l| format!(" at line {l}")),
+            fmt_sig(o.t),
+            o.channel,
+            o.value,
+            fmt_sig(o.robust_sigma),
+            if o.excluded {
+                " its neighbours (excluded from the fit)"
+            } else {
+                " the model"
+            }
         );
     }
     for c in &r.correlated {
@@ -189,8 +227,12 @@ pub fn summary(r: &FitReport) -> String {
     }
     for f in &r.failures {
         s += &format!(
-            "  fails on {}: {:.4e} s .. {:.4e} s, peak {:.3e} ({:.1} sigma)\n",
-            f.channel, f.t_start, f.t_end, f.peak, f.peak_sigma
+            "  fails on {}: {:.4e} s .. {:.4e} s, peak {:.3e} ({} sigma)\n",
+            f.channel,
+            f.t_start,
+            f.t_end,
+            f.peak,
+            fmt_sig(f.peak_sigma)
         );
     }
     if let Some(post) = &r.posterior {
@@ -290,7 +332,7 @@ pub fn run(args: Args) -> CmdResult {
         )));
     }
     let opts = options(&args.fix, &args.bound)?;
-    let prep = load(&args.dataset)?;
+    let prep = load(&args.dataset, args.strict)?;
     let effects = effect_list(&args.effects);
     let opts = FitOptions {
         profile: true,
@@ -308,6 +350,7 @@ pub fn run(args: Args) -> CmdResult {
     task.finish();
     let o = o?;
     let mut report = FitReport::new(&prep, &o);
+    geodesic_fit::outliers::flag_user_bounds(&mut report, &opts.bounds);
     if args.posterior {
         match args.posterior_method.as_str() {
             "laplace" => {
@@ -366,6 +409,7 @@ pub fn run(args: Args) -> CmdResult {
         }
     }
     outputs(&prep, &o.pred, &mut report, &fits)?;
+    warn(&report);
     if args.json {
         println!(
             "{}",
