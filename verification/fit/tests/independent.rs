@@ -95,7 +95,12 @@ fn added(v: &Value, exp: &Value) -> Vec<String> {
 fn check_added(name: &str) {
     let (v, exp) = run_discover(name);
     let want = strings(&exp["expect"]["added"]);
-    assert_eq!(added(&v, &exp), want, "{name}: added effects; {}", v["reason"]);
+    assert_eq!(
+        added(&v, &exp),
+        want,
+        "{name}: added effects; {}",
+        v["reason"]
+    );
     assert_eq!(
         v["explained"], exp["expect"]["explained"],
         "{name}: explained; {}",
@@ -113,7 +118,10 @@ fn check_outside(name: &str) {
         v["final"]["effects"]
     );
     assert_eq!(v["explained"], false, "{name}");
-    let terms = v["residual"]["terms"].as_array().cloned().unwrap_or_default();
+    let terms = v["residual"]["terms"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
     assert!(!terms.is_empty(), "{name}: no term outside the catalogue");
     let kinds = strings(&exp["expect"]["kinds"]);
     let lead = terms[0]["kind"].as_str().unwrap_or("").to_string();
@@ -178,8 +186,7 @@ fn check_threshold(name: &str) {
     let det = exp["expect"]["detectable"].as_bool().unwrap();
     let got = added(&v, &exp).iter().any(|e| e == effect);
     assert_eq!(
-        got,
-        det,
+        got, det,
         "{name}: {effect} added {got}, the oracle says detectable {det} ({})",
         exp["oracle"]
     );
@@ -270,8 +277,6 @@ macro_rules! record_tests {
     )*};
 }
 
-
-
 record_tests! {
     two_missing_tmmf: check_added("two-tmmf"), "minutes in the test profile: CI runs it in release";
     three_missing_tmmf: check_added("three-tmmf"), "minutes in the test profile: CI runs it in release";
@@ -302,7 +307,6 @@ record_tests! {
 /// a test fails here), and the generator's script is committed beside its records.
 #[test]
 fn every_record_has_a_test() {
-
     let text = std::fs::read_to_string(dir().join("expected.json")).unwrap();
     let all: Value = serde_json::from_str(&text).unwrap();
     let src = std::fs::read_to_string(file!()).unwrap_or_else(|_| {
