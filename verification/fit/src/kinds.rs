@@ -554,6 +554,26 @@ pub fn joint_lm(
     from: &[f64],
     max_iter: usize,
 ) -> (f64, Vec<f64>) {
+    let first = joint_lm_as(prep, o, kind, from, max_iter, false);
+    if !matches!(kind.kind.as_str(), "position" | "velocity") {
+        return first;
+    }
+    // a force on the state to first order (the response to the model's own state) and solved
+    // with the state it changes: the one that fits better stands (a strong damping is far from
+    // first order; a perturbation added to first order is not a solution of the equation)
+    let solved = joint_lm_as(prep, o, kind, from, max_iter, true);
+    if solved.0 > first.0 { solved } else { first }
+}
+
+/// [`joint_lm`] with the state kinds' term to first order or `solved` with the state.
+fn joint_lm_as(
+    prep: &Prepared,
+    o: &FitOutcome,
+    kind: &KindFit,
+    from: &[f64],
+    max_iter: usize,
+    solved: bool,
+) -> (f64, Vec<f64>) {
     let t = &prep.dataset.t;
     let sigma = o.sigma;
     let specs = o.model.specs();
@@ -600,7 +620,7 @@ pub fn joint_lm(
         // displacement solves x_add = sum_j c_j K_j(x_model + x_add), a Volterra equation
         // (double or single integrals from the trigger) solved by its Neumann series. A
         // damping of 100 1/s over 9 ms (gamma t = 0.9) is far from first order.
-        if matches!(kind.kind.as_str(), "position" | "velocity") {
+        if solved {
             let n = raw.len();
             let mut xa = vec![0.0; n];
             for _ in 0..12 {
@@ -626,10 +646,18 @@ pub fn joint_lm(
             }
             return v;
         }
+        // to first order: a term on the model's own state follows the model as it moves
+        let moving = state_shape(t, &kind.kind, &raw, kind.scan).map(|mut cols| {
+            for s in cols.iter_mut() {
+                prep.normalise(s, sigma);
+            }
+            cols
+        });
         let mut v = raw;
         prep.normalise(&mut v, sigma);
         for (j, col) in w.iter().enumerate() {
             let c = cs[j];
+            let col = moving.as_ref().and_then(|m| m.get(j)).unwrap_or(col);
             for (vi, ci) in v.iter_mut().zip(col) {
                 *vi += c * ci;
             }
