@@ -4,7 +4,9 @@
 //! `fit` with the right model at 2 000, 20 000 and 400 000 samples (tmmf-release: 200 kHz, the
 //! facility's rate, for 10 ms, 100 ms and 2 s; rt-retraction: 1 MHz for 2 ms, 20 ms, 0.4 s and
 //! 1 s), and
-//! `diagnose` of the 400 000-sample TMMF release. The
+//! `diagnose` of the 400 000-sample TMMF release, and `discover` (issue 33, item 6) from the
+//! baseline `needle_contact,tip_contact` of a TMMF release that hides its tip adhesion, at
+//! 2 000 samples (10 ms at 200 kHz) and 400 000 samples (2 s). The
 //! throughput is in samples, so criterion prints the cost per sample; the datasets are
 //! synthesized in memory with `synth`'s code (fixed seeds).
 
@@ -14,6 +16,7 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use geodesic_facility::{Model, Scenario, TipProfile};
 use geodesic_fit::diagnose::diagnose;
+use geodesic_fit::discover::{DiscoverOptions, discover};
 use geodesic_fit::fit::{FitOptions, Prepared, fit};
 use geodesic_fit::synth::{SynthSpec, generate};
 
@@ -159,5 +162,23 @@ fn diagnoses(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, forward, lockstep, fits, diagnoses);
+fn discoveries(c: &mut Criterion) {
+    let mut g = c.benchmark_group("discover");
+    g.sample_size(10);
+    for (n, secs) in [(2_000usize, 60u64), (400_000, 300)] {
+        g.measurement_time(Duration::from_secs(secs));
+        let prep = record(Scenario::TmmfRelease, n);
+        g.throughput(Throughput::Elements(n as u64));
+        let opts = DiscoverOptions {
+            fit: FitOptions::default(),
+            max_rounds: 4,
+        };
+        g.bench_with_input(BenchmarkId::new("tmmf-release", n), &prep, |b, prep| {
+            b.iter(|| discover(prep, &TMMF_BASE, &opts, |_| {}).expect("discover"))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, forward, lockstep, fits, diagnoses, discoveries);
 criterion_main!(benches);

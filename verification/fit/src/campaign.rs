@@ -448,8 +448,8 @@ pub fn run(
         let (x, s): (Vec<f64>, Vec<f64>) = releases
             .iter()
             .filter_map(|r| r.params.get(*name))
-            .filter(|p| !p.fixed && p.sigma > 0.0 && p.value.is_finite())
-            .map(|p| (p.value, p.sigma))
+            .filter(|p| !p.fixed && p.sigma.is_some_and(|s| s > 0.0) && p.value.is_finite())
+            .map(|p| (p.value, p.sigma.unwrap_or(0.0)))
             .unzip();
         if x.len() >= 2 {
             let p = population_param(&x, &s);
@@ -467,13 +467,13 @@ pub fn run(
             let a = r.params.get("tip_adhesion.A1")?;
             let l = r.params.get("tip_adhesion.lambda")?;
             let usable = |p: &crate::report::ParamOut| {
-                !p.fixed && p.sigma > 0.0 && p.value.is_finite() && p.sigma.is_finite()
+                !p.fixed && p.sigma.is_some_and(|s| s > 0.0 && s.is_finite()) && p.value.is_finite()
             };
             (usable(a) && usable(l)).then(|| Pair {
                 a: a.value,
-                sa: a.sigma,
+                sa: a.sigma.unwrap_or(0.0),
                 l: l.value,
-                sl: l.sigma,
+                sl: l.sigma.unwrap_or(0.0),
                 corr: r.corr_a1_lambda.unwrap_or(0.0),
             })
         })

@@ -200,9 +200,9 @@ pub fn adhesion_svg(r: &CampaignReport) -> Result<Option<String>, FitError> {
             (!a.fixed && !l.fixed && a.value.is_finite() && l.value.is_finite()).then(|| {
                 (
                     a.value * 1e-3,
-                    a.sigma * 1e-3,
+                    a.sigma.unwrap_or(f64::NAN) * 1e-3,
                     l.value * 1e9,
-                    l.sigma * 1e9,
+                    l.sigma.unwrap_or(f64::NAN) * 1e9,
                     x.corr_a1_lambda.unwrap_or(0.0),
                 )
             })
@@ -419,7 +419,10 @@ pub fn markdown(r: &CampaignReport, source: &str, effects: &[&str], plots: &[&st
                 if p.fixed {
                     format!("{} (fixed)", e4(p.value))
                 } else {
-                    format!("{} +- {:.2e}", e4(p.value), p.sigma)
+                    match p.sigma {
+                        Some(s) => format!("{} +- {:.2e}", e4(p.value), s),
+                        None => format!("{} (not resolved)", e4(p.value)),
+                    }
                 }
             })
         };

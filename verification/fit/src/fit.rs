@@ -82,6 +82,17 @@ pub struct FitOutcome {
     /// near 2 when its sigma is made by the differences' truncation error (a direction the
     /// data do not constrain: the sigma grows like 1/step). See [`STEP_RATIO_TOLERANCE`].
     pub step_ratio: Vec<f64>,
+    /// Per parameter, whether the data resolve it (true for a fixed one): false when it moves
+    /// along one of `symmetries` or fails the step test; its `sigma_p` is then not a sigma
+    /// (the report gives none).
+    pub resolved: Vec<bool>,
+    /// The directions the data do not resolve (`crate::identify::symmetries`).
+    pub symmetries: Vec<crate::identify::Symmetry>,
+    /// The parameters held at stated values for the retraction's exact symmetries
+    /// (`crate::identify::holds`), their uncertainties propagated into `sigma_p`.
+    pub held: Vec<crate::identify::Held>,
+    /// The identifiable combinations (retraction fits).
+    pub combinations: BTreeMap<String, crate::identify::Combination>,
 }
 
 /// Largest departure of [`FitOutcome::step_ratio`] from 1 for which a covariance sigma counts
@@ -185,6 +196,32 @@ pub fn default_starts(model: &Model, g: &GuessContext, cap: usize) -> Vec<Vec<f6
 /// Fits `model` to `prep` from the given starting points (full parameter vectors, SI): a short
 /// run from every start, then the best three refined; returns the best.
 pub fn fit_model(
+    prep: &Prepared,
+    model: &Model,
+    opts: &FitOptions,
+    starts: &[Vec<f64>],
+) -> Result<FitOutcome, FitError> {
+    // the retraction's exact symmetries: held by stated values unless the user holds them
+    let held = crate::identify::holds(model, &opts.fixed, &opts.bounds);
+    let held_opts;
+    let opts = if held.is_empty() {
+        opts
+    } else {
+        let mut o = opts.clone();
+        for h in &held {
+            o.fixed.insert(h.param.clone(), h.value);
+        }
+        held_opts = o;
+        &held_opts
+    };
+    let mut o = fit_model_held(prep, model, opts, starts)?;
+    crate::identify::propagate_held(prep, &mut o, &held);
+    o.held = held;
+    Ok(o)
+}
+
+/// [`fit_model`] once the scale is held.
+fn fit_model_held(
     prep: &Prepared,
     model: &Model,
     opts: &FitOptions,
@@ -558,9 +595,27 @@ fn fit_model_on(
     for (k, &i) in fidx.iter().enumerate() {
         step_ratio[i] = (cov_half[(k, k)] / (cov[(k, k)] * ratio * ratio)).sqrt();
     }
-    // Laplace evidence ingredients (FitOutcome::log_evidence)
-    let half_log_det_2pi_cov =
-        log_det_spd(&a).map(|ld| 0.5 * (n_free as f64 * (2.0 * std::f64::consts::PI).ln() - ld));
+    // the Jacobian's null space: exact and near symmetries of the model on this record
+    // (crate::identify); the covariance then lives on the resolved directions only
+    let widths: Vec<f64> = lo.iter().zip(hi).map(|(l, h)| h - l).collect();
+    let free_names: Vec<String> = fidx.iter().map(|&i| pb.names[i].clone()).collect();
+    let ns = crate::identify::symmetries(&a, &jtj_half, ratio * ratio, &widths, &free_names);
+    let exact_symmetry = ns.symmetries.iter().any(|s| s.kind == "exact");
+    let cov = if ns.symmetries.is_empty() {
+        cov
+    } else {
+        ns.cov.clone()
+    };
+    let mut resolved = vec![true; np];
+    for (k, &i) in fidx.iter().enumerate() {
+        let r = step_ratio[i];
+        resolved[i] = ns.resolved[k] && !(r.is_nan() || (r - 1.0).abs() > STEP_RATIO_TOLERANCE);
+    }
+    // Laplace evidence ingredients (FitOutcome::log_evidence): on the identifiable space, so
+    // undefined while an exact symmetry is left (its flat direction is not integrated)
+    let half_log_det_2pi_cov = log_det_spd(&a)
+        .filter(|_| !exact_symmetry)
+        .map(|ld| 0.5 * (n_free as f64 * (2.0 * std::f64::consts::PI).ln() - ld));
     let log_prior_volume = lo
         .iter()
         .zip(hi)
@@ -606,7 +661,8 @@ fn fit_model_on(
                 let mut out = su;
                 // the lowest point met below the best fit (by more than 0.01 in chi-square)
                 let mut lowest: Option<(f64, Vec<f64>)> = None;
-                if !(su.is_finite() && su > 0.0) {
+                // a parameter along a symmetry is not profiled: the profile would walk along it
+                if !(su.is_finite() && su > 0.0 && resolved[fidx[k]]) {
                     return (out, lowest);
                 }
                 let others: Vec<usize> = (0..n_free).filter(|&j| j != k).collect();
@@ -720,6 +776,10 @@ fn fit_model_on(
     for (k, &i) in fidx.iter().enumerate() {
         let range = from_u(&specs[i], hi[k]) - from_u(&specs[i], lo[k]);
         for s in [&mut sigma_p, &mut sigma_cov] {
+            if !ns.resolved[k] {
+                // along a symmetry: no sigma from the covariance on the resolved directions
+                s[i] = f64::INFINITY;
+            }
             if range.is_finite() && (s[i].is_nan() || s[i] > range) {
                 s[i] = range;
             }
@@ -730,7 +790,10 @@ fn fit_model_on(
         && sig > 0.0
         && p.iter().all(|v| v.is_finite())
         && pred.iter().all(|v| v.is_finite())
-        && sigma_p.iter().all(|v| v.is_finite());
+        && sigma_p
+            .iter()
+            .zip(&resolved)
+            .all(|(v, r)| v.is_finite() || !r);
     if !finite {
         return Err(FitError::input(
             &prep.dataset.name,
@@ -747,6 +810,8 @@ fn fit_model_on(
             ),
         ));
     }
+    let combinations =
+        crate::identify::combinations(model, &p, fidx, &ns, inflate, prep.inputs.e0_v);
     Ok(FitOutcome {
         model: model.clone(),
         p,
@@ -764,6 +829,10 @@ fn fit_model_on(
         half_log_det_2pi_cov,
         log_prior_volume,
         step_ratio,
+        combinations,
+        resolved,
+        symmetries: ns.symmetries,
+        held: Vec::new(),
     })
 }
 
@@ -1107,11 +1176,39 @@ mod tests {
         }
         let all = model.param_names();
         let all: Vec<&str> = all.iter().map(|s| s.as_str()).collect();
+        // with all six free the fit holds Ca and R (the model's two exact symmetries, issue 33):
+        // the other four are then resolved, their sigmas widened by the held values' 11.5 %
         let o = fit(&prep, &["piezo"], &opts(&all)).unwrap();
-        // measured: every sigma grows by 1.67 when the steps are halved
-        let flagged = o.unresolved();
-        assert_eq!(flagged.len(), 6, "{:?}", o.step_ratio);
-        assert!(flagged.iter().all(|(_, r)| *r > 1.3), "{flagged:?}");
+        let held: Vec<&str> = o.held.iter().map(|h| h.param.as_str()).collect();
+        assert_eq!(held, ["piezo.Ca", "piezo.R"]);
+        assert!(o.unresolved().is_empty(), "{:?}", o.step_ratio);
+        assert!(o.resolved.iter().all(|r| *r), "{:?}", o.symmetries);
+        // with only Ca and R fixed by the user and m free beside k, b, T nothing is held: the
+        // same four are free
+        let o2 = fit(
+            &prep,
+            &["piezo"],
+            &opts(&["piezo.m", "piezo.k", "piezo.b", "piezo.T"]),
+        )
+        .unwrap();
+        assert!(o2.held.is_empty());
+        assert_eq!(o2.n_free, 4);
+        // the user holding only Ca leaves the second symmetry to the null-space check: found,
+        // its parameters without a sigma
+        let o3 = fit(
+            &prep,
+            &["piezo"],
+            &opts(&["piezo.R", "piezo.m", "piezo.k", "piezo.b", "piezo.T"]),
+        )
+        .unwrap();
+        assert!(o3.held.is_empty());
+        assert!(
+            o3.symmetries.iter().any(|s| s.kind == "exact"),
+            "{:?} {:?}",
+            o3.symmetries,
+            o3.step_ratio
+        );
+        assert!(o3.resolved.iter().any(|r| !r));
     }
 
     /// The Laplace evidence against an independent reference: with one free parameter

@@ -186,6 +186,23 @@ impl<'a> Basis<'a> {
         Some((c.iter().copied().collect(), sig, d))
     }
 
+    /// The 1-sigma of the coefficient of a column already whitened and normalised as the fit
+    /// sees it (`d normalised prediction / d coefficient`), after the fit's own freedom:
+    /// `1 / |P s|`, `P` the projection out of the fit's Jacobian; `None` when the column lies
+    /// in the fit's span (the fit absorbs it whole) or is not finite.
+    pub fn sigma_of_normalised(&self, mut s: Vec<f64>) -> Option<f64> {
+        for _ in 0..2 {
+            for e in &self.q {
+                let a = dot(e, &s);
+                for (si, ei) in s.iter_mut().zip(e) {
+                    *si -= a * ei;
+                }
+            }
+        }
+        let norm = dot(&s, &s).sqrt();
+        (norm > 0.0 && norm.is_finite()).then(|| 1.0 / norm)
+    }
+
     /// Correlation of the residual with the projected raw shape `s` (0 when it vanishes).
     fn correlation(&self, s: Vec<f64>) -> f64 {
         let p = self.project(s);
@@ -276,7 +293,7 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
         let shape = cols.clone();
         if let Some((c, s, d)) = basis.score(cols) {
             let coefs = c.clone();
-            let (coef, sig) = if c.len() == 2 {
+            let (coef, sig) = if c.len() == 2 && kind != "position" {
                 let a = c[0].hypot(c[1]);
                 let sa = if a > 0.0 {
                     ((c[0] * s[0]).powi(2) + (c[1] * s[1]).powi(2)).sqrt() / a
@@ -310,10 +327,8 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
         ("position", format!("{ch} (position)"), "1/s^2"),
         ("velocity", format!("d{ch}/dt (velocity)"), "1/s"),
     ] {
-        let col = state_shape(t, kind, x, 0.0).expect("a state kind");
-        push(kind, state, vec![col], false, unit, &|c| {
-            state_text(kind, ch, c)
-        });
+        let cols = state_shape(t, kind, x, 0.0).expect("a state kind");
+        push(kind, state, cols, false, unit, &|c| state_text(kind, ch, c));
     }
     // a shift of the time axis by d: x(t - d) - x(t), |d| scanned from a fifth of a sample to a
     // twentieth of the record, both signs; the delay is the coefficient times d (a coefficient
@@ -328,8 +343,8 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
             true,
             0.01,
             &|d| {
-                let col = state_shape(t, "delay", x, sign * d).expect("a state kind");
-                basis.score(vec![col]).map_or(f64::NEG_INFINITY, |s| s.2)
+                let cols = state_shape(t, "delay", x, sign * d).expect("a state kind");
+                basis.score(cols).map_or(f64::NEG_INFINITY, |s| s.2)
             },
         );
         if b.1 > shift_best.1 {
@@ -338,11 +353,11 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
     }
     if shift_best.1.is_finite() {
         let d = shift_best.0;
-        let col = state_shape(t, "delay", x, d).expect("a state kind");
+        let cols = state_shape(t, "delay", x, d).expect("a state kind");
         push(
             "delay",
             "time (a shift of the time axis)".into(),
-            vec![col],
+            cols,
             true,
             "s",
             &|c| state_text("delay", ch, c * d),
@@ -459,6 +474,9 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
         k.coefficient *= d;
         k.sigma *= d.abs();
     }
+    for k in out.iter_mut() {
+        describe_offset(k, ch);
+    }
     out.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
     (out, basis)
 }
@@ -482,13 +500,33 @@ pub fn refit_without(
         .get_mut(prep.channel)
         .expect("the fitted channel");
     if kind.kind == "delay" {
-        // the data shifted back by the delay
-        let d = kind.coefficient;
+        // the model's time axis shifted by the delay (exact: the data are not interpolated),
+        // the delay the one of a scan of the fit's own model over shifts of both signs from a
+        // fifth of a sample to a twentieth of the record, the score test's beside it
         let t = &prep.dataset.t;
-        let data = prep.data();
-        for (v, &ti) in ch.iter_mut().zip(t) {
-            *v = interp(t, data, ti + d);
+        let n = t.len();
+        let dt = (t[n - 1] - t[0]) / (n.max(2) - 1) as f64;
+        let span = t[n - 1] - t[0];
+        let mut data = prep.data().to_vec();
+        prep.normalise(&mut data, o.sigma);
+        let cost = |d: f64| -> f64 {
+            let shifted: Vec<f64> = t.iter().map(|ti| ti - d).collect();
+            let mut v = o.model.predict(&o.p, &shifted, &prep.inputs);
+            prep.normalise(&mut v, o.sigma);
+            v.iter().zip(&data).map(|(a, b)| (a - b) * (a - b)).sum()
+        };
+        let (mut best_d, mut best_c) = (kind.coefficient, cost(kind.coefficient));
+        let (a, b) = ((0.2 * dt).ln(), (0.05 * span).max(0.4 * dt).ln());
+        for sign in [1.0, -1.0] {
+            for j in 0..48 {
+                let d = sign * (a + (b - a) * j as f64 / 47.0).exp();
+                let c = cost(d);
+                if c < best_c {
+                    (best_d, best_c) = (d, c);
+                }
+            }
         }
+        less.dataset.t = t.iter().map(|ti| ti - best_d).collect();
     } else {
         for (j, col) in kind.shape.iter().enumerate() {
             for (v, s) in ch.iter_mut().zip(col) {
@@ -515,6 +553,26 @@ pub fn joint_lm(
     kind: &KindFit,
     from: &[f64],
     max_iter: usize,
+) -> (f64, Vec<f64>) {
+    let first = joint_lm_as(prep, o, kind, from, max_iter, false);
+    if !matches!(kind.kind.as_str(), "position" | "velocity") {
+        return first;
+    }
+    // a force on the state to first order (the response to the model's own state) and solved
+    // with the state it changes: the one that fits better stands (a strong damping is far from
+    // first order; a perturbation added to first order is not a solution of the equation)
+    let solved = joint_lm_as(prep, o, kind, from, max_iter, true);
+    if solved.0 > first.0 { solved } else { first }
+}
+
+/// [`joint_lm`] with the state kinds' term to first order or `solved` with the state.
+fn joint_lm_as(
+    prep: &Prepared,
+    o: &FitOutcome,
+    kind: &KindFit,
+    from: &[f64],
+    max_iter: usize,
+    solved: bool,
 ) -> (f64, Vec<f64>) {
     let t = &prep.dataset.t;
     let sigma = o.sigma;
@@ -557,16 +615,49 @@ pub fn joint_lm(
             p[i] = from_u(&specs[i], u[k]);
         }
         let raw = o.model.predict(&p, t, &prep.inputs);
-        // a term on the model's own state follows the model as it moves
-        let moving = state_shape(t, &kind.kind, &raw, kind.scan).map(|mut s| {
-            prep.normalise(&mut s, sigma);
-            s
+        let cs: Vec<f64> = (0..w.len()).map(|j| u[nm + j] * sc[j]).collect();
+        // a force on the state (position, velocity) acts on the state it changes: the term's
+        // displacement solves x_add = sum_j c_j K_j(x_model + x_add), a Volterra equation
+        // (double or single integrals from the trigger) solved by its Neumann series. A
+        // damping of 100 1/s over 9 ms (gamma t = 0.9) is far from first order.
+        if solved {
+            let n = raw.len();
+            let mut xa = vec![0.0; n];
+            for _ in 0..12 {
+                let tot: Vec<f64> = raw.iter().zip(&xa).map(|(a, b)| a + b).collect();
+                let cols = state_shape(t, &kind.kind, &tot, 0.0).expect("a state kind");
+                let next: Vec<f64> = (0..n)
+                    .map(|i| cols.iter().zip(&cs).map(|(col, c)| c * col[i]).sum())
+                    .collect();
+                let change = next
+                    .iter()
+                    .zip(&xa)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                xa = next;
+                if change < 1e-4 * sigma {
+                    break;
+                }
+            }
+            let mut v: Vec<f64> = raw.iter().zip(&xa).map(|(a, b)| a + b).collect();
+            prep.normalise(&mut v, sigma);
+            for (vi, d) in v.iter_mut().zip(&data) {
+                *vi -= d;
+            }
+            return v;
+        }
+        // to first order: a term on the model's own state follows the model as it moves
+        let moving = state_shape(t, &kind.kind, &raw, kind.scan).map(|mut cols| {
+            for s in cols.iter_mut() {
+                prep.normalise(s, sigma);
+            }
+            cols
         });
         let mut v = raw;
         prep.normalise(&mut v, sigma);
         for (j, col) in w.iter().enumerate() {
-            let c = u[nm + j] * sc[j];
-            let col = moving.as_ref().unwrap_or(col);
+            let c = cs[j];
+            let col = moving.as_ref().and_then(|m| m.get(j)).unwrap_or(col);
             for (vi, ci) in v.iter_mut().zip(col) {
                 *vi += c * ci;
             }
@@ -588,18 +679,48 @@ pub fn joint_lm(
             for (k, &i) in fidx.iter().enumerate() {
                 p[i] = from_u(&specs[i], u[k]);
             }
-            let raw = o.model.predict(&p, t, &prep.inputs);
+            // the model evaluated at the shifted times (not interpolated between samples: a
+            // 73 kHz ringing sampled at 1 MHz is off by tens of nm between them)
             let d = u[nm] * sd;
-            let mut v: Vec<f64> = t.iter().map(|&ti| interp(t, &raw, ti - d)).collect();
+            let shifted: Vec<f64> = t.iter().map(|&ti| ti - d).collect();
+            let mut v = o.model.predict(&p, &shifted, &prep.inputs);
             prep.normalise(&mut v, sigma);
             for (vi, x) in v.iter_mut().zip(&data) {
                 *vi -= x;
             }
             v
         };
-        let mut u0 = u0[..nm].to_vec();
-        u0.push(kind.coefficient / sd);
-        let r = crate::lm::minimize(&g, &u0, &lo[..nm + 1], &hi[..nm + 1], &opts);
+        // the shift's start: the score test's, and a scan of the shift over both signs from a
+        // fifth of a sample to a twentieth of the record with the model where the fit left it
+        // (a ringing record has a chi-square with a minimum per period in the shift: a local
+        // run from a poor start stops in the wrong one)
+        let span = t[t.len() - 1] - t[0];
+        let cost = |u: &[f64]| g(u).iter().map(|v| v * v).sum::<f64>();
+        let mut best_u = u0[..nm].to_vec();
+        best_u.push(kind.coefficient / sd);
+        let mut best_c = cost(&best_u);
+        let (a, b) = ((0.2 * sd).ln(), (0.05 * span).max(0.4 * sd).ln());
+        for sign in [1.0, -1.0] {
+            for j in 0..48 {
+                let d = sign * (a + (b - a) * j as f64 / 47.0).exp();
+                let mut u = u0[..nm].to_vec();
+                u.push(d / sd);
+                let c = cost(&u);
+                if c < best_c {
+                    (best_c, best_u) = (c, u);
+                }
+            }
+        }
+        let r = crate::lm::minimize(&g, &best_u, &lo[..nm + 1], &hi[..nm + 1], &opts);
+        if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
+            eprintln!(
+                "delay joint fit: start {:e} s cost {best_c:.1}, end {:e} s cost {:.1} (model alone {:.1})",
+                best_u[nm] * sd,
+                r.u[nm] * sd,
+                r.cost,
+                o.chi2
+            );
+        }
         return (o.chi2 - r.cost, vec![r.u[nm] * sd / kind.scan]);
     }
     let r = crate::lm::minimize(&f, &u0, &lo, &hi, &opts);
@@ -607,12 +728,18 @@ pub fn joint_lm(
     (o.chi2 - r.cost, coefs)
 }
 
-/// The column of a kind on the model's state (`position`, `velocity`, `delay` by `d` [s]) for
-/// the model's prediction `x`; `None` for the other kinds.
-fn state_shape(t: &[f64], kind: &str, x: &[f64], d: f64) -> Option<Vec<f64>> {
+/// The columns of a kind on the model's state (`position`, `velocity`, `delay` by `d` [s]) for
+/// the model's prediction `x`; `None` for the other kinds. A restoring force acts about an
+/// equilibrium that need not be the TM's rest position (a pendulum whose free equilibrium is
+/// offset, issue 33): `-w0^2 (x - x_eq)` has the response to `x` and the response to a
+/// constant force, `t^2 / 2` after the trigger, as its two columns.
+fn state_shape(t: &[f64], kind: &str, x: &[f64], d: f64) -> Option<Vec<Vec<f64>>> {
     let n = x.len();
     match kind {
-        "position" => Some(integ(t, &integ(t, x))),
+        "position" => Some(vec![
+            integ(t, &integ(t, x)),
+            integ(t, &integ(t, &vec![1.0; n])),
+        ]),
         "velocity" => {
             let i0 = t
                 .iter()
@@ -621,14 +748,14 @@ fn state_shape(t: &[f64], kind: &str, x: &[f64], d: f64) -> Option<Vec<f64>> {
                 .min(n.saturating_sub(1));
             let x0 = x.get(i0).copied().unwrap_or(0.0);
             let xr: Vec<f64> = x.iter().map(|v| v - x0).collect();
-            Some(integ(t, &xr))
+            Some(vec![integ(t, &xr)])
         }
-        "delay" => Some(
+        "delay" => Some(vec![
             t.iter()
                 .zip(x)
                 .map(|(&ti, &xi)| interp(t, x, ti - d) - xi)
                 .collect(),
-        ),
+        ]),
         _ => None,
     }
 }
@@ -731,7 +858,25 @@ pub fn refined_leading(
     opts: &crate::fit::FitOptions,
     max_iter: usize,
 ) -> Result<Option<KindFit>, crate::FitError> {
+    Ok(refined_terms(prep, o, peaks, opts, max_iter)?
+        .into_iter()
+        .next())
+}
+
+/// The terms [`refined_leading`] fits jointly with the model (the three best by the score
+/// test, and the delay), each with the delta BIC of its joint fit, most supported first: the
+/// leader refined as [`refined_leading`] says, the others at their scanned values. Terms whose
+/// joint fits come within `DELTA_BIC_STRONG` (10) of the leader's are indistinguishable on the
+/// record (`crate::discover::Description::indistinguishable`).
+pub fn refined_terms(
+    prep: &Prepared,
+    o: &FitOutcome,
+    peaks: &[Peak],
+    opts: &crate::fit::FitOptions,
+    max_iter: usize,
+) -> Result<Vec<KindFit>, crate::FitError> {
     let (all, basis) = kinds(prep, o, peaks);
+    let mut done: Vec<KindFit> = Vec::new();
     // the three best by the score test, and the delay (a pure shift, which the model can
     // absorb nonlinearly far beyond what the score test sees), each fitted jointly: the best
     // joint fit leads
@@ -760,21 +905,29 @@ pub fn refined_leading(
                 k.coefficient = c;
                 k.term = term;
                 k.parameter = parameter;
+                describe_offset(&mut k, prep.channel);
             }
         }
+        done.push(k.clone());
         if best.as_ref().is_none_or(|b| k.delta_bic < b.0.delta_bic) {
             best = Some((k, from, penalty));
         }
     }
     let Some((mut lead, from, penalty)) = best else {
-        return Ok(None);
+        return Ok(Vec::new());
+    };
+    let finish = |lead: KindFit, mut done: Vec<KindFit>| -> Vec<KindFit> {
+        done.retain(|k| k.kind != lead.kind);
+        done.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
+        done.insert(0, lead);
+        done
     };
     let t = &prep.dataset.t;
     let Some(par) = lead.parameter.clone() else {
-        return Ok(Some(lead));
+        return Ok(finish(lead, done));
     };
     if scanned_shape(t, &lead.kind, par.value).is_none() || t.len() < 2 {
-        return Ok(Some(lead));
+        return Ok(finish(lead, done));
     }
     let span = t[t.len() - 1] - t[0];
     let dt = span / (t.len() - 1) as f64;
@@ -832,7 +985,20 @@ pub fn refined_leading(
         kb.delta_bic = -db + penalty;
         lead = kb;
     }
-    Ok(Some(lead))
+    Ok(finish(lead, done))
+}
+
+/// A `position` term's equilibrium: `-w0^2 (x - x_eq)` has the coefficients `-w0^2` and
+/// `w0^2 x_eq` [m/s^2]; when the equilibrium is off the rest position by more than its 1-sigma,
+/// the words say so.
+fn describe_offset(k: &mut KindFit, ch: &str) {
+    if k.kind != "position" || k.coefs.len() != 2 || k.coefs[0] >= 0.0 {
+        return;
+    }
+    let x_eq = -k.coefs[1] / k.coefs[0];
+    if x_eq.is_finite() {
+        k.term = format!("{}, about an equilibrium {ch} = {x_eq:.4e} m", k.term);
+    }
 }
 
 /// The words of a scanned kind's term with coefficient `c` and parameter `v`.

@@ -22,6 +22,7 @@ pub mod ensemble;
 pub mod error;
 pub mod fit;
 pub mod history;
+pub mod identify;
 pub mod kinds;
 pub mod lm;
 pub mod noise;

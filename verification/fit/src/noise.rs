@@ -149,9 +149,24 @@ pub fn estimate(pre: &[f64]) -> Option<ArNoise> {
     if p_raw >= 0.01 {
         return None;
     }
+    fit_order(&x, p_raw)
+}
+
+/// The AR model of a series `v` (detrended) of the order BIC selects, without the whiteness
+/// gate of [`estimate`]; `None` when the order is 0 or there are too few samples.
+pub fn estimate_any(v: &[f64]) -> Option<ArNoise> {
+    if v.len() < MIN_SAMPLES {
+        return None;
+    }
+    let x = detrend(v);
+    let p_raw = whiteness_p_value(&x);
+    fit_order(&x, p_raw)
+}
+
+fn fit_order(x: &[f64], p_raw: f64) -> Option<ArNoise> {
     let n = x.len() as f64;
     let pmax = (x.len() / 8).clamp(1, 12);
-    let orders = burg(&x, pmax);
+    let orders = burg(x, pmax);
     let bic: Vec<f64> = orders
         .iter()
         .enumerate()

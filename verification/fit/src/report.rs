@@ -14,9 +14,15 @@ use crate::residual::{Failure, Whiteness, failures, ljung_box};
 pub struct ParamOut {
     /// Value [SI].
     pub value: f64,
-    /// 1-sigma [SI] (0 when fixed; the width of its allowed range when the data do not constrain
-    /// it).
-    pub sigma: f64,
+    /// 1-sigma [SI] (0 when fixed; for a parameter held to fix a model's scale, that scale's
+    /// stated uncertainty). Absent when the data do not resolve the parameter (`resolved`
+    /// false: it moves along one of the fit's `symmetries`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sigma: Option<f64>,
+    /// False when the data do not resolve the parameter (then it has no sigma); absent (true)
+    /// otherwise.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub resolved: bool,
     /// SI unit.
     pub unit: String,
     /// Held fixed (by the user, or superseded by another effect).
@@ -25,6 +31,14 @@ pub struct ParamOut {
     /// bound` (held by its range or a user's bound): `crate::outliers`. Absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flag: Option<String>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 /// A strongly correlated pair of parameters.
@@ -97,6 +111,10 @@ pub struct FitReport {
     pub log_evidence: Option<f64>,
     /// Whether the residual passes the whiteness test.
     pub residual_white: bool,
+    /// The noise model refined on the residual when the pre-trigger's left it coloured at
+    /// chi2_red within the noise (the whiteness test is then of that whitening).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub residual_noise_model: Option<crate::noise::ArNoise>,
     /// The whiteness test.
     pub whiteness: Whiteness,
     /// Parameters with 1-sigma.
@@ -109,6 +127,19 @@ pub struct FitReport {
     /// it (docs/fitting.md). Absent when every sigma is resolved.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub unresolved: Vec<Unresolved>,
+    /// Directions of parameters the data do not resolve, found from the Jacobian's null space
+    /// (`crate::identify`): exact symmetries of the model and near ones (wider than the
+    /// parameters' ranges). Absent when there are none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub symmetries: Vec<crate::identify::Symmetry>,
+    /// The parameters held at stated values for the retraction's exact symmetries, with the
+    /// uncertainty of each value, propagated into the sigmas (`crate::identify::holds`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub held: Vec<crate::identify::Held>,
+    /// The combinations of parameters the record identifies whatever the scale (retraction
+    /// fits: `d0`, `tau_e`, `w_tip`, ...), with their sigmas.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub combinations: BTreeMap<String, crate::identify::Combination>,
     /// Windows where the residual leaves the noise band.
     pub failures: Vec<Failure>,
     /// Samples far off the model, and those the loader excluded as wild (`crate::outliers`);
@@ -145,7 +176,30 @@ impl FitReport {
         // coloured noise: the whiteness test is of the whitened residual (crate::noise)
         let mut norm = resid.clone();
         prep.normalise(&mut norm, o.sigma);
-        let whiteness = ljung_box(&norm);
+        let mut whiteness = ljung_box(&norm);
+        // coloured noise whose pre-trigger model leaves the whitened residual slightly
+        // coloured (a few hundred pre-trigger samples pin its coefficients to a few percent):
+        // when the fit already reaches the noise (chi2_red within 1 + 5 sqrt(2/nu)), the noise
+        // model is refined on the whole residual (Burg, the order BIC picks) and the
+        // Ljung-Box test redone on that whitening with its lags less the AR order as degrees
+        // of freedom (the test of a fitted AR's residual). A missing effect leaves chi-square
+        // above that bound, and is never judged this way.
+        let mut residual_noise_model = None;
+        let nu = (o.n.saturating_sub(o.n_free)).max(1) as f64;
+        if !whiteness.white
+            && prep.ar.is_some()
+            && o.chi2_red() <= 1.0 + 5.0 * (2.0 / nu).sqrt()
+            && let Some(m) = crate::noise::estimate_any(&resid)
+        {
+            let mut w = crate::noise::detrend(&resid);
+            m.whiten(&mut w);
+            let sd = (w.iter().map(|v| v * v).sum::<f64>() / w.len().max(1) as f64).sqrt();
+            w.iter_mut().for_each(|v| *v /= sd.max(1e-300));
+            let mut refined = crate::residual::ljung_box_dof(&w, m.order());
+            refined.white = refined.q <= refined.threshold;
+            whiteness = refined;
+            residual_noise_model = Some(m);
+        }
         let band = prep.ar.as_ref().map_or(o.sigma, |m| m.marginal_sigma);
         let names = o.model.param_names();
         let specs = o.model.specs();
@@ -155,12 +209,9 @@ impl FitReport {
                 n.clone(),
                 ParamOut {
                     value: o.p[i],
-                    // JSON has no infinity: an unconstrained parameter reports the largest float
-                    sigma: if o.sigma_p[i].is_finite() {
-                        o.sigma_p[i]
-                    } else {
-                        f64::MAX
-                    },
+                    // a parameter the data do not resolve has no sigma (absent in JSON)
+                    sigma: (o.resolved[i] && o.sigma_p[i].is_finite()).then_some(o.sigma_p[i]),
+                    resolved: o.resolved[i],
                     unit: specs[i].unit.to_string(),
                     fixed: !o.free[i],
                     flag: None,
@@ -212,6 +263,7 @@ impl FitReport {
             bic: o.bic(),
             log_evidence: o.log_evidence(),
             residual_white: whiteness.white,
+            residual_noise_model,
             whiteness,
             params,
             correlated,
@@ -223,6 +275,9 @@ impl FitReport {
                     step_ratio: r,
                 })
                 .collect(),
+            symmetries: o.symmetries.clone(),
+            held: o.held.clone(),
+            combinations: o.combinations.clone(),
             failures: failures(prep.channel, &prep.dataset.t, &resid, band),
             outliers: Vec::new(),
             warnings: Vec::new(),

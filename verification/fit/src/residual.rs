@@ -35,6 +35,12 @@ pub struct Whiteness {
 
 /// Ljung-Box test with `min(20, N/5)` lags at the 1 % level.
 pub fn ljung_box(r: &[f64]) -> Whiteness {
+    ljung_box_dof(r, 0)
+}
+
+/// [`ljung_box`] of the residual of an AR(`p`) model fitted to the same series: the
+/// statistic's degrees of freedom are the lags less `p`.
+pub fn ljung_box_dof(r: &[f64], p: usize) -> Whiteness {
     let n = r.len();
     let lags = (n / 5).clamp(1, 20);
     let mean = r.iter().sum::<f64>() / n.max(1) as f64;
@@ -48,7 +54,7 @@ pub fn ljung_box(r: &[f64]) -> Whiteness {
         }
         q *= (n * (n + 2)) as f64;
     }
-    let h = lags as f64;
+    let h = (lags.saturating_sub(p)).max(1) as f64;
     let z = 2.326_347_874;
     let threshold = h * (1.0 - 2.0 / (9.0 * h) + z * (2.0 / (9.0 * h)).sqrt()).powi(3);
     Whiteness {

@@ -155,11 +155,44 @@ pub fn run(args: Args) -> CmdResult {
             geodesic_fit::outliers::fmt_sig(t.delta_bic)
         );
     }
-    for t in &report.thresholds {
+    if let Some(a) = &d.indistinguishable.first() {
         println!(
-            "  {} not detected: {} would be seen above {:.3e} {}",
-            t.effect, t.parameter, t.detectable_above, t.unit
+            "  indistinguishable on this record: {} (joint fits within 10 in BIC of {a}'s)",
+            d.indistinguishable.join(", ")
         );
+    }
+    for t in &report.thresholds {
+        let assumes: Vec<String> = t
+            .assumes
+            .iter()
+            .map(|(k, v)| format!("{k} = {v:.3e}"))
+            .collect();
+        println!(
+            "  {} not detected: {} would be seen above {:.3e} {}{}",
+            t.effect,
+            t.parameter,
+            t.detectable_above,
+            t.unit,
+            if assumes.is_empty() {
+                String::new()
+            } else {
+                format!(" (assuming {})", assumes.join(", "))
+            }
+        );
+        if !t.curve.is_empty() {
+            let pts: Vec<String> = t
+                .curve
+                .iter()
+                .map(|c| {
+                    let (k, v) = c.at.iter().next().expect("one parameter");
+                    format!("{k} {v:.2e}: {:.2e}", c.detectable_above)
+                })
+                .collect();
+            println!(
+                "    threshold along the other parameter: {}",
+                pts.join("; ")
+            );
+        }
     }
     Ok(0)
 }

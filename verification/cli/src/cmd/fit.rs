@@ -178,14 +178,63 @@ pub fn summary(r: &FitReport) -> String {
         fmt_sig(r.bic)
     );
     for (k, p) in &r.params {
-        let mut note = if p.fixed { "  (fixed)" } else { "" }.to_string();
-        if let Some(f) = &p.flag {
-            note += &format!("  AT {}", f.to_uppercase());
+        let held = r.held.iter().any(|h| &h.param == k);
+        let mut fixed = if held {
+            "  (held at a stated value)"
+        } else if p.fixed {
+            "  (fixed)"
+        } else {
+            ""
         }
+        .to_string();
+        if let Some(f) = &p.flag {
+            fixed += &format!("  AT {}", f.to_uppercase());
+        }
+        match p.sigma {
+            Some(sig) => {
+                s += &format!(
+                    "  {k:<30} = {:>12.5e} +- {:<10.3e} {}{fixed}\n",
+                    p.value, sig, p.unit
+                )
+            }
+            None => {
+                s += &format!(
+                    "  {k:<30} = {:>12.5e}    (not resolved: no sigma) {}{fixed}\n",
+                    p.value, p.unit
+                )
+            }
+        }
+    }
+    for h in &r.held {
+        s += &format!("  {} {}\n", h.param, h.reason);
+    }
+    for sym in &r.symmetries {
+        let dir: Vec<String> = sym
+            .direction
+            .iter()
+            .map(|(n, w)| format!("{w:+.2} {n}"))
+            .collect();
         s += &format!(
-            "  {k:<30} = {:>12.5e} +- {:<10.3e} {}{note}\n",
-            p.value, p.sigma, p.unit
+            "  {} symmetry (not resolved by the data): {}\n",
+            sym.kind,
+            dir.join(" ")
         );
+    }
+    for (n, c) in &r.combinations {
+        match c.sigma {
+            Some(sig) => {
+                s += &format!(
+                    "  {n:<30} = {:>12.5e} +- {:<10.3e} {}  ({})\n",
+                    c.value, sig, c.unit, c.formula
+                )
+            }
+            None => {
+                s += &format!(
+                    "  {n:<30} = {:>12.5e}    (not resolved) {}  ({})\n",
+                    c.value, c.unit, c.formula
+                )
+            }
+        }
     }
     for o in &r.outliers {
         s += &format!(

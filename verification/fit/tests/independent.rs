@@ -1,0 +1,328 @@
+//! Discovery on records made by an independent generator (issue 33, "Done when"):
+//! `tests/independent/generate.py` writes them from the equations of docs/spec/physics.md with
+//! NumPy and SciPy (no code shared with geodesic's `synth` or its effects), and fixes the answers
+//! in `tests/independent/expected.json` before the code was changed. Each test reads a record,
+//! runs the library's `discover` (or, for the coverage class, the profiled `fit` that
+//! `geodesic fit` runs) and compares the JSON the CLI would print with the fixed answer:
+//!
+//! * two and three missing catalogue effects: `explained` and exactly the hidden effects added;
+//! * physics outside the catalogue: nothing added, `explained: false`, and the expected kind
+//!   leading (or reported as indistinguishable from the leader on the record) with its
+//!   parameter within the stated tolerance;
+//! * thresholds of a two-parameter effect (tip adhesion at several ranges): added exactly when
+//!   the SciPy oracle says the record shows it, and when not added, the threshold at the
+//!   record's range above the true strength ("undetectable here" and the threshold agree);
+//! * coloured noise (AR(1), AR(2), no noise figure): with nothing missing nothing is added and
+//!   the record is explained; with a missing effect it is added and the record explained;
+//! * retraction coverage: every reported resolved quantity (a parameter with a sigma, or an
+//!   identifiable combination) has its truth within 3 reported sigma, a parameter listed as
+//!   unresolved has no finite sigma, and at least four quantities are resolved.
+//!
+//! These runs take 5 to 60 s each in the release profile; in the test profile (opt-level 1)
+//! the TMMF ones take minutes, so they are `#[ignore]`d there and CI runs them in release
+//! (`cargo test --release -p geodesic-fit --test independent -- --include-ignored`, .ci/run).
+
+use std::path::PathBuf;
+
+use geodesic_fit::discover::{DiscoverOptions, discover};
+use geodesic_fit::fit::{FitOptions, FitReport, Prepared};
+use serde_json::Value;
+
+fn dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/independent")
+}
+
+/// The record's expected answer from `expected.json`.
+fn expected(name: &str) -> Value {
+    let text = std::fs::read_to_string(dir().join("expected.json")).expect("expected.json");
+    let all: Value = serde_json::from_str(&text).expect("json");
+    all["records"]
+        .as_array()
+        .expect("records")
+        .iter()
+        .find(|r| r["name"] == name)
+        .unwrap_or_else(|| panic!("no record {name} in expected.json"))
+        .clone()
+}
+
+fn prepared(name: &str) -> Prepared {
+    let ds = geodesic_fit::Dataset::load(&dir().join(format!("{name}.yaml"))).expect("dataset");
+    Prepared::new(ds)
+}
+
+fn strings(v: &Value) -> Vec<String> {
+    let mut s: Vec<String> = v
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|x| x.as_str().map(str::to_string))
+                .collect()
+        })
+        .unwrap_or_default();
+    s.sort();
+    s
+}
+
+/// `discover` on the record from its expected baseline; the report as the CLI prints it.
+fn run_discover(name: &str) -> (Value, Value) {
+    let exp = expected(name);
+    let prep = prepared(name);
+    let base = strings(&exp["baseline"]);
+    let base: Vec<&str> = base.iter().map(String::as_str).collect();
+    let opts = DiscoverOptions {
+        fit: FitOptions::default(),
+        max_rounds: 4,
+    };
+    let (report, _, _) = discover(&prep, &base, &opts, |_| {}).expect("discover");
+    let v = serde_json::to_value(&report).expect("json");
+    eprintln!(
+        "{name}: explained {} ({}); final {:?}; leading {:?}",
+        v["explained"], v["reason"], v["final"]["effects"], v["residual"]["leading"]
+    );
+    (v, exp)
+}
+
+/// The effects the final model holds beyond the baseline.
+fn added(v: &Value, exp: &Value) -> Vec<String> {
+    let base = strings(&exp["baseline"]);
+    strings(&v["final"]["effects"])
+        .into_iter()
+        .filter(|e| !base.contains(e))
+        .collect()
+}
+
+/// Missing catalogue effects, and coloured noise: `explained` and the added set as fixed.
+fn check_added(name: &str) {
+    let (v, exp) = run_discover(name);
+    let want = strings(&exp["expect"]["added"]);
+    assert_eq!(
+        added(&v, &exp),
+        want,
+        "{name}: added effects; {}",
+        v["reason"]
+    );
+    assert_eq!(
+        v["explained"], exp["expect"]["explained"],
+        "{name}: explained; {}",
+        v["reason"]
+    );
+}
+
+/// Outside the catalogue: nothing added, not explained, the expected kind leading or reported
+/// indistinguishable from the leader, its parameter within the tolerance.
+fn check_outside(name: &str) {
+    let (v, exp) = run_discover(name);
+    assert!(
+        added(&v, &exp).is_empty(),
+        "{name}: no catalogue effect may be added: {:?}",
+        v["final"]["effects"]
+    );
+    assert_eq!(v["explained"], false, "{name}");
+    let terms = v["residual"]["terms"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    assert!(!terms.is_empty(), "{name}: no term outside the catalogue");
+    let kinds = strings(&exp["expect"]["kinds"]);
+    let lead = terms[0]["kind"].as_str().unwrap_or("").to_string();
+    let alike = strings(&v["residual"]["indistinguishable"]);
+    let (pname, spec) = exp["expect"]["parameter"]
+        .as_object()
+        .and_then(|m| m.iter().next())
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .expect("a parameter");
+    let (want, tol) = (spec[0].as_f64().unwrap(), spec[1].as_f64().unwrap());
+    let ok = terms.iter().any(|t| {
+        let kind = t["kind"].as_str().unwrap_or("");
+        let eligible = kind == lead || alike.iter().any(|a| a == kind);
+        let p = &t["parameter"];
+        eligible
+            && kinds.iter().any(|k| k == kind)
+            && p["name"] == pname.as_str()
+            && p["value"]
+                .as_f64()
+                .is_some_and(|x| (x - want).abs() <= tol * want.abs())
+    });
+    assert!(
+        ok,
+        "{name}: expected {kinds:?} with {pname} = {want} (+-{tol} relative) leading or \
+         indistinguishable from the leader; leading {lead}, indistinguishable {alike:?}, terms {}",
+        serde_json::to_string(&terms).unwrap()
+    );
+}
+
+/// The threshold of `param` reported for `effect`, at the value `at` of the other parameter
+/// when the report gives a curve (log-log interpolation), else the single figure.
+fn threshold_at(v: &Value, effect: &str, at: (&str, f64)) -> Option<f64> {
+    let t = v["thresholds"]
+        .as_array()?
+        .iter()
+        .find(|t| t["effect"] == effect)?;
+    if let Some(curve) = t["curve"].as_array()
+        && curve.len() >= 2
+    {
+        let pts: Vec<(f64, f64)> = curve
+            .iter()
+            .filter_map(|c| Some((c[at.0].as_f64()?, c["detectable_above"].as_f64()?)))
+            .collect();
+        let x = at.1.ln();
+        for w in pts.windows(2) {
+            let (a, b) = (w[0].0.ln(), w[1].0.ln());
+            if (a <= x && x <= b) || (b <= x && x <= a) {
+                let f = if b != a { (x - a) / (b - a) } else { 0.0 };
+                return Some((w[0].1.ln() + f * (w[1].1.ln() - w[0].1.ln())).exp());
+            }
+        }
+        return None;
+    }
+    t["detectable_above"].as_f64()
+}
+
+/// Thresholds: discover agrees with the oracle, and an undetected truth is not above the
+/// threshold stated for the record.
+fn check_threshold(name: &str) {
+    let (v, exp) = run_discover(name);
+    let effect = exp["expect"]["effect"].as_str().unwrap();
+    let det = exp["expect"]["detectable"].as_bool().unwrap();
+    let got = added(&v, &exp).iter().any(|e| e == effect);
+    assert_eq!(
+        got, det,
+        "{name}: {effect} added {got}, the oracle says detectable {det} ({})",
+        exp["oracle"]
+    );
+    if !got {
+        let a1 = exp["truth"]["tip_adhesion.A1"].as_f64().unwrap();
+        let lam = exp["truth"]["tip_adhesion.lambda"].as_f64().unwrap();
+        let thr = threshold_at(&v, effect, ("tip_adhesion.lambda", lam));
+        assert!(
+            thr.is_none_or(|a| a >= a1),
+            "{name}: undetected, yet the threshold at lambda {lam:e} m, {thr:?}, is below the \
+             true A1 {a1:e}: {}",
+            v["thresholds"]
+        );
+    }
+}
+
+/// Coverage of the retraction's resolved quantities.
+fn check_coverage(name: &str) {
+    let exp = expected(name);
+    let prep = prepared(name);
+    let eff = strings(&exp["baseline"]);
+    let eff: Vec<&str> = eff.iter().map(String::as_str).collect();
+    let opts = FitOptions {
+        profile: true,
+        ..Default::default()
+    };
+    let o = geodesic_fit::fit(&prep, &eff, &opts).expect("fit");
+    let v = serde_json::to_value(FitReport::new(&prep, &o)).expect("json");
+    let k = exp["expect"]["within_sigma"].as_f64().unwrap();
+    let unresolved: Vec<String> = v["unresolved"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|u| u["param"].as_str().map(str::to_string))
+                .collect()
+        })
+        .unwrap_or_default();
+    let mut resolved = 0;
+    let mut bad = Vec::new();
+    for (pname, truth) in exp["truth"].as_object().unwrap() {
+        let p = &v["params"][pname];
+        let truth = truth.as_f64().unwrap();
+        let sigma = p["sigma"].as_f64().filter(|s| s.is_finite() && *s > 0.0);
+        let marked = unresolved.contains(pname) || p["resolved"] == false;
+        match sigma {
+            Some(s) if marked && p["held_scale"].is_null() => bad.push(format!(
+                "{pname}: listed as unresolved yet printed with a sigma {s:e}"
+            )),
+            Some(s) => {
+                resolved += 1;
+                let val = p["value"].as_f64().unwrap();
+                if (val - truth).abs() > k * s {
+                    bad.push(format!(
+                        "{pname}: truth {truth:e}, fit {val:e} +- {s:e} ({:.1} sigma)",
+                        (val - truth).abs() / s
+                    ));
+                }
+            }
+            None => {}
+        }
+    }
+    for (cname, truth) in exp["combinations"].as_object().unwrap() {
+        let c = &v["combinations"][cname];
+        let Some(s) = c["sigma"].as_f64().filter(|s| s.is_finite() && *s > 0.0) else {
+            continue;
+        };
+        resolved += 1;
+        let (val, truth) = (c["value"].as_f64().unwrap(), truth.as_f64().unwrap());
+        if (val - truth).abs() > k * s {
+            bad.push(format!(
+                "{cname}: truth {truth:e}, fit {val:e} +- {s:e} ({:.1} sigma)",
+                (val - truth).abs() / s
+            ));
+        }
+    }
+    eprintln!("{name}: {resolved} resolved quantities; {bad:?}");
+    assert!(bad.is_empty(), "{name}: {bad:#?}");
+    assert!(resolved >= 4, "{name}: only {resolved} resolved quantities");
+}
+
+macro_rules! record_tests {
+    ($($test:ident: $check:ident($name:literal) $(, $ignore:literal)?;)*) => {$(
+        #[test]
+        $(#[ignore = $ignore])?
+        fn $test() {
+            $check($name);
+        }
+    )*};
+}
+
+record_tests! {
+    two_missing_tmmf: check_added("two-tmmf"), "minutes in the test profile: CI runs it in release";
+    three_missing_tmmf: check_added("three-tmmf"), "minutes in the test profile: CI runs it in release";
+    two_missing_rt: check_added("two-rt");
+    two_missing_rt_fast_ramp: check_added("two-rt-fast-ramp");
+    outside_pendulum_offset: check_outside("pendulum-offset"), "minutes in the test profile: CI runs it in release";
+    outside_damping: check_outside("damping"), "minutes in the test profile: CI runs it in release";
+    outside_floor_vibration: check_outside("floor-vibration"), "minutes in the test profile: CI runs it in release";
+    outside_delay_3us: check_outside("delay-3us");
+    outside_delay_5us: check_outside("delay-5us");
+    threshold_1: check_threshold("threshold-1"), "minutes in the test profile: CI runs it in release";
+    threshold_2: check_threshold("threshold-2"), "minutes in the test profile: CI runs it in release";
+    threshold_3: check_threshold("threshold-3"), "minutes in the test profile: CI runs it in release";
+    threshold_4: check_threshold("threshold-4"), "minutes in the test profile: CI runs it in release";
+    threshold_5: check_threshold("threshold-5"), "minutes in the test profile: CI runs it in release";
+    ar1_nothing_missing: check_added("ar1-nothing"), "minutes in the test profile: CI runs it in release";
+    ar1_adhesion_missing: check_added("ar1-adhesion"), "minutes in the test profile: CI runs it in release";
+    ar2_nothing_missing: check_added("ar2-nothing"), "minutes in the test profile: CI runs it in release";
+    ar2_adhesion_missing: check_added("ar2-adhesion"), "minutes in the test profile: CI runs it in release";
+    ar1_rt_plunger_missing: check_added("ar1-rt-plunger");
+    coverage_1: check_coverage("coverage-1");
+    coverage_2: check_coverage("coverage-2");
+    coverage_3: check_coverage("coverage-3");
+    coverage_4: check_coverage("coverage-4");
+}
+
+/// Every record of `expected.json` has its test above (a record added to the generator without
+/// a test fails here), and the generator's script is committed beside its records.
+#[test]
+fn every_record_has_a_test() {
+    let text = std::fs::read_to_string(dir().join("expected.json")).unwrap();
+    let all: Value = serde_json::from_str(&text).unwrap();
+    let src = std::fs::read_to_string(file!()).unwrap_or_else(|_| {
+        std::fs::read_to_string(
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/independent.rs"),
+        )
+        .unwrap()
+    });
+    for r in all["records"].as_array().unwrap() {
+        let name = r["name"].as_str().unwrap();
+        assert!(
+            src.contains(&format!("(\"{name}\")")),
+            "record {name} has no test"
+        );
+        assert!(dir().join(format!("{name}.yaml")).exists(), "{name}.yaml");
+        assert!(dir().join(format!("{name}.csv")).exists(), "{name}.csv");
+    }
+    assert!(dir().join("generate.py").exists());
+}

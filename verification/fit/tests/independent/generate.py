@@ -1,0 +1,547 @@
+#!/usr/bin/env python3
+"""Independent record generator for the discovery tests of issue 33.
+
+Writes measurement datasets (docs/spec/interface.md: a YAML file beside a CSV file) of the
+hard classes of issue 33, with the answers fixed in `expected.json`, from the equations of
+docs/spec/physics.md (sections 1, 2, 4, 5) alone: it shares no code with geodesic (neither its
+`synth` nor its effect implementations).
+
+- TMMF release (physics.md s.4): m x'' = F_needles + F_tip (+ outside-catalogue forces),
+  integrated by SciPy's DOP853 (rtol 1e-11) between the switching points of the piecewise laws;
+  the tip follows the constant-jerk-then-constant-speed profile of the examples.
+- Release-tip retraction (physics.md s.1): the linear ODE in q, y, y', l, l' propagated exactly
+  with scipy.linalg.expm of the system augmented with the command voltage; checked against
+  DOP853 at rtol 1e-12 when run with --selfcheck.
+- Noise: NumPy's PCG64 with a seed per record; white, AR(1) or AR(2) (stationary start).
+- Detectability oracle (thresholds class): the chi-square that the baseline model without the
+  hidden adhesion leaves on the noise-free truth,
+  to first order (the baseline's sensitivities by central differences, numpy.linalg.lstsq),
+  against the BIC price of the effect (2 ln N + 10), says whether the record can show it.
+
+Usage: python3 generate.py [--out DIR] [--selfcheck] [--large]
+  --large also writes the 400 000-sample TMMF record (about 20 MB: not committed; the tests
+  and benchmarks that use it generate it under target/).
+Requires numpy and scipy (a venv under target/: python3 -m venv target/pyenv &&
+target/pyenv/bin/pip install numpy scipy).
+"""
+
+import argparse
+import json
+import math
+import os
+import sys
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+
+# ---------------------------------------------------------------------------------------------
+# TMMF release (physics.md section 4)
+
+
+def tip_profile(t, jerk, v):
+    """Constant jerk from rest to speed v, then constant speed; 0 before the trigger."""
+    t1 = math.sqrt(2.0 * v / jerk)
+    t = np.asarray(t, dtype=float)
+    y = np.where(t < t1, jerk * t**3 / 6.0, jerk * t1**3 / 6.0 + v * (t - t1))
+    return np.where(t <= 0.0, 0.0, y)
+
+
+def tip_speed(t, jerk, v):
+    t1 = math.sqrt(2.0 * v / jerk)
+    if t <= 0.0:
+        return 0.0
+    return 0.5 * jerk * t * t if t < t1 else v
+
+
+def tmmf_force(t, x, xd, p, jerk, v_tip):
+    """Force on the TM [N] along +x (direction of tip retraction)."""
+    f_pre = p["F_pre"]
+    k_nd = p["k_nd"]
+    k_c = p["k_c"]
+    y = float(tip_profile(t, jerk, v_tip))
+    f = 0.0
+    # needles: unilateral spring about x_n0 = F_pre / k_nd
+    x_n0 = f_pre / k_nd
+    g = x - x_n0
+    if g < 0.0:
+        f += -k_nd * g
+    elif p.get("needle_A1", 0.0) > 0.0:
+        f += -p["needle_A1"] * g * math.exp(-g / p["needle_lambda"])
+    # tip: Hertz-like linear compression branch, adhesion on the tension branch
+    e = (y - x) - f_pre / k_c - p.get("tip_extra_compression", 0.0)
+    if e <= 0.0:
+        f += k_c * e
+    elif p.get("A1", 0.0) > 0.0:
+        f += p["A1"] * e * math.exp(-e / p["lambda"])
+    # outside the catalogue: a pendulum about an offset equilibrium, a damping force
+    if p.get("k_p", 0.0) > 0.0:
+        f += -p["k_p"] * (x - p.get("x_eq", 0.0))
+    if p.get("c_damp", 0.0) > 0.0:
+        f += -p["c_damp"] * xd
+    return f
+
+
+def tmmf_truth(t, p, m, jerk, v_tip, rtol=1e-11, max_step=2e-7):
+    """True TM position x(t) [m] at the sample times (0 before the trigger)."""
+    post = t[t >= 0.0]
+    if p.get("k_p", 0.0) > 0.0:
+        # the pendulum pulls towards x_eq while the TM is held: the tip carries the difference
+        p = dict(p)
+        p["tip_extra_compression"] = p["k_p"] * p["x_eq"] / p["k_c"]
+
+    def rhs(tt, s):
+        return [s[1], tmmf_force(tt, s[0], s[1], p, jerk, v_tip) / m]
+
+    sol = solve_ivp(rhs, (0.0, float(post[-1])), [0.0, 0.0], method="DOP853",
+                    t_eval=post, rtol=rtol, atol=1e-18, max_step=max_step)
+    if not sol.success:
+        raise RuntimeError(sol.message)
+    x = np.zeros_like(t)
+    x[t >= 0.0] = sol.y[0]
+    return x
+
+
+def tmmf_reading(t, x_true, p):
+    """Distortions of the reading (physics.md s.4): drift polynomial in time over the whole
+    record, cyclic error of the true x."""
+    r = x_true.copy()
+    if "drift" in p:
+        p0, p1, p2 = p["drift"]
+        r += p0 + p1 * t + p2 * t * t
+    if "cyclic" in p:
+        L, b1, c1, b2, c2 = p["cyclic"]
+        ph = 2.0 * math.pi * x_true / L
+        r += b1 * np.cos(ph) + c1 * np.sin(ph) + b2 * np.cos(2 * ph) + c2 * np.sin(2 * ph)
+    if "vibration" in p:
+        amp, f, phase = p["vibration"]
+        r += amp * np.sin(2.0 * math.pi * f * t + phase)
+    return r
+
+
+# ---------------------------------------------------------------------------------------------
+# Release-tip retraction (physics.md sections 1 and 5)
+
+
+def rt_matrices(q):
+    R, m, Ca, k, b, T = q["R"], q["m"], q["Ca"], q["k"], q["b"], q["T"]
+    K = k + T * T / Ca
+    plunger = "Mg" in q
+    A = np.zeros((5, 5))
+    B = np.zeros(5)
+    # R Ca q' + q - T (y - l) = Ca E
+    A[0, 0] = -1.0 / (R * Ca)
+    A[0, 1] = T / (R * Ca)
+    A[0, 3] = -T / (R * Ca)
+    B[0] = 1.0 / R
+    # m y'' + b (y' - l') + K (y - l) - (T/Ca) q = 0
+    A[1, 2] = 1.0
+    A[2, 0] = (T / Ca) / m
+    A[2, 1] = -K / m
+    A[2, 2] = -b / m
+    A[2, 3] = K / m
+    A[2, 4] = b / m
+    if plunger:
+        Mg, Kg = q["Mg"], q["Kg"]
+        # Mg l'' + Kg l - b (y' - l') - K (y - l) + (T/Ca) q = 0
+        A[3, 4] = 1.0
+        A[4, 0] = -(T / Ca) / Mg
+        A[4, 1] = K / Mg
+        A[4, 2] = b / Mg
+        A[4, 3] = -(Kg + K) / Mg
+        A[4, 4] = -b / Mg
+    return A, B
+
+
+def rt_start(q, e0):
+    d0 = q["T"] * e0 / q["k"]
+    return np.array([q["Ca"] * e0 + q["T"] * d0, d0, 0.0, 0.0, 0.0]), d0
+
+
+def rt_truth(t, q, e0, em=None):
+    """y(t) - y(0) [m] at the sample times: exact propagation of the linear ODE with the
+    voltage E = E0 before the trigger, then 0 (ideal step) or max(0, E0 - em t)."""
+    A, B = rt_matrices(q)
+    s0, d0 = rt_start(q, e0)
+    # augmented state [s, E, 1]: E' = -em while ramping
+    M = np.zeros((7, 7))
+    M[:5, :5] = A
+    M[:5, 5] = B
+    t_off = e0 / em if em else 0.0
+    if em:
+        M[5, 6] = -em
+    z = np.concatenate([s0, [e0 if em else 0.0, 1.0]])
+    out = np.zeros_like(t)
+    tc = 0.0
+    for i, ti in enumerate(t):
+        if ti < 0.0:
+            continue
+        while tc < ti:
+            if em and tc < t_off:
+                h = min(ti, t_off) - tc
+                z = expm(M * h) @ z
+                tc += h
+                if tc >= t_off - 1e-18:
+                    z[5] = 0.0
+                    M[5, 6] = 0.0
+                    tc = max(tc, t_off)
+            else:
+                h = ti - tc
+                z = expm(M * h) @ z
+                tc = ti
+        out[i] = z[1] - d0
+    return out
+
+
+def rt_truth_ode(t, q, e0, em=None):
+    """The same by DOP853 (self-check only)."""
+    A, B = rt_matrices(q)
+    s0, d0 = rt_start(q, e0)
+
+    def E(tt):
+        return max(0.0, e0 - em * tt) if em else 0.0
+
+    post = t[t >= 0.0]
+    sol = solve_ivp(lambda tt, s: A @ s + B * E(tt), (0.0, float(post[-1])), s0,
+                    method="DOP853", t_eval=post, rtol=1e-12, atol=1e-22, max_step=2e-8)
+    out = np.zeros_like(t)
+    out[t >= 0.0] = sol.y[1] - d0
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# Noise
+
+
+def noise(rng, n, sigma, ar=None):
+    """White noise of 1-sigma `sigma`, or a stationary AR(p) process of marginal 1-sigma
+    `sigma` with coefficients `ar` (n_i = sum a_k n_{i-k} + e_i)."""
+    if not ar:
+        return sigma * rng.standard_normal(n)
+    a = np.asarray(ar, dtype=float)
+    p = len(a)
+    burn = 2000
+    e = rng.standard_normal(n + burn)
+    x = np.zeros(n + burn)
+    for i in range(n + burn):
+        acc = e[i]
+        for k in range(p):
+            if i - k - 1 >= 0:
+                acc += a[k] * x[i - k - 1]
+        x[i] = acc
+    x = x[burn:]
+    # marginal variance of the process with unit innovations, from its impulse response
+    h = np.zeros(4000)
+    h[0] = 1.0
+    for i in range(1, len(h)):
+        h[i] = sum(a[k] * h[i - k - 1] for k in range(p) if i - k - 1 >= 0)
+    return x * sigma / math.sqrt(np.sum(h * h))
+
+
+# ---------------------------------------------------------------------------------------------
+# Writing
+
+
+def write_dataset(out_dir, name, scenario, t, channels, known, noise_yaml, description):
+    csv = os.path.join(out_dir, name + ".csv")
+    cols = list(channels)
+    with open(csv, "w") as f:
+        f.write("t," + ",".join(cols) + "\n")
+        for i in range(len(t)):
+            f.write("%.9e," % t[i] + ",".join("%.8e" % channels[c][i] for c in cols) + "\n")
+    y = [f"scenario: {scenario}", f"description: {json.dumps(description)}", f"data: {name}.csv",
+         "time_column: t", "channels:"]
+    y += [f"  {c}: m" for c in cols]
+    y.append("known:")
+    y += [f"  {k}: {v:.9e}" for k, v in known.items()]
+    if noise_yaml:
+        y.append("noise:")
+        y += [f"  {k}: {v:.6e}" for k, v in noise_yaml.items()]
+    with open(os.path.join(out_dir, name + ".yaml"), "w") as f:
+        f.write("\n".join(y) + "\n")
+
+
+def times(fs, pre, post):
+    n_pre = int(round(pre * fs))
+    n_post = int(round(post * fs))
+    return np.arange(-n_pre, n_post + 1) / fs
+
+
+# ---------------------------------------------------------------------------------------------
+# Records
+
+TMMF_BASE = {"k_nd": 6.5e5, "F_pre": 6e-3, "k_c": 1.1e6}
+JERK, V_TIP = 6000.0, 3e-3
+M_MID = 0.089
+RT_NOM = {"R": 371.2, "m": 9e-4, "Ca": 2.3e-7, "k": 4.91e7, "b": 9.77, "T": 5.73}
+
+
+def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy=3e-9, m=M_MID,
+                ar=None, noise_in_yaml=True, description=""):
+    rng = np.random.Generator(np.random.PCG64(seed))
+    t = times(fs, pre, post)
+    x = tmmf_truth(t, p, m, JERK, V_TIP)
+    x = tmmf_reading(t, x, p)
+    y = tip_profile(t, JERK, V_TIP)
+    xn = x + noise(rng, len(t), sx, ar)
+    yn = y + noise(rng, len(t), sy)
+    write_dataset(out, name, "tmmf-release", t, {"x": xn, "y": yn}, {"m": m},
+                  {"x": sx, "y": sy} if noise_in_yaml else None, description)
+    return t, x
+
+
+def rt_record(out, name, seed, q, *, em=None, fs=1e6, pre=2e-5, post=1e-3, sy=1e-9, ar=None,
+              noise_in_yaml=True, delay=0.0, e0=120.0, description=""):
+    rng = np.random.Generator(np.random.PCG64(seed))
+    t = times(fs, pre, post)
+    y = rt_truth(t - delay, q, e0, em)
+    yn = y + noise(rng, len(t), sy, ar)
+    write_dataset(out, name, "rt-retraction", t, {"y": yn}, {"E0": e0},
+                  {"y": sy} if noise_in_yaml else None, description)
+    return t, y
+
+
+def combinations(q, e0, em=None):
+    """The retraction's quantities invariant under its exact scaling symmetry (m, b, k, Ca, T,
+    Mg, Kg times s, R over s): the ones a fit can resolve (names fixed here, issue 33)."""
+    c = {
+        "d0": q["T"] * e0 / q["k"],
+        "tau_e": q["R"] * q["Ca"],
+        "w_tip": math.sqrt(q["k"] / q["m"]),
+        "b_over_m": q["b"] / q["m"],
+        "kappa": q["T"] ** 2 / (q["Ca"] * q["k"]),
+    }
+    if "Mg" in q:
+        c["mass_ratio"] = q["Mg"] / q["m"]
+        c["stiffness_ratio"] = q["Kg"] / q["k"]
+    if em:
+        c["em"] = em
+    return c
+
+
+def rt_params(q, em=None):
+    p = {f"piezo.{k}": q[k] for k in ["R", "m", "Ca", "k", "b", "T"]}
+    if "Mg" in q:
+        p["plunger_compliance.Mg"] = q["Mg"]
+        p["plunger_compliance.Kg"] = q["Kg"]
+    if em:
+        p["voltage_ramp.em"] = em
+    return p
+
+
+def oracle_adhesion(t, x_true_with, p_base, m, sigma, n):
+    """Independent detectability oracle: how much of the hidden adhesion the baseline
+    (k_nd, F_pre, k_c) cannot absorb. The noise-free record with the adhesion minus the one
+    without it is projected out of the span of the baseline's sensitivities (central
+    differences in log k_nd, log F_pre, log k_c at the true baseline, numpy.linalg.lstsq): the
+    chi-square left is what a fit of the baseline leaves (to first order, the regime of a
+    threshold), against the BIC price of the two adhesion parameters and strong evidence,
+    2 ln N + 10. Returns (chi2 left, price, detectable)."""
+    post = t >= 0.0
+
+    def sim(pb):
+        return tmmf_truth(t, pb, m, JERK, V_TIP)[post]
+
+    x0 = sim(p_base)
+    d = (x_true_with[post] - x0) / sigma
+    cols = []
+    for key in ["k_nd", "F_pre", "k_c"]:
+        h = 1e-4
+        up = dict(p_base)
+        dn = dict(p_base)
+        up[key] *= math.exp(h)
+        dn[key] *= math.exp(-h)
+        cols.append((sim(up) - sim(dn)) / (2 * h * sigma))
+    J = np.array(cols).T
+    coef, *_ = np.linalg.lstsq(J, d, rcond=None)
+    chi2 = float(np.sum((d - J @ coef) ** 2))
+    price = 2.0 * math.log(n) + 10.0
+    return chi2, price, chi2 > price
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", default=os.path.dirname(os.path.abspath(__file__)))
+    ap.add_argument("--selfcheck", action="store_true")
+    ap.add_argument("--large", action="store_true")
+    ap.add_argument("--only", default=None, help="comma-separated record names")
+    args = ap.parse_args()
+    out = args.out
+    os.makedirs(out, exist_ok=True)
+    only = set(args.only.split(",")) if args.only else None
+    expected = []
+
+    def want(name):
+        return only is None or name in only
+
+    if args.selfcheck:
+        t = times(1e6, 2e-5, 3e-4)
+        q = dict(RT_NOM, Mg=0.019, Kg=2.15e6)
+        a = rt_truth(t, q, 120.0, 5e7)
+        b = rt_truth_ode(t, q, 120.0, 5e7)
+        err = float(np.max(np.abs(a - b)))
+        print(f"selfcheck: expm vs DOP853 retraction, max |diff| {err:.3e} m")
+        assert err < 1e-12, err
+        print(f"selfcheck: static stroke T E0/k = {5.73 * 120 / 4.91e7 * 1e6:.3f} um (physics.md: 14.0)")
+
+    tmmf_base_names = ["needle_contact", "tip_contact"]
+
+    # ---- class 1: two and three catalogue effects missing ------------------------------------
+    if want("two-tmmf"):
+        p = dict(TMMF_BASE, A1=1.3e5, **{"lambda": 6e-7}, drift=(3e-9, 2e-6, 0.0))
+        tmmf_record(out, "two-tmmf", 1001, p, description="TMMF: tip adhesion and a drift hidden")
+        expected.append({"name": "two-tmmf", "class": "two-missing", "baseline": tmmf_base_names,
+                         "expect": {"explained": True, "added": ["drift", "tip_adhesion"]},
+                         "truth": {"tip_adhesion.A1": 1.3e5, "tip_adhesion.lambda": 6e-7,
+                                   "drift.p0": 3e-9, "drift.p1": 2e-6, "drift.p2": 0.0}})
+    if want("three-tmmf"):
+        # the TM travels several cyclic periods: a heavier preload catapults it further
+        p = dict(TMMF_BASE, A1=1.3e5, **{"lambda": 6e-7}, drift=(0.0, 3e-6, 0.0),
+                 cyclic=(316.4e-9, 1.5e-9, 0.8e-9, 0.0, 0.0))
+        p["F_pre"] = 0.02
+        tmmf_record(out, "three-tmmf", 1002, p,
+                    description="TMMF: tip adhesion, a drift and an interferometer cyclic error hidden")
+        expected.append({"name": "three-tmmf", "class": "three-missing", "baseline": tmmf_base_names,
+                         "expect": {"explained": True,
+                                    "added": ["drift", "interferometer_cyclic", "tip_adhesion"]},
+                         "truth": {"tip_adhesion.A1": 1.3e5, "tip_adhesion.lambda": 6e-7,
+                                   "interferometer_cyclic.L": 316.4e-9}})
+    if want("two-rt"):
+        q = dict(RT_NOM, Mg=0.024, Kg=1.85e6, Ca=2.36e-7)
+        rt_record(out, "two-rt", 1003, q, em=4e7, post=2e-3,
+                  description="retraction: plunger compliance and a voltage ramp hidden")
+        expected.append({"name": "two-rt", "class": "two-missing", "baseline": ["piezo"],
+                         "expect": {"explained": True,
+                                    "added": ["plunger_compliance", "voltage_ramp"]},
+                         "truth": rt_params(q, 4e7), "combinations": combinations(q, 120.0, 4e7)})
+    if want("two-rt-fast-ramp"):
+        q = dict(RT_NOM, Mg=0.015, Kg=2.6e6, R=340.0)
+        rt_record(out, "two-rt-fast-ramp", 1004, q, em=1.2e8, post=1e-3,
+                  description="retraction: plunger compliance and a fast voltage ramp hidden")
+        expected.append({"name": "two-rt-fast-ramp", "class": "two-missing", "baseline": ["piezo"],
+                         "expect": {"explained": True,
+                                    "added": ["plunger_compliance", "voltage_ramp"]},
+                         "truth": rt_params(q, 1.2e8), "combinations": combinations(q, 120.0, 1.2e8)})
+
+    # ---- class 2: physics outside the catalogue ----------------------------------------------
+    if want("pendulum-offset"):
+        # restoring force about an offset free equilibrium: f0 = 1.6 Hz, x_eq = 30 um
+        f0 = 1.6
+        k_p = M_MID * (2 * math.pi * f0) ** 2
+        p = dict(TMMF_BASE, k_p=k_p, x_eq=3e-5)
+        tmmf_record(out, "pendulum-offset", 1011, p, fs=1e5, pre=1e-3, post=2e-2,
+                    description="TMMF: pendulum 1.6 Hz about an equilibrium 30 um away (outside the catalogue)")
+        expected.append({"name": "pendulum-offset", "class": "outside", "baseline": tmmf_base_names,
+                         "expect": {"explained": False, "added": [],
+                                    "kinds": ["position"], "parameter": {"f0": [f0, 0.35]}},
+                         "truth": {"k_p": k_p, "x_eq": 3e-5, "f0": f0}})
+    if want("damping"):
+        gamma = 100.0
+        p = dict(TMMF_BASE, c_damp=gamma * M_MID)
+        tmmf_record(out, "damping", 1012, p, fs=2e5, pre=1e-3, post=9e-3,
+                    description="TMMF: viscous damping gamma = 100 1/s (outside the catalogue)")
+        expected.append({"name": "damping", "class": "outside", "baseline": tmmf_base_names,
+                         "expect": {"explained": False, "added": [],
+                                    "kinds": ["velocity"], "parameter": {"gamma": [gamma, 0.1]}},
+                         "truth": {"gamma": gamma}})
+    if want("floor-vibration"):
+        p = dict(TMMF_BASE, A1=1.3e5, **{"lambda": 6e-7}, vibration=(4e-9, 730.0, 0.4))
+        tmmf_record(out, "floor-vibration", 1013, p,
+                    description="TMMF: floor vibration 4 nm at 730 Hz on the interferometer (outside the catalogue)")
+        expected.append({"name": "floor-vibration", "class": "outside",
+                         "baseline": tmmf_base_names + ["tip_adhesion"],
+                         "expect": {"explained": False, "added": [],
+                                    "kinds": ["vibration"], "parameter": {"f": [730.0, 0.02]}},
+                         "truth": {"amplitude": 4e-9, "f": 730.0}})
+    for name, d in [("delay-3us", 3e-6), ("delay-5us", 5e-6)]:
+        if want(name):
+            q = dict(RT_NOM, Mg=0.019, Kg=2.15e6)
+            rt_record(out, name, 1014 + int(d * 1e6), q, post=1e-3, delay=d,
+                      description=f"retraction: the trigger {d * 1e6:.0f} us before the motion (outside the catalogue)")
+            expected.append({"name": name, "class": "outside",
+                             "baseline": ["piezo", "plunger_compliance"],
+                             "expect": {"explained": False, "added": [],
+                                        "kinds": ["delay"], "parameter": {"delay": [d, 0.2]}},
+                             "truth": {"delay": d}})
+
+    # ---- class 3: thresholds of a two-parameter effect at several ranges ---------------------
+    # tip adhesion at a fixed strength A1 and several ranges lambda: the oracle says which the
+    # record can show; discover must agree, and its threshold at the record's lambda must lie
+    # above the truth when it does not detect it (and below it when it does)
+    for i, (a1, lam) in enumerate([(8e4, 2e-7), (8e4, 5e-8), (2e4, 6e-7), (3e3, 6e-7),
+                                   (8e4, 1.5e-8)]):
+        name = f"threshold-{i + 1}"
+        if not want(name):
+            continue
+        p = dict(TMMF_BASE, A1=a1, **{"lambda": lam})
+        t, x = tmmf_record(out, name, 1021 + i, p,
+                           description=f"TMMF: weak tip adhesion A1 {a1:g} N/m, lambda {lam:g} m")
+        n = len(t)
+        chi2, price, det = oracle_adhesion(t, x, TMMF_BASE, M_MID, 8e-10, n)
+        expected.append({"name": name, "class": "threshold", "baseline": tmmf_base_names,
+                         "expect": {"detectable": det, "effect": "tip_adhesion"},
+                         "truth": {"tip_adhesion.A1": a1, "tip_adhesion.lambda": lam},
+                         "oracle": {"chi2_without": chi2, "bic_price": price}})
+
+    # ---- class 4: coloured noise ---------------------------------------------------------------
+    full = dict(TMMF_BASE, A1=1.3e5, **{"lambda": 6e-7})
+    for name, ar, base, added in [
+        ("ar1-nothing", [0.6], tmmf_base_names + ["tip_adhesion"], []),
+        ("ar1-adhesion", [0.6], tmmf_base_names, ["tip_adhesion"]),
+        ("ar2-nothing", [1.1, -0.45], tmmf_base_names + ["tip_adhesion"], []),
+        ("ar2-adhesion", [1.1, -0.45], tmmf_base_names, ["tip_adhesion"]),
+    ]:
+        if want(name):
+            tmmf_record(out, name, 1031 + len(expected), full, ar=ar, noise_in_yaml=False,
+                        description=f"TMMF: AR noise {ar}, noise not stated")
+            expected.append({"name": name, "class": "coloured", "baseline": base,
+                             "expect": {"explained": True, "added": added},
+                             "truth": {"tip_adhesion.A1": 1.3e5, "tip_adhesion.lambda": 6e-7,
+                                       "ar": ar}})
+    if want("ar1-rt-plunger"):
+        q = dict(RT_NOM, Mg=0.021, Kg=2.0e6)
+        rt_record(out, "ar1-rt-plunger", 1041, q, pre=1e-4, post=1e-3, ar=[0.5],
+                  noise_in_yaml=False, description="retraction: AR(1) noise, plunger hidden")
+        expected.append({"name": "ar1-rt-plunger", "class": "coloured", "baseline": ["piezo"],
+                         "expect": {"explained": True, "added": ["plunger_compliance"]},
+                         "truth": rt_params(q), "combinations": combinations(q, 120.0)})
+
+    # ---- class 5: coverage of the resolved quantities of retraction fits ----------------------
+    for i, (qq, em) in enumerate([
+        (dict(RT_NOM, Mg=0.024, Kg=1.85e6, Ca=2.36e-7), None),
+        (dict(RT_NOM, Mg=0.017, Kg=2.4e6, m=1.0e-3, k=4.5e7, T=6.1), None),
+        (dict(RT_NOM, Mg=0.02, Kg=2.0e6, R=400.0, b=8.5, Ca=2.1e-7), 6e7),
+        (dict(RT_NOM, Mg=0.023, Kg=1.7e6, m=8.2e-4, T=5.3), None),
+    ]):
+        name = f"coverage-{i + 1}"
+        if not want(name):
+            continue
+        rt_record(out, name, 1051 + i, qq, em=em, post=2e-3,
+                  description="retraction for the coverage of the resolved quantities")
+        effects = ["piezo", "plunger_compliance"] + (["voltage_ramp"] if em else [])
+        expected.append({"name": name, "class": "coverage", "baseline": effects,
+                         "expect": {"within_sigma": 3.0},
+                         "truth": rt_params(qq, em), "combinations": combinations(qq, 120.0, em)})
+
+    if args.large:
+        p = dict(TMMF_BASE, A1=1.3e5, **{"lambda": 6e-7}, drift=(0.0, 2e-6, 0.0))
+        tmmf_record(out, "large-400k", 1061, p, fs=2e5, pre=5e-4, post=2.0,
+                    description="TMMF: 2 s at 200 kHz, tip adhesion and a drift hidden")
+        expected.append({"name": "large-400k", "class": "large", "baseline": tmmf_base_names,
+                         "expect": {"explained": True, "added": ["drift", "tip_adhesion"]}})
+
+    if only is None or args.large:
+        path = os.path.join(out, "expected.json" if not args.large else "expected-large.json")
+        if args.large:
+            expected = [e for e in expected if e["class"] == "large"]
+        with open(path, "w") as f:
+            json.dump({"generator": "verification/fit/tests/independent/generate.py",
+                       "numpy": np.__version__,
+                       "scipy": __import__("scipy").__version__,
+                       "records": expected}, f, indent=1, sort_keys=True)
+            f.write("\n")
+    print(f"wrote {len(expected)} records to {out}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
