@@ -845,7 +845,7 @@ fn log_det_spd(a: &DMatrix<f64>) -> Option<f64> {
     }
     let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
     let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
-    let eig = s.symmetric_eigen();
+    let eig = crate::linalg::sym_eigen(s)?;
     let max = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
     let mut ld = d.iter().map(|v| 2.0 * v.ln()).sum::<f64>();
     for &lam in eig.eigenvalues.iter() {
@@ -1022,7 +1022,10 @@ fn invert_spd(a: &DMatrix<f64>) -> DMatrix<f64> {
     // scale to unit diagonal for conditioning
     let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
     let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
-    let eig = s.clone().symmetric_eigen();
+    let Some(eig) = crate::linalg::sym_eigen(s.clone()) else {
+        // not finite: no covariance (every sigma unresolved)
+        return DMatrix::from_element(n, n, f64::NAN);
+    };
     let max = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
     let mut inv = DMatrix::zeros(n, n);
     for k in 0..n {

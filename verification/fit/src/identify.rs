@@ -168,7 +168,7 @@ pub fn propagate_held(prep: &crate::fit::Prepared, o: &mut crate::fit::FitOutcom
     let jf: Vec<Vec<f64>> = fidx.iter().map(|&i| column(i)).collect();
     let k = jf.len();
     let jtj = DMatrix::from_fn(k, k, |a, b| dot(&jf[a], &jf[b]));
-    let Some(inv) = jtj.clone().pseudo_inverse(1e-14 * jtj.norm()).ok() else {
+    let Some(inv) = crate::linalg::pseudo_inverse(&jtj, 1e-14 * jtj.norm()) else {
         return;
     };
     // the covariance of the free parameters in ln p, from the fit's sigmas and correlations
@@ -293,13 +293,16 @@ pub fn symmetries(
     let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
     let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
     let sh = DMatrix::from_fn(n, n, |i, j| a_half[(i, j)] * a_half_scale / (d[i] * d[j]));
-    let max = s
-        .clone()
-        .symmetric_eigen()
-        .eigenvalues
-        .iter()
-        .cloned()
-        .fold(0.0, f64::max);
+    let Some(eig0) = crate::linalg::sym_eigen(s.clone()) else {
+        // a normal matrix that is not finite resolves nothing
+        return NullSpace {
+            symmetries: Vec::new(),
+            resolved: vec![false; n],
+            cov: DMatrix::from_element(n, n, f64::NAN),
+            null: Vec::new(),
+        };
+    };
+    let max = eig0.eigenvalues.iter().cloned().fold(0.0, f64::max);
     // unresolved directions found so far (scaled space), with their report
     let mut found: Vec<(DVector<f64>, Symmetry)> = Vec::new();
     let to_report = |v: &DVector<f64>, kind: &str, ratio: f64, sigma: Option<f64>| {
@@ -329,8 +332,9 @@ pub fn symmetries(
         if let Some(li) = l.clone().try_inverse() {
             let m = &li * &shr * li.transpose();
             let m = (&m + m.transpose()) * 0.5;
-            let eig = m.symmetric_eigen();
-            for k in 0..n {
+            let eig = crate::linalg::sym_eigen(m);
+            for k in 0..eig.as_ref().map_or(0, |e| e.eigenvalues.len()) {
+                let eig = eig.as_ref().expect("decomposed");
                 let mu = eig.eigenvalues[k];
                 let y = eig.eigenvectors.column(k).into_owned();
                 let v = li.transpose() * y;
@@ -373,7 +377,14 @@ pub fn symmetries(
     // near symmetries among the rest: an eigen-direction of P S P whose 1-sigma leaves the box
     let p = projector(&basis);
     let psp = &p * &s * &p;
-    let eig = ((&psp + psp.transpose()) * 0.5).symmetric_eigen();
+    let Some(eig) = crate::linalg::sym_eigen((&psp + psp.transpose()) * 0.5) else {
+        return NullSpace {
+            symmetries: found.into_iter().map(|(_, s)| s).collect(),
+            resolved: vec![false; n],
+            cov: DMatrix::from_element(n, n, f64::NAN),
+            null: Vec::new(),
+        };
+    };
     let mut cov = DMatrix::zeros(n, n);
     for k in 0..n {
         let lam = eig.eigenvalues[k];

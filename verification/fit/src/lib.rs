@@ -24,6 +24,7 @@ pub mod fit;
 pub mod history;
 pub mod identify;
 pub mod kinds;
+pub mod linalg;
 pub mod lm;
 pub mod noise;
 pub mod outliers;
