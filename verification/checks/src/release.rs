@@ -4,7 +4,7 @@
 //!   draws, `ctx.seed`, the run's budget file), writes `release-velocity-<ID>.svg` per
 //!   requirement (histogram and log-scaled tail with that requirement's own limit) and gives,
 //!   for REL-GPRM-VEL, REL-DFACS-VEL and TMS-Z-VEL (the release axis is z in the DFACS frame),
-//!   the quantile of |X'| each requirement's `probability` names with its exact order-statistic
+//!   and for any other requirement that names it in `check:`, the quantile of |X'| each requirement's `probability` names with its exact order-statistic
 //!   bounds at the run's confidence ([`Sampling::quantile`]): the matrix decides by the bound,
 //!   and a sample too small to give one leaves the row not verified;
 //! - `adhesion-calibration`: FAC-ADH-CAL, the peak pull-off distribution of the budget's
@@ -183,7 +183,16 @@ impl Check for ReleaseMonteCarlo {
         abs.sort_by(f64::total_cmp);
         let abs_um_s = r.abs_um_s();
         let mut out = Vec::new();
-        for id in self.verifies() {
+        // the three rows it is built for, and any other requirement that names it in `check:`
+        // (a new velocity requirement judged on the same Monte Carlo, at its own probability)
+        let mut ids: Vec<&str> = self.verifies().to_vec();
+        for r in &ctx.requirements.items {
+            if r.check.as_deref() == Some(self.name()) && !ids.contains(&r.id.as_str()) {
+                ids.push(r.id.as_str());
+            }
+        }
+        for id in &ids {
+            let id: &str = id;
             let Some(req) = ctx.requirements.get(id) else {
                 continue;
             };
@@ -262,7 +271,7 @@ impl Check for ReleaseMonteCarlo {
                         ),
                     );
             }
-            if *id == "TMS-Z-VEL" {
+            if id == "TMS-Z-VEL" {
                 e = e.with_input("axis", "release axis X = z (DFACS frame)");
             }
             out.push(e);

@@ -645,6 +645,49 @@ fn requirement_edits_and_missing_dispositions_fail_the_gate() {
         row(&doc, "CHG-Q")["verdict"],
         "non-compliant (no disposition)"
     );
+    // the gate's own output names what was added, with its status
+    assert!(
+        err.contains("added since base2/compliance.json: CHG-Q (non-compliant)"),
+        "{err}"
+    );
+}
+
+/// A requirement added on an existing check is judged by it (not left "no check provides
+/// evidence"): a new velocity requirement on the release Monte Carlo with a limit below the
+/// computed quantile is non-compliant, and the gate fails naming it.
+#[test]
+fn a_new_requirement_on_the_release_monte_carlo_is_judged_and_can_fail_the_gate() {
+    let d = scratch("new-on-mc");
+    let req = requirements(&d, |_, t| t.to_string());
+    verify(&d, &req, "base", &[]);
+    let added = requirements(&d, |f, t| {
+        if f == "release.yaml" {
+            let i = t.find("  - id: REL-DFACS-VEL\n").unwrap();
+            let j = i + t[i..].find("    parent:").unwrap();
+            let block = t[i..j]
+                .replace("id: REL-DFACS-VEL", "id: REL-NEW-VEL")
+                .replace("<= 7.5 um/s", "<= 1 um/s");
+            format!("{}{block}{}", &t[..i], &t[i..])
+        } else {
+            t.to_string()
+        }
+    });
+    let (code, doc, err) = verify(&d, &added, "now", &["--baseline", "base/compliance.json"]);
+    let new = row(&doc, "REL-NEW-VEL");
+    assert_eq!(new["status"], "non-compliant", "{new}");
+    // the same quantile of the same Monte Carlo as REL-DFACS-VEL, judged at its own limit: a
+    // non-compliance is shown by the lower confidence bound, above the limit
+    let dfacs = row(&doc, "REL-DFACS-VEL");
+    assert_eq!(new["sampling"]["estimate"], dfacs["sampling"]["estimate"]);
+    assert_eq!(new["value"], new["sampling"]["lower"]);
+    assert!(new["value"].as_f64().unwrap() > 1.0, "{new}");
+    assert_eq!(code, 1);
+    // the only regression: the repository's known non-compliances keep their dispositions
+    assert_eq!(doc["baseline_diff"]["regressions"], 1, "{err}");
+    assert!(
+        err.contains("REGRESSION REL-NEW-VEL: new requirement, non-compliant with no disposition"),
+        "{err}"
+    );
 }
 
 /// A change of seed moves the sampled values within their sampling uncertainty: the gate

@@ -531,6 +531,24 @@ pub fn run(args: Args) -> CmdResult {
                 d.changes.len()
             );
         }
+        if !d.added.is_empty() {
+            // named on the gate's output, not only in baseline-diff.md: a new requirement that is
+            // not verified passes the gate, one that is non-compliant without disposition fails
+            let added: Vec<String> = d
+                .added
+                .iter()
+                .map(|id| {
+                    let st = report
+                        .matrix
+                        .requirements
+                        .iter()
+                        .find(|r| &r.id == id)
+                        .map_or("?", |r| r.status.as_str());
+                    format!("{id} ({st})")
+                })
+                .collect();
+            eprintln!("geodesic: added since {}: {}", d.baseline, added.join(", "));
+        }
     }
     let mut tests_fail = false;
     if args.require_tests {
