@@ -668,6 +668,11 @@ fn a_new_requirement_on_the_release_monte_carlo_is_judged_and_can_fail_the_gate(
                 .replace("id: REL-DFACS-VEL", "id: REL-NEW-VEL")
                 .replace("<= 7.5 um/s", "<= 1 um/s");
             format!("{}{block}{}", &t[..i], &t[i..])
+        } else if f == "charge.yaml" {
+            // and one on a check that evaluates fixed quantities: not verified, saying why
+            let i = t.find("  - id: CHG-V\n").unwrap();
+            let block = t[i..].replace("id: CHG-V", "id: CHG-V2");
+            format!("{t}{block}")
         } else {
             t.to_string()
         }
@@ -686,6 +691,20 @@ fn a_new_requirement_on_the_release_monte_carlo_is_judged_and_can_fail_the_gate(
     assert_eq!(doc["baseline_diff"]["regressions"], 1, "{err}");
     assert!(
         err.contains("REGRESSION REL-NEW-VEL: new requirement, non-compliant with no disposition"),
+        "{err}"
+    );
+    let v2 = row(&doc, "CHG-V2");
+    assert_eq!(v2["status"], "not-verified");
+    assert!(
+        v2["reason"]
+            .as_str()
+            .unwrap()
+            .contains("its check `charge-analysis` ran and gave no evidence for CHG-V2"),
+        "{v2}"
+    );
+    assert!(
+        err.contains("REL-NEW-VEL (non-compliant), CHG-V2 (not-verified)")
+            || err.contains("CHG-V2 (not-verified), REL-NEW-VEL (non-compliant)"),
         "{err}"
     );
 }

@@ -396,6 +396,22 @@ pub fn run(args: Args) -> CmdResult {
         },
         &dispositions,
     );
+    // a requirement bound to a check (`check:`) that gave it no evidence: say which check and
+    // what it evaluates, not only that no check did
+    for row in &mut matrix.requirements {
+        let named = reqs.get(&row.id).and_then(|r| r.check.clone());
+        if row.status == geodesic_core::matrix::Status::NotVerified
+            && row.evidence.is_empty()
+            && let Some(name) = named
+            && let Some(run) = runs.iter().find(|r| r.name == name)
+        {
+            row.reason = Some(format!(
+                "its check `{name}` ran and gave no evidence for {}: `{name}` evaluates {} (a requirement bound to it must be one of these, or the check taught to evaluate it)",
+                row.id,
+                run.verifies.join(", ")
+            ));
+        }
+    }
     for check in &registry {
         if !geodesic_checks::is_wanted(check.as_ref(), &reqs) {
             for id in check.verifies() {
