@@ -104,6 +104,7 @@ impl Ctx {
                 confidence: 0.95,
                 checks: vec![],
                 fidelity: vec![],
+                partial: None,
             },
             reverify: Default::default(),
         })
@@ -725,6 +726,7 @@ fn seeds_parts(_root: &Path) -> Vec<Vec<u8>> {
         case: Case::All,
         budget_hash: "5d2f".into(),
         budget_description: "fuzz seed".into(),
+        budget_source: None,
         shard,
         start,
         v_m_s: v,

@@ -226,6 +226,16 @@ pub fn shard_range(n: usize, index: usize, count: usize) -> Result<Range<usize>,
     Ok(lo..hi)
 }
 
+/// The budget file a run read: its label (path, or `<built-in>/...`) and origin (`given`,
+/// `repository`, `built-in`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct BudgetSource {
+    /// Path as given, or `<built-in>/models/release/budget.yaml`.
+    pub label: String,
+    /// `given`, `repository` or `built-in`.
+    pub origin: String,
+}
+
 /// The values of a run (or of one shard of it).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct McResult {
@@ -235,10 +245,15 @@ pub struct McResult {
     pub seed: u64,
     /// Case.
     pub case: Case,
-    /// [`Budget::hash_hex`] of the budget used.
+    /// Identifies the budget used: [`Budget::hash_hex`] from [`run`]; `geodesic montecarlo`
+    /// sets the SHA-256 of the budget file's bytes, as every command identifies it.
     pub budget_hash: String,
     /// The budget's description.
     pub budget_description: String,
+    /// The budget file the run read and where it was resolved from (set by `geodesic
+    /// montecarlo`, carried by partial results so that `merge` says it as the whole run does).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub budget_source: Option<BudgetSource>,
     /// Shard `(I, K)`, `None` for a whole run.
     pub shard: Option<(usize, usize)>,
     /// First draw index held.
@@ -431,6 +446,7 @@ pub fn run(
         case,
         budget_hash: budget.hash_hex(),
         budget_description: budget.description.clone(),
+        budget_source: None,
         shard,
         start: range.start,
         v_m_s,

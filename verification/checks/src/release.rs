@@ -318,6 +318,10 @@ impl Check for AdhesionCalibration {
         &["FAC-ADH-CAL"]
     }
 
+    fn judges(&self) -> &'static [&'static str] {
+        &["budget"]
+    }
+
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
         let input = &ctx.inputs.budget;
         let b = budget_of(ctx).map_err(|e| CheckError(format!("adhesion calibration: {e}")))?;

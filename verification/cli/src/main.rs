@@ -9,6 +9,8 @@
 mod builtin;
 mod cmd;
 mod error;
+mod inputs;
+mod only;
 mod progress;
 mod quantity;
 mod usage;
@@ -52,6 +54,7 @@ enum Command {
   geodesic verify --requirements my-reqs/ --budget my-budget.yaml --reports out/
   geodesic verify --baseline verification/baseline/compliance.json --require-tests --junit reports/junit.xml
   geodesic verify --json | jq '.requirements[] | select(.status != \"compliant\") | .id'
+  geodesic verify --only CHG-V,TMS-X-POS            # those rows and what they depend on (a partial run)
 
 Exit status: 0 nothing non-compliant (with --baseline: nothing regressed), 1 a non-compliance
 or a regression, 2 bad input.")]
@@ -139,6 +142,12 @@ See docs/exchange.md.")]
     /// The tip-radius trade-off: worst-case release velocity against tip radius
     #[command(name = "tip-radius")]
     TipRadius(cmd::tipradius::Args),
+    /// Validate, list and show the requirements (status and evidence from the last run)
+    #[command(after_help = "Examples:
+  geodesic requirements check                       # validate requirements/ only (exit 2: file:line:column)
+  geodesic requirements list                        # every requirement with its status from reports/
+  geodesic requirements show REL-GPRM-VEL           # source, limit, flow-down, traced tests, evidence")]
+    Requirements(cmd::requirements::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -219,6 +228,7 @@ fn main() -> ExitCode {
         Command::TipRadius(a) => cmd::tipradius::run(a),
         Command::Plunger(a) => cmd::plunger::run(a),
         Command::Surfaces(a) => cmd::surfaces::run(a),
+        Command::Requirements(a) => cmd::requirements::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),

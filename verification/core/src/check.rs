@@ -24,6 +24,36 @@ pub struct InputFile {
     pub text: String,
     /// SHA-256 of the file's bytes, lower-case hex.
     pub sha256: String,
+    /// Where a model input was resolved from: the file given with its flag, the repository's
+    /// copy in the current directory, or the copy built into the binary (`None` for a file
+    /// read otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub origin: Option<InputOrigin>,
+}
+
+/// Where a model input file came from (`geodesic` resolves every model input the same way:
+/// the file given with its flag, else the repository's copy when run from the repository's
+/// root, else the copy built into the binary).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum InputOrigin {
+    /// Given with its flag (`--budget FILE.yaml`, ...).
+    Given,
+    /// The repository's copy (`models/release/budget.yaml`, ...) in the current directory.
+    Repository,
+    /// The copy built into the binary.
+    BuiltIn,
+}
+
+impl InputOrigin {
+    /// In words: `given`, `the repository's copy`, `the built-in copy`.
+    pub fn words(self) -> &'static str {
+        match self {
+            InputOrigin::Given => "given",
+            InputOrigin::Repository => "the repository's copy",
+            InputOrigin::BuiltIn => "the built-in copy",
+        }
+    }
 }
 
 impl InputFile {
@@ -34,7 +64,14 @@ impl InputFile {
             label: label.into(),
             sha256: crate::hash::sha256_hex(text.as_bytes()),
             text,
+            origin: None,
         }
+    }
+
+    /// The same file, stating where it was resolved from.
+    pub fn with_origin(mut self, origin: InputOrigin) -> Self {
+        self.origin = Some(origin);
+        self
     }
 
     /// Reads a file whole; the error names the file.
@@ -456,6 +493,12 @@ pub trait Check: Send + Sync {
     fn name(&self) -> &'static str;
     /// Requirement IDs this check provides evidence for.
     fn verifies(&self) -> &'static [&'static str];
+    /// Model input files (field names of [`ModelInputs`]) whose validity this check judges
+    /// (its evidence carries [`Evidence::judges_input`]): a row computed from such an input
+    /// depends on this check's verdict (`verify --only` runs it too). None by default.
+    fn judges(&self) -> &'static [&'static str] {
+        &[]
+    }
     /// Runs the activity.
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError>;
 }

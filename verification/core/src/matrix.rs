@@ -240,6 +240,20 @@ pub struct Row {
     pub tests_status: TestsStatus,
     /// `file:line` of the requirement.
     pub defined_at: String,
+    /// In a partial run (`verify --only`): whether the row was chosen or is run because a
+    /// chosen row depends on it, and why; absent in a whole run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub selection: Option<Selection>,
+}
+
+/// Why a row is in a partial run (`verify --only`).
+#[derive(Clone, Debug, Serialize, PartialEq, Eq)]
+pub struct Selection {
+    /// `chosen` (named by `--only`) or `dependency` (a chosen row depends on it).
+    pub role: String,
+    /// Why, in words: `chosen`, `parent of TMS-X-POS`, `assumed by CAP-RELEASE-PROB`, `judges
+    /// the budget REL-GPRM-VEL is computed from`.
+    pub why: String,
 }
 
 impl Row {
@@ -258,6 +272,38 @@ pub struct Orphan {
     pub check: String,
     /// The unknown requirement ID.
     pub requirement: String,
+}
+
+/// The summary of `rows`; `tests` is `fresh`, `stale` or `none`.
+fn summarise(rows: &[Row], tests: String) -> Summary {
+    let mut s = Summary {
+        total: rows.len(),
+        tests,
+        ..Default::default()
+    };
+    for r in rows {
+        match r.status {
+            Status::Compliant => {
+                s.compliant += 1;
+                let b = r.basis.map_or("none", Basis::as_str).to_string();
+                *s.compliant_by_basis.entry(b).or_default() += 1;
+                if r.plainly_compliant() {
+                    s.plainly_compliant += 1;
+                }
+                if !r.findings.is_empty() {
+                    s.compliant_with_findings += 1;
+                }
+            }
+            Status::NonCompliant => {
+                s.non_compliant += 1;
+                if r.disposition.is_none() {
+                    s.non_compliant_without_disposition += 1;
+                }
+            }
+            Status::NotVerified => s.not_verified += 1,
+        }
+    }
+    s
 }
 
 /// Counts by status, and the compliant rows by what they rest on.
@@ -457,37 +503,14 @@ impl Matrix {
             })
             .collect();
         findings(&mut rows, tests);
-        let mut s = Summary {
-            total: rows.len(),
-            tests: match tests {
+        let s = summarise(
+            &rows,
+            match tests {
                 None => "none".into(),
                 Some(t) if t.freshness.is_fresh() => "fresh".into(),
                 Some(_) => "stale".into(),
             },
-            ..Default::default()
-        };
-        for r in &rows {
-            match r.status {
-                Status::Compliant => {
-                    s.compliant += 1;
-                    let b = r.basis.map_or("none", Basis::as_str).to_string();
-                    *s.compliant_by_basis.entry(b).or_default() += 1;
-                    if r.plainly_compliant() {
-                        s.plainly_compliant += 1;
-                    }
-                    if !r.findings.is_empty() {
-                        s.compliant_with_findings += 1;
-                    }
-                }
-                Status::NonCompliant => {
-                    s.non_compliant += 1;
-                    if r.disposition.is_none() {
-                        s.non_compliant_without_disposition += 1;
-                    }
-                }
-                Status::NotVerified => s.not_verified += 1,
-            }
-        }
+        );
         Matrix {
             requirements: rows,
             summary: s,
@@ -503,6 +526,14 @@ impl Matrix {
                 tree_sha256: t.run.tree_sha256.clone(),
             }),
         }
+    }
+
+    /// Keeps only the rows `keep` accepts (a partial run, `verify --only`) and counts the
+    /// summary again over them.
+    pub fn retain_rows(&mut self, keep: impl Fn(&Row) -> bool) {
+        self.requirements.retain(|r| keep(r));
+        let tests = std::mem::take(&mut self.summary.tests);
+        self.summary = summarise(&self.requirements, tests);
     }
 
     /// IDs of the requirements no check gave a value for (trace view).
@@ -888,6 +919,7 @@ fn finish_row(
         tests: test_refs,
         tests_status,
         defined_at: format!("{}:{}", r.origin.file.display(), r.origin.line),
+        selection: None,
     }
 }
 

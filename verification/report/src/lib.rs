@@ -64,6 +64,33 @@ pub struct RunInfo {
     pub checks: Vec<CheckRun>,
     /// geodesic's figures against the thesis's (the fidelity table).
     pub fidelity: Vec<geodesic_core::check::ReferenceRow>,
+    /// A partial run (`verify --only`): which rows were chosen and which came as their
+    /// dependencies; absent in a whole run. A gate never compares a partial run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub partial: Option<Partial>,
+}
+
+/// What a partial run (`verify --only ID,...`) ran.
+#[derive(Clone, Debug, Serialize)]
+pub struct Partial {
+    /// The requirement IDs given to `--only`.
+    pub only: Vec<String>,
+    /// The requirements run because a chosen one depends on them (its parents, the rows a
+    /// flow-down assumes, the rows that judge a model input it is computed from), with why.
+    pub dependencies: Vec<PartialDependency>,
+    /// Requirements loaded but not run.
+    pub not_run: usize,
+    /// In words.
+    pub note: String,
+}
+
+/// A dependency of a partial run.
+#[derive(Clone, Debug, Serialize)]
+pub struct PartialDependency {
+    /// Requirement ID.
+    pub id: String,
+    /// Why it is needed.
+    pub why: String,
 }
 
 /// One check that ran.
@@ -110,6 +137,11 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
         ),
         ("date (UTC)", r.date.clone()),
         ("command", r.command.clone()),
+    ];
+    if let Some(p) = &r.partial {
+        v.push(("partial run", p.note.clone()));
+    }
+    v.extend([
         (
             "requirements",
             format!(
@@ -178,7 +210,7 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
                 geodesic_core::units::fmt_pct(r.confidence)
             ),
         ),
-    ];
+    ]);
     v.push(("test results", test_run_line(&rep.matrix)));
     v
 }
@@ -426,6 +458,7 @@ requirements:
                 confidence: 0.95,
                 checks: vec![],
                 fidelity: vec![],
+                partial: None,
             },
             reverify: Default::default(),
         }

@@ -53,8 +53,12 @@ pub fn render(rep: &Report) -> String {
             .collect();
         let _ = writeln!(
             o,
-            "| [{id}](#{anchor}) | {t} | {meth} | {st} | {basis} | {value} | {lim} | {mg} | {ev} | {nt} |",
+            "| [{id}](#{anchor}){dep} | {t} | {meth} | {st} | {basis} | {value} | {lim} | {mg} | {ev} | {nt} |",
             id = r.id,
+            dep = match &r.selection {
+                Some(s) if s.role == "dependency" => format!(" (dependency: {})", cell(&s.why)),
+                _ => String::new(),
+            },
             anchor = r.id.to_lowercase(),
             t = cell(&r.title),
             meth = r.method,

@@ -96,6 +96,7 @@ impl Args {
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let file = crate::cmd::verify::capture_file(args.capture.as_ref())?;
+    crate::inputs::announce(args.json, crate::inputs::ModelInput::Capture, &file);
     let inputs = CaptureInputs::from_yaml_str(&file.text, &file.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
     let (reqs, _, _) = crate::cmd::verify::load_requirements(args.requirements.as_ref())?;
@@ -135,10 +136,15 @@ pub fn run(args: Args) -> CmdResult {
         None => None,
     };
     if args.json {
-        let doc = to_json(&xlim, &state, &eval, prob.as_ref());
+        let mut doc = to_json(&xlim, &state, &eval, prob.as_ref());
+        doc["inputs"] = serde_json::json!({"capture": crate::inputs::json(&file)});
         println!("{doc}");
     } else {
         print_text(&xlim, &eval, prob.as_ref());
+        println!(
+            "{}",
+            crate::inputs::line(crate::inputs::ModelInput::Capture, &file)
+        );
     }
     // exit 1 is the verdict of a command that judges: this state is not captured
     Ok(u8::from(!eval.captured))

@@ -17,33 +17,35 @@ const QUAD_REL_TOL: f64 = 1e-12;
 /// Largest `--n` (Monte Carlo draws).
 pub const MAX_N: usize = 10_000_000;
 
-/// Flags of `geodesic charge` (defaults: the thesis's values).
+/// Flags of `geodesic charge` (defaults: the charge inputs file, resolved as `verify` resolves
+/// it: `--charge FILE`, else ./models/charge/charge.yaml, else the built-in copy; a flag
+/// replaces one of its values).
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// TM - electrode housing capacitance C_EH [pF].
-    #[arg(long, default_value_t = 34.4, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
-    pub c_eh_pf: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
+    pub c_eh_pf: Option<f64>,
     /// TM - pyramidal plunger capacitance C_Pyr [pF].
-    #[arg(long, default_value_t = 35.0, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
-    pub c_pyr_pf: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
+    pub c_pyr_pf: Option<f64>,
     /// TM - cylindrical plunger capacitance C_Cyl [pF].
-    #[arg(long, default_value_t = 10.0, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
-    pub c_cyl_pf: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
+    pub c_cyl_pf: Option<f64>,
     /// Use this C_RT [pF] instead of the cap integral (e.g. the thesis's rounded 2.5).
     #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CAPACITANCE, 1e-12))]
     pub c_rt_pf: Option<f64>,
     /// Release-tip radius of curvature R [m].
-    #[arg(long, default_value_t = 10e-3, allow_hyphen_values = true, value_parser = crate::quantity::length())]
-    pub r_m: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::length())]
+    pub r_m: Option<f64>,
     /// Release-tip cap radius [m]: theta_f = atan(cap / R).
-    #[arg(long, default_value_t = 0.4e-3, allow_hyphen_values = true, value_parser = crate::quantity::length())]
-    pub cap_radius_m: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::length())]
+    pub cap_radius_m: Option<f64>,
     /// Tip - TM gap d [m].
-    #[arg(long, default_value_t = 100e-9, allow_hyphen_values = true, value_parser = crate::quantity::length())]
-    pub d_m: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::length())]
+    pub d_m: Option<f64>,
     /// 2-sigma contact voltage difference of each contact [V].
-    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::quantity::voltage())]
-    pub dv_2sigma_v: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::quantity::voltage())]
+    pub dv_2sigma_v: Option<f64>,
     /// Cosmic-ray charging rate [e/s] (default 3e8 e / 50 days = 69.4 e/s, back-derived from
     /// the thesis's "about 50 days to neutralise -3e8 e").
     #[arg(long, default_value_t = THESIS_RATE_E_S, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim([0, 0, 0, 1, 0, 0]), geodesic_core::units::ELEMENTARY_CHARGE_C))]
@@ -51,6 +53,10 @@ pub struct Args {
     /// Charge whose neutralisation time is reported [e] (negative: cosmic rays charge positively).
     #[arg(long, default_value_t = -3e8, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CHARGE, geodesic_core::units::ELEMENTARY_CHARGE_C))]
     pub neutralise_e: f64,
+    /// Charge inputs: capacitances, contact voltage spread, release-tip geometry [default:
+    /// ./models/charge/charge.yaml if present, else the built-in copy; as verify].
+    #[arg(long, value_name = "FILE.yaml")]
+    pub charge: Option<std::path::PathBuf>,
     /// Monte Carlo draws.
     #[arg(long, default_value_t = 100_000)]
     pub n: usize,
@@ -73,11 +79,27 @@ fn positive(flag: &str, v: f64) -> Result<f64, CliError> {
 }
 
 /// Runs the command.
+/// A capacitance [F]: the flag's value [pF] when given, else the charge file's [F].
+fn capacitance(flag: &str, given_pf: Option<f64>, file_f: f64) -> Result<f64, CliError> {
+    match given_pf {
+        Some(v) => Ok(positive(flag, v)? * 1e-12),
+        None => positive(flag, file_f),
+    }
+}
+
 pub fn run(args: Args) -> CmdResult {
+    use crate::inputs::ModelInput;
+    let charge_file = crate::inputs::resolve(ModelInput::Charge, args.charge.as_deref())?;
+    crate::inputs::announce(args.json, ModelInput::Charge, &charge_file);
+    let file = geodesic_charge::ChargeFile::from_yaml_str(&charge_file.text, &charge_file.label)
+        .map_err(|e| CliError::bad(e.to_string()))?;
     let geometry = TipGeometry {
-        radius_m: positive("r-m", args.r_m)?,
-        cap_radius_m: positive("cap-radius-m", args.cap_radius_m)?,
-        gap_m: positive("d-m", args.d_m)?,
+        radius_m: positive("r-m", args.r_m.unwrap_or(file.tip.radius_m))?,
+        cap_radius_m: positive(
+            "cap-radius-m",
+            args.cap_radius_m.unwrap_or(file.tip.cap_radius_m),
+        )?,
+        gap_m: positive("d-m", args.d_m.unwrap_or(file.tip.gap_m))?,
     };
     let c_rt_quad = c_rt_quadrature_f(&geometry, QUAD_REL_TOL);
     let c_rt_exact = c_rt_exact_f(&geometry);
@@ -87,11 +109,14 @@ pub fn run(args: Args) -> CmdResult {
         None => c_rt_quad,
     };
     let inputs = ChargeInputs {
-        c_eh_f: positive("c-eh-pf", args.c_eh_pf)? * 1e-12,
-        c_pyr_f: positive("c-pyr-pf", args.c_pyr_pf)? * 1e-12,
-        c_cyl_f: positive("c-cyl-pf", args.c_cyl_pf)? * 1e-12,
+        c_eh_f: capacitance("c-eh-pf", args.c_eh_pf, file.inputs.c_eh_f)?,
+        c_pyr_f: capacitance("c-pyr-pf", args.c_pyr_pf, file.inputs.c_pyr_f)?,
+        c_cyl_f: capacitance("c-cyl-pf", args.c_cyl_pf, file.inputs.c_cyl_f)?,
         c_rt_f: c_rt_used,
-        dv_2sigma_v: positive("dv-2sigma-v", args.dv_2sigma_v)?,
+        dv_2sigma_v: positive(
+            "dv-2sigma-v",
+            args.dv_2sigma_v.unwrap_or(file.inputs.dv_2sigma_v),
+        )?,
     };
     let rate = positive("rate-e-s", args.rate_e_s)?;
     if args.n < 2 || args.n > MAX_N {
@@ -171,6 +196,7 @@ pub fn run(args: Args) -> CmdResult {
             "theta_f_rad": geometry.theta_f_rad(),
             "dv_2sigma_v": inputs.dv_2sigma_v,
             "elementary_charge_c": ELEMENTARY_CHARGE_C,
+            "charge": crate::inputs::json(&charge_file),
         },
         "thesis": {"c_rt_pf": 2.5, "q_2sigma_e": 3e8, "v_2sigma_v": 1.1, "neutralise_days": 50.0},
     });
@@ -178,6 +204,7 @@ pub fn run(args: Args) -> CmdResult {
         println!("{doc}");
         return Ok(0);
     }
+    println!("{}", crate::inputs::line(ModelInput::Charge, &charge_file));
     println!(
         "C_RT = {:.4} pF (quadrature; exact {:.4} pF, small-angle {:.4} pF; thesis 2.5 pF)",
         c_rt_quad * 1e12,

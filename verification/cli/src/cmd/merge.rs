@@ -83,9 +83,16 @@ pub fn run(args: Args) -> CmdResult {
     if args.json {
         let mut v = summary_json(&summary, seconds);
         crate::cmd::montecarlo::add_uncertainty(&mut v, &merged);
+        crate::cmd::montecarlo::add_inputs(&mut v, &merged);
         println!("{v}");
     } else {
-        print_text(&summary, seconds);
+        print_text(&summary, seconds, None);
+        if let Some(b) = &merged.budget_source {
+            println!(
+                "  release budget read by the parts: {} ({})",
+                b.label, b.origin
+            );
+        }
     }
     Ok(0)
 }

@@ -14,6 +14,7 @@ pub mod import;
 pub mod merge;
 pub mod montecarlo;
 pub mod plunger;
+pub mod requirements;
 pub mod sensitivity;
 pub mod surfaces;
 pub mod synth;

@@ -22,7 +22,8 @@ pub struct Args {
     /// Uncertainties sampled: all | adhesion | mechanisms.
     #[arg(long, default_value = "all")]
     pub case: String,
-    /// Uncertainty budget YAML (default: the embedded models/release/budget.yaml).
+    /// Uncertainty budget YAML [default: ./models/release/budget.yaml if present, else the
+    /// built-in copy; as verify].
     #[arg(long, value_name = "FILE")]
     pub budget: Option<PathBuf>,
     /// Run only shard I of K (1-based) and write it with --out.
@@ -103,15 +104,22 @@ fn parse_shard(s: &str) -> Result<(usize, usize), CliError> {
     Ok((i, k))
 }
 
-/// Loads the budget named by `--budget`, or the embedded default, with its `adhesion_from`
-/// applied (the campaign's population; path relative to the budget file).
-pub fn load_budget(path: Option<&Path>) -> Result<Budget, CliError> {
-    Ok(load_budget_with_population(path)?.0)
+/// The budget file: `--budget FILE`, else the repository's `models/release/budget.yaml` when
+/// run from the repository's root, else the built-in copy ([`crate::inputs::resolve`], as
+/// `verify` reads it).
+pub fn budget_input(path: Option<&Path>) -> Result<geodesic_core::check::InputFile, CliError> {
+    crate::inputs::resolve(crate::inputs::ModelInput::Budget, path)
+}
+
+/// Parses a resolved budget file, with its `adhesion_from` applied (the campaign's population;
+/// path relative to the budget file).
+pub fn load_budget(file: &geodesic_core::check::InputFile) -> Result<Budget, CliError> {
+    Ok(load_budget_with_population(file)?.0)
 }
 
 /// [`load_budget`], also returning the campaign population the budget names, if any.
 pub fn load_budget_with_population(
-    path: Option<&Path>,
+    file: &geodesic_core::check::InputFile,
 ) -> Result<
     (
         Budget,
@@ -119,23 +127,10 @@ pub fn load_budget_with_population(
     ),
     CliError,
 > {
-    let b = load_budget_raw(path)?;
-    geodesic_release::population::resolve(b, path).map_err(CliError::bad)
-}
-
-fn load_budget_raw(path: Option<&Path>) -> Result<Budget, CliError> {
-    match path {
-        None => Ok(Budget::default_budget()),
-        Some(p) => {
-            let text = geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_YAML_BYTES)
-                .map_err(|e| match e.line() {
-                    0 => CliError::bad(format!("{}: {}", p.display(), e.cause())),
-                    l => CliError::bad(format!("{}:{l}: {}", p.display(), e.cause())),
-                })?;
-            Budget::from_yaml(&text, &p.display().to_string())
-                .map_err(|e| CliError::bad(e.to_string()))
-        }
-    }
+    let b = Budget::from_yaml(&file.text, &file.label).map_err(|e| CliError::bad(e.to_string()))?;
+    let on_disk = file.origin != Some(geodesic_core::check::InputOrigin::BuiltIn);
+    geodesic_release::population::resolve(b, on_disk.then(|| Path::new(&file.label)))
+        .map_err(CliError::bad)
 }
 
 /// Writes `bytes` to `path` whole or not at all (temporary file, then rename; nothing left
@@ -173,8 +168,20 @@ pub fn add_uncertainty(v: &mut serde_json::Value, r: &McResult) {
     );
 }
 
-/// Prints a summary as text.
-pub fn print_text(s: &Summary, seconds: f64) {
+/// Adds `inputs.budget` (`{label, sha256, origin}`, as every command says which budget it
+/// read) from the budget source a run (or the partial results of one) carries.
+pub fn add_inputs(v: &mut serde_json::Value, r: &McResult) {
+    if let Some(s) = &r.budget_source {
+        v["inputs"] = serde_json::json!({"budget": {
+            "label": s.label,
+            "sha256": r.budget_hash,
+            "origin": s.origin,
+        }});
+    }
+}
+
+/// Prints a summary as text; `budget`: the budget file read (merge has only its hash).
+pub fn print_text(s: &Summary, seconds: f64, budget: Option<&geodesic_core::check::InputFile>) {
     println!(
         "in-flight release Monte Carlo: case {}, N = {}, seed {}",
         s.case, s.n, s.seed
@@ -189,7 +196,14 @@ pub fn print_text(s: &Summary, seconds: f64) {
         s.signed_mean_um_s, s.sd_um_s
     );
     println!("  fallback stops {}", s.fallback_stops);
-    println!("  budget {} ({})", s.budget_hash, s.budget);
+    match budget {
+        Some(f) => println!(
+            "  {}: {}",
+            crate::inputs::line(crate::inputs::ModelInput::Budget, f),
+            s.budget
+        ),
+        None => println!("  budget sha256 {} ({})", s.budget_hash, s.budget),
+    }
     println!("  {seconds:.2} s");
 }
 
@@ -220,7 +234,9 @@ pub fn run(args: Args) -> CmdResult {
         montecarlo::check_size(args.n, Some(k))
             .map_err(|e| CliError::bad(format!("--shard: {e}")))?;
     }
-    let (mut budget, mut population) = load_budget_with_population(args.budget.as_deref())?;
+    let budget_file = budget_input(args.budget.as_deref())?;
+    crate::inputs::announce(args.json, crate::inputs::ModelInput::Budget, &budget_file);
+    let (mut budget, mut population) = load_budget_with_population(&budget_file)?;
     if let Some(p) = &args.adhesion_from {
         let text =
             geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_CSV_BYTES).map_err(|e| {
@@ -254,13 +270,18 @@ pub fn run(args: Args) -> CmdResult {
     let bar = crate::progress::Task::counter(args.json, "montecarlo: releases", draws as u64);
     let t0 = Instant::now();
     let go = || montecarlo::run(&budget, case, args.n, args.seed, shard, &|k| bar.inc(k));
-    let result = with_threads(args.threads, go)?.map_err(|e| {
-        let src = args
-            .budget
-            .as_ref()
-            .map_or("built-in budget".to_string(), |p| p.display().to_string());
-        CliError::bad(format!("montecarlo ({src}): {e}"))
-    })?;
+    let mut result = with_threads(args.threads, go)?
+        .map_err(|e| CliError::bad(format!("montecarlo ({}): {e}", budget_file.label)))?;
+    // the budget is identified as every command identifies it: the SHA-256 of the file's bytes
+    // (partial results of one run carry it, and `merge` refuses parts of different budgets)
+    result.budget_hash = budget_file.sha256.clone();
+    result.budget_source = Some(geodesic_release::montecarlo::BudgetSource {
+        label: budget_file.label.clone(),
+        origin: serde_json::to_value(budget_file.origin)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_else(|| "given".into()),
+    });
     bar.finish();
     let seconds = t0.elapsed().as_secs_f64();
     if let Some(out) = &args.out {
@@ -277,6 +298,7 @@ pub fn run(args: Args) -> CmdResult {
     if args.json {
         let mut v = summary_json(&summary, seconds);
         add_uncertainty(&mut v, &result);
+        add_inputs(&mut v, &result);
         if let (Some(pop), Some(id)) = (&population, &identification) {
             v["p9973_interval_um_s"] = serde_json::json!(id.interval_um_s);
             v["probability_met"] = serde_json::json!(id.probability_met(LIMIT_UM_S));
@@ -308,7 +330,7 @@ pub fn run(args: Args) -> CmdResult {
                 args.n
             );
         }
-        print_text(&summary, seconds);
+        print_text(&summary, seconds, Some(&budget_file));
         if let (Some(pop), Some(id)) = (&population, &identification) {
             println!(
                 "  adhesion from {}: A1 {:.4e} +- {:.2e} (spread {:.3e}), lambda {:.4e} +- {:.2e} (spread {:.3e})",

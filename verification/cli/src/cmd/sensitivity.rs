@@ -4,7 +4,7 @@
 //! 99.73 % point when each group is frozen at nominal. Thin: the estimators are in
 //! `geodesic_release::sensitivity`.
 
-use crate::cmd::montecarlo::{check_threads, load_budget, with_threads};
+use crate::cmd::montecarlo::{budget_input, check_threads, load_budget, with_threads};
 use crate::error::{CliError, CmdResult};
 use geodesic_release::sensitivity::{release_groups, release_sensitivity};
 use serde_json::json;
@@ -24,7 +24,8 @@ pub struct Args {
     /// Seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Uncertainty budget YAML (default: the embedded models/release/budget.yaml).
+    /// Uncertainty budget YAML [default: ./models/release/budget.yaml if present, else the
+    /// built-in copy; as verify].
     #[arg(long, value_name = "FILE.yaml")]
     pub budget: Option<PathBuf>,
     /// Worker threads (results do not depend on it).
@@ -44,7 +45,9 @@ pub fn run(args: Args) -> CmdResult {
             args.n
         )));
     }
-    let budget = load_budget(args.budget.as_deref())?;
+    let budget_file = budget_input(args.budget.as_deref())?;
+    crate::inputs::announce(args.json, crate::inputs::ModelInput::Budget, &budget_file);
+    let budget = load_budget(&budget_file)?;
     let groups = release_groups().len() as u64;
     let task = crate::progress::Task::counter(
         args.json,
@@ -60,6 +63,7 @@ pub fn run(args: Args) -> CmdResult {
             "n": r.n,
             "seed": r.seed,
             "output": "|v_TM| [um/s]",
+            "inputs": {"budget": crate::inputs::json(&budget_file)},
             "p9973_um_s": r.p9973_um_s,
             "variance_um2_s2": r.variance_um2_s2,
             "sum_first": r.groups.iter().map(|(g, _)| g.first).sum::<f64>(),
@@ -78,6 +82,10 @@ pub fn run(args: Args) -> CmdResult {
         );
         return Ok(0);
     }
+    println!(
+        "{}",
+        crate::inputs::line(crate::inputs::ModelInput::Budget, &budget_file)
+    );
     println!(
         "|v_TM| over {} x 2 draws (seed {}): 99.73 % point {:.3} um/s, variance {:.4} (um/s)^2",
         r.n, r.seed, r.p9973_um_s, r.variance_um2_s2

@@ -3,7 +3,7 @@
 //! 180 mm/s; upper: 0.4 N, 45 mm/s), their optimum, and the full release Monte Carlo at a
 //! handful of radii as a cross-check. Thin: the model is `geodesic_release::tipradius`.
 
-use crate::cmd::montecarlo::{load_budget, write_atomic};
+use crate::cmd::montecarlo::{budget_input, load_budget, write_atomic};
 use crate::error::{CliError, CmdResult};
 use geodesic_release::tipradius::{
     ESTIMATES, SimpleInputs, initial_jerk_m_s3, monte_carlo_at, optimum_radius_m, worst_velocity,
@@ -29,7 +29,8 @@ pub struct Args {
     /// Seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Uncertainty budget YAML (default: the embedded models/release/budget.yaml).
+    /// Uncertainty budget YAML [default: ./models/release/budget.yaml if present, else the
+    /// built-in copy; as verify].
     #[arg(long, value_name = "FILE.yaml")]
     pub budget: Option<PathBuf>,
     /// Also write the plot to FILE.svg.
@@ -66,7 +67,9 @@ pub fn run(args: Args) -> CmdResult {
     if let Some(p) = &args.plot {
         geodesic_core::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
     }
-    let budget = load_budget(args.budget.as_deref())?;
+    let budget_file = budget_input(args.budget.as_deref())?;
+    crate::inputs::announce(args.json, crate::inputs::ModelInput::Budget, &budget_file);
+    let budget = load_budget(&budget_file)?;
     let inputs = SimpleInputs {
         e_star_pa: budget.e_star_pa.mean(),
         mass_kg: budget.tm_mass_kg.mean(),
@@ -131,6 +134,7 @@ pub fn run(args: Args) -> CmdResult {
         "monte_carlo": mc.iter().map(|p| json!({"radius_mm": p.radius_m * 1e3, "p9973_um_s": p.p9973_um_s, "a1_scale": p.a1_scale})).collect::<Vec<_>>(),
         "mc_n": args.mc_n,
         "seed": args.seed,
+        "inputs": {"budget": crate::inputs::json(&budget_file)},
     });
     if let Some(p) = &args.plot {
         let svg = geodesic_checks::plots::tip_radius_svg(&curves, &mc, r0)
@@ -141,6 +145,10 @@ pub fn run(args: Args) -> CmdResult {
         let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
         println!("{text}");
     } else {
+        println!(
+            "{}",
+            crate::inputs::line(crate::inputs::ModelInput::Budget, &budget_file)
+        );
         println!(
             "initial tip jerk {:.3e} m/s^3 (mechanism model), E* {:.0} GPa, M {} kg, gold 120 MPa, bond 0.8 um",
             inputs.jerk_m_s3,

@@ -89,6 +89,11 @@ pub struct Args {
     /// requirements directory if present, else the checks' built-in copy].
     #[arg(long, value_name = "FILE.yaml")]
     pub design: Option<PathBuf>,
+    /// Run only these requirements and what they depend on (their parents, the rows a
+    /// flow-down assumes, the rows that judge their model inputs); the matrix holds those rows,
+    /// marked chosen or dependency, and says the run was partial. Never with --baseline.
+    #[arg(long, value_name = "ID[,ID...]", value_delimiter = ',')]
+    pub only: Vec<String>,
     /// Print only the JSON compliance matrix on standard output.
     #[arg(long)]
     pub json: bool,
@@ -214,7 +219,9 @@ pub fn run(args: Args) -> CmdResult {
             args.reports.display()
         )));
     }
+    crate::only::refuse_partial_gate(&args.only, args.baseline.as_deref())?;
     let (reqs, source, requirements_hash) = load_requirements(args.requirements.as_ref())?;
+    let mut selection = crate::only::Selection::parse(&args.only, &reqs)?;
     let mc = geodesic_checks::release::SharedMonteCarlo::new();
     let registry = geodesic_checks::registry_with(mc.clone());
     let names: Vec<&str> = registry.iter().map(|c| c.name()).collect();
@@ -274,6 +281,7 @@ pub fn run(args: Args) -> CmdResult {
         design,
         series,
     };
+    announce_inputs(args.json, &inputs);
     geodesic_charge::ChargeFile::from_yaml_str(&inputs.charge.text, &inputs.charge.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
     let b = geodesic_release::budget::Budget::from_yaml(&inputs.budget.text, &inputs.budget.label)
@@ -346,41 +354,60 @@ pub fn run(args: Args) -> CmdResult {
         args.confidence,
         !crate::progress::enabled(args.json),
     );
+    let wanted = |check: &dyn geodesic_core::Check, sel: Option<&crate::only::Selection>| {
+        geodesic_checks::is_wanted(check, &reqs) && sel.is_none_or(|s| s.wants(check, &reqs))
+    };
     let to_run = registry
         .iter()
-        .filter(|c| geodesic_checks::is_wanted(c.as_ref(), &reqs))
+        .filter(|c| wanted(c.as_ref(), selection.as_ref()))
         .count()
-        + usize::from(!args.no_fidelity && reqs.items.iter().any(|r| r.family == "release"));
+        + usize::from(
+            selection.is_none()
+                && !args.no_fidelity
+                && reqs.items.iter().any(|r| r.family == "release"),
+        );
     let mut task = crate::progress::Task::counter(args.json, "verify", to_run as u64);
     let mut evidence = Vec::new();
     let mut runs = Vec::new();
-    for check in &registry {
-        if !geodesic_checks::is_wanted(check.as_ref(), &reqs) {
-            continue; // none of its requirements is loaded: listed as an orphan check below
-        }
-        task.set_label(&format!("verify: check {}", check.name()));
-        let t0 = Instant::now();
-        let ev = check
-            .run(&ctx)
-            .map_err(|e| CliError::bad(format!("check {}: {e}", check.name())))?;
-        // wall time is not controlled content: standard error only, never in a report
-        eprintln!(
-            "geodesic: check {} took {:.1} s",
-            check.name(),
-            t0.elapsed().as_secs_f64()
-        );
-        let mut verifies: Vec<String> = check.verifies().iter().map(|s| s.to_string()).collect();
-        for e in &ev {
-            if !verifies.contains(&e.requirement) {
-                verifies.push(e.requirement.clone());
+    let mut done = vec![false; registry.len()];
+    loop {
+        for (i, check) in registry.iter().enumerate() {
+            if done[i] || !wanted(check.as_ref(), selection.as_ref()) {
+                continue; // none of its requirements is loaded (an orphan check, listed below)
             }
+            done[i] = true;
+            task.set_label(&format!("verify: check {}", check.name()));
+            let t0 = Instant::now();
+            let ev = check
+                .run(&ctx)
+                .map_err(|e| CliError::bad(format!("check {}: {e}", check.name())))?;
+            // wall time is not controlled content: standard error only, never in a report
+            eprintln!(
+                "geodesic: check {} took {:.1} s",
+                check.name(),
+                t0.elapsed().as_secs_f64()
+            );
+            let mut verifies: Vec<String> =
+                check.verifies().iter().map(|s| s.to_string()).collect();
+            for e in &ev {
+                if !verifies.contains(&e.requirement) {
+                    verifies.push(e.requirement.clone());
+                }
+            }
+            runs.push(CheckRun {
+                name: check.name().to_string(),
+                verifies,
+            });
+            evidence.push((check.name().to_string(), ev));
+            task.inc(1);
         }
-        runs.push(CheckRun {
-            name: check.name().to_string(),
-            verifies,
-        });
-        evidence.push((check.name().to_string(), ev));
-        task.inc(1);
+        // --only: what the evidence so far shows the chosen rows depend on runs too
+        let grew = selection
+            .as_mut()
+            .is_some_and(|s| s.grow(&evidence, &registry, &reqs));
+        if !grew {
+            break;
+        }
     }
     let tests_label = tests_path.as_ref().map(|p| p.display().to_string());
     let mut matrix = Matrix::build_with(
@@ -412,6 +439,9 @@ pub fn run(args: Args) -> CmdResult {
             ));
         }
     }
+    if let Some(s) = &selection {
+        s.apply(&mut matrix);
+    }
     for check in &registry {
         if !geodesic_checks::is_wanted(check.as_ref(), &reqs) {
             for id in check.verifies() {
@@ -425,7 +455,8 @@ pub fn run(args: Args) -> CmdResult {
     // the fidelity table compares the LISA Pathfinder release with the thesis: only for a
     // requirement set that has the release family
     let lpf = reqs.items.iter().any(|r| r.family == "release");
-    let mut fidelity = if args.no_fidelity || !lpf {
+    // a partial run (--only) leaves the fidelity table out: it is not about the chosen rows
+    let mut fidelity = if args.no_fidelity || !lpf || selection.is_some() {
         Vec::new()
     } else {
         task.set_label("verify: fidelity table (Monte Carlo cases adhesion and mechanisms)");
@@ -435,7 +466,8 @@ pub fn run(args: Args) -> CmdResult {
         t
     };
     // the Drag-Free CubeSat housing's figures, when its requirements are loaded
-    if !args.no_fidelity && reqs.items.iter().any(|r| r.family == "housing") {
+    if !args.no_fidelity && selection.is_none() && reqs.items.iter().any(|r| r.family == "housing")
+    {
         fidelity.extend(
             geodesic_checks::fidelity::dfc_table(&ctx)
                 .map_err(|e| CliError::bad(format!("fidelity table: {e}")))?,
@@ -463,6 +495,7 @@ pub fn run(args: Args) -> CmdResult {
             confidence: args.confidence,
             checks: runs,
             fidelity,
+            partial: selection.as_ref().map(|s| s.partial(&reqs)),
         },
         reverify: Default::default(),
     };
@@ -534,6 +567,12 @@ pub fn run(args: Args) -> CmdResult {
             .filter(|p| p.parent() == Some(args.reports.as_path()))
             .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
             .collect();
+        for l in input_lines(&report.run.inputs) {
+            println!("{l}");
+        }
+        if let Some(p) = &report.run.partial {
+            println!("partial run: {}", p.note);
+        }
         println!("wrote {}/{{{}}}", args.reports.display(), names.join(","));
     }
     if let Some(d) = &diff {
@@ -632,8 +671,9 @@ pub fn run(args: Args) -> CmdResult {
 /// The repository's `verification/document.yaml`, built into the binary.
 pub const DEFAULT_DOCUMENT_YAML: &str = include_str!("../../../document.yaml");
 
-/// A model input file: `path` if given, else the repository's copy at `default_rel` (relative to
-/// the current directory) if present, else the copy built into the binary.
+/// An input file that is not a model input (the document identification): `path` if given,
+/// else the repository's copy at `default_rel` (relative to the current directory) if present,
+/// else the copy built into the binary. Model inputs: [`crate::inputs::resolve`].
 pub fn input_file(
     path: Option<&PathBuf>,
     default_rel: &str,
@@ -652,29 +692,44 @@ pub fn input_file(
     }
 }
 
-/// The release budget file (see [`input_file`]).
+/// The model inputs of a run, each with where it was resolved from and its SHA-256.
+fn input_lines(inputs: &geodesic_core::check::ModelInputs) -> Vec<String> {
+    use crate::inputs::{ModelInput, line};
+    vec![
+        line(ModelInput::Budget, &inputs.budget),
+        line(ModelInput::Capture, &inputs.capture),
+        line(ModelInput::Charge, &inputs.charge),
+    ]
+}
+
+/// With `--json --progress`, the model inputs on standard error ([`crate::inputs::announce`]).
+fn announce_inputs(json: bool, inputs: &geodesic_core::check::ModelInputs) {
+    use crate::inputs::{ModelInput, announce};
+    announce(json, ModelInput::Budget, &inputs.budget);
+    announce(json, ModelInput::Capture, &inputs.capture);
+    announce(json, ModelInput::Charge, &inputs.charge);
+}
+
+/// The release budget file, resolved as every command resolves it ([`crate::inputs::resolve`]).
 pub fn budget_file(path: Option<&PathBuf>) -> Result<geodesic_core::check::InputFile, CliError> {
-    input_file(
-        path,
-        "models/release/budget.yaml",
-        geodesic_release::budget::DEFAULT_BUDGET_YAML,
+    crate::inputs::resolve(
+        crate::inputs::ModelInput::Budget,
+        path.map(PathBuf::as_path),
     )
 }
 
-/// The charge inputs file (see [`input_file`]).
+/// The charge inputs file ([`crate::inputs::resolve`]).
 pub fn charge_file(path: Option<&PathBuf>) -> Result<geodesic_core::check::InputFile, CliError> {
-    input_file(
-        path,
-        "models/charge/charge.yaml",
-        geodesic_charge::DEFAULT_CHARGE_YAML,
+    crate::inputs::resolve(
+        crate::inputs::ModelInput::Charge,
+        path.map(PathBuf::as_path),
     )
 }
 
-/// The capture inputs file (see [`input_file`]).
+/// The capture inputs file ([`crate::inputs::resolve`]).
 pub fn capture_file(path: Option<&PathBuf>) -> Result<geodesic_core::check::InputFile, CliError> {
-    input_file(
-        path,
-        "models/capture/capture.yaml",
-        geodesic_capture::DEFAULT_CAPTURE_YAML,
+    crate::inputs::resolve(
+        crate::inputs::ModelInput::Capture,
+        path.map(PathBuf::as_path),
     )
 }
