@@ -133,8 +133,12 @@ def main():
         hist = next((o for c, o in runs if " history " in c), None)
         if hist is None:
             fail("the guide runs no history")
-        if name not in hist:
-            fail(f"history shows no model version with {name}:\n{hist[-1500:]}")
+        rows = re.findall(r"^\s*\d+\s+\S+\s+([0-9.e+-]+)\s+\S+\s+\d+\s+(\S+)\s*$", hist, re.M)
+        with_it = [float(c) for c, e in rows if name in e.split(",")]
+        without = [float(c) for c, e in rows if name not in e.split(",")]
+        if not with_it or not without or not min(with_it) < min(without):
+            fail(f"history does not show chi2_red falling with {name}:\n{hist[-1500:]}")
+        print(f"loop: history: chi2_red {min(without):g} without {name}, {min(with_it):g} with it")
         print(f"loop: passed (discover explains the record with `{name}`; hiding and guard tests pass)")
     finally:
         if in_place:
