@@ -811,9 +811,10 @@ fn capitalise(s: &str) -> String {
 pub fn check_root(root: &Path) -> Result<(), String> {
     for rel in [MOD_RS, HIDE_EACH, "Cargo.toml"] {
         if !root.join(rel).is_file() {
+            let shown = std::fs::canonicalize(root).unwrap_or_else(|_| root.to_path_buf());
             return Err(format!(
                 "--scaffold writes into the repository: run it from the repository's root ({} has no {rel})",
-                root.display()
+                shown.display()
             ));
         }
     }
