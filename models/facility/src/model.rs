@@ -128,6 +128,27 @@ impl Model {
         })
     }
 
+    /// The delay of the record's time axis [s] under `p`: the sum of the effects'
+    /// [`Effect::time_shift`](crate::effects::Effect::time_shift); `None` when no effect shifts
+    /// time.
+    pub fn time_shift(&self, p: &[f64]) -> Option<f64> {
+        let mut any = None;
+        for (i, e) in self.effects.iter().enumerate() {
+            if let Some(d) = e.time_shift(&p[self.range(i)]) {
+                any = Some(any.unwrap_or(0.0) + d);
+            }
+        }
+        any
+    }
+
+    /// Whether an effect of the model shifts time ([`Model::time_shift`] at nominal values).
+    pub fn shifts_time(&self) -> bool {
+        self.effects.iter().any(|e| {
+            let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
+            e.time_shift(&nominal).is_some()
+        })
+    }
+
     /// The effect names, in model order.
     pub fn effect_names(&self) -> Vec<&'static str> {
         self.effects.iter().map(|e| e.name()).collect()

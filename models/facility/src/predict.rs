@@ -12,6 +12,16 @@ impl Model {
     /// Predicted fitted channel (`x` for `tmmf-release`, `y` for `rt-retraction`) [m] at `times`
     /// [s] for parameters `p`.
     pub fn predict(&self, p: &[f64], times: &[f64], inputs: &Inputs) -> Vec<f64> {
+        if let Some(d) = self.time_shift(p) {
+            // an effect delays the record's time axis: the model at `t - d` (issue 36)
+            let shifted: Vec<f64> = times.iter().map(|t| t - d).collect();
+            return self.predict_unshifted(p, &shifted, inputs);
+        }
+        self.predict_unshifted(p, times, inputs)
+    }
+
+    /// [`Model::predict`] without the effects' time shift.
+    fn predict_unshifted(&self, p: &[f64], times: &[f64], inputs: &Inputs) -> Vec<f64> {
         match self.scenario {
             Scenario::TmmfRelease => tmmf::simulate(self, p, times, inputs),
             Scenario::RtRetraction => retraction(self, p, times, inputs.e0_v),
@@ -24,7 +34,7 @@ impl Model {
     /// ([`tmmf::simulate_many`]); otherwise one after the other.
     pub fn predict_many(&self, ps: &[Vec<f64>], times: &[f64], inputs: &Inputs) -> Vec<Vec<f64>> {
         match self.scenario {
-            Scenario::TmmfRelease if self.lanes() > 1 => {
+            Scenario::TmmfRelease if self.lanes() > 1 && !self.shifts_time() => {
                 tmmf::simulate_many(self, ps, times, inputs)
             }
             _ => ps.iter().map(|p| self.predict(p, times, inputs)).collect(),
@@ -48,7 +58,7 @@ impl Model {
     /// `n_dirs` parameters: a `tmmf-release` model whose forces are the needles' and the tip's
     /// springs and the tip adhesion, without distortions (the others keep finite differences).
     pub fn has_tangents(&self, n_dirs: usize) -> bool {
-        tmmf::tangents_cover(self, n_dirs)
+        !self.shifts_time() && tmmf::tangents_cover(self, n_dirs)
     }
 
     /// How many evaluations [`Model::predict_many`] interleaves in one thread: [`tmmf::LANES`]
@@ -67,12 +77,18 @@ impl Model {
                 crate::effects::EffectKind::Distortion => true,
                 crate::effects::EffectKind::Mechanism => false,
             });
-        if laws { tmmf::LANES } else { 1 }
+        if laws && !self.shifts_time() {
+            tmmf::LANES
+        } else {
+            1
+        }
     }
 }
 
 /// `rt-retraction`: builds the mechanism configuration of `model` for `p` (each effect's
-/// `configure_rt`) and returns `y(t) - y(0)` [m] at `times` [s].
+/// `configure_rt`) and returns `y(t) - y(0)` [m] at `times` [s], with the distortions of the
+/// reading added (an effect of kind `Distortion` of this scenario, e.g. one written by
+/// `discover --scaffold`, issue 36).
 pub fn retraction(model: &Model, p: &[f64], times: &[f64], e0_v: f64) -> Vec<f64> {
     let mut cfg = RtConfig {
         e0_v,
@@ -81,5 +97,14 @@ pub fn retraction(model: &Model, p: &[f64], times: &[f64], e0_v: f64) -> Vec<f64
     for (i, e) in model.effects.iter().enumerate() {
         e.configure_rt(&p[model.range(i)], &mut cfg);
     }
-    cfg.retraction(times)
+    let mut y = cfg.retraction(times);
+    for (i, e) in model.effects.iter().enumerate() {
+        if e.kind() == crate::effects::EffectKind::Distortion {
+            let pe = &p[model.range(i)];
+            for (yi, &t) in y.iter_mut().zip(times) {
+                *yi += e.distortion(pe, t, *yi);
+            }
+        }
+    }
+    y
 }

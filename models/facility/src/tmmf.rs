@@ -459,6 +459,7 @@ impl<'a> Run<'a> {
                 needle_gap: x - sh.x_n0,
                 f_pre: sh.f_pre,
                 needle_body: sh.body,
+                m_kg: self.inputs.m_kg,
                 own: &s[off..off + k],
             };
             f += e.force(pe, &st, &mut ds[off..off + k]);
@@ -559,6 +560,7 @@ impl<'a> Run<'a> {
                 needle_gap: s[0] - sh.x_n0,
                 f_pre: sh.f_pre,
                 needle_body: sh.body,
+                m_kg: self.inputs.m_kg,
                 own: &s[off..off + k],
             };
             test(e, pe, &st, &rc)

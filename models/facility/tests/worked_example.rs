@@ -52,6 +52,7 @@ fn the_worked_example_is_a_valid_force_effect() {
         needle_gap: 0.0,
         f_pre: 0.0,
         needle_body: false,
+        m_kg: 0.089,
         own: &[],
     };
     assert!((Pendulum.force(&[0.87], &s, &mut []) + 0.87e-6).abs() < 1e-18);

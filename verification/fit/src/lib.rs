@@ -33,6 +33,7 @@ pub mod posterior;
 pub mod prepare;
 pub mod report;
 pub mod residual;
+pub mod scaffold;
 pub mod spectral;
 pub mod synth;
 

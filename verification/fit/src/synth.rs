@@ -240,7 +240,7 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
     };
     let truth = if k == 1 {
         model.predict(&p, &t, &inputs)
-    } else if scenario == Scenario::TmmfRelease {
+    } else if scenario == Scenario::TmmfRelease && !model.shifts_time() {
         let h = geodesic_facility::tmmf::step_for_mass(inputs.m_kg) / k as f64;
         mean_of(geodesic_facility::tmmf::simulate_with_step(
             &model, &p, &fine, &inputs, h,

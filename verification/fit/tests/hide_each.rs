@@ -70,6 +70,52 @@ fn check_record(c: &Case, fs_hz: f64, post_s: f64) {
     check_prepared(c, dataset_record(c, Some((fs_hz, post_s))));
 }
 
+/// The conditions of a recorded dataset that a hiding test written by `discover --scaffold`
+/// (issue 36) reproduces.
+#[allow(dead_code)] // used by the hiding tests `discover --scaffold` writes
+struct Record {
+    /// Sampling rate [Hz].
+    fs_hz: f64,
+    /// Record after the trigger [s].
+    post_s: f64,
+    /// 1-sigma white noise of the fitted channel [m].
+    noise: f64,
+    /// Tip speed after the trigger [m/s] (`tmmf-release`).
+    v_m_s: f64,
+}
+
+/// `check` on a record of the conditions `r` (sampling rate, length, the fitted channel's noise,
+/// the tip's speed): the hiding test of an effect written by `discover --scaffold` from a term
+/// outside the catalogue, in the conditions of the record that showed it.
+#[allow(dead_code)] // used by the hiding tests `discover --scaffold` writes
+fn check_like(c: &Case, r: &Record) {
+    let base: Vec<&'static str> = c.scenario.base_effects().to_vec();
+    let mut truth = base.clone();
+    truth.extend(c.hidden);
+    let mut spec = SynthSpec::defaults(c.scenario, &truth);
+    for (k, v) in c.params {
+        spec.params.insert(k.to_string(), *v);
+    }
+    for (k, v) in c.known {
+        spec.known.insert(k.to_string(), *v);
+    }
+    spec.seed = c.seed;
+    spec.noise_in_yaml = c.noise_in_yaml;
+    spec.fs_hz = r.fs_hz;
+    spec.post_s = r.post_s;
+    spec.pre_s = spec.pre_s.min(r.post_s);
+    spec.noise
+        .insert(c.scenario.fitted_channel().to_string(), r.noise);
+    if c.scenario == Scenario::TmmfRelease {
+        spec.profile = TipProfile {
+            jerk_m_s3: c.jerk,
+            v_m_s: r.v_m_s,
+        };
+    }
+    let prep = Prepared::new(generate(&spec, "hidden.yaml").expect("synth"));
+    check_prepared(c, (prep, base));
+}
+
 fn check_prepared(c: &Case, (prep, base): (Prepared, Vec<&'static str>)) {
     let opts = FitOptions::default();
     let (report, _) = diagnose(&prep, &base, &opts).expect("diagnose");

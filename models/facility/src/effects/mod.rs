@@ -306,6 +306,9 @@ pub struct TmState<'a> {
     pub f_pre: f64,
     /// True when an effect with its own body (`needle_mass`) replaces the fixed needle spring.
     pub needle_body: bool,
+    /// TM mock-up mass [kg] (the dataset's `known.m`): a force given as an acceleration (a
+    /// pendulum's `w0^2`, a damping rate `gamma`) is that times the mass.
+    pub m_kg: f64,
     /// The effect's own internal states (e.g. needle body position and velocity).
     pub own: &'a [f64],
 }
@@ -440,6 +443,13 @@ pub trait Effect: Send + Sync {
     /// (the fit's exact Jacobian, `tmmf::simulate_with_tangents`); `None` (the default) when
     /// the effect does not offer them (the fit then takes finite differences).
     fn distortion_gradient(&self, _p: &[f64], _t: f64, _x: f64, _d_p: &mut [f64]) -> Option<f64> {
+        None
+    }
+    /// A delay of the record's time axis [s]: the model is evaluated at `t - delay` (a trigger
+    /// that fires before the motion starts). `None` (the default) for an effect that does not
+    /// shift time; an effect that does returns `Some` for every parameter vector. The shifts of
+    /// a model's effects add up ([`Model::time_shift`](crate::model::Model::time_shift)).
+    fn time_shift(&self, _p: &[f64]) -> Option<f64> {
         None
     }
     /// Writes the effect's parameters into the mechanism configuration (`rt-retraction`).

@@ -72,6 +72,7 @@ mod tests {
             needle_gap: 3e-7,
             f_pre: 6e-3,
             needle_body: false,
+            m_kg: 0.089,
             own: &[],
         };
         assert!(NeedleAdhesion.force(&[1e5, 3e-7], &s, &mut []) < 0.0);

@@ -84,6 +84,7 @@ mod tests {
             needle_gap: -1e-8,
             f_pre: 6.5e-3,
             needle_body: false,
+            m_kg: 0.089,
             own: &[],
         };
         let f = NeedleContact.force(&[6.5e5, 6.5e-3], &s, &mut []);

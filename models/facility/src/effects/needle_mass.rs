@@ -118,6 +118,7 @@ mod tests {
             needle_gap: 0.0,
             f_pre: 0.3,
             needle_body: true,
+            m_kg: 0.089,
             own: &[0.0, 0.0],
         };
         let mut ds = [9.0, 9.0];

@@ -83,6 +83,7 @@ mod tests {
             needle_gap: 1e-6,
             f_pre: 6e-3,
             needle_body: false,
+            m_kg: 0.089,
             own: &[],
         };
         let f = TipAdhesion.force(&[1.3e5, 6e-7], &s, &mut []);

@@ -61,6 +61,7 @@ mod tests {
             needle_gap: 0.0,
             f_pre: 6e-3,
             needle_body: false,
+            m_kg: 0.089,
             own: &[],
         };
         assert!((TipContact.force(&[1e6], &s, &mut []) + 6e-3).abs() < 1e-12);

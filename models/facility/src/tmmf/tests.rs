@@ -74,6 +74,7 @@ proptest! {
                 needle_gap: gap,
                 f_pre: 6e-3,
                 needle_body: body,
+                m_kg: 0.089,
                 own: &own[..k],
             };
             let mut ds = [f64::NAN; 2];

@@ -43,10 +43,19 @@ pub struct Args {
     /// Print exactly one JSON document on standard output.
     #[arg(long)]
     pub json: bool,
+    /// Write a new effect NAME (snake_case) from the leading term outside the catalogue into
+    /// the catalogue: its file under models/facility/src/effects/, its registration, its hiding
+    /// test and guard-list entry (run from the repository's root; rebuild, then discover again).
+    #[arg(long, value_name = "NAME")]
+    pub scaffold: Option<String>,
 }
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
+    // --scaffold: the name and the repository checked before any computation
+    if let Some(name) = &args.scaffold {
+        scaffold_preflight(name)?;
+    }
     let fits = fits_under(&args.reports, None)?;
     let fit = options(&args.fix, &args.bound)?;
     let prep = load(&args.dataset, args.strict)?;
@@ -83,10 +92,18 @@ pub fn run(args: Args) -> CmdResult {
     geodesic_fit::plot::write_svg(&path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
     fr.svg = Some(path.display().to_string());
     report.final_fit = fr;
+    let scaffolded = match &args.scaffold {
+        Some(name) => Some(scaffold(name, &args.dataset, &prep, &report)?),
+        None => None,
+    };
     if args.json {
+        let mut v = serde_json::to_value(&report).map_err(|e| CliError::Io(e.to_string()))?;
+        if let (Some(s), Some(obj)) = (&scaffolded, v.as_object_mut()) {
+            obj.insert("scaffold".into(), s.json.clone());
+        }
         println!(
             "{}",
-            serde_json::to_string(&report).map_err(|e| CliError::Io(e.to_string()))?
+            serde_json::to_string(&v).map_err(|e| CliError::Io(e.to_string()))?
         );
         return Ok(0);
     }
@@ -194,5 +211,145 @@ pub fn run(args: Args) -> CmdResult {
             );
         }
     }
+    if let Some(s) = &scaffolded {
+        print!("{}", s.text);
+    }
     Ok(0)
+}
+
+/// What `--scaffold` wrote: lines for the terminal and the `scaffold` object of `--json`.
+struct Scaffolded {
+    text: String,
+    json: serde_json::Value,
+}
+
+/// `--scaffold NAME` before any computation: the name (snake_case, not in the catalogue, no
+/// file of that name) and the working directory (the repository's root).
+fn scaffold_preflight(name: &str) -> Result<(), CliError> {
+    use geodesic_fit::scaffold;
+    let root = std::path::Path::new(".");
+    scaffold::check_root(root).map_err(CliError::bad)?;
+    scaffold::check_name(name, Some(&root.join(scaffold::EFFECTS_DIR))).map_err(CliError::bad)
+}
+
+/// `--scaffold NAME` after the discovery: the effect from the leading term outside the
+/// catalogue, every file written or none (issue 36).
+fn scaffold(
+    name: &str,
+    dataset: &std::path::Path,
+    prep: &geodesic_fit::fit::Prepared,
+    report: &geodesic_fit::discover::DiscoverReport,
+) -> Result<Scaffolded, CliError> {
+    use geodesic_fit::scaffold::{self, Conditions, Scaffold, lit};
+    let root = std::path::Path::new(".");
+    let bad = |e: String| CliError::bad(format!("--scaffold {name}: {e}"));
+    if report.explained {
+        return Err(bad(format!(
+            "{} is explained by the catalogue ({}): no term outside the catalogue to scaffold",
+            dataset.display(),
+            report.reason
+        )));
+    }
+    let Some(lead) = report.residual.terms.first() else {
+        return Err(bad(format!(
+            "discover found no term outside the catalogue in {}: nothing to scaffold",
+            dataset.display()
+        )));
+    };
+    let ds = &prep.dataset;
+    let t = &ds.t;
+    let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    dts.sort_by(f64::total_cmp);
+    let dt = dts.get(dts.len() / 2).copied().unwrap_or(1e-5);
+    let post_s = t.last().copied().unwrap_or(0.0).max(dt);
+    // the hiding test's record: the record's sampling, at most 20 000 samples after the trigger
+    let fs_hz = (1.0 / dt).min(20_000.0 / post_s);
+    let channel = ds.scenario.fitted_channel();
+    let noise = report
+        .final_fit
+        .noise
+        .get(channel)
+        .or_else(|| ds.noise.get(channel))
+        .copied()
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .unwrap_or(1e-9);
+    let known = match ds.scenario {
+        geodesic_facility::Scenario::TmmfRelease => ("m", prep.inputs.m_kg),
+        geodesic_facility::Scenario::RtRetraction => ("E0", prep.inputs.e0_v),
+    };
+    let conditions = Conditions {
+        fs_hz,
+        post_s,
+        known,
+        noise,
+        jerk_m_s3: prep.inputs.profile.jerk_m_s3,
+        v_m_s: prep.inputs.profile.v_m_s,
+    };
+    let record = dataset.display().to_string();
+    let s = Scaffold::from_term(
+        name,
+        ds.scenario,
+        lead,
+        &record,
+        &report.residual.indistinguishable,
+        &scaffold::today(),
+        conditions,
+    )
+    .map_err(bad)?;
+    let mut edits = s.edits(root).map_err(bad)?;
+    for (_, text) in edits.iter_mut() {
+        *text = scaffold::rustfmt(text, root).map_err(bad)?;
+    }
+    scaffold::write_all(&edits).map_err(|e| CliError::Io(format!("--scaffold {name}: {e}")))?;
+    let files: Vec<String> = edits
+        .iter()
+        .map(|(p, _)| p.strip_prefix(root).unwrap_or(p).display().to_string())
+        .collect();
+    let mut text = format!(
+        "scaffold: wrote the effect `{name}` ({}: {}) from the leading term [{}] (delta BIC {:.1}):\n",
+        s.scenario.name(),
+        s.law(),
+        s.kind,
+        s.delta_bic
+    );
+    for p in &s.params {
+        text.push_str(&format!(
+            "  {name}.{} = {} {} (range {} .. {})\n",
+            p.name,
+            lit(p.nominal),
+            p.unit,
+            lit(p.lower),
+            lit(p.upper)
+        ));
+    }
+    for f in &files {
+        text.push_str(&format!("  wrote {f}\n"));
+    }
+    let baseline = report
+        .rounds
+        .first()
+        .map(|r| r.effects.join(","))
+        .unwrap_or_default();
+    text.push_str(&format!(
+        "next: cargo build --release -p geodesic; geodesic discover {record} --effects {baseline}; cargo test --release -p geodesic-fit --test hide_each hidden_{name}\n"
+    ));
+    let params: serde_json::Map<String, serde_json::Value> = s
+        .params
+        .iter()
+        .map(|p| {
+            (
+                format!("{name}.{}", p.name),
+                serde_json::json!({"value": p.nominal, "unit": p.unit, "lower": p.lower, "upper": p.upper}),
+            )
+        })
+        .collect();
+    let json = serde_json::json!({
+        "name": name,
+        "kind": s.kind,
+        "scenario": s.scenario.name(),
+        "delta_bic": s.delta_bic,
+        "params": params,
+        "files": files,
+    });
+    Ok(Scaffolded { text, json })
 }

@@ -1,0 +1,171 @@
+//! `discover --scaffold` (issue 36): the code the one template writes, for every kind a term can
+//! have and both scenarios, is Rust that parses (syn), is already as rustfmt writes it, and
+//! registers the effect where the catalogue, the hiding tests and the guard list are read. (The
+//! generated effect is compiled, linted and run end to end by CI's `.ci/loop.py`, which follows
+//! docs/loop.md on the public example: a full build per kind is minutes, too long for here.)
+
+use geodesic_facility::Scenario;
+use geodesic_fit::kinds::{KindFit, TermParameter};
+use geodesic_fit::scaffold::{Conditions, KINDS, Scaffold, rustfmt};
+use std::path::Path;
+
+fn term(kind: &str, scenario: Scenario) -> KindFit {
+    let tm = scenario == Scenario::TmmfRelease;
+    let (par, coefs) = match kind {
+        "position" if tm => (("f0", 1.5664, "Hz"), vec![-96.86, 3.03e-3]),
+        "position" => (("f0", 2.1e3, "Hz"), vec![-1.74e8, 0.1]),
+        "velocity" => (("gamma", 100.566, "1/s"), vec![-100.566]),
+        "delay" => (("delay", 3.0046e-6, "s"), vec![1.0]),
+        "creep" => (("tau", 2e-4, "s"), vec![5e-9]),
+        "slip" => (("t0", 1.2e-3, "s"), vec![-3e-9]),
+        "impulse" => (("t0", 1.2e-3, "s"), vec![2e-6]),
+        _ => (("f", 729.94, "Hz"), vec![3.7e-9, 1.5e-9]),
+    };
+    KindFit {
+        kind: kind.into(),
+        state: String::new(),
+        term: format!("x: a term of kind {kind}, with \"quotes\" and a \\ backslash"),
+        coefficient: coefs[0],
+        sigma: 0.1,
+        coefficient_unit: String::new(),
+        parameter: Some(TermParameter {
+            name: par.0.into(),
+            value: par.1,
+            unit: par.2.into(),
+        }),
+        delta_chi2: 1e4,
+        delta_bic: -87477.8,
+        shape: Vec::new(),
+        coefs,
+        scan: 0.0,
+    }
+}
+
+fn scaffold(kind: &str, scenario: Scenario) -> Scaffold {
+    let known = if scenario == Scenario::TmmfRelease {
+        ("m", 0.089)
+    } else {
+        ("E0", 120.0)
+    };
+    Scaffold::from_term(
+        &format!("outside_{kind}"),
+        scenario,
+        &term(kind, scenario),
+        "data/examples/tmmf-\"odd\" name.yaml",
+        &["slip".into(), kind.into()],
+        "2026-11-27",
+        Conditions {
+            fs_hz: 1e5,
+            post_s: 0.02,
+            known,
+            noise: 8e-10,
+            jerk_m_s3: 6000.0,
+            v_m_s: 3e-3,
+        },
+    )
+    .expect("a scaffold of every kind")
+}
+
+fn root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+}
+
+/// Whether rustfmt runs here (it does wherever cargo fmt does).
+fn have_rustfmt() -> bool {
+    std::process::Command::new("rustfmt")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
+#[test]
+fn every_kind_generates_rust_that_parses_and_is_formatted() {
+    let fmt = have_rustfmt();
+    if !fmt {
+        eprintln!("rustfmt not found: the formatting half of this test is skipped");
+    }
+    for scenario in [Scenario::TmmfRelease, Scenario::RtRetraction] {
+        for kind in KINDS {
+            let s = scaffold(kind, scenario);
+            let src = s.effect_source();
+            let file =
+                syn::parse_file(&src).unwrap_or_else(|e| panic!("{kind} {scenario:?}: {e}\n{src}"));
+            // one struct, one impl of Effect with the methods of the trait only
+            let mut methods = Vec::new();
+            for item in &file.items {
+                if let syn::Item::Impl(i) = item {
+                    let tr = i.trait_.as_ref().expect("impl Effect");
+                    assert!(tr.1.is_ident("Effect"));
+                    for it in &i.items {
+                        if let syn::ImplItem::Fn(f) = it {
+                            methods.push(f.sig.ident.to_string());
+                        }
+                    }
+                }
+            }
+            let law = match (kind, scenario) {
+                ("position" | "velocity", Scenario::TmmfRelease) => "force",
+                ("position" | "velocity", Scenario::RtRetraction) => "configure_rt",
+                ("delay", _) => "time_shift",
+                _ => "distortion",
+            };
+            for m in [
+                "name",
+                "scenario",
+                "kind",
+                "summary",
+                "params",
+                law,
+                "null_params",
+                "starts",
+            ] {
+                assert!(
+                    methods.iter().any(|x| x == m),
+                    "{kind}: no {m} in {methods:?}"
+                );
+            }
+            // the parameter count declared is the number written
+            let n = s.params.len();
+            assert!(src.contains(&format!("[ParamSpec; {n}]")), "{src}");
+            assert!(src.contains("delta BIC -87477.8"), "{src}");
+            assert!(src.contains("kind `"), "{src}");
+            assert!(src.contains("2026-11-27"), "{src}");
+            for l in src.lines() {
+                assert!(l.len() <= 100, "{kind}: a line over 100 characters: {l}");
+            }
+            let test = s.hiding_test();
+            syn::parse_file(&test).unwrap_or_else(|e| panic!("{kind}: {e}\n{test}"));
+            if fmt {
+                assert_eq!(rustfmt(&src, root()).unwrap(), src, "{kind} {scenario:?}");
+                assert_eq!(rustfmt(&test, root()).unwrap(), test, "{kind} {scenario:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn registration_and_hiding_test_go_into_the_repository_files() {
+    let s = scaffold("vibration", Scenario::TmmfRelease);
+    let edits = s.edits(root()).expect("the repository's files");
+    assert_eq!(edits.len(), 3);
+    assert!(
+        edits[0]
+            .0
+            .ends_with("models/facility/src/effects/outside_vibration.rs")
+    );
+    for (p, text) in &edits {
+        syn::parse_file(text).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        if have_rustfmt() {
+            assert_eq!(&rustfmt(text, root()).unwrap(), text, "{}", p.display());
+        }
+    }
+    let mod_rs = &edits[1].1;
+    assert!(mod_rs.contains("\nmod outside_vibration;\n"));
+    assert!(mod_rs.contains("\npub use outside_vibration::OutsideVibration;\n"));
+    let cat = mod_rs.find("fn catalogue()").unwrap();
+    assert!(mod_rs[cat..].contains("        &OutsideVibration,\n    ];"));
+    let hide = &edits[2].1;
+    assert!(hide.contains("let tested = [\n        \"outside_vibration\","));
+    assert!(hide.contains("fn hidden_outside_vibration_is_named()"));
+    assert!(hide.contains("(\"outside_vibration.f\", 729.94)"));
+}
