@@ -104,6 +104,7 @@ impl Ctx {
                 confidence: 0.95,
                 checks: vec![],
                 fidelity: vec![],
+                timings: Default::default(),
             },
             reverify: Default::default(),
         })

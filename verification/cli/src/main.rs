@@ -9,6 +9,7 @@
 mod builtin;
 mod cmd;
 mod error;
+mod preflight;
 mod progress;
 mod quantity;
 mod usage;
