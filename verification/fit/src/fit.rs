@@ -658,8 +658,8 @@ fn fit_model_on(
         let cost_best = chi2 / r2;
         // one task per parameter and side (sixteen for eight parameters: two cores stay busy
         // to the end); each returns its reach and the lowest point it met below the best fit
-        #[allow(clippy::type_complexity)]
         let sides_done = std::sync::atomic::AtomicUsize::new(0);
+        #[allow(clippy::type_complexity)]
         let sides: Vec<(f64, Option<(f64, Vec<f64>)>)> = (0..2 * n_free)
             .into_par_iter()
             .map(|ks| {
