@@ -105,6 +105,7 @@ impl Ctx {
                 checks: vec![],
                 fidelity: vec![],
                 partial: None,
+                timings: Default::default(),
             },
             reverify: Default::default(),
         })

@@ -11,6 +11,7 @@ mod cmd;
 mod error;
 mod inputs;
 mod only;
+mod preflight;
 mod progress;
 mod quantity;
 mod usage;

@@ -1,5 +1,8 @@
 //! Progress on standard error for runs longer than a few seconds.
 //!
+//! Standard error otherwise carries errors and the warnings a user must see only (issue 35):
+//! a run piped into a log or a CI step prints its one-line error alone.
+//!
 //! Shown when standard error is a terminal and the command was not asked for `--json`; never
 //! with `--quiet`; always with `--progress` (then, when standard error is not a terminal, as
 //! plain lines: a start line, one line per 10 % of a counted task of 20 steps or more, and an end line with the
@@ -138,6 +141,40 @@ impl Task {
             eprintln!("geodesic: {label} ...");
         }
         self.label = label.to_string();
+    }
+
+    /// A line of progress (a check's wall time, a fit's iteration): above the bar on a
+    /// terminal, a plain line with `--progress`, nothing when progress is not shown.
+    pub fn note(&self, line: &str) {
+        if let Some(b) = &self.bar {
+            b.println(format!("geodesic: {line}"));
+        } else if self.plain {
+            eprintln!("geodesic: {line}");
+        }
+    }
+
+    /// A hook for the fit library's progress ([`geodesic_fit::progress`]) while this task runs:
+    /// on a terminal the line replaces the spinner's message; with `--progress` elsewhere each
+    /// stage is a line and the iterations between are thinned to one line every 2 s; `None`
+    /// when progress is not shown.
+    pub fn fit_hook(&self) -> Option<geodesic_fit::progress::Hook> {
+        if self.bar.is_none() && !self.plain {
+            return None;
+        }
+        let bar = self.bar.clone();
+        let label = self.name.clone();
+        let last: std::sync::Mutex<Option<Instant>> = std::sync::Mutex::new(None);
+        Some(std::sync::Arc::new(move |line: &str, milestone: bool| {
+            if let Some(b) = &bar {
+                b.set_message(format!("{label}: {line}"));
+                return;
+            }
+            let Ok(mut last) = last.lock() else { return };
+            if milestone || last.is_none_or(|t| t.elapsed() >= Duration::from_secs(2)) {
+                eprintln!("geodesic: {label}: {line}");
+                *last = Some(Instant::now());
+            }
+        }))
     }
 
     /// Ends the task: clears the bar; in plain mode prints the elapsed time.

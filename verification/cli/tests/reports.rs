@@ -67,6 +67,34 @@ fn run(d: &Path) -> (String, BTreeMap<String, String>) {
     (date, files)
 }
 
+/// `text` with the run's wall times masked: the `timings` object of the JSON and the value
+/// of the run line `wall time (differs run to run; not compared)` of the other reports.
+fn mask_timings(text: &str) -> String {
+    if let Ok(mut v) = serde_json::from_str::<serde_json::Value>(text) {
+        if let Some(run) = v.get_mut("run").and_then(|r| r.as_object_mut()) {
+            assert!(run.remove("timings").is_some(), "run.timings");
+        }
+        return serde_json::to_string_pretty(&v).unwrap();
+    }
+    let label = "wall time (differs run to run; not compared)";
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find(label) {
+        out.push_str(&rest[..i + label.len()]);
+        rest = &rest[i + label.len()..];
+        // the value starts at `total` (after `: ` or `</th><td>`) and runs to the end of the
+        // line or of the table cell
+        let start = rest.find("total").expect("the timings' total");
+        out.push_str(&rest[..start]);
+        rest = &rest[start..];
+        let end = rest.find(['\n', '<']).unwrap_or(rest.len());
+        out.push_str("<TIMINGS>");
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
 #[test]
 fn two_runs_differ_only_in_their_date_lines_and_every_report_names_the_document() {
     let (date_a, a) = run(&scratch("run-a"));
@@ -88,14 +116,29 @@ fn two_runs_differ_only_in_their_date_lines_and_every_report_names_the_document(
         // the date is the only thing allowed to differ: with each run's date (and day) masked,
         // the files are equal byte for byte (index.html is a few long lines, so a line-wise
         // "date lines may differ" rule would be too weak there)
-        let mask = |t: &str, date: &str| t.replace(date, "<DATE>").replace(&date[..10], "<DAY>");
+        // the wall times (run.timings, and the run line that states them) differ run to run
+        // and are masked too; they are there
+        assert!(
+            name.ends_with(".svg")
+                || name.ends_with(".csv")
+                || name == "junit.xml"
+                || text.contains("wall time")
+                || text.contains("\"timings\""),
+            "{name} lacks the run's wall times"
+        );
+        let mask = |t: &str, date: &str| {
+            mask_timings(t)
+                .replace(date, "<DATE>")
+                .replace(&date[..10], "<DAY>")
+        };
         let (ma, mb) = (mask(text, &date_a), mask(&b[name], &date_b));
         if ma != mb {
             let (la, lb): (Vec<&str>, Vec<&str>) = (ma.lines().collect(), mb.lines().collect());
             let first = la.iter().zip(&lb).find(|(x, y)| x != y);
             panic!("{name}: differs beyond the date: {first:?}");
         }
-        let changed = text.lines().zip(b[name].lines()).filter(|(x, y)| x != y);
+        let (ta, tb) = (mask_timings(text), mask_timings(&b[name]));
+        let changed = ta.lines().zip(tb.lines()).filter(|(x, y)| x != y);
         for (x, _) in changed {
             assert!(x.contains(&date_a[..10]), "{name}: {x}");
         }

@@ -534,6 +534,13 @@ fn fit_model_on(
                 prep.dataset.t.len()
             );
         }
+        crate::progress::note(true, || {
+            format!(
+                "fit on {} samples: {what} done ({:.1} s)",
+                prep.dataset.t.len(),
+                clock.elapsed().as_secs_f64()
+            )
+        });
     };
     // the stages, in order: data and constraints (the noise model is the dataset's:
     // `Prepared`), start values, search, refinement, canonical forms, uncertainty (covariance,
@@ -651,6 +658,7 @@ fn fit_model_on(
         let cost_best = chi2 / r2;
         // one task per parameter and side (sixteen for eight parameters: two cores stay busy
         // to the end); each returns its reach and the lowest point it met below the best fit
+        let sides_done = std::sync::atomic::AtomicUsize::new(0);
         #[allow(clippy::type_complexity)]
         let sides: Vec<(f64, Option<(f64, Vec<f64>)>)> = (0..2 * n_free)
             .into_par_iter()
@@ -696,14 +704,35 @@ fn fit_model_on(
                         k,
                         uk,
                     };
-                    // chi-square to 1 % of a unit: the profile compares it with `target`, at
-                    // least one unit
+                    // chi-square to 1 % of `target`, the rise the profile compares it with: one
+                    // unit for a model that fits (chi2_red <= 1: as before), chi2_red units for
+                    // one that does not, whose sigmas are inflated by sqrt(chi2_red). Refining
+                    // a wrong model's profile point to 1 % of a unit of a chi-square of 1e10
+                    // made a million-sample record's profiles crawl for 60 iterations each
+                    // (issue 35) without moving its width beyond that 1 %.
                     let opts_p = LmOptions {
                         max_iter: 60,
-                        atol: 0.01 / r2,
+                        atol: 0.01 * target / r2,
                         ..LmOptions::default()
                     };
                     let r = minimize_with_steps(&f, &v0, &lo2, &hi2, &opts_p, Some(&steps2));
+                    if debug {
+                        eprintln!(
+                            "profile {k} side {side}: {} iterations, dchi2 {:.3}",
+                            r.iterations,
+                            (r.cost - cost_best) * r2
+                        );
+                    }
+                    crate::progress::note(false, || {
+                        format!(
+                            "profile of {} ({}): {} iterations, delta chi2 {:.4e} (target {:.4e})",
+                            free_names[k],
+                            if side == 0 { "up" } else { "down" },
+                            r.iterations,
+                            (r.cost - cost_best) * r2,
+                            target
+                        )
+                    });
                     if r.cost < cost_best - 0.01 / r2
                         && lowest.as_ref().is_none_or(|(c, _)| r.cost < *c)
                     {
@@ -730,6 +759,14 @@ fn fit_model_on(
                     v0 = r.u;
                     step *= 2.0;
                 }
+                let done = sides_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                crate::progress::note(true, || {
+                    format!(
+                        "profiles: {done} of {} sides done ({:.1} s)",
+                        2 * n_free,
+                        clock.elapsed().as_secs_f64()
+                    )
+                });
                 (out, lowest)
             })
             .collect();

@@ -31,6 +31,7 @@ pub mod outliers;
 pub mod plot;
 pub mod posterior;
 pub mod prepare;
+pub mod progress;
 pub mod report;
 pub mod residual;
 pub mod scaffold;

@@ -216,14 +216,17 @@ fn val(v: Option<f64>, unit: &str) -> String {
     })
 }
 
-/// Compares `now` with a baseline's JSON text (`label` names it in messages).
-pub fn diff_text(
-    now: &Report,
-    text: &str,
-    label: &str,
-    tolerance: f64,
-) -> Result<Diff, BaselineError> {
-    let old: OldReport = serde_json::from_str(text).map_err(|e| {
+/// Reads and parses a baseline `compliance.json` without comparing anything: `verify
+/// --baseline` calls it before any check runs, so that a missing or malformed baseline is
+/// exit 2 at once (with its line and column), not after the whole run.
+pub fn check(baseline: &Path) -> Result<(), BaselineError> {
+    let text = std::fs::read_to_string(baseline)
+        .map_err(|e| BaselineError(format!("{}: {e}", baseline.display())))?;
+    parse_old(&text, &baseline.display().to_string()).map(|_| ())
+}
+
+fn parse_old(text: &str, label: &str) -> Result<OldReport, BaselineError> {
+    serde_json::from_str(text).map_err(|e| {
         BaselineError(format!(
             "{}:{}:{}: not a geodesic compliance.json: {}",
             geodesic_core::text::one_line(label),
@@ -231,7 +234,17 @@ pub fn diff_text(
             e.column(),
             geodesic_core::text::clip(&e.to_string(), 300)
         ))
-    })?;
+    })
+}
+
+/// Compares `now` with a baseline's JSON text (`label` names it in messages).
+pub fn diff_text(
+    now: &Report,
+    text: &str,
+    label: &str,
+    tolerance: f64,
+) -> Result<Diff, BaselineError> {
+    let old = parse_old(text, label)?;
     let old_by: BTreeMap<&str, &OldRow> = old
         .requirements
         .iter()

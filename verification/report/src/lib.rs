@@ -26,8 +26,9 @@ use geodesic_core::matrix::Matrix;
 use serde::Serialize;
 
 /// How the verification was run (stated in every report). Everything here is controlled
-/// content: two runs of the same commit and inputs give the same values apart from `date`
-/// (wall times are printed on standard error, never written into a report).
+/// content: two runs of the same commit and inputs give the same values apart from `date` and
+/// `timings` (the wall time of each check, which differs run to run: no comparison, baseline
+/// diff or determinism check reads it).
 #[derive(Clone, Debug, Serialize)]
 pub struct RunInfo {
     /// The document's identifier, issue, title and project (`verification/document.yaml`).
@@ -68,6 +69,9 @@ pub struct RunInfo {
     /// dependencies; absent in a whole run. A gate never compares a partial run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub partial: Option<Partial>,
+    /// Wall time of the run and of each check [s]: differs run to run (machine, load), so it
+    /// is information only: the baseline diff and the determinism checks ignore it.
+    pub timings: Timings,
 }
 
 /// What a partial run (`verify --only ID,...`) ran.
@@ -91,6 +95,40 @@ pub struct PartialDependency {
     pub id: String,
     /// Why it is needed.
     pub why: String,
+}
+
+/// Wall times of a run [s] (not controlled content: they differ run to run).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Timings {
+    /// Wall time of every check and of the fidelity table together [s].
+    pub total_s: f64,
+    /// Per check (and `fidelity table`), in the order they ran.
+    pub checks: Vec<CheckTiming>,
+}
+
+/// The wall time of one check [s].
+#[derive(Clone, Debug, Serialize)]
+pub struct CheckTiming {
+    /// Check name (or `fidelity table`).
+    pub check: String,
+    /// Wall time [s].
+    pub wall_s: f64,
+}
+
+/// Label of the wall-time line of [`run_lines`] (a comparison of two reports masks that line).
+pub const TIMINGS_LABEL: &str = "wall time (differs run to run; not compared)";
+
+/// The timings in one line: `total 12.3 s; check a 1.2 s, check b 3.4 s`.
+pub fn timings_line(t: &Timings) -> String {
+    if t.checks.is_empty() {
+        return "none recorded".into();
+    }
+    let each: Vec<String> = t
+        .checks
+        .iter()
+        .map(|c| format!("{} {:.1} s", c.check, c.wall_s))
+        .collect();
+    format!("total {:.1} s; {}", t.total_s, each.join(", "))
 }
 
 /// One check that ran.
@@ -212,6 +250,7 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
         ),
     ]);
     v.push(("test results", test_run_line(&rep.matrix)));
+    v.push((TIMINGS_LABEL, timings_line(&r.timings)));
     v
 }
 
@@ -459,6 +498,7 @@ requirements:
                 checks: vec![],
                 fidelity: vec![],
                 partial: None,
+                timings: Default::default(),
             },
             reverify: Default::default(),
         }

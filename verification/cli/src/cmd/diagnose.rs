@@ -23,8 +23,10 @@ pub fn run(args: Args) -> CmdResult {
             effects.join("+")
         ),
     );
+    geodesic_fit::progress::set_hook(task.fit_hook());
     let r = geodesic_fit::diagnose::diagnose(&prep, &effects, &opts)
         .map_err(|e| CliError::bad(e.to_string()));
+    geodesic_fit::progress::set_hook(None);
     task.finish();
     let (mut report, base) = r?;
     let mut fr: FitReport = report.fit.clone();

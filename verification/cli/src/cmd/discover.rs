@@ -72,10 +72,12 @@ pub fn run(args: Args) -> CmdResult {
         fit,
         max_rounds: args.max_rounds,
     };
+    geodesic_fit::progress::set_hook(task.fit_hook());
     let r = discover(&prep, &effects, &opts, |m| {
         task.set_label(&format!("discover: {m}"))
     })
     .map_err(|e| CliError::bad(e.to_string()));
+    geodesic_fit::progress::set_hook(None);
     task.finish();
     let (mut report, last, all) = r?;
     // every round's fit into the history and its plot, in order

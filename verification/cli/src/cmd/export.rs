@@ -111,6 +111,7 @@ pub fn run(args: Args) -> CmdResult {
 }
 
 fn reqif(a: ReqifArgs) -> CmdResult {
+    crate::preflight::out_file_in_new_dir("--out", &a.out)?;
     let (reqs, source, _hash) = load_requirements(a.requirements.as_ref())?;
     let status = match &a.matrix {
         Some(m) => {

@@ -78,6 +78,9 @@ pub fn fits_under(reports: &Path, out: Option<&PathBuf>) -> Result<PathBuf, CliE
             reports.display()
         )));
     }
+    // checked before the record is read or fitted: a folder that cannot be written is exit 2
+    // at once, not after the fit
+    crate::preflight::out_dir("--reports", &reports.join("fits"))?;
     Ok(reports.join("fits"))
 }
 
@@ -395,7 +398,9 @@ pub fn run(args: Args) -> CmdResult {
             effects.join("+")
         ),
     );
+    geodesic_fit::progress::set_hook(task.fit_hook());
     let o = geodesic_fit::fit(&prep, &effects, &opts).map_err(|e| CliError::bad(e.to_string()));
+    geodesic_fit::progress::set_hook(None);
     task.finish();
     let o = o?;
     let mut report = FitReport::new(&prep, &o);

@@ -74,6 +74,7 @@ pub fn run(args: Args) -> CmdResult {
 const MAX_PRINTED_WARNINGS: usize = 100;
 
 fn reqif(a: ReqifArgs) -> CmdResult {
+    crate::preflight::out_dir("--out", &a.out)?;
     let mut opts = ImportOptions {
         skip_incomplete: a.skip_incomplete,
         strict: a.strict,

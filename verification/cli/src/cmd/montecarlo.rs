@@ -229,6 +229,9 @@ pub fn run(args: Args) -> CmdResult {
         )));
     }
     check_threads(args.threads)?;
+    if let Some(out) = &args.out {
+        crate::preflight::out_file("--out", out)?;
+    }
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
     if let Some((_, k)) = shard {
         montecarlo::check_size(args.n, Some(k))

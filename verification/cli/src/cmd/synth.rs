@@ -137,6 +137,7 @@ pub fn run(args: Args) -> CmdResult {
         .out
         .file_name()
         .map_or("synth.yaml".into(), |s| s.to_string_lossy().to_string());
+    crate::preflight::out_file_in_new_dir("--out", &args.out)?;
     let task = crate::progress::Task::spinner(args.json, "synth: generating the record");
     let ds = generate(&spec, &name).map_err(|e| CliError::bad(e.to_string()));
     task.finish();

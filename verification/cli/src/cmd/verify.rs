@@ -209,16 +209,7 @@ pub fn run(args: Args) -> CmdResult {
             "--margin-tolerance must be a non-negative number",
         ));
     }
-    if let Some(j) = &args.junit {
-        geodesic_core::output::check_target(j)
-            .map_err(|e| CliError::bad(format!("--junit {e}")))?;
-    }
-    if args.reports.exists() && !args.reports.is_dir() {
-        return Err(CliError::bad(format!(
-            "--reports {}: is not a directory; give a folder for the reports",
-            args.reports.display()
-        )));
-    }
+    preflight_outputs(&args)?;
     crate::only::refuse_partial_gate(&args.only, args.baseline.as_deref())?;
     let (reqs, source, requirements_hash) = load_requirements(args.requirements.as_ref())?;
     let mut selection = crate::only::Selection::parse(&args.only, &reqs)?;
@@ -369,6 +360,8 @@ pub fn run(args: Args) -> CmdResult {
     let mut task = crate::progress::Task::counter(args.json, "verify", to_run as u64);
     let mut evidence = Vec::new();
     let mut runs = Vec::new();
+    let mut timings = Vec::new();
+    let run_t0 = Instant::now();
     let mut done = vec![false; registry.len()];
     loop {
         for (i, check) in registry.iter().enumerate() {
@@ -381,12 +374,17 @@ pub fn run(args: Args) -> CmdResult {
             let ev = check
                 .run(&ctx)
                 .map_err(|e| CliError::bad(format!("check {}: {e}", check.name())))?;
-            // wall time is not controlled content: standard error only, never in a report
-            eprintln!(
-                "geodesic: check {} took {:.1} s",
+            // wall time is not controlled content: the run information's `timings`, which no
+            // comparison reads (standard error stays quiet unless --progress or a terminal)
+            timings.push(geodesic_report::CheckTiming {
+                check: check.name().to_string(),
+                wall_s: t0.elapsed().as_secs_f64(),
+            });
+            task.note(&format!(
+                "check {} took {:.1} s",
                 check.name(),
                 t0.elapsed().as_secs_f64()
-            );
+            ));
             let mut verifies: Vec<String> =
                 check.verifies().iter().map(|s| s.to_string()).collect();
             for e in &ev {
@@ -460,8 +458,13 @@ pub fn run(args: Args) -> CmdResult {
         Vec::new()
     } else {
         task.set_label("verify: fidelity table (Monte Carlo cases adhesion and mechanisms)");
+        let t0 = Instant::now();
         let t = geodesic_checks::fidelity::table(&mc, &ctx)
             .map_err(|e| CliError::bad(format!("fidelity table: {e}")))?;
+        timings.push(geodesic_report::CheckTiming {
+            check: "fidelity table".to_string(),
+            wall_s: t0.elapsed().as_secs_f64(),
+        });
         task.inc(1);
         t
     };
@@ -474,6 +477,10 @@ pub fn run(args: Args) -> CmdResult {
         );
     }
     task.finish();
+    let timings = geodesic_report::Timings {
+        total_s: run_t0.elapsed().as_secs_f64(),
+        checks: timings,
+    };
     let (commit, dirty) = git_state();
     let report = Report {
         matrix,
@@ -496,6 +503,7 @@ pub fn run(args: Args) -> CmdResult {
             checks: runs,
             fidelity,
             partial: selection.as_ref().map(|s| s.partial(&reqs)),
+            timings,
         },
         reverify: Default::default(),
     };
@@ -666,6 +674,42 @@ pub fn run(args: Args) -> CmdResult {
         None => report.matrix.exit_code(),
     };
     Ok(code.max(u8::from(tests_fail)))
+}
+
+/// The outputs and the inputs that are read after the checks, checked before any check runs
+/// (issue 35): the reports folder (a folder, writable), the JUnit file, the baseline (read and
+/// parsed: a missing or malformed one is exit 2 at once, with its line).
+fn preflight_outputs(args: &Args) -> Result<(), CliError> {
+    if args.reports.exists() && !args.reports.is_dir() {
+        return Err(CliError::bad(format!(
+            "--reports {}: is not a directory; give a folder for the reports",
+            args.reports.display()
+        )));
+    }
+    crate::preflight::out_dir("--reports", &args.reports)?;
+    if let Some(j) = &args.junit {
+        crate::preflight::out_file("--junit", j)?;
+    }
+    if let Some(b) = &args.baseline {
+        crate::preflight::in_file("--baseline", b)?;
+        geodesic_report::baseline::check(b).map_err(|e| CliError::bad(e.to_string()))?;
+    }
+    if let Some(t) = &args.tests {
+        crate::preflight::in_file("--tests", t)?;
+    }
+    for (flag, f) in [
+        ("--budget", &args.budget),
+        ("--capture", &args.capture),
+        ("--charge", &args.charge),
+        ("--dispositions", &args.dispositions),
+        ("--document", &args.document),
+        ("--design", &args.design),
+    ] {
+        if let Some(f) = f {
+            crate::preflight::in_file(flag, f)?;
+        }
+    }
+    Ok(())
 }
 
 /// The repository's `verification/document.yaml`, built into the binary.
