@@ -5,7 +5,7 @@
 //! whose time axis is in the wrong unit) they never return. These check the input and cap the
 //! iterations; `None` means the matrix has no decomposition the fit can use.
 
-use nalgebra::{DMatrix, Dyn, SymmetricEigen, SVD};
+use nalgebra::{DMatrix, Dyn, SVD, SymmetricEigen};
 
 /// At most this many QR sweeps; a finite 20 x 20 matrix converges in well under a hundred.
 const MAX_ITERATIONS: usize = 10_000;
@@ -46,7 +46,12 @@ mod tests {
     #[test]
     fn a_finite_matrix_decomposes_as_nalgebra_does() {
         let m = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
-        let mut ev: Vec<f64> = sym_eigen(m.clone()).unwrap().eigenvalues.iter().copied().collect();
+        let mut ev: Vec<f64> = sym_eigen(m.clone())
+            .unwrap()
+            .eigenvalues
+            .iter()
+            .copied()
+            .collect();
         ev.sort_by(f64::total_cmp);
         approx::assert_relative_eq!(ev[0], 1.0, epsilon = 1e-12);
         approx::assert_relative_eq!(ev[1], 3.0, epsilon = 1e-12);
