@@ -870,6 +870,9 @@ pub fn refined_leading(
         .next())
 }
 
+/// A joint fit's start (the model refitted without the term) and its result ([`joint_lm`]).
+type JointFit = (Vec<f64>, (f64, Vec<f64>));
+
 /// The terms [`refined_leading`] fits jointly with the model (the three best by the score
 /// test, and the delay), each with the delta BIC of its joint fit, most supported first: the
 /// leader refined as [`refined_leading`] says, the others at their scanned values. Terms whose
@@ -909,7 +912,7 @@ pub fn refined_terms_of(
         .collect();
     // the joint fits are independent of one another: side by side on the thread pool (issue
     // 33, item 6), collected in the score test's order, so the choice below is the same
-    let joint: Vec<Result<(Vec<f64>, (f64, Vec<f64>)), crate::FitError>> = tried
+    let joint: Vec<Result<JointFit, crate::FitError>> = tried
         .par_iter()
         .map(|k| {
             let from = refit_without(prep, o, k, opts)?;
