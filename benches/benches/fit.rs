@@ -13,7 +13,9 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{
+    BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
+};
 use geodesic_facility::{Model, Scenario, TipProfile};
 use geodesic_fit::diagnose::diagnose;
 use geodesic_fit::discover::{DiscoverOptions, discover};
@@ -164,7 +166,10 @@ fn diagnoses(c: &mut Criterion) {
 
 fn discoveries(c: &mut Criterion) {
     let mut g = c.benchmark_group("discover");
+    // one iteration a sample: a discover of the 400 000-sample record takes about a minute,
+    // so its ten samples take ten (criterion's least sample size)
     g.sample_size(10);
+    g.sampling_mode(SamplingMode::Flat);
     for (n, secs) in [(2_000usize, 60u64), (400_000, 300)] {
         g.measurement_time(Duration::from_secs(secs));
         let prep = record(Scenario::TmmfRelease, n);

@@ -11,6 +11,7 @@
 use std::collections::BTreeMap;
 
 use geodesic_facility::effects::of_scenario;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::FitError;
@@ -107,11 +108,60 @@ pub fn evidence_note(best: Option<&Candidate>) -> String {
     }
 }
 
+/// `f` over `items` on the thread pool, the results in the items' order (the same bits whatever
+/// the thread count); as each ends, `progress` gets `what(k, item)` (`k` of them ended so far)
+/// on the calling thread, so that a progress callback needs to be neither `Send` nor `Sync`.
+pub(crate) fn map_reporting<T: Sync, R: Send>(
+    items: &[T],
+    progress: &mut dyn FnMut(&str),
+    what: impl Fn(usize, &T) -> String + Sync,
+    f: impl Fn(&T) -> R + Sync,
+) -> Vec<R> {
+    let (tx, rx) = std::sync::mpsc::channel::<String>();
+    let ended = std::sync::atomic::AtomicUsize::new(0);
+    std::thread::scope(|s| {
+        let (f, what, ended) = (&f, &what, &ended);
+        let work = s.spawn(move || {
+            items
+                .par_iter()
+                .map(|it| {
+                    let r = f(it);
+                    let k = ended.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                    // the receiver lives until the work ends: a send cannot fail
+                    let _ = tx.send(what(k, it));
+                    r
+                })
+                .collect::<Vec<R>>()
+        });
+        for m in rx {
+            progress(&m);
+        }
+        work.join().unwrap_or_else(|e| std::panic::resume_unwind(e))
+    })
+}
+
 /// Runs the diagnosis; returns the report and the baseline outcome (for plots and history).
 pub fn diagnose(
     prep: &Prepared,
     effects: &[&str],
     opts: &FitOptions,
+) -> Result<(DiagnoseReport, FitOutcome), FitError> {
+    diagnose_with(prep, effects, opts, &mut |_| {})
+}
+
+/// [`diagnose`], saying on `progress` when the baseline is fitted and as each candidate's fit
+/// ends (`candidate k of n fitted (effect)`).
+///
+/// The candidates' fits are independent of one another: they run side by side on the thread
+/// pool (issue 33, item 6: on two cores the search of one fit leaves a core idle between its
+/// stages) and are collected in catalogue order, so the report is the same bits whatever the
+/// thread count or the order in which the fits end; only the order of the progress lines
+/// varies.
+pub fn diagnose_with(
+    prep: &Prepared,
+    effects: &[&str],
+    opts: &FitOptions,
+    progress: &mut dyn FnMut(&str),
 ) -> Result<(DiagnoseReport, FitOutcome), FitError> {
     let model = model_for(prep, effects)?;
     let starts = default_starts(
@@ -119,9 +169,11 @@ pub fn diagnose(
         &prep.guess,
         opts.max_starts.unwrap_or(crate::fit::MAX_STARTS),
     );
+    progress("fitting the model");
     let mut base = fit_model(prep, &model, opts, &starts)?;
     let names = model.effect_names();
-    let mut fits: Vec<(&str, FitOutcome)> = Vec::new();
+    // every candidate's model and starts, in catalogue order
+    let mut jobs: Vec<(&'static str, geodesic_facility::Model, Vec<Vec<f64>>)> = Vec::new();
     for cand in of_scenario(prep.dataset.scenario) {
         if names.contains(&cand.name()) {
             continue;
@@ -149,8 +201,18 @@ pub fn diagnose(
             starts.push(p);
         }
         starts.extend(default_starts(&cm, &guess, crate::fit::MAX_STARTS));
-        let o = fit_model(prep, &cm, opts, &starts)?;
-        fits.push((cand.name(), o));
+        jobs.push((cand.name(), cm, starts));
+    }
+    let total = jobs.len();
+    let fitted = map_reporting(
+        &jobs,
+        progress,
+        |k, (name, _, _)| format!("candidate {k} of {total} fitted ({name})"),
+        |(_, cm, starts)| fit_model(prep, cm, opts, starts),
+    );
+    let mut fits: Vec<(&str, FitOutcome)> = Vec::new();
+    for ((name, _, _), o) in jobs.iter().zip(fitted) {
+        fits.push((name, o?));
     }
     // one noise figure for every model, so that their BICs compare: the YAML's, or the estimate
     // made on the residual of the best-fitting model (the one closest to pure noise)

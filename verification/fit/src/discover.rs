@@ -26,10 +26,11 @@
 use std::collections::BTreeMap;
 
 use geodesic_facility::effects::Scenario;
+use rayon::prelude::*;
 use rustfft::{FftPlanner, num_complex::Complex};
 use serde::{Deserialize, Serialize};
 
-use crate::diagnose::{DELTA_BIC_STRONG, diagnose};
+use crate::diagnose::{DELTA_BIC_STRONG, diagnose_with};
 use crate::error::FitError;
 use crate::fit::{FitOptions, FitOutcome, FitReport, Prepared, fit_model, model_for};
 use crate::kinds::KindFit;
@@ -278,6 +279,13 @@ fn round_of(
     }
 }
 
+/// A progress line of [`discover`]: what it is doing and the time since it started [s]
+/// (`round 1: candidate 3 of 5 fitted (drift) (12 s)`). The callback given to [`discover`]
+/// decides where it goes (the CLI: standard error when it is a terminal or with `--progress`).
+pub fn progress_line(what: &str, elapsed_s: f64) -> String {
+    format!("{what} ({elapsed_s:.0} s)")
+}
+
 /// Runs the loop (see the module documentation). Returns the report and the final outcome.
 pub fn discover(
     prep: &Prepared,
@@ -297,11 +305,16 @@ pub fn discover(
     let mut term_path: Option<(String, f64, usize)> = None;
     // each diagnosed model's effects and its fitted candidates (the thresholds' floor)
     let mut diagnosed: Vec<(Vec<String>, Vec<crate::diagnose::Candidate>)> = Vec::new();
+    // every progress line with the time since the start (the plain lines of a CI log carry it)
+    let t0 = std::time::Instant::now();
+    let mut progress = |m: &str| progress(&progress_line(m, t0.elapsed().as_secs_f64()));
     for k in 0..=opts.max_rounds {
         let owned = effects.clone();
         let names: Vec<&str> = owned.iter().map(String::as_str).collect();
         progress(&format!("round {k}: diagnosing {}", names.join("+")));
-        let (report, base) = diagnose(prep, &names, &fit_opts)?;
+        let (report, base) = diagnose_with(prep, &names, &fit_opts, &mut |m| {
+            progress(&format!("round {k}: {m}"))
+        })?;
         diagnosed.push((owned.clone(), report.candidates.clone()));
         // one noise figure for the whole ledger, so that BICs compare across rounds
         if fit_opts.sigma.is_none() {
@@ -314,6 +327,10 @@ pub fn discover(
             // every comparison between optima: the previous model refitted from this one
             let prev_names: Vec<&str> = rounds[k - 1].effects.iter().map(String::as_str).collect();
             let prev = fits[k - 1].clone();
+            progress(&format!(
+                "round {k}: round {}'s model refitted from this one",
+                k - 1
+            ));
             let (prev, note) = confirm(prep, &prev_names, prev, &base, &fit_opts)?;
             let prev_bic = FitReport::new(prep, &prev).bic;
             rounds[k - 1].bic = prev_bic;
@@ -330,6 +347,7 @@ pub fn discover(
             rounds[k - 1].margin = None;
             // test removing each earlier addition
             for e in added_so_far.clone().iter().rev().skip(1) {
+                progress(&format!("round {k}: is {e} still supported?"));
                 let without: Vec<&str> = names.iter().copied().filter(|n| n != e).collect();
                 let m = model_for(prep, &without)?;
                 let mut p = m.nominal();
@@ -384,11 +402,22 @@ pub fn discover(
                 .map(|(d, m)| d - m)
                 .collect();
             let pk = peaks(prep.channel, &resid, median_step(&prep.dataset.t));
-            let quick = crate::kinds::kinds(prep, &base, &pk).0.into_iter().next();
-            // the score test is a lower bound; refit jointly when it could matter
-            match quick {
+            progress(&format!(
+                "round {k}: the residual's terms outside the catalogue"
+            ));
+            let (all, basis) = crate::kinds::kinds(prep, &base, &pk);
+            // the score test is a lower bound; refit jointly when it could matter (the kinds
+            // and their basis reused: the same bits as `refined_leading`)
+            match all.first() {
                 Some(q) if -q.delta_bic > 0.2 * -best_c.delta_bic => {
-                    crate::kinds::refined_leading(prep, &base, &pk, &fit_opts, JOINT_ITER)?
+                    progress(&format!(
+                        "round {k}: the leading terms fitted jointly with the model"
+                    ));
+                    crate::kinds::refined_terms_of(
+                        prep, &base, &all, &basis, &fit_opts, JOINT_ITER,
+                    )?
+                    .into_iter()
+                    .next()
                 }
                 _ => None,
             }
@@ -525,8 +554,15 @@ pub fn discover(
             (final_fit, final_outcome)
         }
     };
-    progress("detection thresholds of the candidates not in the model");
-    let mut thresholds = thresholds(prep, &final_outcome, &kept, &fit_opts)?;
+    progress("detection thresholds of the candidates not in the model, and the residual described");
+    // independent of each other: side by side on the thread pool, on one basis of the final
+    // fit (its Jacobian is most of their cost on a long record)
+    let basis = crate::kinds::Basis::new(prep, &final_outcome);
+    let (thresholds, residual) = rayon::join(
+        || thresholds_with(prep, &final_outcome, &kept, &fit_opts, &basis),
+        || describe_with(prep, &final_outcome, &final_fit, &fit_opts, &basis),
+    );
+    let (mut thresholds, residual) = (thresholds?, residual?);
     let same = |a: &[String]| {
         let mut a: Vec<&str> = a.iter().map(String::as_str).collect();
         let mut b = kept.clone();
@@ -537,7 +573,6 @@ pub fn discover(
     if let Some((_, cands)) = diagnosed.iter().rev().find(|(e, _)| same(e)) {
         raise_to_the_fit(&mut thresholds, cands);
     }
-    let residual = describe(prep, &final_outcome, &final_fit, &fit_opts)?;
     Ok((
         DiscoverReport {
             dataset: prep.dataset.name.clone(),
@@ -650,21 +685,35 @@ pub fn thresholds(
     kept: &[&str],
     opts: &FitOptions,
 ) -> Result<Vec<Threshold>, FitError> {
+    let basis = crate::kinds::Basis::new(prep, final_outcome);
+    thresholds_with(prep, final_outcome, kept, opts, &basis)
+}
+
+/// [`thresholds`] on the basis of `final_outcome` already made, the same bits.
+pub fn thresholds_with(
+    prep: &Prepared,
+    final_outcome: &FitOutcome,
+    kept: &[&str],
+    opts: &FitOptions,
+    basis: &crate::kinds::Basis,
+) -> Result<Vec<Threshold>, FitError> {
     let mut out = Vec::new();
     let n = final_outcome.n as f64;
-    let basis = crate::kinds::Basis::new(prep, final_outcome);
     let t = &prep.dataset.t;
-    for cand in geodesic_facility::effects::of_scenario(prep.dataset.scenario) {
-        if kept.contains(&cand.name()) {
-            continue;
-        }
+    // each candidate's threshold is independent of the others': side by side on the thread
+    // pool, collected in catalogue order
+    let candidates: Vec<_> = geodesic_facility::effects::of_scenario(prep.dataset.scenario)
+        .into_iter()
+        .filter(|c| !kept.contains(&c.name()))
+        .collect();
+    let one = |cand: &&'static dyn geodesic_facility::effects::Effect| -> Result<Option<Threshold>, FitError> {
         let params = cand.params();
         let Some(null) = cand.null_params() else {
-            continue;
+            return Ok(None);
         };
         let Some(main) = (0..params.len()).find(|&i| null[i] == 0.0 || null[i] == params[i].lower)
         else {
-            continue;
+            return Ok(None);
         };
         let mut list: Vec<&str> = kept.to_vec();
         list.push(cand.name());
@@ -753,11 +802,11 @@ pub fn thresholds(
             Ok(Some(o.sigma_cov[r.start + main]))
         };
         let Some(sigma_a) = sigma_at(&nominal_others)? else {
-            continue;
+            return Ok(None);
         };
         let a = sigma_a * factor;
         if !(a.is_finite() && a > 0.0) {
-            continue;
+            return Ok(None);
         }
         let assumes: BTreeMap<String, f64> = (0..params.len())
             .filter(|&i| i != main)
@@ -786,7 +835,7 @@ pub fn thresholds(
                 }
             }
         }
-        out.push(Threshold {
+        Ok(Some(Threshold {
             effect: cand.name().to_string(),
             parameter: full_name(main),
             detectable_above: a,
@@ -794,7 +843,11 @@ pub fn thresholds(
             assumes,
             curve,
             raised: None,
-        });
+        }))
+    };
+    let all: Vec<Result<Option<Threshold>, FitError>> = candidates.par_iter().map(one).collect();
+    for t in all {
+        out.extend(t?);
     }
     Ok(out)
 }
@@ -887,6 +940,17 @@ pub fn describe(
     r: &FitReport,
     opts: &FitOptions,
 ) -> Result<Description, FitError> {
+    describe_with(prep, o, r, opts, &crate::kinds::Basis::new(prep, o))
+}
+
+/// [`describe`] on the basis of `o` already made, the same bits.
+pub fn describe_with(
+    prep: &Prepared,
+    o: &FitOutcome,
+    r: &FitReport,
+    opts: &FitOptions,
+    basis: &crate::kinds::Basis,
+) -> Result<Description, FitError> {
     let t = &prep.dataset.t;
     let data = prep.data();
     let resid: Vec<f64> = data.iter().zip(&o.pred).map(|(d, m)| d - m).collect();
@@ -934,13 +998,13 @@ pub fn describe(
             y.iter().zip(&o.pred).map(|(y, x)| y - x).collect(),
         ));
     }
-    let (mut all, basis) = crate::kinds::kinds(prep, o, &peaks);
-    let correlations = crate::kinds::state_correlations(&basis, &states);
+    let mut all = crate::kinds::kinds_of(basis, prep, o, &peaks);
+    let correlations = crate::kinds::state_correlations(basis, &states);
     let mut indistinguishable = Vec::new();
     if !is_explained(r).0 && all.first().is_some_and(|k| k.delta_bic < DELTA_BIC_STRONG) {
         // the leading terms fitted jointly with the model: their parameters unbiased by what
         // the model absorbed, and their delta BICs those of refits
-        let refined = crate::kinds::refined_terms(prep, o, &peaks, opts, JOINT_ITER)?;
+        let refined = crate::kinds::refined_terms_of(prep, o, &all, basis, opts, JOINT_ITER)?;
         if let Some(lead) = refined.first() {
             // nested or nearly collinear kinds (an offset is part of a spring; a delay and a
             // step at the start are nearly the same shape): those whose joint fits come within

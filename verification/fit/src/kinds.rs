@@ -30,6 +30,7 @@
 //! band at a quarter of the record's resolution for records up to 4 096 samples, else the low
 //! band (up to 64 / record length) and the periodogram's peaks.
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::discover::{Peak, StateCorrelation};
@@ -269,13 +270,19 @@ fn scan(lo: f64, hi: f64, n: usize, log: bool, tol: f64, f: &dyn Fn(f64) -> f64)
 /// documentation). `peaks` are the periodogram's (frequencies the vibration scan also tries).
 pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<KindFit>, Basis<'a>) {
     let basis = Basis::new(prep, o);
+    (kinds_of(&basis, prep, o, peaks), basis)
+}
+
+/// [`kinds`] on the basis of `o` already made ([`Basis::new`]`(prep, o)`: its Jacobian is most
+/// of the cost on a long record, issue 33 item 6), the same bits.
+pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) -> Vec<KindFit> {
     let t = &prep.dataset.t;
     let n = t.len();
     let ch = prep.channel;
     let ln_n = (o.n.max(2) as f64).ln();
     let mut out: Vec<KindFit> = Vec::new();
     if n < 16 {
-        return (out, basis);
+        return out;
     }
     let x = &o.pred;
     let t_end = t[n - 1];
@@ -478,7 +485,7 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
         describe_offset(k, ch);
     }
     out.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
-    (out, basis)
+    out
 }
 
 /// The model refitted, from `o`'s optimum and from its default starts, to the data less the
@@ -863,6 +870,9 @@ pub fn refined_leading(
         .next())
 }
 
+/// A joint fit's start (the model refitted without the term) and its result ([`joint_lm`]).
+type JointFit = (Vec<f64>, (f64, Vec<f64>));
+
 /// The terms [`refined_leading`] fits jointly with the model (the three best by the score
 /// test, and the delay), each with the delta BIC of its joint fit, most supported first: the
 /// leader refined as [`refined_leading`] says, the others at their scanned values. Terms whose
@@ -876,6 +886,19 @@ pub fn refined_terms(
     max_iter: usize,
 ) -> Result<Vec<KindFit>, crate::FitError> {
     let (all, basis) = kinds(prep, o, peaks);
+    refined_terms_of(prep, o, &all, &basis, opts, max_iter)
+}
+
+/// [`refined_terms`] from the kinds `all` that [`kinds_of`] found on `basis` (the basis of
+/// `o`), without making them again: the same bits.
+pub fn refined_terms_of(
+    prep: &Prepared,
+    o: &FitOutcome,
+    all: &[KindFit],
+    basis: &Basis,
+    opts: &crate::fit::FitOptions,
+    max_iter: usize,
+) -> Result<Vec<KindFit>, crate::FitError> {
     let mut done: Vec<KindFit> = Vec::new();
     // the three best by the score test, and the delay (a pure shift, which the model can
     // absorb nonlinearly far beyond what the score test sees), each fitted jointly: the best
@@ -887,10 +910,19 @@ pub fn refined_terms(
         .filter(|(i, k)| *i < 3 || k.kind == "delay")
         .map(|(_, k)| k.clone())
         .collect();
-    for mut k in tried {
+    // the joint fits are independent of one another: side by side on the thread pool (issue
+    // 33, item 6), collected in the score test's order, so the choice below is the same
+    let joint: Vec<Result<JointFit, crate::FitError>> = tried
+        .par_iter()
+        .map(|k| {
+            let from = refit_without(prep, o, k, opts)?;
+            let dc = joint_lm(prep, o, k, &from, max_iter);
+            Ok((from, dc))
+        })
+        .collect();
+    for (mut k, j) in tried.into_iter().zip(joint) {
         let penalty = k.delta_bic + k.delta_chi2;
-        let from = refit_without(prep, o, &k, opts)?;
-        let (d, c) = joint_lm(prep, o, &k, &from, max_iter);
+        let (from, (d, c)) = j?;
         if d > k.delta_chi2 {
             k.coefs = c;
             k.delta_chi2 = d;
