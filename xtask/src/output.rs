@@ -15,7 +15,7 @@ pub struct Listed {
 }
 
 /// Removes ANSI escape sequences (`ESC [ ... letter`) and carriage returns.
-fn strip_ansi(line: &str) -> String {
+pub(crate) fn strip_ansi(line: &str) -> String {
     let mut out = String::with_capacity(line.len());
     let mut chars = line.chars().peekable();
     while let Some(c) = chars.next() {

@@ -147,29 +147,6 @@ fn binary_name(t: &str) -> Option<String> {
     })
 }
 
-/// Removes ANSI escape sequences and carriage returns (as `crate::output` does before parsing).
-fn plain(line: &str) -> String {
-    let mut out = String::with_capacity(line.len());
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match c {
-            '\u{1b}' => {
-                if chars.peek() == Some(&'[') {
-                    chars.next();
-                    for c in chars.by_ref() {
-                        if c.is_ascii_alphabetic() {
-                            break;
-                        }
-                    }
-                }
-            }
-            '\r' => {}
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 /// Runs cargo with stdout and stderr into one pipe (so that cargo's `Running` lines and the
 /// tests' output stay in order), copies it to our stdout as it comes with the status of
 /// [`State`], and returns cargo's text and exit status.
@@ -214,7 +191,10 @@ pub fn run_streamed(mut cmd: Command) -> std::io::Result<(String, ExitStatus)> {
                 partial.extend_from_slice(&chunk);
                 while let Some(i) = partial.iter().position(|&b| b == b'\n') {
                     let line: Vec<u8> = partial.drain(..=i).collect();
-                    state.line(&plain(&String::from_utf8_lossy(&line)), Instant::now());
+                    state.line(
+                        &crate::output::strip_ansi(&String::from_utf8_lossy(&line)),
+                        Instant::now(),
+                    );
                 }
                 last_output = Instant::now();
                 // a partial line (a test printing without a newline) is left alone
