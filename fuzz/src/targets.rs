@@ -71,7 +71,7 @@ impl Ctx {
 
     /// A report over the repository's requirements with no evidence (every row not verified).
     fn report(&self) -> &geodesic_report::Report {
-        use geodesic_core::check::{InputFile, ModelInputs};
+        use geodesic_core::check::{InputFile, Inputs};
         self.report.get_or_init(|| geodesic_report::Report {
             matrix: geodesic_core::matrix::Matrix::build(self.reqs(), &[], None, &[]),
             run: geodesic_report::RunInfo {
@@ -91,12 +91,12 @@ impl Ctx {
                 command: "geodesic-fuzz".into(),
                 requirements: "requirements".into(),
                 requirements_hash: "0".into(),
-                inputs: ModelInputs {
-                    budget: InputFile::new("budget.yaml", ""),
-                    capture: InputFile::new("capture.yaml", ""),
-                    charge: InputFile::new("charge.yaml", ""),
-                    design: None,
-                    series: Default::default(),
+                inputs: {
+                    let mut i = Inputs::default();
+                    for n in ["budget", "capture", "charge"] {
+                        i.insert(n, n, InputFile::new(format!("{n}.yaml"), ""));
+                    }
+                    i
                 },
                 dispositions: None,
                 mc_n: 1,
@@ -104,6 +104,7 @@ impl Ctx {
                 confidence: 0.95,
                 checks: vec![],
                 fidelity: vec![],
+                reference: Default::default(),
                 partial: None,
                 timings: Default::default(),
             },

@@ -154,7 +154,7 @@ impl CaptureSetup {
     /// The set-up of `ctx`: `Err` for a bad inputs file (a run error), `Ok(Err(reason))` when
     /// the requirement box cannot be formed (the checks are then not verified).
     pub fn of(ctx: &CheckContext) -> Result<Result<CaptureSetup, String>, CheckError> {
-        let f = &ctx.inputs.capture;
+        let f = &ctx.inputs.file("capture")?;
         let inputs = CaptureInputs::from_yaml_str(&f.text, &f.label)
             .map_err(|e| CheckError(e.to_string()))?;
         let req = match requirement_box(ctx) {

@@ -27,7 +27,7 @@ pub struct ChargeAnalysis;
 
 /// The charge inputs of a run: its charge file parsed (errors name the file and line).
 pub fn charge_of(ctx: &CheckContext) -> Result<ChargeFile, CheckError> {
-    let f = &ctx.inputs.charge;
+    let f = &ctx.inputs.file("charge")?;
     ChargeFile::from_yaml_str(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))
 }
 
@@ -148,7 +148,10 @@ impl Check for ChargeAnalysis {
         };
         Ok(ChargeAnalysis::evidence_for(
             &charge,
-            (&ctx.inputs.charge.label, &ctx.inputs.charge.sha256),
+            (
+                &ctx.inputs.file("charge")?.label,
+                &ctx.inputs.file("charge")?.sha256,
+            ),
             k("CHG-Q"),
             k("CHG-V"),
             ctx.mc_n,
@@ -187,9 +190,13 @@ mod tests {
         assert_eq!(base[0].model_inputs, ["charge"]);
         // an edited capacitance moves CHG-Q
         let mut inputs = (*ctx.inputs).clone();
-        inputs.charge = geodesic_core::check::InputFile::new(
-            "edited.yaml",
-            geodesic_charge::DEFAULT_CHARGE_YAML.replace("c_eh_f: 34.4e-12", "c_eh_f: 20e-12"),
+        inputs.insert(
+            "charge",
+            "charge inputs",
+            geodesic_core::check::InputFile::new(
+                "edited.yaml",
+                geodesic_charge::DEFAULT_CHARGE_YAML.replace("c_eh_f: 34.4e-12", "c_eh_f: 20e-12"),
+            ),
         );
         ctx.inputs = std::sync::Arc::new(inputs);
         let edited = ChargeAnalysis.run(&ctx).unwrap();

@@ -19,7 +19,7 @@ pub fn checks() -> Vec<Box<dyn Check>> {
 
 /// The design of the run: `--design`, else the built-in copy; with its label and hash.
 pub fn design_of(ctx: &CheckContext) -> Result<(Design, String, String), CheckError> {
-    match &ctx.inputs.design {
+    match ctx.inputs.get("design") {
         Some(f) => Ok((
             Design::from_yaml(&f.text, &f.label).map_err(CheckError)?,
             f.label.clone(),

@@ -276,7 +276,7 @@ impl Check for AdhesionIdentification {
     }
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
-        let input = &ctx.inputs.budget;
+        let input = &ctx.inputs.file("budget")?;
         let budget = crate::release::budget_of(ctx)?;
         let truth = TruthModel::DIFFERENT;
         let (a1, lambda) = (

@@ -69,8 +69,8 @@ pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceR
         "N = {}, seed = {}, budget {} (sha256 {})",
         ctx.mc_n,
         ctx.seed,
-        ctx.inputs.budget.label,
-        &ctx.inputs.budget.sha256[..12]
+        ctx.inputs.file("budget")?.label,
+        &ctx.inputs.file("budget")?.sha256[..12]
     );
     for (case, thesis, extra) in [
         (Case::All, 1.50, ""),

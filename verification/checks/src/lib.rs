@@ -22,31 +22,46 @@ pub mod spectral;
 pub mod tipradius;
 pub mod tm_state;
 
-use geodesic_core::check::{InputFile, ModelInputs};
+use geodesic_core::check::{InputFile, Inputs};
 use geodesic_core::{Check, CheckContext, Requirements};
 use std::path::PathBuf;
 use std::sync::Arc;
 
 /// The model input files embedded in the binary (the repository's defaults), labelled
 /// `<built-in>/...`.
-pub fn builtin_inputs() -> ModelInputs {
-    ModelInputs {
-        budget: InputFile::new(
-            "<built-in>/models/release/budget.yaml",
-            geodesic_release::budget::DEFAULT_BUDGET_YAML,
-        ),
-        capture: InputFile::new(
-            "<built-in>/models/capture/capture.yaml",
-            geodesic_capture::DEFAULT_CAPTURE_YAML,
-        ),
-        charge: InputFile::new(
-            "<built-in>/models/charge/charge.yaml",
-            geodesic_charge::DEFAULT_CHARGE_YAML,
-        ),
-        design: None,
-        series: Default::default(),
+pub fn builtin_inputs() -> Inputs {
+    let mut inputs = Inputs::default();
+    for (name, words, path, text) in INPUTS {
+        inputs.insert(
+            name,
+            words,
+            InputFile::new(format!("<built-in>/{path}"), *text),
+        );
     }
+    inputs
 }
+
+/// The root mission's declared inputs: (name, words, path in the repository, built-in copy).
+pub const INPUTS: &[(&str, &str, &str, &str)] = &[
+    (
+        "budget",
+        "release budget",
+        "models/release/budget.yaml",
+        geodesic_release::budget::DEFAULT_BUDGET_YAML,
+    ),
+    (
+        "capture",
+        "capture inputs",
+        "models/capture/capture.yaml",
+        geodesic_capture::DEFAULT_CAPTURE_YAML,
+    ),
+    (
+        "charge",
+        "charge inputs",
+        "models/charge/charge.yaml",
+        geodesic_charge::DEFAULT_CHARGE_YAML,
+    ),
+];
 
 /// A check context on the repository's embedded requirements and built-in model inputs, for
 /// tests and examples.
@@ -69,7 +84,7 @@ pub const DEFAULT_CONFIDENCE: f64 = 0.95;
 /// A check context for a loaded requirement set and model inputs.
 pub fn context(
     requirements: Requirements,
-    inputs: ModelInputs,
+    inputs: Inputs,
     reports_dir: PathBuf,
     mc_n: usize,
     seed: u64,
@@ -106,6 +121,23 @@ pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<d
     all.extend(tipradius::checks());
     all.extend(sensitivity::checks());
     all.extend(dfc::checks());
+    all.extend(spectral::checks());
+    all
+}
+
+/// The root mission's checks (LISA Pathfinder's release; the generic spectral check), sharing
+/// the release Monte Carlo `mc` with its fidelity table.
+pub fn mission_registry(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<dyn Check>> {
+    let mut all: Vec<Box<dyn Check>> = Vec::new();
+    all.extend(release::checks_with(mc.clone()));
+    all.extend(capture::checks_with(Some(release::vz_source(mc.clone()))));
+    all.extend(charge::checks());
+    all.extend(tm_state::checks_with(Some(release::vz_source(mc.clone()))));
+    all.extend(facility::checks());
+    all.extend(images::checks());
+    all.extend(plunger::checks_with(Some(release::vz_source(mc))));
+    all.extend(tipradius::checks());
+    all.extend(sensitivity::checks());
     all.extend(spectral::checks());
     all
 }

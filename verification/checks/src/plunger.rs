@@ -203,6 +203,8 @@ impl Check for PlungerAttraction {
                 })
             })
             .collect();
+        let budget_sha = ctx.inputs.file("budget")?.sha256.clone();
+        let charge_sha = ctx.inputs.file("charge")?.sha256.clone();
         let common = |e: Evidence| {
             e.with_input("capacitance_model", cap.describe())
                 .with_input("v_tm_2sigma_v", v2s)
@@ -217,8 +219,8 @@ impl Check for PlungerAttraction {
                         vz.n
                     ),
                 )
-                .with_input("budget_sha256", ctx.inputs.budget.sha256.clone())
-                .with_input("charge_sha256", ctx.inputs.charge.sha256.clone())
+                .with_input("budget_sha256", budget_sha.clone())
+                .with_input("charge_sha256", charge_sha.clone())
                 .from_inputs(&["budget", "charge"])
                 .with_input("authority_n", AUTHORITY_N)
                 .with_input(

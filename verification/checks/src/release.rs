@@ -68,7 +68,7 @@ pub fn budget_and_population(
     ),
     CheckError,
 > {
-    let f = &ctx.inputs.budget;
+    let f = &ctx.inputs.file("budget")?;
     let b = Budget::from_yaml(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))?;
     let path = (!f.label.starts_with("<built-in>")).then(|| std::path::Path::new(&f.label));
     geodesic_release::population::resolve(b, path).map_err(CheckError)
@@ -90,7 +90,7 @@ impl SharedMonteCarlo {
             .cache
             .lock()
             .map_err(|_| CheckError("release Monte Carlo cache poisoned".into()))?;
-        let sha = &ctx.inputs.budget.sha256;
+        let sha = &ctx.inputs.file("budget")?.sha256;
         if let Some((r, h)) = guard.as_ref()
             && r.n == ctx.mc_n
             && r.seed == ctx.seed
@@ -113,8 +113,14 @@ pub fn mc_inputs(r: &McResult, ctx: &CheckContext) -> BTreeMap<String, Value> {
     m.insert("n".into(), json!(r.n));
     m.insert("seed".into(), json!(r.seed));
     m.insert("case".into(), json!(r.case.as_str()));
-    m.insert("budget_file".into(), json!(ctx.inputs.budget.label));
-    m.insert("budget_sha256".into(), json!(ctx.inputs.budget.sha256));
+    m.insert(
+        "budget_file".into(),
+        json!(ctx.inputs.get("budget").map(|f| &f.label)),
+    );
+    m.insert(
+        "budget_sha256".into(),
+        json!(ctx.inputs.get("budget").map(|f| &f.sha256)),
+    );
     m.insert(
         "integrator".into(),
         json!(geodesic_release::expgauss::ExpGauss::fast().description()),
@@ -323,7 +329,7 @@ impl Check for AdhesionCalibration {
     }
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
-        let input = &ctx.inputs.budget;
+        let input = &ctx.inputs.file("budget")?;
         let b = budget_of(ctx).map_err(|e| CheckError(format!("adhesion calibration: {e}")))?;
         let cmp = |c| {
             compare(&b.adhesion, c, CALIBRATION_DRAWS, CALIBRATION_SEED)

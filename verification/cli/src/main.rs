@@ -6,15 +6,14 @@
 //! success, 1 a verdict of non-compliance (`verify`), 2 bad input or usage with a one-line cause
 //! on standard error.
 
-mod builtin;
 mod cmd;
 mod error;
 mod inputs;
-mod only;
-mod preflight;
-mod progress;
+mod missions;
 mod quantity;
 mod usage;
+
+use geodesic_verify::{preflight, progress};
 
 use clap::{CommandFactory, Parser, Subcommand};
 use std::process::ExitCode;
@@ -149,6 +148,12 @@ See docs/exchange.md.")]
   geodesic requirements list                        # every requirement with its status from reports/
   geodesic requirements show REL-GPRM-VEL           # source, limit, flow-down, traced tests, evidence")]
     Requirements(cmd::requirements::Args),
+    /// Scaffold a project outside this repository that verifies its own system with geodesic
+    #[command(after_help = "Examples:
+  geodesic new mission cubesat-hinge --path ../cubesat-hinge
+  cd ../cubesat-hinge && cargo run -- verify --reports reports && cargo test
+See docs/guide-mission.md.")]
+    New(cmd::new::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -196,6 +201,9 @@ fn handle_interrupts() {
 fn main() -> ExitCode {
     reset_sigpipe();
     handle_interrupts();
+    // the missions this repository verifies (the root mission first): `verify` has a flag per
+    // input they declare
+    missions::install(geodesic_missions::all());
     // usage errors: one line naming the argument (src/usage.rs); negative numbers are values
     let cli: Cli = match usage::parse(Cli::command()) {
         Ok(c) => c,
@@ -230,6 +238,7 @@ fn main() -> ExitCode {
         Command::Plunger(a) => cmd::plunger::run(a),
         Command::Surfaces(a) => cmd::surfaces::run(a),
         Command::Requirements(a) => cmd::requirements::run(a),
+        Command::New(a) => cmd::new::run(a),
     };
     match result {
         Ok(code) => ExitCode::from(code),

@@ -37,9 +37,9 @@ pub struct InputFile {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum InputOrigin {
-    /// Given with its flag (`--budget FILE.yaml`, ...).
+    /// Given with its flag (`--design FILE.yaml`, ...).
     Given,
-    /// The repository's copy (`models/release/budget.yaml`, ...) in the current directory.
+    /// The mission's copy (the path its descriptor declares) in the current directory.
     Repository,
     /// The copy built into the binary.
     BuiltIn,
@@ -87,24 +87,58 @@ impl InputFile {
     }
 }
 
-/// The model input files of a run (release budget, capture limits and state distribution).
-#[derive(Clone, Debug, Serialize)]
-pub struct ModelInputs {
-    /// The release Monte Carlo uncertainty budget (`models/release/budget.yaml` format).
-    pub budget: InputFile,
-    /// The capture inputs: xlim and the state sources (`models/capture/capture.yaml` format).
-    pub capture: InputFile,
-    /// The charge model's inputs: capacitances, contact voltage spread, release-tip geometry
-    /// (`models/charge/charge.yaml` format).
-    pub charge: InputFile,
-    /// A mission's design inputs read by its checks (e.g. the Drag-Free CubeSat housing:
-    /// `missions/drag-free-cubesat/design.yaml`); `None`: the checks use their built-in copy.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub design: Option<InputFile>,
+/// The input files of a run, by the name its mission declares them under (e.g. `design`), each
+/// with its text, where it came from and its SHA-256, and the time series a spectral check
+/// judges. The framework knows no input by name: a mission declares its inputs (name, words,
+/// default path, built-in copy) and its checks read them with [`Inputs::file`].
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Inputs {
+    /// The declared input files by name (in JSON, one key per input).
+    #[serde(flatten)]
+    pub files: BTreeMap<String, InputFile>,
+    /// The declared inputs in declaration order: (name, words for a reader).
+    #[serde(skip)]
+    pub declared: Vec<(String, String)>,
     /// Time series judged by the spectral check, by requirement ID (the series YAML; its CSV's
     /// hash is in the evidence).
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub series: BTreeMap<String, InputFile>,
+}
+
+impl Inputs {
+    /// Adds (or replaces) the input `name`, described in `words` (`design inputs`).
+    pub fn insert(&mut self, name: &str, words: &str, file: InputFile) {
+        if !self.declared.iter().any(|(n, _)| n == name) {
+            self.declared.push((name.to_string(), words.to_string()));
+        }
+        self.files.insert(name.to_string(), file);
+    }
+
+    /// The input `name`, if the run has it.
+    pub fn get(&self, name: &str) -> Option<&InputFile> {
+        self.files.get(name)
+    }
+
+    /// The input `name`; an error naming it when the run's mission declares no such input.
+    pub fn file(&self, name: &str) -> Result<&InputFile, CheckError> {
+        self.files.get(name).ok_or_else(|| {
+            CheckError(format!(
+                "no input `{name}` in this run (the mission declares: {})",
+                if self.files.is_empty() {
+                    "none".to_string()
+                } else {
+                    self.files.keys().cloned().collect::<Vec<_>>().join(", ")
+                }
+            ))
+        })
+    }
+
+    /// The inputs in declaration order: (name, words, file).
+    pub fn iter(&self) -> impl Iterator<Item = (&str, &str, &InputFile)> {
+        self.declared
+            .iter()
+            .filter_map(|(n, w)| self.files.get(n).map(|f| (n.as_str(), w.as_str(), f)))
+    }
 }
 
 /// What a check is given to run.
@@ -113,8 +147,8 @@ pub struct CheckContext {
     /// The loaded requirement set: checks read limits from it (a flow-down is computed from
     /// these, never from constants).
     pub requirements: std::sync::Arc<crate::Requirements>,
-    /// The model input files.
-    pub inputs: std::sync::Arc<ModelInputs>,
+    /// The input files.
+    pub inputs: std::sync::Arc<Inputs>,
     /// Directory where the check may write artifacts (plots); paths in [`Evidence::artifacts`]
     /// are relative to it.
     pub reports_dir: PathBuf,
@@ -162,7 +196,7 @@ pub enum Basis {
     /// Computed from measured data supplied at run time (a test record, e.g. a time series
     /// whose spectrum a check judges).
     Measurement,
-    /// A result taken from a cited external source (e.g. the thesis's E2E simulation).
+    /// A result taken from a cited external source (e.g. a published end-to-end simulation).
     Accepted,
     /// The accuracy of an analysis method (an image analysis, the fit's uncertainty) shown on
     /// synthetic inputs of known truth: evidence about the tool, not about the product.
@@ -226,11 +260,10 @@ pub struct Evidence {
     /// Requirement IDs whose limits this value takes as met (a flow-down assumes them): when
     /// one of them is not verified, the verdict says so.
     pub assumes: Vec<String>,
-    /// The model input files the value was computed from (`budget`, `capture`, `charge`, ...,
-    /// the field names of [`ModelInputs`]): a row that judges one of them (see
+    /// The model input files the value was computed from (the names of [`Inputs`]): a row that judges one of them (see
     /// [`Evidence::judges_input`]) and is non-compliant marks this verdict.
     pub model_inputs: Vec<String>,
-    /// The model input file this evidence judges (FAC-ADH-CAL judges the release budget's
+    /// The model input file this evidence judges (a calibration check judges the input's
     /// adhesion against a campaign it was not calibrated on).
     pub judges_input: Option<String>,
     /// What the value shows by construction, if it does (a quantity derived from the limit it
@@ -311,7 +344,7 @@ impl Evidence {
         self
     }
 
-    /// Model input files (field names of [`ModelInputs`]) the value was computed from.
+    /// Model input files (names of [`Inputs`]) the value was computed from.
     pub fn from_inputs(mut self, names: &[&str]) -> Self {
         for n in names {
             if !self.model_inputs.iter().any(|m| m == n) {
@@ -493,7 +526,7 @@ pub trait Check: Send + Sync {
     fn name(&self) -> &'static str;
     /// Requirement IDs this check provides evidence for.
     fn verifies(&self) -> &'static [&'static str];
-    /// Model input files (field names of [`ModelInputs`]) whose validity this check judges
+    /// Model input files (names of [`Inputs`]) whose validity this check judges
     /// (its evidence carries [`Evidence::judges_input`]): a row computed from such an input
     /// depends on this check's verdict (`verify --only` runs it too). None by default.
     fn judges(&self) -> &'static [&'static str] {
@@ -503,7 +536,7 @@ pub trait Check: Send + Sync {
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError>;
 }
 
-/// One row of a comparison with a reference (the thesis's figures): stated in the reports next to
+/// One row of a comparison with a reference (e.g. a reference document's figures): stated in the reports next to
 /// the compliance matrix, with the assumptions that produced it.
 #[derive(Clone, Debug, Serialize)]
 pub struct ReferenceRow {

@@ -11,7 +11,7 @@
 //!   - requirement: CHG-Q
 //!     kind: NCR            # NCR | waiver | RFD
 //!     reference: NCR-GEO-001
-//!     reason: "2-sigma charge 4.3 % above the 3e8 e the thesis rounds to"
+//!     reason: "2-sigma charge 4.3 % above the 3e8 e the specification rounds to"
 //!     owner: "charge analysis"
 //!     date: 2026-11-23     # YYYY-MM-DD
 //!     expires: 2027-06-30  # optional

@@ -10,7 +10,7 @@ use std::path::Path;
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Document {
-    /// Document identifier (`GEO-LPF-TMR-VCD-001`).
+    /// Document identifier (`GEO-WID-VCD-001`).
     pub id: String,
     /// Issue (`1`, `2.1`).
     pub issue: String,

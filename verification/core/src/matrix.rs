@@ -82,7 +82,7 @@ pub struct EvidenceEntry {
     /// Requirements whose limits the value takes as met (a flow-down).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub assumes: Vec<String>,
-    /// Model input files the value was computed from (`budget`, `capture`, `charge`, ...).
+    /// Model input files the value was computed from (the names the mission declares).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub model_inputs: Vec<String>,
     /// The model input file this evidence judges.
@@ -162,7 +162,7 @@ pub struct Row {
     pub status: Status,
     /// The status as a reader must take it, the same words in every report:
     /// `compliant`, `compliant (flow-down; assumes not-verified TMS-X-VEL)`,
-    /// `compliant (budget rejected by FAC-ADH-CAL)`, `non-compliant (NCR NCR-GEO-001)`,
+    /// `compliant (design rejected by WID-CAL)`, `non-compliant (NCR NCR-GEO-001)`,
     /// `not-verified`. Plain `compliant` only for a model (or measurement) verdict with no
     /// finding.
     pub verdict: String,
@@ -211,7 +211,7 @@ pub struct Row {
     pub quantity: String,
     /// Family.
     pub family: String,
-    /// Thesis source.
+    /// Where the requirement comes from (a specification's table or section).
     pub source: String,
     /// Verification method.
     pub method: String,
@@ -252,7 +252,7 @@ pub struct Selection {
     /// `chosen` (named by `--only`) or `dependency` (a chosen row depends on it).
     pub role: String,
     /// Why, in words: `chosen`, `parent of TMS-X-POS`, `assumed by CAP-RELEASE-PROB`, `judges
-    /// the budget REL-GPRM-VEL is computed from`.
+    /// the input A-ROW is computed from`.
     pub why: String,
 }
 
@@ -923,15 +923,9 @@ fn finish_row(
     }
 }
 
-/// The short name of a model input in a verdict (`budget`, `capture inputs`, ...).
+/// The short name of a model input in a verdict: its declared name, `_` read as a space.
 fn input_word(name: &str) -> String {
-    match name {
-        "budget" => "budget".into(),
-        "capture" => "capture inputs".into(),
-        "charge" => "charge inputs".into(),
-        "design" => "design inputs".into(),
-        other => other.replace('_', " "),
-    }
+    name.replace('_', " ")
 }
 
 /// Fills every row's findings and verdict text, once every status is known: what a flow-down
@@ -1358,7 +1352,7 @@ requirements:
             )
             .with_sampling(Sampling::proportion(k, n, 0.9973, 0.95))
         };
-        // every one of 200 captured: 0.05^(1/200) = 0.9851 cannot show 0.9973
+        // every one of 200 succeeded: 0.05^(1/200) = 0.9851 cannot show 0.9973
         let m = Matrix::build(&r, &[("mc".into(), vec![ev(200, 200)])], None, &[]);
         assert_eq!(m.requirements[1].status, Status::NotVerified);
         assert!(
@@ -1390,14 +1384,14 @@ requirements:
                         "fd",
                     )
                     .assuming(["A-THREE"]),
-                    // a model value from the budget, which A-TWO judges and rejects
+                    // a model value from the design inputs, which A-TWO judges and rejects
                     Evidence::measured(
                         "A-TWO",
                         Quantity::new(0.5, Dim::DIMENSIONLESS),
                         Basis::Model,
                         "cal",
                     )
-                    .judging_input("budget"),
+                    .judging_input("design"),
                 ],
             )],
             None,
@@ -1417,7 +1411,7 @@ requirements:
             line,
             "3 requirements: 1 compliant (1 flow-down; 0 plainly, 1 with findings), 1 non-compliant (1 without disposition), 1 not verified"
         );
-        // a model row computed from the rejected budget carries the finding
+        // a model row computed from the rejected design inputs carries the finding
         let m = Matrix::build(
             &r,
             &[(
@@ -1429,14 +1423,14 @@ requirements:
                         Basis::Model,
                         "mc",
                     )
-                    .from_inputs(&["budget"]),
+                    .from_inputs(&["design"]),
                     Evidence::measured(
                         "A-TWO",
                         Quantity::new(0.5, Dim::DIMENSIONLESS),
                         Basis::Model,
                         "cal",
                     )
-                    .judging_input("budget"),
+                    .judging_input("design"),
                 ],
             )],
             None,
@@ -1444,7 +1438,7 @@ requirements:
         );
         assert_eq!(
             m.requirements[0].verdict,
-            "compliant (budget rejected by A-TWO)"
+            "compliant (design rejected by A-TWO)"
         );
     }
 

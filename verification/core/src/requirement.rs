@@ -2,7 +2,7 @@
 //! (units parsed, dimensions matched, IDs unique, parents resolved and their margins consistent).
 //!
 //! One file per family under `requirements/`. Every entry has an `id`, `title`, `text` (a
-//! "shall" statement), `source` (thesis table or section), `quantity` and its `dimension`, a
+//! "shall" statement), `source` (a specification's table or section), `quantity` and its `dimension`, a
 //! `limit` written as engineers write it (`<= 5 um/s`), the verification `method` (ECSS-E-ST-10-02C:
 //! test, analysis, review-of-design, inspection), the `activity` that provides the evidence, an
 //! optional `check` naming the registered check that runs it, and an optional `parent` with the
@@ -146,7 +146,7 @@ pub enum Level {
     Equipment,
     /// Subsystem (the GRS with its release mechanism, the charge management).
     Subsystem,
-    /// Element (the LISA Technology Package).
+    /// Element (a payload or an instrument package).
     Element,
     /// System (the spacecraft with its DFACS).
     System,
@@ -227,18 +227,10 @@ impl Stage {
     }
 }
 
-/// The level and stage a family's requirements take when neither the requirement nor the file
-/// states them: the release mechanism and the charge are verified at subsystem level, the
-/// facility's calibration at equipment level, the TM state and its capture by the DFACS at
-/// system level; every family at the qualification stage (analysis of the design, before
-/// flight). Another family: system, qualification.
-pub fn default_level_stage(family: &str) -> (Level, Stage) {
-    let level = match family {
-        "release" | "charge" => Level::Subsystem,
-        "facility" => Level::Equipment,
-        _ => Level::System,
-    };
-    (level, Stage::Qualification)
+/// The level and stage a requirement takes when neither it nor its file states them: system,
+/// qualification (a mission's requirement files state their own `level:` and `stage:`).
+pub fn default_level_stage(_family: &str) -> (Level, Stage) {
+    (Level::System, Stage::Qualification)
 }
 
 #[derive(Deserialize)]
@@ -416,7 +408,7 @@ pub struct Requirement {
     pub title: String,
     /// The "shall" statement.
     pub text: String,
-    /// Source in the thesis (table or section).
+    /// Source (a specification's table or section).
     pub source: String,
     /// What is measured or computed (empty for a qualitative requirement that names none).
     pub quantity: String,
@@ -969,7 +961,7 @@ requirements:
   - id: REL-A
     title: A
     text: The thing shall be slow.
-    source: Thesis Tab. 1
+    source: Spec Tab. 1
     quantity: velocity
     dimension: velocity
     limit: <= 5 um/s
@@ -978,7 +970,7 @@ requirements:
   - id: REL-B
     title: B
     text: The design shall allow 7.5 um/s.
-    source: Thesis ch. 7
+    source: Spec ch. 7
     quantity: velocity
     dimension: velocity
     limit: <= 7.5 um/s
@@ -1098,7 +1090,7 @@ requirements:
         let e = Requirements::load_dir(&dir).unwrap_err().to_string();
         assert!(e.contains("no requirements"), "{e}");
         let mut bytes = GOOD.as_bytes().to_vec();
-        let at = GOOD.find("Thesis ch. 7").unwrap();
+        let at = GOOD.find("Spec ch. 7").unwrap();
         bytes[at] = 0xff;
         std::fs::write(dir.join("a.yaml"), &bytes).unwrap();
         let e = Requirements::load_dir(&dir).unwrap_err().to_string();
@@ -1109,7 +1101,7 @@ requirements:
     const QUAL: &str = "  - id: REL-G
     title: Grounding
     text: The TM shall be grounded by a wire until release.
-    source: Thesis ch. 2
+    source: Spec ch. 2
     method: review-of-design
     activity: design review
 ";
@@ -1160,7 +1152,7 @@ requirements:
             "{GOOD}{QUAL}  - id: REL-H
     title: H
     text: The thing shall be slower.
-    source: Thesis ch. 7
+    source: Spec ch. 7
     quantity: velocity
     dimension: velocity
     limit: <= 4 um/s

@@ -1,6 +1,6 @@
 //! Exact, distribution-free confidence bounds for the verdicts that rest on sampling: a Monte
 //! Carlo quantile (REL-GPRM-VEL: the 99.73 % point of |X'|) and a probability estimated from
-//! successes (CAP-RELEASE-PROB: the fraction of releases captured; FAC-FIT-QUAL: a coverage).
+//! successes (the fraction of trials that succeed; a coverage).
 //!
 //! - **Quantile** `xi_p` of a continuous distribution from the sorted sample
 //!   `X_(1) <= ... <= X_(n)`: `P(X_(k) >= xi_p) = P(Binomial(n, p) <= k - 1)` whatever the

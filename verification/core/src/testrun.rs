@@ -66,7 +66,7 @@ impl Assertion {
 pub struct RecordedTest {
     /// Crate of the test binary (`geodesic_checks`, `verification`, ...).
     pub krate: String,
-    /// Test name as the test harness prints it (`capture::tests::criterion_evidence`).
+    /// Test name as the test harness prints it (`structure::tests::deflection_evidence`).
     pub test: String,
     /// Result.
     pub result: TestResult,

@@ -11,12 +11,11 @@
 //! # }
 //! ```
 //!
-//! An ID that is not in `requirements/` fails the build (the IDs are embedded at build time and
-//! checked in a constant), and the test at run time:
-//!
-//! ```compile_fail,E0080
-//! geodesic_core::verifies!("NOT-A-REQ");
-//! ```
+//! An ID that is not a requirement of the mission fails the test. The requirements are read at
+//! run time from the mission the tests run in: the outermost folder at or above the working
+//! directory holding a `mission.yaml` (cargo runs a test in its package's folder), its
+//! requirement folder and those of `missions/*/mission.yaml` under it; the framework embeds no
+//! mission's data.
 //!
 //! While `cargo xtask test` records a run it sets `GEODESIC_TRACE_DIR`: each executing
 //! `verifies!` call and each assertion made through this module is then recorded, for the test
@@ -27,58 +26,102 @@
 
 use crate::testrun::{Assertion, TraceAssertion, TraceCall, TraceRecord};
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 
-/// Requirement IDs found in `requirements/*.yaml` when this crate was built.
-pub const KNOWN_REQUIREMENT_IDS: &[&str] =
-    include!(concat!(env!("OUT_DIR"), "/requirement_ids.rs"));
+/// The environment variable naming the folder of the `mission.yaml` whose requirements the
+/// traced tests are checked against (default: the nearest folder at or above the working
+/// directory that holds one: cargo runs a test in its package's folder).
+pub const MISSION_ROOT_ENV: &str = "GEODESIC_MISSION_ROOT";
 
-/// The repository's requirement files as `(path, text)`, embedded when this crate was built,
-/// so that a traced test can assert a requirement's own limit ([`assert_limit`]).
-pub const REQUIREMENT_SOURCES: &[(&str, &str)] =
-    include!(concat!(env!("OUT_DIR"), "/requirement_sources.rs"));
-
-/// The other missions' requirement files, `(mission, [(path, text)])`, from
-/// `missions/<mission>/requirements/*.yaml` (e.g. the Drag-Free CubeSat).
-pub const MISSION_SOURCES: &[(&str, &[(&str, &str)])] =
-    include!(concat!(env!("OUT_DIR"), "/mission_sources.rs"));
-
-/// The embedded requirement set of `mission` (parsed once per call site's need), or `None`.
-pub fn mission_requirements(mission: &str) -> Option<crate::Requirements> {
-    let (_, files) = MISSION_SOURCES.iter().find(|(m, _)| *m == mission)?;
-    let src: Vec<(std::path::PathBuf, String)> = files
-        .iter()
-        .map(|(p, t)| (std::path::PathBuf::from(p), t.to_string()))
-        .collect();
-    Some(
-        crate::Requirements::from_sources(&src)
-            .unwrap_or_else(|e| panic!("embedded requirements of {mission}: {e}")),
-    )
-}
-
-/// A requirement of the built-in set or of any mission's set.
-fn any_requirement(id: &str) -> Option<crate::requirement::Requirement> {
-    if let Some(r) = requirements().get(id) {
-        return Some(r.clone());
-    }
-    MISSION_SOURCES
-        .iter()
-        .filter_map(|(m, _)| mission_requirements(m))
-        .find_map(|reqs| reqs.get(id).cloned())
-}
-
-/// The embedded requirement set (parsed once).
-pub fn requirements() -> &'static crate::Requirements {
-    static REQS: std::sync::OnceLock<crate::Requirements> = std::sync::OnceLock::new();
-    REQS.get_or_init(|| {
-        let src: Vec<(std::path::PathBuf, String)> = REQUIREMENT_SOURCES
-            .iter()
-            .map(|(p, t)| (std::path::PathBuf::from(p), t.to_string()))
+/// The folder of the mission the running tests belong to: [`MISSION_ROOT_ENV`], else the
+/// nearest folder at or above the working directory holding a `mission.yaml` whose folder is
+/// not itself under `missions/` (a repository's root mission), else the nearest holding one.
+pub fn mission_root() -> Option<&'static Path> {
+    static ROOT: OnceLock<Option<PathBuf>> = OnceLock::new();
+    ROOT.get_or_init(|| {
+        if let Some(d) = std::env::var_os(MISSION_ROOT_ENV).filter(|d| !d.is_empty()) {
+            return Some(PathBuf::from(d));
+        }
+        let cwd = std::env::current_dir().ok()?;
+        let found: Vec<&Path> = cwd
+            .ancestors()
+            .filter(|d| d.join("mission.yaml").is_file())
             .collect();
-        crate::Requirements::from_sources(&src)
-            .unwrap_or_else(|e| panic!("embedded requirements: {e}"))
+        // the outermost one: a mission's own crate inside a repository verifies against the
+        // repository's missions, all of which are loaded below
+        found.last().map(|p| p.to_path_buf())
     })
+    .as_deref()
+}
+
+#[derive(serde::Deserialize)]
+struct Descriptor {
+    name: String,
+    requirements: String,
+}
+
+fn read_descriptor(dir: &Path) -> Option<Descriptor> {
+    let text = std::fs::read_to_string(dir.join("mission.yaml")).ok()?;
+    serde_saphyr::from_str(&text).ok()
+}
+
+/// Every mission's requirement set, `(name, requirements)`: the root mission's first, then
+/// each `missions/<name>/mission.yaml` under the root (read once, at run time: the framework
+/// embeds no mission's data).
+pub fn missions() -> &'static [(String, crate::Requirements)] {
+    static ALL: OnceLock<Vec<(String, crate::Requirements)>> = OnceLock::new();
+    ALL.get_or_init(|| {
+        let Some(root) = mission_root() else {
+            return Vec::new();
+        };
+        let mut dirs = vec![root.to_path_buf()];
+        let mut others: Vec<PathBuf> = std::fs::read_dir(root.join("missions"))
+            .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).collect())
+            .unwrap_or_default();
+        others.retain(|d| d.join("mission.yaml").is_file());
+        others.sort();
+        dirs.extend(others);
+        let mut out = Vec::new();
+        for d in dirs {
+            let Some(desc) = read_descriptor(&d) else {
+                panic!(
+                    "{}: not a readable mission descriptor",
+                    d.join("mission.yaml").display()
+                );
+            };
+            let reqs = crate::Requirements::load_dir(&d.join(&desc.requirements))
+                .unwrap_or_else(|e| panic!("requirements of mission {}: {e}", desc.name));
+            out.push((desc.name, reqs));
+        }
+        out
+    })
+}
+
+/// The requirement set of mission `name` (see [`missions`]), or `None`.
+pub fn mission_requirements(mission: &str) -> Option<crate::Requirements> {
+    missions()
+        .iter()
+        .find(|(m, _)| m == mission)
+        .map(|(_, r)| r.clone())
+}
+
+/// A requirement of any mission's set.
+fn any_requirement(id: &str) -> Option<crate::requirement::Requirement> {
+    missions()
+        .iter()
+        .find_map(|(_, reqs)| reqs.get(id).cloned())
+}
+
+/// The root mission's requirement set (see [`missions`]); panics when the tests run outside
+/// a mission's folder.
+pub fn requirements() -> &'static crate::Requirements {
+    &missions()
+        .first()
+        .unwrap_or_else(|| {
+            panic!("no mission.yaml at or above the working directory (set {MISSION_ROOT_ENV})")
+        })
+        .1
 }
 
 /// Asserts that `value_si` (SI units, the requirement's dimension) meets requirement `id`'s own
@@ -101,7 +144,7 @@ pub fn assert_limit(id: &str, value_si: f64) -> f64 {
     lim.op.margin(v, l)
 }
 
-/// Asserts that `value` agrees with an independent `reference` (named, e.g. "thesis Tab. 6.2" or
+/// Asserts that `value` agrees with an independent `reference` (named, e.g. "spec Tab. 6.2" or
 /// "release-vectors.json #3") within the relative tolerance `rel_tol`, for requirement `id`.
 #[track_caller]
 pub fn assert_reference(id: &str, what: &str, value: f64, reference: f64, rel_tol: f64) {
@@ -237,50 +280,30 @@ pub fn verifies_at(ids: &[&str], krate: &str, location: &str) {
     });
 }
 
-/// Whether `id` is a known requirement ID (usable in constants: [`verifies!`] checks its IDs at
-/// build time with it).
-pub const fn is_known(id: &str) -> bool {
-    let mut i = 0;
-    while i < KNOWN_REQUIREMENT_IDS.len() {
-        let k = KNOWN_REQUIREMENT_IDS[i].as_bytes();
-        let b = id.as_bytes();
-        if k.len() == b.len() {
-            let mut j = 0;
-            while j < k.len() && k[j] == b[j] {
-                j += 1;
-            }
-            if j == k.len() {
-                return true;
-            }
-        }
-        i += 1;
-    }
-    false
+/// Whether `id` is a requirement of one of the missions (see [`missions`]).
+pub fn is_known(id: &str) -> bool {
+    any_requirement(id).is_some()
 }
 
 /// Panics (failing the test) if an ID is not a known requirement. Used by [`verifies!`].
 pub fn assert_known(ids: &[&str], location: &str) {
     for id in ids {
         assert!(
-            KNOWN_REQUIREMENT_IDS.contains(id),
-            "{location}: verifies!(\"{id}\") names an unknown requirement (not in requirements/*.yaml)"
+            is_known(id),
+            "{location}: verifies!(\"{id}\") names an unknown requirement (not in the requirements of {})",
+            mission_root().map_or("any mission found".to_string(), |r| r
+                .join("mission.yaml")
+                .display()
+                .to_string())
         );
     }
 }
 
-/// Declares the requirement IDs a test verifies. An unknown ID fails the build (and the test);
-/// while a run is recorded (`cargo xtask test`), the call is recorded for the running test.
+/// Declares the requirement IDs a test verifies. An unknown ID fails the test; while a run is
+/// recorded (`cargo xtask test`), the call is recorded for the running test.
 #[macro_export]
 macro_rules! verifies {
     ($($id:literal),+ $(,)?) => {{
-        $(
-            const _: () = ::core::assert!(
-                $crate::trace::is_known($id),
-                ::core::concat!(
-                    "verifies!(\"", $id, "\") names an unknown requirement (not in requirements/*.yaml)"
-                )
-            );
-        )+
         $crate::trace::verifies_at(
             &[$($id),+],
             match ::core::option_env!("CARGO_CRATE_NAME") {
@@ -294,10 +317,6 @@ macro_rules! verifies {
 
 #[cfg(test)]
 mod tests {
-    #[test]
-    fn known_ids_are_embedded() {
-        assert!(super::KNOWN_REQUIREMENT_IDS.len() >= 12);
-    }
 
     #[test]
     #[should_panic(expected = "unknown requirement")]
@@ -306,18 +325,17 @@ mod tests {
     }
 
     #[test]
-    fn known_ids_in_constants() {
-        const { assert!(super::is_known("REL-GPRM-VEL")) };
-        assert!(!super::is_known("REL-GPRM-VE"));
-        assert!(!super::is_known("REL-GPRM-VELX"));
+    fn a_test_outside_any_mission_knows_no_id() {
+        // the core's own tests run in verification/core, under the repository's mission.yaml:
+        // whatever it declares, an empty ID is never one
         assert!(!super::is_known(""));
     }
 
     #[test]
     fn record_file_names_are_distinct_and_plain() {
-        let a = super::record_file_name("verification-0a1b", "capture::a_b");
-        let b = super::record_file_name("verification-0a1b", "capture_a::b");
-        assert_eq!(a, "verification~2d0a1b-capture.a_b.json");
+        let a = super::record_file_name("verification-0a1b", "family::a_b");
+        let b = super::record_file_name("verification-0a1b", "family_a::b");
+        assert_eq!(a, "verification~2d0a1b-family.a_b.json");
         assert_ne!(a, b);
         let c = super::record_file_name("x", "src/a.rs - f (line 3)");
         assert!(

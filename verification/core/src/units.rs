@@ -4,7 +4,7 @@
 //! Why hand-written rather than `uom`: `uom` parses `"200 µm"` only with U+00B5 and a space, and
 //! rejects `um`, `200µm` or the Greek mu, which the requirements and datasets use. What this
 //! project needs is small and exact: a dimension vector ([`Dim`]), SI prefixes (with `u`, `µ`
-//! and `μ` for micro), the handful of symbols the thesis uses, products, quotients and integer
+//! and `μ` for micro), the handful of symbols physics texts use, products, quotients and integer
 //! powers. A [`Unit`] is a scale to SI and a dimension; a [`Quantity`] is a value in SI with
 //! its dimension. The radian is kept as its own base dimension so that `2 mrad` cannot be
 //! compared with `2 mm`.

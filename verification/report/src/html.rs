@@ -244,7 +244,8 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     if !rep.run.fidelity.is_empty() {
         let _ = write!(
             o,
-            "<li><a href=\"#fidelity\">Fidelity against the thesis</a></li>"
+            "<li><a href=\"#fidelity\">{}</a></li>",
+            esc(&rep.run.reference.title)
         );
     }
     let _ = write!(o, "<li><a href=\"#requirements\">Requirements</a><ol>");
@@ -337,8 +338,10 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     if !rep.run.fidelity.is_empty() {
         let _ = write!(
             o,
-            "<h2 id=\"fidelity\">4 Fidelity against the thesis{UP}</h2><table><thead><tr><th>Figure</th><th>geodesic</th>\
-             <th>Thesis</th><th>Difference</th><th>Assumptions</th></tr></thead><tbody>"
+            "<h2 id=\"fidelity\">4 {}{UP}</h2><table><thead><tr><th>Figure</th><th>geodesic</th>\
+             <th>{}</th><th>Difference</th><th>Assumptions</th></tr></thead><tbody>",
+            esc(&rep.run.reference.title),
+            esc(&rep.run.reference.column)
         );
         for f in &rep.run.fidelity {
             let _ = write!(

@@ -41,12 +41,17 @@ fn run_properties(rep: &Report) -> String {
         ("command", r.command.clone()),
         ("requirements", r.requirements.clone()),
         ("requirements_sha256", r.requirements_hash.clone()),
-        ("budget", r.inputs.budget.label.clone()),
-        ("budget_sha256", r.inputs.budget.sha256.clone()),
-        ("capture", r.inputs.capture.label.clone()),
-        ("capture_sha256", r.inputs.capture.sha256.clone()),
-        ("charge", r.inputs.charge.label.clone()),
-        ("charge_sha256", r.inputs.charge.sha256.clone()),
+    ];
+    let inputs: Vec<(String, String, String)> = r
+        .inputs
+        .iter()
+        .map(|(n, _, f)| (n.to_string(), format!("{n}_sha256"), f.label.clone()))
+        .collect();
+    for ((n, nsha, label), (_, _, f)) in inputs.iter().zip(r.inputs.iter()) {
+        p.push((n.as_str(), label.clone()));
+        p.push((nsha.as_str(), f.sha256.clone()));
+    }
+    p.extend([
         ("confidence", r.confidence.to_string()),
         ("summary", rep.matrix.summary.line()),
         (
@@ -58,7 +63,7 @@ fn run_properties(rep: &Report) -> String {
             rep.matrix.summary.compliant_with_findings.to_string(),
         ),
         ("test_results", rep.matrix.summary.tests.clone()),
-    ];
+    ]);
     let by_basis: Vec<(String, String)> = rep
         .matrix
         .summary

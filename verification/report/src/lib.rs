@@ -14,6 +14,7 @@
 //! The JSON form is the [`geodesic_core::matrix::Matrix`] itself, wrapped in [`Report`].
 
 pub mod baseline;
+pub mod formats;
 pub mod html;
 pub mod junit;
 pub mod markdown;
@@ -51,8 +52,8 @@ pub struct RunInfo {
     pub requirements: String,
     /// SHA-256 over the requirement files (names and bytes, sorted by name).
     pub requirements_hash: String,
-    /// The model input files (release budget, capture inputs) with their SHA-256.
-    pub inputs: geodesic_core::check::ModelInputs,
+    /// The input files the mission declares, with their SHA-256.
+    pub inputs: geodesic_core::check::Inputs,
     /// The dispositions file and its SHA-256 (`None`: no dispositions).
     pub dispositions: Option<geodesic_core::check::InputFile>,
     /// Monte Carlo sample count given to the checks [-].
@@ -63,8 +64,12 @@ pub struct RunInfo {
     pub confidence: f64,
     /// Checks that ran, with the requirements they verify.
     pub checks: Vec<CheckRun>,
-    /// geodesic's figures against the thesis's (the fidelity table).
+    /// geodesic's figures against the mission's reference (the fidelity table).
     pub fidelity: Vec<geodesic_core::check::ReferenceRow>,
+    /// The heading and reference column of the fidelity table (the mission's descriptor
+    /// names them); not part of the JSON.
+    #[serde(skip)]
+    pub reference: ReferenceHeading,
     /// A partial run (`verify --only`): which rows were chosen and which came as their
     /// dependencies; absent in a whole run. A gate never compares a partial run.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -72,6 +77,24 @@ pub struct RunInfo {
     /// Wall time of the run and of each check [s]: differs run to run (machine, load), so it
     /// is information only: the baseline diff and the determinism checks ignore it.
     pub timings: Timings,
+}
+
+/// How the reports title the fidelity table and its reference column.
+#[derive(Clone, Debug)]
+pub struct ReferenceHeading {
+    /// The table's heading (`Fidelity against the reference`).
+    pub title: String,
+    /// The reference column (`Reference`).
+    pub column: String,
+}
+
+impl Default for ReferenceHeading {
+    fn default() -> Self {
+        ReferenceHeading {
+            title: "Fidelity against the reference".into(),
+            column: "Reference".into(),
+        }
+    }
 }
 
 /// What a partial run (`verify --only ID,...`) ran.
@@ -158,7 +181,7 @@ pub struct Report {
 /// The run's identification as `(label, value)` pairs, for the header of every report: tool
 /// version, commit (and whether the tree was dirty), date, command, requirement set and model
 /// input files with their SHA-256, the test run.
-pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
+pub fn run_lines(rep: &Report) -> Vec<(&str, String)> {
     let r = &rep.run;
     let short = |h: &str| h.chars().take(16).collect::<String>();
     let d = &r.document;
@@ -179,48 +202,18 @@ pub fn run_lines(rep: &Report) -> Vec<(&'static str, String)> {
     if let Some(p) = &r.partial {
         v.push(("partial run", p.note.clone()));
     }
+    v.extend([(
+        "requirements",
+        format!(
+            "{} (sha256 {})",
+            r.requirements,
+            short(&r.requirements_hash)
+        ),
+    )]);
+    for (_, words, f) in r.inputs.iter() {
+        v.push((words, format!("{} (sha256 {})", f.label, short(&f.sha256))));
+    }
     v.extend([
-        (
-            "requirements",
-            format!(
-                "{} (sha256 {})",
-                r.requirements,
-                short(&r.requirements_hash)
-            ),
-        ),
-        (
-            "release budget",
-            format!(
-                "{} (sha256 {})",
-                r.inputs.budget.label,
-                short(&r.inputs.budget.sha256)
-            ),
-        ),
-        (
-            "capture inputs",
-            format!(
-                "{} (sha256 {})",
-                r.inputs.capture.label,
-                short(&r.inputs.capture.sha256)
-            ),
-        ),
-        (
-            "charge inputs",
-            format!(
-                "{} (sha256 {})",
-                r.inputs.charge.label,
-                short(&r.inputs.charge.sha256)
-            ),
-        ),
-        (
-            "mission design inputs",
-            r.inputs
-                .design
-                .as_ref()
-                .map_or("built-in (or none used)".into(), |d| {
-                    format!("{} (sha256 {})", d.label, short(&d.sha256))
-                }),
-        ),
         (
             "time series (spectral checks)",
             if r.inputs.series.is_empty() {
@@ -484,12 +477,19 @@ requirements:
                 command: "geodesic verify".into(),
                 requirements: "f".into(),
                 requirements_hash: "h".into(),
-                inputs: geodesic_core::check::ModelInputs {
-                    budget: geodesic_core::check::InputFile::new("b.yaml", "b"),
-                    capture: geodesic_core::check::InputFile::new("c.yaml", "c"),
-                    charge: geodesic_core::check::InputFile::new("q.yaml", "q"),
-                    design: None,
-                    series: Default::default(),
+                inputs: {
+                    let mut i = geodesic_core::check::Inputs::default();
+                    i.insert(
+                        "a",
+                        "input a",
+                        geodesic_core::check::InputFile::new("a.yaml", "a"),
+                    );
+                    i.insert(
+                        "b",
+                        "input b",
+                        geodesic_core::check::InputFile::new("b.yaml", "b"),
+                    );
+                    i
                 },
                 dispositions: None,
                 mc_n: 1,
@@ -497,6 +497,7 @@ requirements:
                 confidence: 0.95,
                 checks: vec![],
                 fidelity: vec![],
+                reference: Default::default(),
                 partial: None,
                 timings: Default::default(),
             },

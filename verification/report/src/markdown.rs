@@ -75,10 +75,11 @@ pub fn render(rep: &Report) -> String {
         );
     }
     if !rep.run.fidelity.is_empty() {
-        let _ = writeln!(o, "\n## Fidelity against the thesis\n");
+        let _ = writeln!(o, "\n## {}\n", rep.run.reference.title);
         let _ = writeln!(
             o,
-            "| Figure | geodesic | Thesis | Difference | Assumptions |"
+            "| Figure | geodesic | {} | Difference | Assumptions |",
+            rep.run.reference.column
         );
         let _ = writeln!(o, "|---|---|---|---|---|");
         for f in &rep.run.fidelity {

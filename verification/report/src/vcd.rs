@@ -93,7 +93,7 @@ fn holds(r: &Row, value: f64) -> bool {
 
 /// Compliance as the VCD states it (ECSS-E-ST-10-02C Annex B): `yes` (compliant on a model or
 /// a measurement with no finding), `yes (...)` with the verdict's qualifiers (`yes (accepted)`,
-/// `yes (flow-down; assumes not-verified TMS-X-VEL)`, `yes (budget rejected by FAC-ADH-CAL)`),
+/// `yes (flow-down; assumes not-verified TMS-X-VEL)`, `yes (design rejected by WID-CAL)`),
 /// `no` (non-compliant), `partial` (partly met: non-compliant, yet another deciding piece of
 /// evidence for the same requirement meets the limit), `not verified` (no evidence gives a
 /// value; in ECSS "partial" means partly met, which a missing verification is not).

@@ -12,8 +12,14 @@ use proptest::prelude::*;
 
 fn dfc_context(design: Option<&str>) -> (CheckContext, tempfile::TempDir) {
     let dir = tempfile::tempdir().unwrap();
-    let mut inputs = geodesic_checks::builtin_inputs();
-    inputs.design = design.map(|t| geodesic_core::check::InputFile::new("design.yaml", t));
+    let mut inputs = geodesic_core::check::Inputs::default();
+    if let Some(t) = design {
+        inputs.insert(
+            "design",
+            "mission design inputs",
+            geodesic_core::check::InputFile::new("design.yaml", t),
+        );
+    }
     let reqs = mission_requirements("drag-free-cubesat").expect("the mission is embedded");
     (
         geodesic_checks::context(reqs, inputs, dir.path().to_path_buf(), 100, 1, 0.95, true),

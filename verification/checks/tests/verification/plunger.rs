@@ -99,10 +99,14 @@ fn plunger_rows_move_with_the_budget_and_the_charge_inputs() {
     let (base, v0) = dv(&base_ctx);
     let mut lighter = base_ctx.clone();
     let mut inputs = (*lighter.inputs).clone();
-    inputs.budget = geodesic_core::check::InputFile::new(
-        "lighter.yaml",
-        geodesic_release::budget::DEFAULT_BUDGET_YAML
-            .replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.98}"),
+    inputs.insert(
+        "budget",
+        "release budget",
+        geodesic_core::check::InputFile::new(
+            "lighter.yaml",
+            geodesic_release::budget::DEFAULT_BUDGET_YAML
+                .replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.98}"),
+        ),
     );
     lighter.inputs = std::sync::Arc::new(inputs);
     let (light, v0_light) = dv(&lighter);
@@ -113,9 +117,13 @@ fn plunger_rows_move_with_the_budget_and_the_charge_inputs() {
     assert!(light > 1.5 * base, "PLG-EXTRA-VEL {base} -> {light} m/s");
     let mut charged = base_ctx.clone();
     let mut inputs = (*charged.inputs).clone();
-    inputs.charge = geodesic_core::check::InputFile::new(
-        "charge.yaml",
-        geodesic_charge::DEFAULT_CHARGE_YAML.replace("c_eh_f: 34.4e-12", "c_eh_f: 20e-12"),
+    inputs.insert(
+        "charge",
+        "charge inputs",
+        geodesic_core::check::InputFile::new(
+            "charge.yaml",
+            geodesic_charge::DEFAULT_CHARGE_YAML.replace("c_eh_f: 34.4e-12", "c_eh_f: 20e-12"),
+        ),
     );
     charged.inputs = std::sync::Arc::new(inputs);
     let (more, _) = dv(&charged);

@@ -419,7 +419,10 @@ fn release_checks_give_evidence() {
     )
     .unwrap();
     assert_eq!(q.value, direct.worst_z);
-    assert_eq!(cal[0].inputs["budget_sha256"], ctx.inputs.budget.sha256);
+    assert_eq!(
+        cal[0].inputs["budget_sha256"],
+        ctx.inputs.file("budget").unwrap().sha256
+    );
     assert_eq!(cal[0].inputs["hold_out_campaign"], "tab:1kg");
     assert_eq!(checks_with(mc).len(), 3);
     let _ = std::fs::remove_dir_all(dir);

@@ -95,7 +95,7 @@ impl Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let file = crate::cmd::verify::capture_file(args.capture.as_ref())?;
+    let file = crate::cmd::verify::input_file("capture", args.capture.as_ref())?;
     crate::inputs::announce(args.json, crate::inputs::ModelInput::Capture, &file);
     let inputs = CaptureInputs::from_yaml_str(&file.text, &file.label)
         .map_err(|e| CliError::bad(e.to_string()))?;

@@ -13,6 +13,7 @@ pub mod history;
 pub mod import;
 pub mod merge;
 pub mod montecarlo;
+pub mod new;
 pub mod plunger;
 pub mod requirements;
 pub mod sensitivity;

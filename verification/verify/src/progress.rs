@@ -153,11 +153,11 @@ impl Task {
         }
     }
 
-    /// A hook for the fit library's progress ([`geodesic_fit::progress`]) while this task runs:
+    /// A hook for a library's progress lines (the fit library's `progress::Hook`) while this task runs:
     /// on a terminal the line replaces the spinner's message; with `--progress` elsewhere each
     /// stage is a line and the iterations between are thinned to one line every 2 s; `None`
     /// when progress is not shown.
-    pub fn fit_hook(&self) -> Option<geodesic_fit::progress::Hook> {
+    pub fn fit_hook(&self) -> Option<std::sync::Arc<dyn Fn(&str, bool) + Send + Sync>> {
         if self.bar.is_none() && !self.plain {
             return None;
         }

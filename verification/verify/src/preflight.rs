@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::error::CliError;
+use crate::error::Error as CliError;
 
 /// The nearest existing ancestor of `p` (itself if it exists; `.` for a relative path none of
 /// whose ancestors exists).

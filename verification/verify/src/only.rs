@@ -5,7 +5,7 @@
 //! - their parents (the flow-down sources), up to the top;
 //! - the requirements a flow-down assumes (the evidence's `assumes`), with their parents;
 //! - the requirements whose check judges a model input the evidence is computed from (the
-//!   evidence's `model_inputs` against [`Check::judges`]: FAC-ADH-CAL judges the budget every
+//!   evidence's `model_inputs` against [`Check::judges`]: a calibration check judges the input every
 //!   release row is computed from, and a non-compliant FAC-ADH-CAL marks those rows);
 //!
 //! until nothing new is needed. The checks that give those rows their evidence run (each once;
@@ -15,7 +15,7 @@
 //! `--only`, or a baseline that is itself partial, is refused (exit 2), so that a partial run can
 //! never make the gate say "no regression" for rows it did not run.
 
-use crate::error::CliError;
+use crate::error::Error as CliError;
 use geodesic_core::Requirements;
 use geodesic_core::check::{Check, Evidence};
 use geodesic_core::matrix::{Matrix, Selection as RowSelection};
@@ -54,7 +54,7 @@ impl Selection {
         };
         for id in ids {
             let Some(r) = reqs.get(id) else {
-                return Err(crate::cmd::requirements::unknown_id("--only ", id, reqs));
+                return Err(crate::ids::unknown_id("--only ", id, reqs));
             };
             let id = r.id.to_string();
             if !s.chosen.contains(&id) {

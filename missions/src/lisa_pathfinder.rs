@@ -1,0 +1,127 @@
+//! The root mission: LISA Pathfinder's test-mass release (`mission.yaml` at the repository's
+//! root). Its checks are `geodesic-checks`'s registry; its fidelity table compares geodesic's
+//! figures with the thesis's and shares the checks' release Monte Carlo.
+
+use geodesic_checks::release::SharedMonteCarlo;
+use geodesic_verify::{Mission, Session};
+
+/// The descriptor, built into the program.
+pub const DESCRIPTOR: &str = include_str!("../../mission.yaml");
+
+/// The built-in copies of the mission's files (paths relative to the descriptor).
+const FILES: &[(&str, &str)] = &[
+    (
+        "requirements/capture.yaml",
+        include_str!("../../requirements/capture.yaml"),
+    ),
+    (
+        "requirements/charge.yaml",
+        include_str!("../../requirements/charge.yaml"),
+    ),
+    (
+        "requirements/facility.yaml",
+        include_str!("../../requirements/facility.yaml"),
+    ),
+    (
+        "requirements/performance.yaml",
+        include_str!("../../requirements/performance.yaml"),
+    ),
+    (
+        "requirements/plunger.yaml",
+        include_str!("../../requirements/plunger.yaml"),
+    ),
+    (
+        "requirements/release.yaml",
+        include_str!("../../requirements/release.yaml"),
+    ),
+    (
+        "requirements/tm-state.yaml",
+        include_str!("../../requirements/tm-state.yaml"),
+    ),
+    (
+        "verification/document.yaml",
+        include_str!("../../verification/document.yaml"),
+    ),
+    (
+        "models/release/budget.yaml",
+        geodesic_release::budget::DEFAULT_BUDGET_YAML,
+    ),
+    (
+        "models/capture/capture.yaml",
+        geodesic_capture::DEFAULT_CAPTURE_YAML,
+    ),
+    (
+        "models/charge/charge.yaml",
+        geodesic_charge::DEFAULT_CHARGE_YAML,
+    ),
+];
+
+fn session() -> Session {
+    let mc = SharedMonteCarlo::new();
+    let checks = geodesic_checks::mission_registry(mc.clone());
+    Session {
+        checks,
+        reference: Some(Box::new(move |ctx| {
+            // the fidelity table compares the release with the thesis: only for a requirement
+            // set that has the release family
+            if ctx.requirements.items.iter().any(|r| r.family == "release") {
+                geodesic_checks::fidelity::table(&mc, ctx)
+            } else {
+                Ok(Vec::new())
+            }
+        })),
+    }
+}
+
+/// The mission, found in the current directory (the repository's root) or built in.
+pub fn mission() -> Mission {
+    let mut m = Mission::new(DESCRIPTOR, "mission.yaml", ".", session)
+        .expect("the built-in mission.yaml is valid (tested)")
+        .max_mc_n(geodesic_release::montecarlo::MAX_N)
+        .series(crate::series)
+        .validate("budget", |f| {
+            let b = geodesic_release::budget::Budget::from_yaml(&f.text, &f.label)
+                .map_err(|e| e.to_string())?;
+            if !f.label.starts_with("<built-in>") {
+                // its adhesion_from (a campaign result) must load before anything runs
+                geodesic_release::population::resolve(b, Some(std::path::Path::new(&f.label)))?;
+            }
+            Ok(())
+        })
+        .validate("capture", |f| {
+            geodesic_capture::CaptureInputs::from_yaml_str(&f.text, &f.label)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        })
+        .validate("charge", |f| {
+            geodesic_charge::ChargeFile::from_yaml_str(&f.text, &f.label)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        });
+    for (p, t) in FILES {
+        m = m.builtin(p, t);
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_requirement_file_is_built_in() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../requirements");
+        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".yaml"))
+            .collect();
+        on_disk.sort();
+        let m = super::mission();
+        let built: Vec<String> = m
+            .builtin_requirements()
+            .iter()
+            .map(|(n, _)| n.to_string())
+            .collect();
+        assert_eq!(on_disk, built);
+    }
+}

@@ -1,0 +1,75 @@
+//! `geodesic new mission NAME --path DIR`: scaffolds a project outside this repository that
+//! verifies its own system with geodesic ([`geodesic_verify::scaffold`]).
+
+use crate::error::CmdResult;
+use std::path::PathBuf;
+
+/// Flags of `geodesic new`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(subcommand)]
+    what: What,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum What {
+    /// A mission project: a requirement, an input file, one check with a small model, a traced
+    /// test and a `main` that runs the verification.
+    #[command(after_help = "Examples:
+  geodesic new mission cubesat-hinge --path ../cubesat-hinge
+  cd ../cubesat-hinge && cargo run -- verify --reports reports && cargo test
+The project depends on this geodesic checkout's framework crates by path (--geodesic names
+another checkout) and copies its Cargo.lock, so it builds offline with the tested versions.")]
+    Mission(MissionArgs),
+}
+
+/// Flags of `geodesic new mission`.
+#[derive(clap::Args, Debug)]
+pub struct MissionArgs {
+    /// The mission's name: lower-case letters, digits and `-` (the package name; requirement
+    /// IDs start with it in capitals).
+    pub name: String,
+    /// The project's folder (new or empty).
+    #[arg(long, value_name = "DIR")]
+    pub path: PathBuf,
+    /// The geodesic checkout the project depends on [default: the one this program was built
+    /// from].
+    #[arg(long, value_name = "DIR")]
+    pub geodesic: Option<PathBuf>,
+    /// Print `{"path", "files"}` as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> CmdResult {
+    let What::Mission(a) = args.what;
+    let framework = a
+        .geodesic
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")));
+    let files = geodesic_verify::scaffold::write(&geodesic_verify::scaffold::NewMission {
+        name: a.name.clone(),
+        path: a.path.clone(),
+        framework,
+    })?;
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&serde_json::json!({
+                "path": a.path.display().to_string(),
+                "files": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
+            }))
+            .unwrap_or_default()
+        );
+    } else {
+        for f in &files {
+            println!("wrote {}", f.display());
+        }
+        println!(
+            "next: cd {} && cargo run -- verify --reports reports && cargo test",
+            a.path.display()
+        );
+    }
+    Ok(0)
+}

@@ -1,0 +1,315 @@
+//! The test-oracle harness: a project that verifies its own system with geodesic writes
+//!
+//! ```no_run
+//! # fn mission() -> geodesic_verify::Mission { unimplemented!() }
+//! fn main() -> std::process::ExitCode {
+//!     geodesic_verify::harness::main(mission())
+//! }
+//! ```
+//!
+//! and its program runs the verification (`verify`, or no command at all) with the flags
+//! `geodesic verify` has (`--reports DIR`, `--json`, `--baseline OLD.json`, `--require-tests`,
+//! `--junit FILE`, `--mc-n`, `--seed`, `--only`, `--NAME FILE` for each declared input), lists
+//! and checks its requirements (`requirements list|check`), and exports them as ReqIF
+//! (`export-reqif --out FILE [--matrix compliance.json]`). Its traced tests (`verifies!`) are
+//! recorded by `cargo test` with `GEODESIC_TEST_RECORD` set (see [`geodesic_core::testrun`]).
+
+use crate::error::Error;
+use crate::mission::Mission;
+use crate::pipeline::{self, Options};
+use clap::{Arg, ArgAction, ArgMatches, Command};
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// The `verify` flags every program shares (`geodesic verify` and a project's harness), with
+/// one `--NAME FILE` flag per declared input of `missions`.
+pub fn verify_args(cmd: Command, missions: &[&Mission]) -> Command {
+    let mut cmd = cmd
+        .arg(Arg::new("requirements").long("requirements").value_name("DIR").value_parser(clap::value_parser!(PathBuf))
+            .help("Directory of requirement YAML files [default: the mission's folder if present, else its built-in copy]"))
+        .arg(Arg::new("dispositions").long("dispositions").value_name("FILE.yaml").value_parser(clap::value_parser!(PathBuf))
+            .help("Dispositions of known non-compliances (NCR, waiver, RFD) [default: the mission's if present, else none]"))
+        .arg(Arg::new("document").long("document").value_name("FILE.yaml").value_parser(clap::value_parser!(PathBuf))
+            .help("Identification of the documents written (id, issue, title, project) [default: `document.yaml` beside the --requirements folder if present, else the mission's]"))
+        .arg(Arg::new("tests").long("tests").value_name("FILE.json").value_parser(clap::value_parser!(PathBuf))
+            .help("Recorded test run read for the traced tests' results [default: ./target/geodesic/test-run.json if present]"))
+        .arg(Arg::new("require-tests").long("require-tests").action(ArgAction::SetTrue)
+            .help("Exit 1 when no test run is recorded, when it is stale, when a requirement's traced tests failed, were ignored or did not run, or when a verdict has no passing traced test that asserts its limit or a reference"))
+        .arg(Arg::new("reports").long("reports").value_name("DIR").default_value("reports").value_parser(clap::value_parser!(PathBuf))
+            .help("Directory the reports are written to"))
+        .arg(Arg::new("mc-n").long("mc-n").value_name("N").default_value("100000").value_parser(clap::value_parser!(usize))
+            .help("Monte Carlo sample count used by the checks that run one"))
+        .arg(Arg::new("seed").long("seed").default_value("1").value_parser(clap::value_parser!(u64))
+            .help("Monte Carlo seed"))
+        .arg(Arg::new("confidence").long("confidence").value_name("C").default_value("0.95").value_parser(clap::value_parser!(f64))
+            .help("Confidence of the bounds a sampled verdict (a Monte Carlo quantile, a probability from successes) is decided by, between 0 and 1"))
+        .arg(Arg::new("junit").long("junit").value_name("FILE").value_parser(clap::value_parser!(PathBuf))
+            .help("Also write the compliance checks as JUnit XML to FILE (for CI dashboards)"))
+        .arg(Arg::new("baseline").long("baseline").value_name("OLD.json").value_parser(clap::value_parser!(PathBuf))
+            .help("Gate against a baseline compliance.json: exit 0 when nothing regressed, 1 on a regression (a new non-compliance, a margin lost beyond --margin-tolerance, evidence or a passing test lost, a disposition expired), each requirement counted once"))
+        .arg(Arg::new("margin-tolerance").long("margin-tolerance").value_name("FRACTION").default_value("0.01").value_parser(clap::value_parser!(f64))
+            .help("Margin change (absolute, as a fraction of the limit) that counts as moved"))
+        .arg(Arg::new("no-fidelity").long("no-fidelity").action(ArgAction::SetTrue)
+            .help("Skip the fidelity table (the mission's figures against its reference)"))
+        .arg(Arg::new("series").long("series").value_name("ID=FILE.yaml").action(ArgAction::Append)
+            .help("A time series judged against a spectral requirement: `ID=FILE.yaml` (repeatable)"))
+        .arg(Arg::new("only").long("only").value_name("ID[,ID...]").value_delimiter(',').action(ArgAction::Append)
+            .help("Run only these requirements and what they depend on (their parents, the rows a flow-down assumes, the rows that judge their model inputs); the matrix holds those rows, marked chosen or dependency, and says the run was partial. Never with --baseline"))
+        .arg(Arg::new("json").long("json").action(ArgAction::SetTrue)
+            .help("Print only the JSON compliance matrix on standard output"));
+    let mut seen: Vec<String> = Vec::new();
+    for m in missions {
+        for i in &m.spec.inputs {
+            if seen.contains(&i.name) {
+                continue;
+            }
+            seen.push(i.name.clone());
+            let about = if i.about.is_empty() {
+                i.words.clone()
+            } else {
+                i.about.clone()
+            };
+            cmd = cmd.arg(
+                Arg::new(leak(format!("input:{}", i.name)))
+                    .long(leak(i.name.clone()))
+                    .value_name("FILE.yaml")
+                    .value_parser(clap::value_parser!(PathBuf))
+                    .help(format!(
+                        "{about} [default: {} of mission {} if present, else its built-in copy]",
+                        m.path(&i.path).display(),
+                        m.spec.name
+                    )),
+            );
+        }
+    }
+    cmd
+}
+
+/// A name clap keeps for the program's life (the flags are built once per process).
+fn leak(s: String) -> &'static str {
+    Box::leak(s.into_boxed_str())
+}
+
+/// The [`Options`] of parsed `verify` flags.
+pub fn options(m: &ArgMatches) -> Options {
+    let path = |id: &str| m.get_one::<PathBuf>(id).cloned();
+    let mut inputs = std::collections::BTreeMap::new();
+    for id in m.ids() {
+        if let Some(name) = id.as_str().strip_prefix("input:")
+            && let Some(p) = m.get_one::<PathBuf>(id.as_str())
+        {
+            inputs.insert(name.to_string(), p.clone());
+        }
+    }
+    Options {
+        requirements: path("requirements"),
+        inputs,
+        dispositions: path("dispositions"),
+        document: path("document"),
+        tests: path("tests"),
+        require_tests: m.get_flag("require-tests"),
+        reports: path("reports").unwrap_or_else(|| PathBuf::from("reports")),
+        mc_n: *m.get_one::<usize>("mc-n").unwrap_or(&100_000),
+        seed: *m.get_one::<u64>("seed").unwrap_or(&1),
+        confidence: *m.get_one::<f64>("confidence").unwrap_or(&0.95),
+        junit: path("junit"),
+        baseline: path("baseline"),
+        margin_tolerance: *m.get_one::<f64>("margin-tolerance").unwrap_or(&0.01),
+        no_fidelity: m.get_flag("no-fidelity"),
+        series: m
+            .get_many::<String>("series")
+            .map(|v| v.cloned().collect())
+            .unwrap_or_default(),
+        only: m
+            .get_many::<String>("only")
+            .map(|v| v.cloned().collect())
+            .unwrap_or_default(),
+        json: m.get_flag("json"),
+        ..Options::default()
+    }
+}
+
+/// Prints a run's outcome the way `geodesic verify` does: the JSON document (`--json`), or the
+/// terminal matrix, the input lines and the files written; the gate's lines on standard error
+/// (prefixed with `program`). Returns the exit status.
+pub fn print(program: &str, opts: &Options, out: &crate::Outcome) -> u8 {
+    use std::io::IsTerminal;
+    if opts.json {
+        println!("{}", out.json);
+    } else {
+        let color = std::io::stdout().is_terminal();
+        print!(
+            "{}",
+            geodesic_report::terminal::table(&out.report.matrix, color)
+        );
+        let names: Vec<String> = out
+            .written
+            .iter()
+            .filter(|p| p.parent() == Some(opts.reports.as_path()))
+            .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .collect();
+        for l in pipeline::input_lines(&out.report.run.inputs) {
+            println!("{l}");
+        }
+        if let Some(p) = &out.report.run.partial {
+            println!("partial run: {}", p.note);
+        }
+        println!("wrote {}/{{{}}}", opts.reports.display(), names.join(","));
+    }
+    for l in &out.messages {
+        eprintln!("{program}: {l}");
+    }
+    out.code
+}
+
+fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
+    use geodesic_exchange::reqif::{ExportOptions, export};
+    let out = m
+        .get_one::<PathBuf>("out")
+        .cloned()
+        .unwrap_or_else(|| PathBuf::from("reports/requirements.reqif"));
+    crate::preflight::out_file_in_new_dir("--out", &out)?;
+    let (reqs, _, _) = pipeline::load_requirements(mission, m.get_one::<PathBuf>("requirements"))?;
+    let status = match m.get_one::<PathBuf>("matrix") {
+        Some(p) => {
+            let text = geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_YAML_BYTES)
+                .map_err(|e| Error::bad(format!("{}: {e}", p.display())))?;
+            let s = geodesic_exchange::status::StatusSet::parse(p, &text)
+                .map_err(|e| Error::bad(e.to_string()))?;
+            s.check_against(p, &reqs)
+                .map_err(|e| Error::bad(e.to_string()))?;
+            Some(s)
+        }
+        None => None,
+    };
+    let time = pipeline::utc_now();
+    let tool = format!("geodesic {}", env!("CARGO_PKG_VERSION"));
+    let doc = export(
+        &reqs,
+        &ExportOptions {
+            creation_time: &time,
+            tool_version: &tool,
+            status: status.as_ref(),
+        },
+    );
+    geodesic_core::output::write_atomic(&out, doc.as_bytes())
+        .map_err(|e| Error::Io(format!("--out {e}")))?;
+    println!(
+        "wrote {} ({} requirements)",
+        out.display(),
+        reqs.items.len()
+    );
+    Ok(0)
+}
+
+fn requirements_cmd(mission: &Mission, list: bool, m: &ArgMatches) -> Result<u8, Error> {
+    let (reqs, source, hash) =
+        pipeline::load_requirements(mission, m.get_one::<PathBuf>("requirements"))?;
+    let names = mission.check_names();
+    reqs.validate_checks(&names)
+        .map_err(|e| Error::bad(e.to_string()))?;
+    let mut o = std::io::stdout().lock();
+    if list {
+        for r in &reqs.items {
+            let _ = writeln!(o, "{}\t{}\t{}", r.id, r.family, r.title);
+        }
+    } else {
+        let _ = writeln!(
+            o,
+            "{source}: {} requirements valid (sha256 {hash})",
+            reqs.items.len()
+        );
+    }
+    Ok(0)
+}
+
+/// The program of a project verified with geodesic: `verify` (the default), `requirements
+/// list|check`, `export-reqif`. Exit status: 0 compliant (with `--baseline`: nothing
+/// regressed), 1 non-compliant or regressed, 2 bad input with a one-line cause.
+pub fn main(mission: Mission) -> ExitCode {
+    let program = std::env::args()
+        .next()
+        .and_then(|a| {
+            std::path::Path::new(&a)
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+        })
+        .unwrap_or_else(|| mission.spec.name.clone());
+    let req_arg = || {
+        Arg::new("requirements")
+            .long("requirements")
+            .value_name("DIR")
+            .value_parser(clap::value_parser!(PathBuf))
+    };
+    let cmd = verify_args(
+        Command::new(leak(program.clone()))
+            .about(format!(
+                "Verify {} against its requirements",
+                mission.spec.title
+            ))
+            .after_help(format!(
+                "Without a command: verify. Reports written by verify:\n{}",
+                geodesic_report::formats::help()
+            ))
+            .args_conflicts_with_subcommands(true)
+            .subcommand(verify_args(
+                Command::new("verify").about("Check every requirement and write the reports"),
+                &[&mission],
+            ))
+            .subcommand(
+                Command::new("requirements")
+                    .about("List or check the requirement set")
+                    .subcommand(Command::new("list").arg(req_arg()))
+                    .subcommand(Command::new("check").arg(req_arg())),
+            )
+            .subcommand(
+                Command::new("export-reqif")
+                    .about("Export the requirements (and the VCD status) as ReqIF 1.2")
+                    .arg(req_arg())
+                    .arg(
+                        Arg::new("out")
+                            .long("out")
+                            .value_name("FILE.reqif")
+                            .value_parser(clap::value_parser!(PathBuf)),
+                    )
+                    .arg(
+                        Arg::new("matrix")
+                            .long("matrix")
+                            .value_name("compliance.json")
+                            .value_parser(clap::value_parser!(PathBuf)),
+                    ),
+            ),
+        &[&mission],
+    );
+    let m = match cmd.try_get_matches() {
+        Ok(m) => m,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+        }
+    };
+    let res = match m.subcommand() {
+        Some(("requirements", sub)) => match sub.subcommand() {
+            Some((name, s)) => requirements_cmd(&mission, name == "list", s),
+            None => requirements_cmd(&mission, false, sub),
+        },
+        Some(("export-reqif", sub)) => export_reqif(&mission, sub),
+        Some((_, sub)) => run_verify(&program, &mission, sub),
+        None => run_verify(&program, &mission, &m),
+    };
+    match res {
+        Ok(code) => ExitCode::from(code),
+        Err(e) => {
+            eprintln!("{program}: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_verify(program: &str, mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
+    let opts = options(m);
+    crate::progress::set_mode(crate::progress::Mode::Auto);
+    let out = pipeline::run(mission, &opts)?;
+    Ok(print(program, &opts, &out))
+}

@@ -1,0 +1,26 @@
+//! geodesic-verify: the verify pipeline as a library, for the `geodesic` command line and for
+//! any project that verifies its own system with geodesic.
+//!
+//! - [`mission`]: a mission is a descriptor (`mission.yaml`: its requirement sets, input files,
+//!   document, dispositions, baseline, reference table) plus its checks;
+//! - [`pipeline`]: resolve inputs -> run checks -> matrix -> compare with a baseline -> write
+//!   every report format ([`geodesic_report::formats`]), whole or not at all;
+//! - [`harness`]: a project's own `main` in one line (`geodesic_verify::harness::main(mission)`),
+//!   the pattern of criterion's or libtest-mimic's harness.
+//!
+//! The crate names no mission.
+
+pub mod error;
+pub mod harness;
+pub mod ids;
+pub mod mission;
+pub mod only;
+pub mod pipeline;
+pub mod plugin;
+pub mod preflight;
+pub mod progress;
+pub mod scaffold;
+
+pub use error::Error;
+pub use mission::{InputSpec, Mission, MissionSpec, Session};
+pub use pipeline::{Options, Outcome};

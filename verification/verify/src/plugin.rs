@@ -1,0 +1,37 @@
+//! Commands a mission adds to a program (`geodesic capture`, `geodesic charge`, ... are the
+//! root mission's): each a clap command and the function that runs it. The `geodesic` program
+//! lists the commands of every registered mission beside its own.
+
+use crate::error::CmdResult;
+use clap::{ArgMatches, Command};
+
+/// One command a mission adds.
+pub struct PluginCommand {
+    /// Its clap command (name, about, flags, examples).
+    pub command: Command,
+    /// Runs it on its parsed flags.
+    pub run: fn(&ArgMatches) -> CmdResult,
+}
+
+impl PluginCommand {
+    /// A command from a clap-derived `Args` type and its `run` function.
+    pub fn of<A: clap::Args + clap::FromArgMatches>(
+        command: Command,
+        run: fn(&ArgMatches) -> CmdResult,
+    ) -> PluginCommand {
+        PluginCommand {
+            command: A::augment_args(command),
+            run,
+        }
+    }
+
+    /// The command's name.
+    pub fn name(&self) -> &str {
+        self.command.get_name()
+    }
+}
+
+/// Parses `A` from a plugin command's matches (a clap error becomes a usage error, exit 2).
+pub fn args<A: clap::FromArgMatches>(m: &ArgMatches) -> Result<A, crate::Error> {
+    A::from_arg_matches(m).map_err(|e| crate::Error::bad(e.to_string()))
+}
