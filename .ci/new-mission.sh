@@ -4,14 +4,15 @@
 # it gates against its own baseline, and editing its requirement's limit or its input file
 # moves its verdict. Nothing inside the repository is edited. Usage: .ci/new-mission.sh
 # [GEODESIC_BINARY] (default target/release/geodesic); the project goes to a fresh temporary
-# folder, built with the repository's target folder so that the shared crates are reused.
+# folder, built in the repository's target folder so that the framework's crates, compiled
+# with the same profile and features, are reused.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo="$PWD"
 geodesic="${1:-$repo/target/release/geodesic}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-export CARGO_TARGET_DIR="$repo/target/new-mission"
+export CARGO_TARGET_DIR="$repo/target"
 fail() { echo "new-mission: $*" >&2; exit 1; }
 
 "$geodesic" new mission demo-arm --path "$work/demo-arm"

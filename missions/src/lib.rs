@@ -14,6 +14,11 @@ pub fn all() -> Vec<Mission> {
     vec![lisa_pathfinder::mission(), drag_free_cubesat::mission()]
 }
 
+/// The missions' own commands for the `geodesic` program (beside the framework's).
+pub fn commands() -> Vec<geodesic_verify::plugin::PluginCommand> {
+    Vec::new()
+}
+
 /// Checks a time series (the spectral check's input) before anything runs.
 pub(crate) fn series(p: &std::path::Path) -> Result<(), String> {
     geodesic_fit::spectral::Series::load(p)

@@ -469,6 +469,14 @@ impl StateModel {
     }
 }
 
+impl Xlim {
+    /// The repository's capture limits (`models/capture/capture.yaml`) tied to the thesis's
+    /// requirement box [`crate::limits::THESIS_BOX`]: for examples and tests.
+    pub fn default_set() -> Xlim {
+        CaptureInputs::default_inputs().xlim(crate::limits::THESIS_BOX)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

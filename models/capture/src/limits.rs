@@ -1,6 +1,6 @@
 //! The capture limits `x_LIM,i` tied to a requirement box `req_i` (thesis ch. 7, "DFACS
 //! worst-case initial conditions"; physics.md section 6), and the derivation of the default
-//! limits. The limits are read from the capture inputs file ([`crate::inputs`]); the box from
+//! limits. The limits are read from the capture inputs file (the `inputs` module); the box from
 //! the loaded requirements.
 //!
 //! The thesis does not print `x_LIM`; it gives (a) the z velocity alone is captured up to
@@ -32,12 +32,6 @@ pub struct Xlim {
 }
 
 impl Xlim {
-    /// The repository's capture limits (`models/capture/capture.yaml`) tied to the thesis's
-    /// requirement box [`THESIS_BOX`]: for examples and tests.
-    pub fn default_set() -> Xlim {
-        crate::inputs::CaptureInputs::default_inputs().xlim(THESIS_BOX)
-    }
-
     /// Requirement box as a state (each state at `+req_i`).
     pub fn requirement_state(&self) -> TmState {
         TmState(self.req)

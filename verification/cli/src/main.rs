@@ -1,4 +1,4 @@
-//! `geodesic`: verifies the LISA Pathfinder test-mass release against its requirements and
+//! `geodesic`: verifies the registered missions against their requirements and
 //! confronts its physics models with measurements.
 //!
 //! The binary stays thin: it parses flags (clap), calls the library crates and prints. Every
@@ -15,23 +15,24 @@ mod usage;
 
 use geodesic_verify::{preflight, progress};
 
-use clap::{CommandFactory, Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
 #[command(
     name = "geodesic",
     version,
-    about = "Verify the LISA Pathfinder test-mass release against its requirements",
+    about = "Verify a system against its requirements and confront its physics models with measurements",
     after_help = "Examples:
   geodesic verify                                   # every requirement; reports/compliance.{md,json}, the VCD
-  geodesic montecarlo --n 100000 --seed 1 --json    # the in-flight release Monte Carlo
+  geodesic verify --mission drag-free-cubesat        # another mission of this repository
+  geodesic new mission my-arm --path ../my-arm       # a project of your own, verified the same way
   geodesic fit data/examples/tmmf-adhesion.yaml --effects needle_contact,tip_contact,tip_adhesion
   geodesic import reqif from-doors.reqif --out imported/ && geodesic verify --requirements imported/
   geodesic COMMAND --help                           # a command's options and examples
 
-Exit status: 0 success, 1 a verdict (verify: a non-compliance; capture, tiptrack, asd: not met),
-2 bad input or usage (one line on standard error), 128 + N when interrupted by signal N.
+Exit status: 0 success, 1 a verdict (verify: a non-compliance; tiptrack, asd and a mission's
+own commands: not met), 2 bad input or usage (one line on standard error), 128 + N when interrupted by signal N.
 `geodesic` alone prints this list of commands on standard error and exits 2."
 )]
 struct Cli {
@@ -51,7 +52,7 @@ enum Command {
     #[command(after_help = "Examples:
   geodesic verify                                   # every requirement, built-in models; reports/ 
   geodesic verify --mc-n 20000 --no-fidelity        # a quicker look
-  geodesic verify --requirements my-reqs/ --budget my-budget.yaml --reports out/
+  geodesic verify --mission drag-free-cubesat --design my-design.yaml --reports out/
   geodesic verify --baseline verification/baseline/compliance.json --require-tests --junit reports/junit.xml
   geodesic verify --json | jq '.requirements[] | select(.status != \"compliant\") | .id'
   geodesic verify --only CHG-V,TMS-X-POS            # those rows and what they depend on (a partial run)
@@ -204,19 +205,45 @@ fn main() -> ExitCode {
     // the missions this repository verifies (the root mission first): `verify` has a flag per
     // input they declare
     missions::install(geodesic_missions::all());
+    // the missions' own commands beside the framework's
+    let plugins = geodesic_missions::commands();
+    let cmd = plugins
+        .iter()
+        .fold(Cli::command(), |c, p| c.subcommand(p.command.clone()));
     // usage errors: one line naming the argument (src/usage.rs); negative numbers are values
-    let cli: Cli = match usage::parse(Cli::command()) {
-        Ok(c) => c,
+    let matches = match usage::parse_matches(cmd) {
+        Ok(m) => m,
         Err(code) => return ExitCode::from(code),
     };
-    progress::set_mode(if cli.quiet {
+    progress::set_mode(if matches.get_flag("quiet") {
         progress::Mode::Never
-    } else if cli.progress {
+    } else if matches.get_flag("progress") {
         progress::Mode::Always
     } else {
         progress::Mode::Auto
     });
-    let result = match cli.command {
+    let plugin = matches
+        .subcommand()
+        .and_then(|(name, sub)| plugins.iter().find(|p| p.name() == name).map(|p| (p, sub)));
+    let result = match plugin {
+        Some((p, sub)) => (p.run)(sub),
+        None => match Cli::from_arg_matches(&matches) {
+            Ok(cli) => run(cli.command),
+            Err(e) => return ExitCode::from(usage::report(&e, "geodesic")),
+        },
+    };
+    match result {
+        Ok(code) => ExitCode::from(code),
+        Err(e) => {
+            eprintln!("geodesic: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Runs a framework command.
+fn run(command: Command) -> error::CmdResult {
+    match command {
         Command::Verify(a) => cmd::verify::run(a),
         Command::Montecarlo(a) => cmd::montecarlo::run(a),
         Command::Merge(a) => cmd::merge::run(a),
@@ -239,12 +266,5 @@ fn main() -> ExitCode {
         Command::Surfaces(a) => cmd::surfaces::run(a),
         Command::Requirements(a) => cmd::requirements::run(a),
         Command::New(a) => cmd::new::run(a),
-    };
-    match result {
-        Ok(code) => ExitCode::from(code),
-        Err(e) => {
-            eprintln!("geodesic: {e}");
-            ExitCode::from(2)
-        }
     }
 }

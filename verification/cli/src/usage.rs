@@ -12,7 +12,7 @@
 //! is 2, as for any usage error; `geodesic --help` prints it on standard output with status 0.
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
-use clap::{ArgMatches, Command, FromArgMatches};
+use clap::{ArgMatches, Command};
 
 /// Every option that takes a value accepts a negative number as that value (`--n -1`,
 /// `--neutralise-e -3e8`): clap would read `-1` as a flag and answer "unexpected argument
@@ -29,14 +29,14 @@ pub fn accept_negative_numbers(cmd: Command) -> Command {
     .mut_subcommands(accept_negative_numbers)
 }
 
-/// Parses the process's arguments into `T` with [`accept_negative_numbers`]; on a usage error
-/// (or `--help`, `--version`) prints what [`report`] prints and returns the exit status.
-pub fn parse<T: FromArgMatches>(cmd: Command) -> Result<T, u8> {
+/// Parses the process's arguments into matches with [`accept_negative_numbers`] (for a
+/// command built at run time: the missions' own commands); a usage error (or `--help`, `--version`) prints what
+/// [`report`] prints and returns the exit status.
+pub fn parse_matches(cmd: Command) -> Result<ArgMatches, u8> {
     let cmd = accept_negative_numbers(cmd);
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     let path = command_path(&cmd, &args);
     cmd.try_get_matches_from(&args)
-        .and_then(|m: ArgMatches| T::from_arg_matches(&m))
         .map_err(|e| report(&e, &path))
 }
 

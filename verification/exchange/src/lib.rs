@@ -30,4 +30,3 @@
 pub mod reqif;
 pub mod status;
 pub mod xml;
-pub mod yaml;

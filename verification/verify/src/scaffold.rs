@@ -148,6 +148,10 @@ serde-saphyr = "2.1"
 
 [profile.dev]
 opt-level = 1
+
+# as geodesic's own release profile: a build sharing geodesic's target folder reuses its crates
+[profile.release]
+debug = "line-tables-only"
 "#,
     ),
     (

@@ -31,7 +31,7 @@ use super::fields::{
 };
 pub use super::read::Warning;
 use super::read::{AttrValue, Kind, Model, Object, child, elements, ref_in};
-use crate::yaml;
+use super::yaml;
 use geodesic_core::Requirements;
 use geodesic_core::text::clip;
 use geodesic_core::units::Quantity;

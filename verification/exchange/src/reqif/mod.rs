@@ -22,6 +22,7 @@ mod fields;
 mod import;
 mod read;
 mod xhtml;
+pub mod yaml;
 
 pub use archive::{MAX_DOCUMENT_BYTES, import_file, is_archive};
 pub use export::{ExportOptions, export};
