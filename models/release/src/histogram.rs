@@ -4,11 +4,7 @@
 
 use std::fmt::Write;
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
+use geodesic_util::escape::text as esc;
 
 /// Returns an SVG document: histogram of `values_um_s` [um/s], a dashed line at `p9973_um_s`
 /// and a red line at `limit_um_s` (if given).

@@ -414,10 +414,8 @@ impl Check for MechanismFigures {
             .map_err(|e| CheckError(format!("{}: {e}", ctx.reports_dir.display())))?;
         let path = ctx.reports_dir.join("mechanism-figures.json");
         let text = serde_json::to_string_pretty(&f).map_err(|e| CheckError(e.to_string()))?;
-        let tmp = ctx.reports_dir.join(".mechanism-figures.json.tmp");
-        std::fs::write(&tmp, text)
-            .and_then(|_| std::fs::rename(&tmp, &path))
-            .map_err(|e| CheckError(format!("{}: {e}", path.display())))?;
+        geodesic_core::output::write_atomic(&path, text.as_bytes())
+            .map_err(|e| CheckError(e.to_string()))?;
         Ok(Vec::new())
     }
 }
