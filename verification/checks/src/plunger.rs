@@ -17,7 +17,7 @@ use geodesic_charge::plunger::{
 };
 use geodesic_charge::{ChargeInputs, TipGeometry, c_rt_quadrature_f};
 use geodesic_core::{Basis, Check, CheckContext, CheckError, Dim, Evidence, Quantity};
-use plotters::prelude::*;
+use geodesic_plot::prelude::*;
 
 /// TM mass of the thesis's set-up [kg] (1.96 kg; the check reads the release budget's).
 pub const TM_MASS_KG: f64 = 1.96;
@@ -260,16 +260,9 @@ impl Check for PlungerAttraction {
     }
 }
 
-fn perr(e: impl std::fmt::Display) -> CheckError {
-    CheckError(format!("plot: {e}"))
-}
-
 /// |net force| / authority against time (log), per case.
 pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckError> {
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 700)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((900, 700), |root| {
         // the axis holds every curve whole: from the power of ten below the smallest ratio met
         // after release to the one above the largest (a curve clipped flat at the floor hid the
         // 0.5 V revision's minimum)
@@ -290,7 +283,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
         let mut c = ChartBuilder::on(&root)
             .caption(
                 "Plunger attraction: |net force| / DFACS authority (5e-7 N)",
-                ("sans-serif", 22),
+                font(22),
             )
             .margin(14)
             .x_label_area_size(50)
@@ -300,7 +293,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
         c.configure_mesh()
             .x_desc("time after release [s]")
             .y_desc("|F| / u_max (log)")
-            .label_style(("sans-serif", 16))
+            .label_style(font(16))
             .y_label_formatter(&|v| {
                 if *v >= 1.0 {
                     format!("{v:.0}")
@@ -310,12 +303,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
             })
             .draw()
             .map_err(perr)?;
-        let colours = [
-            RGBColor(120, 160, 220),
-            RGBColor(40, 90, 170),
-            RGBColor(200, 30, 30),
-            RGBColor(30, 30, 30),
-        ];
+        let colours = [style::LIGHT_BLUE, style::BLUE, style::RED, style::INK];
         for (i, (name, v, r)) in cases.iter().enumerate() {
             let col = colours[i % 4];
             let style = if *name == "revised" {
@@ -353,14 +341,11 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
         .map_err(perr)?
         .label("1 % of the authority; 4.3 s")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK));
-        c.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
+        style::legend(&mut c, 15, 0.85)
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(perr)?;
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| CheckError(e.to_string()))
 }

@@ -36,6 +36,12 @@ impl fmt::Display for CliError {
 
 impl std::error::Error for CliError {}
 
+impl From<geodesic_util::output::WriteError> for CliError {
+    fn from(e: geodesic_util::output::WriteError) -> Self {
+        CliError::Io(e.to_string())
+    }
+}
+
 impl From<std::io::Error> for CliError {
     fn from(e: std::io::Error) -> Self {
         CliError::Io(e.to_string())

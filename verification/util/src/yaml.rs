@@ -59,7 +59,10 @@ mod tests {
         let e = serde_saphyr::from_str::<T>("a: 1\nb: 2\n").unwrap_err();
         let y = yaml_error(&e);
         assert_eq!(y.line, Some(2), "{y:?}");
-        assert!(y.cause.contains("unknown field") || y.cause.contains('b'), "{y:?}");
+        assert!(
+            y.cause.contains("unknown field") || y.cause.contains('b'),
+            "{y:?}"
+        );
         assert!(!y.cause.starts_with("line "), "{y:?}");
         assert_eq!(cause(""), "invalid YAML");
     }

@@ -4,12 +4,12 @@
 //! `geodesic_checks::plunger`. Prints the extra velocity, the smallest TM-plunger gap, whether it
 //! touches, and the force against the DFACS authority.
 
-use crate::cmd::montecarlo::write_atomic;
 use crate::error::{CliError, CmdResult};
 use geodesic_charge::plunger::{
     FlatDisc, PlungerCapacitance, Retraction, SpherePlane, default_model, simulate,
 };
 use geodesic_checks::plunger::{case, plunger_svg};
+use geodesic_util::output::write_atomic;
 use serde_json::json;
 use std::path::PathBuf;
 
