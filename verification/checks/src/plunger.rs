@@ -349,3 +349,71 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
     })
     .map_err(|e| CheckError(e.to_string()))
 }
+
+/// One case of `geodesic plunger`: a retraction procedure at a TM voltage. A run that touched
+/// a plunger stops there: what it did not reach (a number that is not finite) is absent
+/// (docs/outputs.md); `touched_at_s` is null when the TM never touched.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct CaseRow {
+    /// Retraction procedure.
+    pub retraction: String,
+    /// TM voltage [V].
+    pub v_tm_v: f64,
+    /// Extra velocity from the plunger attraction [um/s].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub extra_velocity_um_s: Option<f64>,
+    /// The same with half the time step [um/s].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub extra_velocity_half_step_um_s: Option<f64>,
+    /// Smallest gap to a plunger [um].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_gap_um: Option<f64>,
+    /// When the gap was smallest [s].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_gap_at_s: Option<f64>,
+    /// When the TM touched a plunger [s] (null: never).
+    pub touched_at_s: Option<f64>,
+    /// |F| / u_max at 4.3 s [-].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_ratio_at_4_3_s: Option<f64>,
+    /// Last time |F| / u_max was at least 1 % [s].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_above_1pct_until_s: Option<f64>,
+}
+
+/// `x` if finite (what JSON can hold).
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+impl CaseRow {
+    /// The row of `run`, the procedure `retraction` at `v_tm_v` [V].
+    pub fn new(retraction: &str, v_tm_v: f64, run: &PlungerRun) -> CaseRow {
+        CaseRow {
+            retraction: retraction.to_string(),
+            v_tm_v,
+            extra_velocity_um_s: finite(run.extra_velocity_m_s * 1e6),
+            extra_velocity_half_step_um_s: finite(run.extra_velocity_half_step_m_s * 1e6),
+            min_gap_um: finite(run.min_gap_m * 1e6),
+            min_gap_at_s: finite(run.min_gap_at_s),
+            touched_at_s: run.touched_at_s.and_then(finite),
+            force_ratio_at_4_3_s: finite(run.force_ratio_at_compare),
+            force_above_1pct_until_s: finite(run.force_above_1pct_until_s),
+        }
+    }
+}
+
+/// The document of `geodesic plunger --json`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PlungerReport {
+    /// The plunger capacitance model.
+    pub capacitance: String,
+    /// Release velocity towards plunger 1 [um/s].
+    pub v0_um_s: f64,
+    /// DFACS force authority [N].
+    pub authority_n: f64,
+    /// Simulated time after release [s].
+    pub duration_s: f64,
+    /// The cases.
+    pub cases: Vec<CaseRow>,
+}
