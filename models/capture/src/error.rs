@@ -66,29 +66,12 @@ pub enum CaptureError {
 impl CaptureError {
     /// Wraps a serde-saphyr error with the file name and its location.
     pub(crate) fn yaml(file: &str, e: &serde_saphyr::Error) -> Self {
-        let (line, column) = e
-            .location()
-            .map(|l| (l.line(), l.column()))
-            .unwrap_or((0, 0));
-        let text = e.to_string();
-        let cause = text
-            .lines()
-            .map(str::trim)
-            .find(|l| !l.is_empty())
-            .unwrap_or("invalid YAML");
-        // serde-saphyr repeats the position in its message: keep only the cause.
-        let cause = match cause.strip_prefix("error: ") {
-            Some(rest) if rest.starts_with("line ") => {
-                rest.split_once(": ").map_or(rest, |(_, c)| c).to_owned()
-            }
-            Some(rest) => rest.to_owned(),
-            None => cause.to_owned(),
-        };
+        let y = geodesic_util::yaml_error(e);
         CaptureError::Yaml {
             file: file.to_owned(),
-            line,
-            column,
-            cause,
+            line: y.line.unwrap_or(0),
+            column: y.column.unwrap_or(0),
+            cause: y.cause,
         }
     }
 }

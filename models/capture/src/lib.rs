@@ -29,6 +29,7 @@ pub mod error;
 pub mod inputs;
 pub mod limits;
 pub mod probability;
+pub mod report;
 pub mod shear;
 pub mod state;
 

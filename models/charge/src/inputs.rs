@@ -64,29 +64,12 @@ struct RawTip {
 }
 
 fn yaml_error(file: &str, e: &serde_saphyr::Error) -> InputsError {
-    let (line, column) = e
-        .location()
-        .map(|l| (l.line(), l.column()))
-        .unwrap_or((0, 0));
-    let text = e.to_string();
-    let cause = text
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("invalid YAML");
-    // serde-saphyr repeats the position in its message: keep only the cause
-    let cause = match cause.strip_prefix("error: ") {
-        Some(rest) if rest.starts_with("line ") => {
-            rest.split_once(": ").map_or(rest, |(_, c)| c).to_owned()
-        }
-        Some(rest) => rest.to_owned(),
-        None => cause.to_owned(),
-    };
+    let y = geodesic_util::yaml_error(e);
     InputsError {
         file: file.to_owned(),
-        line,
-        column,
-        cause,
+        line: y.line.unwrap_or(0),
+        column: y.column.unwrap_or(0),
+        cause: y.cause,
     }
 }
 

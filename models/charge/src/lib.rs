@@ -23,6 +23,7 @@ pub mod capacitance;
 pub mod inputs;
 pub mod neutralise;
 pub mod plunger;
+pub mod report;
 
 pub use budget::{
     COVERAGE_2SIGMA, ChargeInputs, ChargeMonteCarlo, ELEMENTARY_CHARGE_C, monte_carlo,

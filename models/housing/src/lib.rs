@@ -101,11 +101,8 @@ impl Design {
     /// parser knows the line.
     pub fn from_yaml(text: &str, label: &str) -> Result<Design, String> {
         let d: Design = serde_saphyr::from_str(text).map_err(|e| {
-            let line = e.location().map_or(0, |l| l.line());
-            let msg = e.to_string();
-            let first = msg.lines().next().unwrap_or("malformed YAML");
-            let first = first.strip_prefix("error: ").unwrap_or(first);
-            format!("{label}:{line}: {first}")
+            let y = geodesic_util::yaml_error(&e);
+            format!("{label}:{}: {}", y.line.unwrap_or(0), y.cause)
         })?;
         let pos = |v: f64, what: &str| -> Result<(), String> {
             if v.is_finite() && v > 0.0 {

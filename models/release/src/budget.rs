@@ -201,7 +201,7 @@ impl Dist {
     /// of a Gaussian copula). An untruncated normal gives `mean + sd z` exactly; a truncated
     /// one inverts its CDF, `mean + sd Phi^-1(Phi(a) + Phi(z) (Phi(b) - Phi(a)))`.
     pub fn at_score(&self, z: f64) -> f64 {
-        use geodesic_core::normal::normal_quantile;
+        use geodesic_util::normal::normal_quantile;
         match *self {
             Dist::Fixed(v) => v,
             Dist::Uniform { min, max } => min + (max - min) * normal_cdf(z),
@@ -383,15 +383,6 @@ type S = Spanned<Dist>;
 
 /// The first line of a `serde-saphyr` message without its own `error: line L column C: ` prefix
 /// (the file and line are printed in front of it already).
-fn one_line_cause(msg: &str) -> String {
-    let first = msg.lines().next().unwrap_or("invalid YAML").trim();
-    let rest = first.strip_prefix("error: ").unwrap_or(first);
-    match rest.strip_prefix("line ").and_then(|r| r.split_once(": ")) {
-        Some((pos, cause)) if pos.contains("column") => cause.to_string(),
-        _ => rest.to_string(),
-    }
-}
-
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(non_snake_case)]
@@ -466,10 +457,13 @@ impl Budget {
 
     /// Parses and checks a budget; `file` names the source in errors.
     pub fn from_yaml(text: &str, file: &str) -> Result<Self, BudgetError> {
-        let raw: RawBudget = serde_saphyr::from_str(text).map_err(|e| BudgetError::Parse {
-            file: file.to_string(),
-            line: e.location().map(|l| l.line()).unwrap_or(0),
-            cause: one_line_cause(&e.to_string()),
+        let raw: RawBudget = serde_saphyr::from_str(text).map_err(|e| {
+            let y = geodesic_util::yaml_error(&e);
+            BudgetError::Parse {
+                file: file.to_string(),
+                line: y.line.unwrap_or(0),
+                cause: y.cause,
+            }
         })?;
         let check = |field: &str, s: &S| -> Result<Dist, BudgetError> {
             s.value.validate().map_err(|cause| BudgetError::Invalid {

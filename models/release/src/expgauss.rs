@@ -648,27 +648,16 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
         out
     }
 
-    /// One collocation step of `level` from `st`, with node forces predicted by `guess`; the
-    /// state at its end is written into `next`.
-    fn step(
-        &mut self,
-        level: usize,
+    /// The voltages at the nodes of a step of `h` from `st`, the free tip positions (the state's
+    /// and the voltage's response, no contact force), and where a voltage ramp ends inside the
+    /// step (time after the step's start) [V, m, s].
+    #[allow(clippy::type_complexity)]
+    fn free_response(
+        &self,
+        tabs: [&Table; 2],
         st: &State,
-        guess: &[[f64; S]; 2],
-        next: &mut State,
-    ) -> Result<Trial, IntegrateError> {
-        self.ensure(level);
-        let h = self.h[level];
-        let (Some(tab0), Some(tab1), Some(tm)) = (
-            self.tables[level][0].as_ref(),
-            self.tables[level][1].as_ref(),
-            self.tm[level].as_ref(),
-        ) else {
-            unreachable!("tables are built by ensure")
-        };
-        let tabs = [tab0, tab1];
-        let inv_mass = 1.0 / self.model.tm_mass_kg;
-        // voltages at the nodes and free tip positions (state + voltage)
+        h: f64,
+    ) -> ([[f64; S]; 2], [[f64; S]; 2], [Option<f64>; 2]) {
         let mut volt = [[0.0; S]; 2];
         let mut y_free = [[0.0; S]; 2];
         // a voltage ramp ending inside the step: E(t) = (E0 - em t) + em (t - t_r)_+, the
@@ -708,6 +697,31 @@ impl<'a, M: Mechanism, C: ContactLaw> Solver<'a, M, C> {
                 y_free[i][j] = acc;
             }
         }
+        (volt, y_free, ramp_end)
+    }
+
+    /// One collocation step of `level` from `st`, with node forces predicted by `guess`; the
+    /// state at its end is written into `next`.
+    fn step(
+        &mut self,
+        level: usize,
+        st: &State,
+        guess: &[[f64; S]; 2],
+        next: &mut State,
+    ) -> Result<Trial, IntegrateError> {
+        self.ensure(level);
+        let h = self.h[level];
+        let (Some(tab0), Some(tab1), Some(tm)) = (
+            self.tables[level][0].as_ref(),
+            self.tables[level][1].as_ref(),
+            self.tm[level].as_ref(),
+        ) else {
+            unreachable!("tables are built by ensure")
+        };
+        let tabs = [tab0, tab1];
+        let inv_mass = 1.0 / self.model.tm_mass_kg;
+        // voltages at the nodes and free tip positions (state + voltage)
+        let (volt, y_free, ramp_end) = self.free_response(tabs, st, h);
         let mut x_free = [0.0; S];
         for j in 0..S {
             x_free[j] = st.x + st.v * NODES[j] * h;

@@ -313,6 +313,29 @@ pub struct Summary {
     pub budget: String,
 }
 
+impl Summary {
+    /// The summary as text lines (the case, N and seed, then the statistics of |X'| and the
+    /// fallback stops), as `geodesic montecarlo` and `geodesic merge` print it.
+    pub fn text_lines(&self) -> Vec<String> {
+        vec![
+            format!(
+                "in-flight release Monte Carlo: case {}, N = {}, seed {}",
+                self.case, self.n, self.seed
+            ),
+            format!("  |X'| 99.73 %  {:.4} um/s", self.p9973_um_s),
+            format!("  |X'| 99 %     {:.4} um/s", self.p99_um_s),
+            format!("  |X'| median   {:.4} um/s", self.p50_um_s),
+            format!("  |X'| mean     {:.4} um/s", self.mean_um_s),
+            format!("  |X'| max      {:.4} um/s", self.max_um_s),
+            format!(
+                "  X' mean, sd   {:+.4}, {:.4} um/s",
+                self.signed_mean_um_s, self.sd_um_s
+            ),
+            format!("  fallback stops {}", self.fallback_stops),
+        ]
+    }
+}
+
 impl McResult {
     /// |X'| [um/s] of the held draws, in draw order.
     pub fn abs_um_s(&self) -> Vec<f64> {
@@ -354,17 +377,9 @@ impl McResult {
         }
     }
 
-    /// SVG histogram of |X'| with the 99.73 % line and, if given, the requirement limit [um/s].
-    pub fn histogram_svg(&self, limit_um_s: Option<f64>) -> String {
-        crate::histogram::histogram_svg(
-            &self.abs_um_s(),
-            self.summary().p9973_um_s,
-            limit_um_s,
-            &self.title(),
-        )
-    }
-
-    fn title(&self) -> String {
+    /// The title of this run's histogram of |X'| (its values: [`McResult::abs_um_s`]; drawn by
+    /// `geodesic_plot::histogram`).
+    pub fn title(&self) -> String {
         format!(
             "|X'| after release: case {}, N = {}, seed {}",
             self.case, self.n, self.seed

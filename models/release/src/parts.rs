@@ -12,7 +12,7 @@ pub const CHECKSUM_KEY: &str = "sha256";
 pub fn sealed_json(r: &McResult) -> Result<Vec<u8>, String> {
     let mut v = serde_json::to_value(r).map_err(|e| e.to_string())?;
     let body = serde_json::to_vec(&v).map_err(|e| e.to_string())?;
-    v[CHECKSUM_KEY] = serde_json::json!(geodesic_core::hash::sha256_hex(&body));
+    v[CHECKSUM_KEY] = serde_json::json!(geodesic_util::hash::sha256_hex(&body));
     serde_json::to_vec(&v).map_err(|e| e.to_string())
 }
 
@@ -30,7 +30,7 @@ pub fn parse_part(file: &str, text: &str) -> Result<McResult, String> {
         format!(
             "{file}:{}: not a geodesic montecarlo partial result: {}",
             e.line(),
-            geodesic_core::text::clip(&e.to_string(), 200)
+            geodesic_util::text::clip(&e.to_string(), 200)
         )
     })?;
     let Some(obj) = v.as_object_mut() else {
@@ -44,7 +44,7 @@ pub fn parse_part(file: &str, text: &str) -> Result<McResult, String> {
         ));
     };
     let body = serde_json::to_vec(&v).map_err(|e| format!("{file}: {e}"))?;
-    if sum.as_str() != Some(geodesic_core::hash::sha256_hex(&body).as_str()) {
+    if sum.as_str() != Some(geodesic_util::hash::sha256_hex(&body).as_str()) {
         return Err(format!(
             "{file}: checksum mismatch: the partial result was changed or damaged after it was written"
         ));
@@ -53,7 +53,7 @@ pub fn parse_part(file: &str, text: &str) -> Result<McResult, String> {
         // serde quotes the offending input (an unknown variant, a field name): one line
         format!(
             "{file}: not a geodesic montecarlo partial result: {}",
-            geodesic_core::text::clip(&e.to_string(), 200)
+            geodesic_util::text::clip(&e.to_string(), 200)
         )
     })?;
     let (i, k) = r.shard.unwrap_or((1, 1));

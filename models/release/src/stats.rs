@@ -1,6 +1,6 @@
 //! Small statistics helpers: the normal CDF and order statistics.
 
-pub use geodesic_core::normal::{erfc, normal_cdf};
+pub use geodesic_util::normal::{erfc, normal_cdf};
 
 /// Nearest-rank quantile of sorted data: the value at index `ceil(q n) - 1`.
 pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
@@ -34,12 +34,12 @@ mod tests {
 
 /// Distribution-free 95 % confidence interval of the `q` quantile from sorted data: the order
 /// statistics whose ranks bound the true quantile with 97.5 % each (exact binomial ranks,
-/// [`geodesic_core::stats`]; Hahn and Meeker, "Statistical Intervals", 1991, section 5.2),
+/// [`geodesic_util::stats`]; Hahn and Meeker, "Statistical Intervals", 1991, section 5.2),
 /// NaN on a side the sample cannot bound (no clipping to the sample's extremes: below 1365
 /// draws for the 99.73 % point's upper side: 1 - 0.9973^1364 < 0.975). It measures the Monte Carlo's sampling
 /// uncertainty only.
 pub fn quantile_interval_sorted(sorted: &[f64], q: f64) -> [f64; 2] {
-    use geodesic_core::stats::{quantile_lower_rank, quantile_upper_rank};
+    use geodesic_util::stats::{quantile_lower_rank, quantile_upper_rank};
     let n = sorted.len() as u64;
     let at = |k: Option<u64>| k.map_or(f64::NAN, |k| sorted[(k - 1) as usize]);
     [

@@ -292,20 +292,7 @@ impl Check for AdhesionIdentification {
             ..opts
         };
         let full = fit(&prep, &FULL, &fit_opts).map_err(ferr)?;
-        let fits = ctx.reports_dir.join("fits");
-        let mut artifacts = Vec::new();
-        for o in [&base, &full] {
-            let report = FitReport::new(&prep, o);
-            let svg = plot::fit_svg(&prep, &o.pred, &report).map_err(ferr)?;
-            let name = format!("{STEM}.{}.svg", report.effects.join("+"));
-            plot::write_svg(&fits.join(&name), &svg).map_err(ferr)?;
-            artifacts.push(format!("fits/{name}"));
-            history::append(&fits, STEM, &report).map_err(ferr)?;
-        }
-        let entries = history::read(&history::path_for(&fits, STEM)).map_err(ferr)?;
-        let svg = plot::history_svg(&entries).map_err(ferr)?;
-        plot::write_svg(&fits.join(format!("{STEM}.history.svg")), &svg).map_err(ferr)?;
-        artifacts.push(format!("fits/{STEM}.history.svg"));
+        let artifacts = write_fit_plots(&ctx.reports_dir, &prep, &base, &full)?;
 
         let rel = coverage(
             &budget.adhesion,
@@ -368,7 +355,6 @@ impl Check for AdhesionIdentification {
                 ),
             )
         };
-        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };
         let round = |v: f64| {
             if v.is_finite() {
                 serde_json::json!((v * 100.0).round() / 100.0)
@@ -386,20 +372,8 @@ impl Check for AdhesionIdentification {
         if named {
             // the coverage is a probability from successes: decided by its lower bound against
             // the probability the limit asks for
-            let covered = zp.iter().filter(|z| **z <= 2.0).count() as u64;
-            let limit = ctx
-                .requirements
-                .get("FAC-FIT-QUAL")
-                .and_then(|r| r.limit.as_ref())
-                .map(|l| l.value.value)
-                .filter(|l| *l > 0.0 && *l < 1.0);
-            if let Some(limit) = limit {
-                e = e.with_sampling(geodesic_core::check::Sampling::proportion(
-                    covered,
-                    rel.len() as u64,
-                    limit,
-                    ctx.confidence,
-                ));
+            if let Some(sampling) = coverage_sampling(ctx, &zp) {
+                e = e.with_sampling(sampling);
             }
         }
         let mut e = e
@@ -451,4 +425,52 @@ impl Check for AdhesionIdentification {
         e.artifacts = artifacts;
         Ok(vec![e])
     }
+}
+
+/// `a / b`, NaN unless `b` is positive (a reduced chi-square with no degree of freedom).
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 { a / b } else { f64::NAN }
+}
+
+/// Writes the plots of the baseline and full fits and the fit history under `reports_dir/fits`;
+/// returns their paths relative to `reports_dir`.
+fn write_fit_plots(
+    reports_dir: &std::path::Path,
+    prep: &Prepared,
+    base: &FitOutcome,
+    full: &FitOutcome,
+) -> Result<Vec<String>, CheckError> {
+    let fits = reports_dir.join("fits");
+    let mut artifacts = Vec::new();
+    for o in [base, full] {
+        let report = FitReport::new(prep, o);
+        let svg = plot::fit_svg(prep, &o.pred, &report).map_err(ferr)?;
+        let name = format!("{STEM}.{}.svg", report.effects.join("+"));
+        plot::write_svg(&fits.join(&name), &svg).map_err(ferr)?;
+        artifacts.push(format!("fits/{name}"));
+        history::append(&fits, STEM, &report).map_err(ferr)?;
+    }
+    let entries = history::read(&history::path_for(&fits, STEM)).map_err(ferr)?;
+    let svg = plot::history_svg(&entries).map_err(ferr)?;
+    plot::write_svg(&fits.join(format!("{STEM}.history.svg")), &svg).map_err(ferr)?;
+    artifacts.push(format!("fits/{STEM}.history.svg"));
+    Ok(artifacts)
+}
+
+/// The FAC-FIT-QUAL coverage (the releases whose peak lies within 2 sigma) as a sampled
+/// proportion against the loaded limit, if that is a probability.
+fn coverage_sampling(ctx: &CheckContext, zp: &[f64]) -> Option<geodesic_core::check::Sampling> {
+    let covered = zp.iter().filter(|z| **z <= 2.0).count() as u64;
+    let limit = ctx
+        .requirements
+        .get("FAC-FIT-QUAL")
+        .and_then(|r| r.limit.as_ref())
+        .map(|l| l.value.value)
+        .filter(|l| *l > 0.0 && *l < 1.0)?;
+    Some(geodesic_core::check::Sampling::proportion(
+        covered,
+        zp.len() as u64,
+        limit,
+        ctx.confidence,
+    ))
 }

@@ -5,15 +5,11 @@
 use geodesic_capture::criterion::{self, box_corner};
 use geodesic_capture::{StateName, Xlim};
 use geodesic_core::CheckError;
+use geodesic_plot::plotters::style::text_anchor::{HPos, Pos, VPos};
+use geodesic_plot::prelude::*;
 use geodesic_release::budget::Budget;
 use geodesic_release::montecarlo::{Case, draw_inputs};
-use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
-
-fn perr(e: impl std::fmt::Display) -> CheckError {
-    CheckError(format!("plot: {e}"))
-}
 
 /// Writes `svg` to `dir/name` (the directory is the staging directory of `geodesic verify`).
 pub fn write(dir: &Path, name: &str, svg: &str) -> Result<String, CheckError> {
@@ -48,14 +44,11 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
                 .collect()
         })
         .collect();
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((900, 480), |root| {
         let mut c = ChartBuilder::on(&root)
             .caption(
                 format!("Adhesion force-to-elongation curves: {n} draws of the Monte Carlo budget"),
-                ("sans-serif", 24),
+                font(24),
             )
             .margin(14)
             .x_label_area_size(50)
@@ -67,11 +60,11 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
             .y_desc("adhesion force [mN]")
             .x_label_formatter(&|v| format!("{v:.1}"))
             .y_label_formatter(&|v| format!("{v:.0}"))
-            .label_style(("sans-serif", 18))
-            .axis_desc_style(("sans-serif", 19))
+            .label_style(font(18))
+            .axis_desc_style(font(19))
             .draw()
             .map_err(perr)?;
-        let curve = RGBColor(70, 110, 180).mix(0.5);
+        let curve = style::MUTED_BLUE.mix(0.5);
         for (i, pts) in curves.into_iter().enumerate() {
             let drawn = c.draw_series(LineSeries::new(pts, curve)).map_err(perr)?;
             if i == 0 {
@@ -81,8 +74,8 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
             }
         }
         for (level, label, color) in [
-            (20.0, "TMMF mean peak pull-off 20 mN", RGBColor(0, 140, 60)),
-            (48.0, "TMMF max peak pull-off 48 mN", RGBColor(200, 30, 30)),
+            (20.0, "TMMF mean peak pull-off 20 mN", style::GREEN),
+            (48.0, "TMMF max peak pull-off 48 mN", style::RED),
         ] {
             c.draw_series(LineSeries::new(
                 vec![(0.0, level), (e_max_um, level)],
@@ -92,28 +85,10 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
             .label(label)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
         }
-        c.configure_series_labels()
-            .label_font(("sans-serif", 18))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(perr)?;
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
-}
-
-/// Tick label of a log axis: `0.001`, `0.01`, ..., `10`, `100` (no binary noise).
-fn log_tick(v: &f64) -> String {
-    let e = v.log10().round();
-    if (v.log10() - e).abs() > 1e-6 {
-        return String::new(); // only the decades are labelled
-    }
-    if e >= 0.0 {
-        format!("{}", 10f64.powi(e as i32))
-    } else {
-        format!("{:.*}", (-e) as usize, 10f64.powi(e as i32))
-    }
+        style::legend(&mut c, 18, 0.85).draw().map_err(perr)?;
+        Ok(())
+    })
+    .map_err(|e| CheckError(e.to_string()))
 }
 
 /// The quartic sum along the requirement box scaled by `s` (every state at `s req_i`), and with
@@ -136,12 +111,9 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
     let vz_lim = x.limit(StateName::Vz);
     let vz_only = grid(&|s| (s * vz_req / vz_lim).powi(4));
     let s_box = criterion::max_box_scale(x);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((900, 520), |root| {
         let mut c = ChartBuilder::on(&root)
-            .caption("DFACS quartic capture criterion", ("sans-serif", 24))
+            .caption("DFACS quartic capture criterion", font(24))
             .margin(14)
             .x_label_area_size(50)
             .y_label_area_size(80)
@@ -150,15 +122,15 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
         c.configure_mesh()
             .x_desc("scale s of the TM state requirement box")
             .y_desc("sum_i (x0_i / xlim_i)^4 (log)")
-            .label_style(("sans-serif", 18))
-            .axis_desc_style(("sans-serif", 19))
+            .label_style(font(18))
+            .axis_desc_style(font(19))
             .y_label_formatter(&log_tick)
             .x_label_formatter(&|v| format!("{v:.1}"))
             .draw()
             .map_err(perr)?;
-        let blue = RGBColor(40, 90, 170);
-        let orange = RGBColor(220, 120, 20);
-        let red = RGBColor(200, 30, 30);
+        let blue = style::BLUE;
+        let orange = style::ORANGE;
+        let red = style::RED;
         c.draw_series(LineSeries::new(corner, blue.stroke_width(2)))
             .map_err(perr)?
             .label("all 12 states at s x req")
@@ -206,7 +178,7 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
             } else {
                 Pos::new(HPos::Left, VPos::Center)
             };
-            let style = TextStyle::from(("sans-serif", 18).into_font()).pos(pos);
+            let style = TextStyle::from(font(18).into_font()).pos(pos);
             c.draw_series(std::iter::once(Text::new(
                 format!("{label} (s = {s:.2})"),
                 (if i == 0 { s - 0.03 } else { s + 0.03 }, 40.0),
@@ -214,16 +186,13 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
             )))
             .map_err(perr)?;
         }
-        c.configure_series_labels()
+        style::legend(&mut c, 18, 0.9)
             .position(SeriesLabelPosition::LowerRight)
-            .label_font(("sans-serif", 18))
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK)
             .draw()
             .map_err(perr)?;
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| CheckError(e.to_string()))
 }
 
 /// Worst-case release velocity against tip radius: the thesis's simple bottom and upper
@@ -248,15 +217,9 @@ pub fn tip_radius_svg(
     ys.push(5.0);
     let y0 = ys.iter().copied().fold(f64::INFINITY, f64::min) / 2.0;
     let y1 = ys.iter().copied().fold(0.0f64, f64::max) * 2.0;
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 540)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((900, 540), |root| {
         let mut c = ChartBuilder::on(&root)
-            .caption(
-                "Worst-case release velocity against tip radius",
-                ("sans-serif", 22),
-            )
+            .caption("Worst-case release velocity against tip radius", font(22))
             .margin(14)
             .x_label_area_size(50)
             .y_label_area_size(80)
@@ -265,12 +228,12 @@ pub fn tip_radius_svg(
         c.configure_mesh()
             .x_desc("tip radius [mm] (log)")
             .y_desc("|X'| [um/s] (log)")
-            .label_style(("sans-serif", 16))
+            .label_style(font(16))
             .x_label_formatter(&log_tick)
             .y_label_formatter(&log_tick)
             .draw()
             .map_err(perr)?;
-        let colours = [RGBColor(40, 90, 170), RGBColor(200, 30, 30)];
+        let colours = [style::BLUE, style::RED];
         for (i, (name, w)) in curves.iter().enumerate() {
             let col = colours[i % 2];
             let total: Vec<(f64, f64)> = w
@@ -322,11 +285,11 @@ pub fn tip_radius_svg(
             vec![(x0, 5.0), (x1, 5.0)],
             8,
             4,
-            RGBColor(120, 120, 120).stroke_width(1),
+            style::GREY.stroke_width(1),
         ))
         .map_err(perr)?
         .label("requirement 5 um/s")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], RGBColor(120, 120, 120)));
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style::GREY));
         let r = current_radius_m * 1e3;
         c.draw_series(DashedLineSeries::new(
             vec![(r, y0), (r, y1)],
@@ -337,16 +300,13 @@ pub fn tip_radius_svg(
         .map_err(perr)?
         .label(format!("today's radius {r:.0} mm"))
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK));
-        c.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
+        style::legend(&mut c, 13, 0.85)
             .position(SeriesLabelPosition::LowerRight)
             .draw()
             .map_err(perr)?;
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| CheckError(e.to_string()))
 }
 
 /// The release sensitivity as an SVG: per uncertainty group, the first-order (filled) and total
@@ -377,19 +337,16 @@ pub fn sensitivity_svg(
     let smin = s.groups.iter().map(|(_, sh)| *sh).fold(0.0f64, f64::min);
     let smax = s.groups.iter().map(|(_, sh)| *sh).fold(0.0f64, f64::max);
     let pad = ((smax - smin) * 0.1).max(0.01);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (1250, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((1250, 520), |root| {
         let (left, right) = root.split_horizontally(700);
-        let blue = RGBColor(40, 90, 170);
+        let blue = style::BLUE;
         let mut c = ChartBuilder::on(&left)
             .caption(
                 format!(
                     "Variance indices of |X'| ({} x 2 draws, seed {})",
                     s.n, s.seed
                 ),
-                ("sans-serif", 20),
+                font(20),
             )
             .margin(14)
             .x_label_area_size(50)
@@ -400,8 +357,8 @@ pub fn sensitivity_svg(
             .x_desc("index (share of the variance)")
             .y_labels(2 * k + 6)
             .y_label_formatter(&name_of)
-            .label_style(("sans-serif", 16))
-            .axis_desc_style(("sans-serif", 17))
+            .label_style(font(16))
+            .axis_desc_style(font(17))
             .disable_y_mesh()
             .draw()
             .map_err(perr)?;
@@ -430,34 +387,26 @@ pub fn sensitivity_svg(
             for (ci, dy) in [(ix.first_ci, -0.18), (ix.total_ci, 0.18)] {
                 c.draw_series(std::iter::once(PathElement::new(
                     vec![(ci[0].max(0.0), y + dy), (ci[1].min(xmax), y + dy)],
-                    RGBColor(200, 30, 30).stroke_width(2),
+                    style::RED.stroke_width(2),
                 )))
                 .map_err(perr)?;
             }
         }
         c.draw_series(std::iter::once(PathElement::new(
             vec![(0.0, -10.0), (0.0, -10.0)],
-            RGBColor(200, 30, 30).stroke_width(2),
+            style::RED.stroke_width(2),
         )))
         .map_err(perr)?
         .label("95 % bootstrap interval")
-        .legend(|(x, y)| {
-            PathElement::new(
-                vec![(x, y), (x + 15, y)],
-                RGBColor(200, 30, 30).stroke_width(2),
-            )
-        });
-        c.configure_series_labels()
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], style::RED.stroke_width(2)));
+        style::legend(&mut c, 15, 0.9)
             .position(SeriesLabelPosition::UpperRight)
-            .label_font(("sans-serif", 15))
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.9))
             .draw()
             .map_err(perr)?;
         let mut c2 = ChartBuilder::on(&right)
             .caption(
                 format!("99.73 % point {:.3} um/s: shift when frozen", s.p9973_um_s),
-                ("sans-serif", 20),
+                font(20),
             )
             .margin(14)
             .x_label_area_size(50)
@@ -471,12 +420,12 @@ pub fn sensitivity_svg(
                 if t == "-0.00" { "0.00".into() } else { t }
             })
             .y_labels(0)
-            .label_style(("sans-serif", 16))
-            .axis_desc_style(("sans-serif", 17))
+            .label_style(font(16))
+            .axis_desc_style(font(17))
             .disable_y_mesh()
             .draw()
             .map_err(perr)?;
-        let green = RGBColor(0, 130, 70);
+        let green = style::DARK_GREEN;
         c2.draw_series(s.groups.iter().enumerate().map(|(g, (_, sh))| {
             let y = yk(g);
             Rectangle::new([(0.0, y - 0.3), (*sh, y + 0.3)], green.mix(0.7).filled())
@@ -489,16 +438,13 @@ pub fn sensitivity_svg(
             BLACK.stroke_width(1),
         )))
         .map_err(perr)?;
-        c2.configure_series_labels()
+        style::legend(&mut c2, 15, 0.9)
             .position(SeriesLabelPosition::UpperLeft)
-            .label_font(("sans-serif", 15))
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.9))
             .draw()
             .map_err(perr)?;
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| CheckError(e.to_string()))
 }
 
 #[cfg(test)]

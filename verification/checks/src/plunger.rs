@@ -17,7 +17,7 @@ use geodesic_charge::plunger::{
 };
 use geodesic_charge::{ChargeInputs, TipGeometry, c_rt_quadrature_f};
 use geodesic_core::{Basis, Check, CheckContext, CheckError, Dim, Evidence, Quantity};
-use plotters::prelude::*;
+use geodesic_plot::prelude::*;
 
 /// TM mass of the thesis's set-up [kg] (1.96 kg; the check reads the release budget's).
 pub const TM_MASS_KG: f64 = 1.96;
@@ -262,16 +262,9 @@ impl Check for PlungerAttraction {
     }
 }
 
-fn perr(e: impl std::fmt::Display) -> CheckError {
-    CheckError(format!("plot: {e}"))
-}
-
 /// |net force| / authority against time (log), per case.
 pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckError> {
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 700)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((900, 700), |root| {
         // the axis holds every curve whole: from the power of ten below the smallest ratio met
         // after release to the one above the largest (a curve clipped flat at the floor hid the
         // 0.5 V revision's minimum)
@@ -292,7 +285,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
         let mut c = ChartBuilder::on(&root)
             .caption(
                 "Plunger attraction: |net force| / DFACS authority (5e-7 N)",
-                ("sans-serif", 22),
+                font(22),
             )
             .margin(14)
             .x_label_area_size(50)
@@ -302,7 +295,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
         c.configure_mesh()
             .x_desc("time after release [s]")
             .y_desc("|F| / u_max (log)")
-            .label_style(("sans-serif", 16))
+            .label_style(font(16))
             .y_label_formatter(&|v| {
                 if *v >= 1.0 {
                     format!("{v:.0}")
@@ -312,12 +305,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
             })
             .draw()
             .map_err(perr)?;
-        let colours = [
-            RGBColor(120, 160, 220),
-            RGBColor(40, 90, 170),
-            RGBColor(200, 30, 30),
-            RGBColor(30, 30, 30),
-        ];
+        let colours = [style::LIGHT_BLUE, style::BLUE, style::RED, style::INK];
         for (i, (name, v, r)) in cases.iter().enumerate() {
             let col = colours[i % 4];
             let style = if *name == "revised" {
@@ -355,14 +343,79 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
         .map_err(perr)?
         .label("1 % of the authority; 4.3 s")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], BLACK));
-        c.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
+        style::legend(&mut c, 15, 0.85)
             .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(perr)?;
-        root.present().map_err(perr)?;
+        Ok(())
+    })
+    .map_err(|e| CheckError(e.to_string()))
+}
+
+/// One case of `geodesic plunger`: a retraction procedure at a TM voltage. A run that touched
+/// a plunger stops there: what it did not reach (a number that is not finite) is absent
+/// (docs/outputs.md); `touched_at_s` is null when the TM never touched.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct CaseRow {
+    /// Retraction procedure.
+    pub retraction: String,
+    /// TM voltage [V].
+    pub v_tm_v: f64,
+    /// Extra velocity from the plunger attraction [um/s].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub extra_velocity_um_s: Option<f64>,
+    /// The same with half the time step [um/s].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub extra_velocity_half_step_um_s: Option<f64>,
+    /// Smallest gap to a plunger [um].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_gap_um: Option<f64>,
+    /// When the gap was smallest [s].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_gap_at_s: Option<f64>,
+    /// When the TM touched a plunger [s] (null: never).
+    pub touched_at_s: Option<f64>,
+    /// |F| / u_max at 4.3 s [-].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_ratio_at_4_3_s: Option<f64>,
+    /// Last time |F| / u_max was at least 1 % [s].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_above_1pct_until_s: Option<f64>,
+}
+
+/// `x` if finite (what JSON can hold).
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+impl CaseRow {
+    /// The row of `run`, the procedure `retraction` at `v_tm_v` [V].
+    pub fn new(retraction: &str, v_tm_v: f64, run: &PlungerRun) -> CaseRow {
+        CaseRow {
+            retraction: retraction.to_string(),
+            v_tm_v,
+            extra_velocity_um_s: finite(run.extra_velocity_m_s * 1e6),
+            extra_velocity_half_step_um_s: finite(run.extra_velocity_half_step_m_s * 1e6),
+            min_gap_um: finite(run.min_gap_m * 1e6),
+            min_gap_at_s: finite(run.min_gap_at_s),
+            touched_at_s: run.touched_at_s.and_then(finite),
+            force_ratio_at_4_3_s: finite(run.force_ratio_at_compare),
+            force_above_1pct_until_s: finite(run.force_above_1pct_until_s),
+        }
     }
-    Ok(out)
+}
+
+/// The document of `geodesic plunger --json`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PlungerReport {
+    /// The plunger capacitance model.
+    pub capacitance: String,
+    /// Release velocity towards plunger 1 [um/s].
+    pub v0_um_s: f64,
+    /// DFACS force authority [N].
+    pub authority_n: f64,
+    /// Simulated time after release [s].
+    pub duration_s: f64,
+    /// The cases.
+    pub cases: Vec<CaseRow>,
 }

@@ -68,10 +68,45 @@ pub fn budget_and_population(
     ),
     CheckError,
 > {
-    let f = &ctx.inputs.file("budget")?;
+    budget_from_file(ctx.inputs.file("budget")?)
+}
+
+/// A budget file parsed (errors name the file and line), with its `adhesion_from` applied (a
+/// campaign result, relative to the budget file) and that campaign's population: what the
+/// checks and every command taking `--budget` read.
+pub fn budget_from_file(
+    f: &geodesic_core::check::InputFile,
+) -> Result<
+    (
+        Budget,
+        Option<geodesic_release::population::AdhesionPopulation>,
+    ),
+    CheckError,
+> {
     let b = Budget::from_yaml(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))?;
     let path = (!f.label.starts_with("<built-in>")).then(|| std::path::Path::new(&f.label));
     geodesic_release::population::resolve(b, path).map_err(CheckError)
+}
+
+/// REL-GPRM-VEL's limit on |X'| [um/s] from the loaded requirements (`geodesic montecarlo`
+/// and `merge` judge `probability_met` against it and draw it on the histogram).
+pub fn gprm_limit_um_s(reqs: &geodesic_core::Requirements) -> Result<f64, CheckError> {
+    reqs.get("REL-GPRM-VEL")
+        .and_then(|r| r.limit.as_ref())
+        // the limit is in SI (m/s)
+        .map(|l| l.value.value * 1e6)
+        .ok_or_else(|| CheckError("REL-GPRM-VEL (the release velocity limit) is not loaded".into()))
+}
+
+/// The SVG histogram of a Monte Carlo run's |X'| with its 99.73 % point and, if given, the
+/// limit `limit_um_s` [um/s]: the model returns the values, `geodesic_plot` draws them.
+pub fn mc_histogram_svg(r: &McResult, limit_um_s: Option<f64>) -> String {
+    geodesic_plot::histogram::histogram_svg(
+        &r.abs_um_s(),
+        r.summary().p9973_um_s,
+        limit_um_s,
+        &r.title(),
+    )
 }
 
 /// Population draws of the identification uncertainty in `verify` (a budget with
@@ -237,7 +272,7 @@ impl Check for ReleaseMonteCarlo {
             // each requirement judged on its own plot, with its own limit
             if let Some(lim) = &req.limit {
                 let limit_um_s = lim.value.value * 1e6;
-                let svg = geodesic_release::histogram::requirement_histogram_svg(
+                let svg = geodesic_plot::histogram::requirement_histogram_svg(
                     &abs_um_s,
                     sampling.estimate * 1e6,
                     p,
@@ -420,10 +455,8 @@ impl Check for MechanismFigures {
             .map_err(|e| CheckError(format!("{}: {e}", ctx.reports_dir.display())))?;
         let path = ctx.reports_dir.join("mechanism-figures.json");
         let text = serde_json::to_string_pretty(&f).map_err(|e| CheckError(e.to_string()))?;
-        let tmp = ctx.reports_dir.join(".mechanism-figures.json.tmp");
-        std::fs::write(&tmp, text)
-            .and_then(|_| std::fs::rename(&tmp, &path))
-            .map_err(|e| CheckError(format!("{}: {e}", path.display())))?;
+        geodesic_core::output::write_atomic(&path, text.as_bytes())
+            .map_err(|e| CheckError(e.to_string()))?;
         Ok(Vec::new())
     }
 }

@@ -19,7 +19,7 @@ use crate::plots;
 use geodesic_core::requirement::Requirement;
 use geodesic_core::{Basis, Check, CheckContext, CheckError, Evidence, Quantity};
 use geodesic_fit::spectral::{self, Asd, Judgement, Series, SeriesOrigin, WelchOptions};
-use plotters::prelude::*;
+use geodesic_plot::prelude::*;
 use std::path::Path;
 
 /// Name of the check (what `check:` names in YAML).
@@ -228,10 +228,6 @@ impl Check for SpectralAsd {
     }
 }
 
-fn perr(e: impl std::fmt::Display) -> CheckError {
-    CheckError(format!("plot: {e}"))
-}
-
 /// Log-log plot of the ASD with its 95 % band and the limit curve over the band.
 pub fn asd_svg(req: &Requirement, asd: &Asd) -> Result<String, CheckError> {
     let (lim, spec) = match (&req.limit, &req.spectrum) {
@@ -273,14 +269,11 @@ pub fn asd_svg(req: &Requirement, asd: &Asd) -> Result<String, CheckError> {
         y1 = y1.max(y);
     }
     let (y0, y1) = (y0 / 2.0, y1 * 2.0);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((900, 520), |root| {
         let mut c = ChartBuilder::on(&root)
             .caption(
                 format!("{}: amplitude spectral density against its limit", req.id),
-                ("sans-serif", 22),
+                font(22),
             )
             .margin(14)
             .x_label_area_size(50)
@@ -290,14 +283,14 @@ pub fn asd_svg(req: &Requirement, asd: &Asd) -> Result<String, CheckError> {
         c.configure_mesh()
             .x_desc("frequency [Hz] (log)")
             .y_desc(format!("ASD [{}] (log)", lim.unit.symbol))
-            .label_style(("sans-serif", 16))
+            .label_style(font(16))
             .x_label_formatter(&|v| format!("{v:.0e}"))
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
             .map_err(perr)?;
-        let grey = RGBColor(170, 190, 220);
-        let blue = RGBColor(40, 90, 170);
-        let red = RGBColor(200, 30, 30);
+        let grey = style::PALE_BLUE;
+        let blue = style::BLUE;
+        let red = style::RED;
         c.draw_series(LineSeries::new(
             pts.iter().map(|p| (p.0, p.3)),
             grey.stroke_width(1),
@@ -327,14 +320,11 @@ pub fn asd_svg(req: &Requirement, asd: &Asd) -> Result<String, CheckError> {
                 lim.text, spec.shape_text, spec.band_text
             ))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], red.stroke_width(2)));
-        c.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
+        style::legend(&mut c, 15, 0.85)
             .position(SeriesLabelPosition::UpperLeft)
             .draw()
             .map_err(perr)?;
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| CheckError(e.to_string()))
 }

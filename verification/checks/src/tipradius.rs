@@ -144,3 +144,156 @@ impl Check for TipRadius {
         Ok(vec![ev])
     }
 }
+
+/// The document of `geodesic tip-radius`: the simple model's inputs, each estimate with its
+/// optimum and curve, and the Monte Carlo cross-check. Its JSON keys are those the command has
+/// always printed (printed through `serde_json::Value`: alphabetical order).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TradeOff {
+    /// The budget's mean tip radius [mm].
+    pub budget_radius_mm: f64,
+    /// Initial tip jerk [m/s^3].
+    pub jerk_m_s3: f64,
+    /// Effective modulus [Pa].
+    pub e_star_pa: f64,
+    /// TM mass [kg].
+    pub mass_kg: f64,
+    /// Gold rupture strength [Pa].
+    pub rupture_pa: f64,
+    /// Bond elongation at rupture [m].
+    pub elongation_m: f64,
+    /// The two estimates.
+    pub estimates: Vec<EstimateRow>,
+    /// The Monte Carlo cross-check.
+    pub monte_carlo: Vec<McRow>,
+    /// Monte Carlo draws per radius.
+    pub mc_n: usize,
+    /// Seed.
+    pub seed: u64,
+    /// The input files read, by name (`budget`).
+    pub inputs: std::collections::BTreeMap<String, geodesic_core::check::InputFile>,
+    #[serde(skip)]
+    curves: Vec<(String, Vec<Worst>)>,
+    #[serde(skip)]
+    mc: Vec<McPoint>,
+    #[serde(skip)]
+    r0_m: f64,
+}
+
+/// One estimate of the simple model.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct EstimateRow {
+    /// Name (`bottom`, `upper`).
+    pub estimate: &'static str,
+    /// Contact force [N].
+    pub force_n: f64,
+    /// Constant tip speed [m/s].
+    pub v_rt_m_s: f64,
+    /// Radius of the least worst-case velocity [mm].
+    pub optimum_radius_mm: f64,
+    /// Worst-case velocity there [um/s].
+    pub at_optimum_um_s: f64,
+    /// Worst-case velocity at the budget's radius [um/s].
+    pub at_budget_radius_um_s: f64,
+    /// Its push part [um/s].
+    pub push_at_budget_radius_um_s: f64,
+    /// Its adhesion part [um/s].
+    pub adhesion_at_budget_radius_um_s: f64,
+    /// The curve over 0.05-50 mm.
+    pub curve: Vec<CurvePoint>,
+}
+
+/// A point of an estimate's curve.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct CurvePoint {
+    /// Tip radius [mm].
+    pub radius_mm: f64,
+    /// Push velocity [um/s].
+    pub push_um_s: f64,
+    /// Adhesion velocity [um/s].
+    pub adhesion_um_s: f64,
+    /// Sum [um/s].
+    pub total_um_s: f64,
+}
+
+/// A Monte Carlo point of the cross-check.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+pub struct McRow {
+    /// Mean tip radius [mm].
+    pub radius_mm: f64,
+    /// 99.73 % point of |X'| [um/s].
+    pub p9973_um_s: f64,
+    /// Scale applied to A1 [-].
+    pub a1_scale: f64,
+}
+
+impl TradeOff {
+    /// The trade-off of `budget` with the Monte Carlo points `mc` (`mc_n` draws each, `seed`).
+    pub fn new(budget: &Budget, mc: &[McPoint], mc_n: usize, seed: u64) -> TradeOff {
+        let inputs = simple_inputs(budget);
+        let r0 = budget.tip_radius_m.mean();
+        let curves = curves(&inputs);
+        let estimates = ESTIMATES
+            .iter()
+            .zip(&curves)
+            .map(|(e, (_, w))| {
+                let opt = optimum_radius_m(&inputs, e);
+                let at_opt = worst_velocity(&inputs, e, opt);
+                let at_r0 = worst_velocity(&inputs, e, r0);
+                EstimateRow {
+                    estimate: e.name,
+                    force_n: e.force_n,
+                    v_rt_m_s: e.v_rt_m_s,
+                    optimum_radius_mm: opt * 1e3,
+                    at_optimum_um_s: at_opt.total_m_s * 1e6,
+                    at_budget_radius_um_s: at_r0.total_m_s * 1e6,
+                    push_at_budget_radius_um_s: at_r0.push_m_s * 1e6,
+                    adhesion_at_budget_radius_um_s: at_r0.adhesion_m_s * 1e6,
+                    curve: w
+                        .iter()
+                        .map(|p| CurvePoint {
+                            radius_mm: p.radius_m * 1e3,
+                            push_um_s: p.push_m_s * 1e6,
+                            adhesion_um_s: p.adhesion_m_s * 1e6,
+                            total_um_s: p.total_m_s * 1e6,
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        TradeOff {
+            budget_radius_mm: r0 * 1e3,
+            jerk_m_s3: inputs.jerk_m_s3,
+            e_star_pa: inputs.e_star_pa,
+            mass_kg: inputs.mass_kg,
+            rupture_pa: inputs.rupture_pa,
+            elongation_m: inputs.elongation_m,
+            estimates,
+            monte_carlo: mc
+                .iter()
+                .map(|p| McRow {
+                    radius_mm: p.radius_m * 1e3,
+                    p9973_um_s: p.p9973_um_s,
+                    a1_scale: p.a1_scale,
+                })
+                .collect(),
+            mc_n,
+            seed,
+            inputs: Default::default(),
+            curves,
+            mc: mc.to_vec(),
+            r0_m: r0,
+        }
+    }
+
+    /// The document naming an input file it read.
+    pub fn with_input(mut self, name: &str, file: geodesic_core::check::InputFile) -> Self {
+        self.inputs.insert(name.to_string(), file);
+        self
+    }
+
+    /// The plot: both estimates' curves, the Monte Carlo points and the budget's radius.
+    pub fn svg(&self) -> Result<String, CheckError> {
+        plots::tip_radius_svg(&self.curves, &self.mc, self.r0_m)
+    }
+}

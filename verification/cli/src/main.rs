@@ -11,6 +11,7 @@ mod error;
 mod inputs;
 mod missions;
 mod quantity;
+mod threads;
 mod usage;
 
 use geodesic_verify::{preflight, progress};

@@ -11,18 +11,15 @@
 pub mod check;
 pub mod disposition;
 pub mod document;
-pub mod fsio;
-pub mod hash;
 pub mod matrix;
-pub mod normal;
-pub mod output;
 pub mod requirement;
 pub mod spectrum;
-pub mod stats;
 pub mod testrun;
-pub mod text;
 pub mod trace;
 pub mod units;
+
+// low-level helpers now in the bottom layer geodesic-util, re-exported at their old paths
+pub use geodesic_util::{fsio, hash, normal, output, stats, text};
 
 pub use check::{Basis, Check, CheckContext, CheckError, Evidence, Outcome};
 pub use requirement::{ReqId, Requirement, Requirements};

@@ -910,27 +910,14 @@ fn parse_op(s: &str) -> Result<(Op, &str), String> {
 
 /// A YAML error of `file` as a [`LoadError`] with the parser's line and column.
 pub(crate) fn yaml_error(file: &Path, e: &serde_saphyr::Error) -> LoadError {
-    let (line, column) = e
-        .location()
-        .map(|l| (l.line(), l.column()))
-        .unwrap_or((1, 1));
+    let y = geodesic_util::yaml_error(e);
     LoadError {
         origin: Origin {
             file: file.to_path_buf(),
-            line,
-            column,
+            line: y.line.unwrap_or(1),
+            column: y.column.unwrap_or(1),
         },
-        cause: first_line(&e.to_string()),
-    }
-}
-
-pub(crate) fn first_line(s: &str) -> String {
-    let l = s.lines().next().unwrap_or("").trim();
-    // serde-saphyr prefixes "error: line N column M: "; the location is printed by us.
-    let l = l.strip_prefix("error: ").unwrap_or(l);
-    match l.find(": ") {
-        Some(i) if l.starts_with("line ") => l[i + 2..].to_string(),
-        _ => l.to_string(),
+        cause: y.cause,
     }
 }
 

@@ -4,60 +4,22 @@
 /// return as character references (so that attribute normalisation keeps them). Characters XML
 /// 1.0 does not allow (C0 controls other than those) are replaced by U+FFFD so that the output
 /// is always well-formed.
+/// `'` is written `&#x27;` as Python's html.escape writes it (the reqif package, ReqIF Studio).
+/// geodesic's one escaping: [`geodesic_util::escape`].
 pub fn escape(s: &str) -> String {
-    let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '"' => o.push_str("&quot;"),
-            // as Python's html.escape writes it (the reqif package, ReqIF Studio)
-            '\'' => o.push_str("&#x27;"),
-            '\t' => o.push_str("&#9;"),
-            '\n' => o.push_str("&#10;"),
-            '\r' => o.push_str("&#13;"),
-            c => push_text_char(&mut o, c),
-        }
-    }
-    o
+    geodesic_util::escape::with(s, &geodesic_util::escape::XML_ATTRIBUTE)
 }
 
 /// Escapes element content: `&`, `<`, `>` only (quotes stay as they are, as ReqIF tools write
 /// them).
 pub fn escape_text(s: &str) -> String {
-    let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '\r' => o.push_str("&#13;"),
-            '\t' | '\n' => o.push(c),
-            c => push_text_char(&mut o, c),
-        }
-    }
-    o
+    geodesic_util::escape::with(s, &geodesic_util::escape::XML_TEXT)
 }
 
 /// Escapes XHTML text: `&`, `<`, `>`, `"` and `'` (as Python's `html.escape`, which the
 /// `reqif` package uses to write XHTML, so that its passthrough keeps the file unchanged).
 pub fn escape_xhtml(s: &str) -> String {
-    let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '"' => o.push_str("&quot;"),
-            '\'' => o.push_str("&#x27;"),
-            '\r' => o.push_str("&#13;"),
-            '\t' | '\n' => o.push(c),
-            c => push_text_char(&mut o, c),
-        }
-    }
-    o
-}
-
-fn push_text_char(o: &mut String, c: char) {
-    match c {
-        '&' => o.push_str("&amp;"),
-        '<' => o.push_str("&lt;"),
-        '>' => o.push_str("&gt;"),
-        c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => o.push('\u{FFFD}'),
-        c => o.push(c),
-    }
+    geodesic_util::escape::with(s, &geodesic_util::escape::XHTML)
 }
 
 /// An indenting writer of elements (two spaces a level).

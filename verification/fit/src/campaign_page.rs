@@ -6,15 +6,11 @@
 //! as `geodesic campaign --json`); nothing is recomputed here but the ellipses' outlines and the
 //! histograms' bins (Sturges: `ceil(log2 n) + 1` bins over `[min, max]`).
 
-use plotters::prelude::*;
+use geodesic_plot::prelude::*;
 
 use crate::campaign::{CampaignReport, PAIR, Release};
 use crate::error::FitError;
 use crate::plot::tick;
-
-fn perr(e: impl std::fmt::Display) -> FitError {
-    FitError::input("campaign plot", 0, e.to_string())
-}
 
 /// A quantity of the table: key, label on the page, unit, scale to the plotted unit, plotted unit.
 const QUANTITIES: [(&str, &str, &str, f64, &str); 3] = [
@@ -59,10 +55,7 @@ fn bins(v: &[f64], lo: f64, hi: f64, k: usize) -> Vec<usize> {
 /// The three histograms (P_x, F_peak, dt from the fitted models; P_x from the data overlaid)
 /// side by side, as an SVG string.
 pub fn histograms_svg(r: &CampaignReport) -> Result<String, FitError> {
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (1350, 470)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((1350, 470), |root| {
         let areas = root.split_evenly((1, 3));
         for (area, (key, label, _, scale, unit)) in areas.iter().zip(QUANTITIES) {
             let v: Vec<f64> = model_values(r, key).iter().map(|x| x * scale).collect();
@@ -94,10 +87,7 @@ pub fn histograms_svg(r: &CampaignReport) -> Result<String, FitError> {
             let top = cm.iter().chain(&cd).copied().max().unwrap_or(1).max(1) as f64 * 1.35;
             let w = (hi - lo) / k as f64;
             let mut c = ChartBuilder::on(area)
-                .caption(
-                    format!("{label} ({} releases)", v.len()),
-                    ("sans-serif", 19),
-                )
+                .caption(format!("{label} ({} releases)", v.len()), font(19))
                 .margin(12)
                 .x_label_area_size(50)
                 .y_label_area_size(55)
@@ -107,8 +97,8 @@ pub fn histograms_svg(r: &CampaignReport) -> Result<String, FitError> {
                 .x_desc(format!("{key} [{unit}]"))
                 .y_desc("releases per bin")
                 .x_labels(5)
-                .label_style(("sans-serif", 16))
-                .axis_desc_style(("sans-serif", 17))
+                .label_style(font(16))
+                .axis_desc_style(font(17))
                 .x_label_formatter(&tick)
                 .y_label_formatter(&|y| format!("{y:.0}"))
                 .max_light_lines(0)
@@ -135,7 +125,7 @@ pub fn histograms_svg(r: &CampaignReport) -> Result<String, FitError> {
                 });
             }
             if let Some(Some(s)) = r.table.get(key).and_then(|m| m.get("model")) {
-                let red = RGBColor(200, 30, 30);
+                let red = style::RED;
                 c.draw_series(DashedLineSeries::new(
                     vec![(s.mean * scale, 0.0), (s.mean * scale, top)],
                     6,
@@ -148,17 +138,14 @@ pub fn histograms_svg(r: &CampaignReport) -> Result<String, FitError> {
                     PathElement::new(vec![(x, y), (x + 15, y)], red.stroke_width(2))
                 });
             }
-            c.configure_series_labels()
+            style::legend(&mut c, 15, 0.9)
                 .position(SeriesLabelPosition::UpperRight)
-                .label_font(("sans-serif", 15))
-                .border_style(BLACK)
-                .background_style(WHITE.mix(0.9))
                 .draw()
                 .map_err(perr)?;
         }
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| FitError::input("campaign plot", 0, e.0))
 }
 
 /// Outline of the ellipse of means `(mx, my)`, sigmas `(sx, sy)` and correlation `rho`, scaled
@@ -242,10 +229,7 @@ pub fn adhesion_svg(r: &CampaignReport) -> Result<Option<String>, FitError> {
     let (px, py) = ((x1 - x0).max(1e-9) * 0.06, (y1 - y0).max(1e-9) * 0.06);
     // head room for the legend above the points
     let (x0, x1, y0, y1) = (x0 - px, x1 + px, y0 - py, y1 + 0.45 * (y1 - y0) + py);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 700)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((900, 700), |root| {
         let rho_txt = match (pop.and_then(|p| p.4), r.correlation_ci95.get(PAIR).copied()) {
             (Some(v), Some([lo, hi])) => format!("rho {v:+.2} [{lo:+.2}, {hi:+.2}]"),
             (Some(v), None) => format!("rho {v:+.2}"),
@@ -254,7 +238,7 @@ pub fn adhesion_svg(r: &CampaignReport) -> Result<Option<String>, FitError> {
         let mut c = ChartBuilder::on(&root)
             .caption(
                 format!("adhesion across {} releases: {rho_txt}", pts.len()),
-                ("sans-serif", 21),
+                font(21),
             )
             .margin(14)
             .x_label_area_size(50)
@@ -264,13 +248,13 @@ pub fn adhesion_svg(r: &CampaignReport) -> Result<Option<String>, FitError> {
         c.configure_mesh()
             .x_desc("tip_adhesion.A1 [1e3 N/m]")
             .y_desc("tip_adhesion.lambda [nm]")
-            .label_style(("sans-serif", 17))
-            .axis_desc_style(("sans-serif", 18))
+            .label_style(font(17))
+            .axis_desc_style(font(18))
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .draw()
             .map_err(perr)?;
-        let grey = RGBColor(90, 90, 90);
+        let grey = style::DARK_GREY;
         for (i, p) in pts.iter().enumerate() {
             let s = c
                 .draw_series(std::iter::once(PathElement::new(
@@ -291,7 +275,7 @@ pub fn adhesion_svg(r: &CampaignReport) -> Result<Option<String>, FitError> {
         .label("fitted (A1, lambda) of a release")
         .legend(|(x, y)| Circle::new((x + 9, y), 3, BLUE.filled()));
         if let Some((ma, sa, ml, sl, rho)) = pop {
-            let red = RGBColor(200, 30, 30);
+            let red = style::RED;
             let rho = rho.unwrap_or(0.0);
             c.draw_series(std::iter::once(PathElement::new(
                 ellipse(ma, ml, sa, sl, rho, 1.0),
@@ -318,16 +302,14 @@ pub fn adhesion_svg(r: &CampaignReport) -> Result<Option<String>, FitError> {
             .label("population mean")
             .legend(move |(x, y)| Cross::new((x + 9, y), 6, red.stroke_width(3)));
         }
-        c.configure_series_labels()
+        style::legend(&mut c, 16, 0.9)
             .position(SeriesLabelPosition::UpperLeft)
-            .label_font(("sans-serif", 16))
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.9))
             .draw()
             .map_err(perr)?;
-        root.present().map_err(perr)?;
-    }
-    Ok(Some(out))
+        Ok(())
+    })
+    .map(Some)
+    .map_err(|e| FitError::input("campaign plot", 0, e.0))
 }
 
 fn e4(v: f64) -> String {

@@ -2,15 +2,11 @@
 
 use std::path::Path;
 
-use plotters::prelude::*;
+use geodesic_plot::prelude::*;
 
 use crate::error::{FitError, write_atomic};
 use crate::fit::{FitReport, Prepared};
 use crate::history::Entry;
-
-fn perr(e: impl std::fmt::Display) -> FitError {
-    FitError::input("plot", 0, e.to_string())
-}
 
 fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -85,7 +81,7 @@ fn log_keys(lo: f64, hi: f64) -> Vec<f64> {
         .collect()
 }
 
-const FAIL: RGBColor = RGBColor(255, 200, 200);
+const FAIL: RGBColor = style::PALE_RED;
 
 /// Renders data and model (top) and the residual with its +-3 sigma band (bottom), failure
 /// windows shaded, as an SVG string. Lengths in nm, time in ms.
@@ -95,10 +91,7 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
     let m: Vec<f64> = pred.iter().map(|v| v * 1e9).collect();
     let r: Vec<f64> = d.iter().zip(&m).map(|(a, b)| a - b).collect();
     let s3 = 3.0 * prep.marginal_sigma() * 1e9;
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (1000, 700)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((1000, 700), |root| {
         let (top, bottom) = root.split_vertically(420);
         let (x0, x1) = range(t.iter().copied());
         let (y0, y1) = range(d.iter().chain(&m).copied());
@@ -109,7 +102,7 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
             report.chi2_red
         );
         let mut c = ChartBuilder::on(&top)
-            .caption(title, ("sans-serif", 24))
+            .caption(title, font(24))
             .margin(12)
             .x_label_area_size(45)
             .y_label_area_size(80)
@@ -118,8 +111,8 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         c.configure_mesh()
             .x_desc("t [ms]")
             .y_desc(format!("{} [nm]", prep.channel))
-            .label_style(("sans-serif", 18))
-            .axis_desc_style(("sans-serif", 19))
+            .label_style(font(18))
+            .axis_desc_style(font(19))
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .draw()
@@ -150,11 +143,8 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         .map_err(perr)?
         .label("model")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], RED));
-        c.configure_series_labels()
+        style::legend(&mut c, 18, 0.9)
             .position(SeriesLabelPosition::UpperLeft)
-            .label_font(("sans-serif", 18))
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.9))
             .draw()
             .map_err(perr)?;
         let (ry0, ry1) = range(r.iter().copied().chain([-s3 * 1.2, s3 * 1.2]));
@@ -169,13 +159,13 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         c2.configure_mesh()
             .x_desc("t [ms]")
             .y_desc("residual [nm]")
-            .label_style(("sans-serif", 18))
-            .axis_desc_style(("sans-serif", 19))
+            .label_style(font(18))
+            .axis_desc_style(font(19))
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .draw()
             .map_err(perr)?;
-        let noise = RGBColor(200, 235, 200);
+        let noise = style::PALE_GREEN;
         c2.draw_series(std::iter::once(Rectangle::new(
             [(x0, -s3), (x1, s3)],
             noise.mix(0.6).filled(),
@@ -202,23 +192,19 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         .map_err(perr)?
         .label("residual = data - model")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], BLACK));
-        c2.configure_series_labels()
+        style::legend(&mut c2, 18, 0.9)
             .position(SeriesLabelPosition::UpperRight)
-            .label_font(("sans-serif", 18))
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.9))
             .draw()
             .map_err(perr)?;
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| FitError::input("plot", 0, e.0))
 }
 
 /// Renders RMS and reduced chi-square per model version (log scale) as an SVG string. Versions
 /// are named by the effects they add (`v1 base`, `v2 +tip_adhesion`); the noise floor is drawn
 /// in both panels (the noise RMS, and chi2_red = 1).
 pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
-    let mut out = String::new();
     let names: Vec<String> = entries
         .iter()
         .enumerate()
@@ -227,9 +213,7 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
     let base = entries
         .first()
         .map_or(String::new(), |e| e.effects.join(", "));
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 680)).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render((900, 680), |root| {
         let (top, bottom) = root.split_vertically(340);
         let n = entries.len().max(1) as f64;
         let name = entries
@@ -276,7 +260,7 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
                 .max(lo * 4.0)
                 * 2.0;
             let mut c = ChartBuilder::on(area)
-                .caption(title, ("sans-serif", 21))
+                .caption(title, font(21))
                 .margin(12)
                 .x_label_area_size(45)
                 .y_label_area_size(80)
@@ -290,13 +274,13 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
                 .x_label_formatter(&label)
                 .y_label_formatter(&log_tick)
                 .disable_x_mesh()
-                .label_style(("sans-serif", 18))
-                .axis_desc_style(("sans-serif", 19))
+                .label_style(font(18))
+                .axis_desc_style(font(19))
                 .x_desc("model version (effects added)")
                 .draw()
                 .map_err(perr)?;
             if let (Some(f), Some(l)) = (floor, floor_label) {
-                let green = RGBColor(0, 140, 60);
+                let green = style::GREEN;
                 c.draw_series(DashedLineSeries::new(
                     vec![(0.5, f), (n + 0.5, f)],
                     8,
@@ -322,17 +306,14 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
                     .map(|(i, v)| Circle::new((i as f64 + 1.0, *v), 5, BLUE.filled())),
             )
             .map_err(perr)?;
-            c.configure_series_labels()
+            style::legend(&mut c, 18, 0.9)
                 .position(SeriesLabelPosition::UpperRight)
-                .label_font(("sans-serif", 18))
-                .border_style(BLACK)
-                .background_style(WHITE.mix(0.9))
                 .draw()
                 .map_err(perr)?;
         }
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| FitError::input("plot", 0, e.0))
 }
 
 /// A corner plot of a posterior chain: per free parameter a histogram of its marginal (the
@@ -351,10 +332,7 @@ pub fn corner_svg(
         .map(|i| chain.samples.iter().map(|s| back[i](s[i])).collect())
         .collect();
     let stride = (chain.samples.len() / 1500).max(1);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, size).into_drawing_area();
-        root.fill(&WHITE).map_err(perr)?;
+    render(size, |root| {
         let (title, grid) = root.split_vertically(50);
         title
             .draw(&Text::new(
@@ -365,7 +343,7 @@ pub fn corner_svg(
                     chain.acceptance
                 ),
                 (20, 15),
-                ("sans-serif", 20),
+                font(20),
             ))
             .map_err(perr)?;
         let cells = grid.split_evenly((k, k));
@@ -406,8 +384,8 @@ pub fn corner_svg(
                         .x_labels(3)
                         .y_labels(0)
                         .x_label_formatter(&tick)
-                        .label_style(("sans-serif", 13))
-                        .axis_desc_style(("sans-serif", 14))
+                        .label_style(font(13))
+                        .axis_desc_style(font(14))
                         .disable_mesh()
                         .draw()
                         .map_err(perr)?;
@@ -451,8 +429,8 @@ pub fn corner_svg(
                         .y_labels(3)
                         .x_label_formatter(&tick)
                         .y_label_formatter(&tick)
-                        .label_style(("sans-serif", 13))
-                        .axis_desc_style(("sans-serif", 14))
+                        .label_style(font(13))
+                        .axis_desc_style(font(14))
                         .disable_mesh()
                         .draw()
                         .map_err(perr)?;
@@ -465,9 +443,9 @@ pub fn corner_svg(
                 }
             }
         }
-        root.present().map_err(perr)?;
-    }
-    Ok(out)
+        Ok(())
+    })
+    .map_err(|e| FitError::input("plot", 0, e.0))
 }
 
 /// Writes an SVG atomically.

@@ -57,15 +57,8 @@ impl ImageError {
 
 /// A YAML error of serde-saphyr as an [`ImageError`] with its line.
 pub(crate) fn yaml_error(file: &Path, e: &serde_saphyr::Error) -> ImageError {
-    let line = e.location().map(|l| l.line()).unwrap_or(0);
-    let text = e.to_string();
-    let first = text.lines().next().unwrap_or("").trim();
-    let first = first.strip_prefix("error: ").unwrap_or(first);
-    let cause = match first.find(": ") {
-        Some(i) if first.starts_with("line ") => &first[i + 2..],
-        _ => first,
-    };
-    ImageError::new(file, line as usize, cause.to_string())
+    let y = geodesic_util::yaml_error(e);
+    ImageError::new(file, y.line.unwrap_or(0) as usize, y.cause)
 }
 
 /// `v` must be finite and positive.

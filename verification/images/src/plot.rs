@@ -2,14 +2,11 @@
 
 use crate::surfaces::Registration;
 use crate::tiptrack::Trajectory;
-use plotters::prelude::*;
+use geodesic_plot::prelude::*;
 
 /// x and z of the tip [um] against time [ms], with the spread across thresholds as a band.
 pub fn trajectory_svg(tr: &Trajectory, title: &str) -> String {
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (1000, 700)).into_drawing_area();
-        let _ = root.fill(&WHITE);
+    render((1000, 700), |root| {
         let parts = root.split_evenly((2, 1));
         for (k, area) in parts.iter().enumerate() {
             let (vals, sig, name) = if k == 0 {
@@ -34,7 +31,7 @@ pub fn trajectory_svg(tr: &Trajectory, title: &str) -> String {
                 .fold(f64::NEG_INFINITY, f64::max);
             let pad = ((hi - lo) * 0.1).max(1e-3);
             let Ok(mut chart) = ChartBuilder::on(area)
-                .caption(if k == 0 { title } else { "" }, ("sans-serif", 22))
+                .caption(if k == 0 { title } else { "" }, font(22))
                 .margin(12)
                 .x_label_area_size(40)
                 .y_label_area_size(80)
@@ -46,7 +43,7 @@ pub fn trajectory_svg(tr: &Trajectory, title: &str) -> String {
                 .configure_mesh()
                 .x_desc("t [ms]")
                 .y_desc(name)
-                .label_style(("sans-serif", 16))
+                .label_style(font(16))
                 .draw();
             let band: Vec<(f64, f64)> = pts
                 .iter()
@@ -70,16 +67,11 @@ pub fn trajectory_svg(tr: &Trajectory, title: &str) -> String {
                         PathElement::new([(x, y), (x + 16, y)], BLUE.stroke_width(2))
                     })
                 });
-            let _ = chart
-                .configure_series_labels()
-                .label_font(("sans-serif", 15))
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw();
+            let _ = style::legend(&mut chart, 15, 0.8).draw();
         }
-        let _ = root.present();
-    }
-    out
+        Ok(())
+    })
+    .unwrap_or_default()
 }
 
 /// The difference map AFTER - BEFORE (registered, offset removed) as blocks of at most
@@ -100,31 +92,27 @@ pub fn difference_svg(reg: &Registration, title: &str) -> String {
         }
     }
     let scale = (3.0 * reg.change_threshold_m).max(1e-30);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (900, 820)).into_drawing_area();
-        let _ = root.fill(&WHITE);
+    render((900, 820), |root| {
         let Ok(mut chart) = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 20))
+            .caption(title, font(20))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d(0.0..cols as f64, rows as f64..0.0)
         else {
-            drop(root);
-            return out;
+            return Ok(());
         };
         let _ = chart
             .configure_mesh()
             .disable_mesh()
             .x_desc("column [pixels]")
             .y_desc("row [pixels]")
-            .label_style(("sans-serif", 16))
+            .label_style(font(16))
             .draw();
         let _ = chart.draw_series(blocks.iter().enumerate().map(|(i, &(s, n))| {
             let (r, c) = ((i / bc * step) as f64, (i % bc * step) as f64);
             let color = if n == 0 {
-                RGBColor(200, 200, 200)
+                style::LIGHT_GREY
             } else {
                 let v = (s / n as f64 / scale).clamp(-1.0, 1.0);
                 let k = (255.0 * (1.0 - v.abs())) as u8;
@@ -136,7 +124,7 @@ pub fn difference_svg(reg: &Registration, title: &str) -> String {
             };
             Rectangle::new([(c, r), (c + step as f64, r + step as f64)], color.filled())
         }));
-        let _ = root.present();
-    }
-    out
+        Ok(())
+    })
+    .unwrap_or_default()
 }

@@ -594,6 +594,55 @@ pub fn register(before: &HeightMap, after: &HeightMap) -> Result<Registration, I
     }
     let (d, th) = ((best.0[0], best.0[1]), best.0[2] / ell);
     let (rms, _, n) = prob.cost(d, th);
+    let dm = difference_map(before, after, &prob, d, th);
+    let px = before.pixel_m;
+    Ok(Registration {
+        shift_m: [d.0 * px, d.1 * px],
+        rotation_rad: th,
+        rms_m: rms,
+        offset_m: dm.offset_m,
+        valley_below_m,
+        valley_points: n,
+        trimmed_points: trimmed,
+        start_shift_m: [d0.0 * px, d0.1 * px],
+        start_rotation_rad: th0,
+        noise_m: dm.noise_m,
+        change_threshold_m: dm.threshold_m,
+        changed_area_m2: dm.changed as f64 * px * px,
+        compared_points: dm.compared,
+        ks_statistic: dm.ks,
+        ks_p: dm.ks_p,
+        difference: dm.difference,
+        shape: [before.rows, before.cols],
+    })
+}
+
+/// The difference map AFTER - BEFORE at the registration `(d, th)` and what it shows.
+struct DifferenceMap {
+    /// AFTER - BEFORE - offset at every BEFORE point [m] (NaN where not compared).
+    difference: Vec<f64>,
+    /// Median difference [m].
+    offset_m: f64,
+    /// Robust noise of the difference (1.4826 MAD) [m].
+    noise_m: f64,
+    /// Change threshold, 5 noise [m].
+    threshold_m: f64,
+    /// Points beyond the threshold.
+    changed: usize,
+    /// Points compared.
+    compared: usize,
+    /// Two-sample KS statistic of the heights before and after, and its p-value.
+    ks: f64,
+    ks_p: f64,
+}
+
+fn difference_map(
+    before: &HeightMap,
+    after: &HeightMap,
+    prob: &Problem<'_>,
+    d: (f64, f64),
+    th: f64,
+) -> DifferenceMap {
     // difference map over every BEFORE point; the height offset is the median difference
     // (robust to a changed patch, and free of the bias that bilinear interpolation gives a
     // valley-only mean: it fills valleys in)
@@ -633,26 +682,16 @@ pub fn register(before: &HeightMap, after: &HeightMap) -> Result<Registration, I
     let changed = absdev.iter().filter(|v| **v > thr).count();
     let compared = absdev.len();
     let (ks, p) = ks_two_sample(&mut bvals, &mut avals);
-    let px = before.pixel_m;
-    Ok(Registration {
-        shift_m: [d.0 * px, d.1 * px],
-        rotation_rad: th,
-        rms_m: rms,
-        offset_m: offset,
-        valley_below_m,
-        valley_points: n,
-        trimmed_points: trimmed,
-        start_shift_m: [d0.0 * px, d0.1 * px],
-        start_rotation_rad: th0,
-        noise_m: noise,
-        change_threshold_m: thr,
-        changed_area_m2: changed as f64 * px * px,
-        compared_points: compared,
-        ks_statistic: ks,
-        ks_p: p,
+    DifferenceMap {
         difference: diff,
-        shape: [before.rows, before.cols],
-    })
+        offset_m: offset,
+        noise_m: noise,
+        threshold_m: thr,
+        changed,
+        compared,
+        ks,
+        ks_p: p,
+    }
 }
 
 fn median(v: &mut [f64]) -> f64 {

@@ -15,14 +15,9 @@ use crate::{Report, fmt_limit, fmt_margin, fmt_value};
 use geodesic_core::matrix::Status;
 use std::collections::BTreeMap;
 
-/// Escapes text for XML attributes and content.
-pub fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-        .replace('\'', "&apos;")
-}
+/// Escapes text for XML attributes and content (`&`, `<`, `>`, `"`, `'`): geodesic's one
+/// escaping, [`geodesic_util::escape::markup`].
+pub use geodesic_util::escape::markup as esc;
 
 /// The run's identification as JUnit properties (every test suite carries them): document,
 /// issue, title and project, tool version, commit and dirty flag, date, command line and the

@@ -64,7 +64,7 @@ pub fn render(rep: &Report) -> String {
             meth = r.method,
             st = crate::verdict(r),
             basis = crate::basis_word(r),
-            lim = fmt_limit(r).replace('<', "&lt;").replace('>', "&gt;"),
+            lim = geodesic_util::escape::text(&fmt_limit(r)),
             mg = fmt_margin(r.margin),
             ev = if ev.is_empty() {
                 "—".into()

@@ -38,6 +38,12 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
+impl From<geodesic_core::output::WriteError> for Error {
+    fn from(e: geodesic_core::output::WriteError) -> Self {
+        Error::Io(e.to_string())
+    }
+}
+
 impl From<std::io::Error> for Error {
     fn from(e: std::io::Error) -> Self {
         Error::Io(e.to_string())

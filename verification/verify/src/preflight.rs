@@ -2,7 +2,8 @@
 //! item 2): a folder that cannot be written, a file where a folder is expected, a missing or
 //! unreadable input is one line naming the flag and the path, exit 2, within a second, instead
 //! of after a long run. Nothing is created: a writable folder is probed with a uniquely named
-//! empty file, removed at once.
+//! empty file, removed at once. Also the worker pool of `--threads` ([`with_threads`]), shared
+//! by the commands that take it.
 
 use std::path::{Path, PathBuf};
 
@@ -104,6 +105,17 @@ pub fn in_file(flag: &str, file: &Path) -> Result<(), CliError> {
     }
     std::fs::File::open(file).map_err(|e| bad(e.to_string()))?;
     Ok(())
+}
+
+/// Where a command of the image analyses writes: `DIR/images/`, refusing a file as DIR.
+pub fn images_dir(reports: &Path) -> Result<PathBuf, CliError> {
+    if reports.exists() && !reports.is_dir() {
+        return Err(CliError::bad(format!(
+            "--reports {}: is not a directory",
+            reports.display()
+        )));
+    }
+    Ok(reports.join("images"))
 }
 
 #[cfg(test)]

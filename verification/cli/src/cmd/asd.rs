@@ -3,9 +3,9 @@
 //! the estimator is `geodesic_fit::spectral`, the judgement `geodesic_checks::spectral`.
 //! Exit 0 when the series meets the curve over the band, 1 when it does not, 2 on bad input.
 
-use crate::cmd::montecarlo::write_atomic;
 use crate::error::{CliError, CmdResult};
 use geodesic_fit::spectral::{self, Series, WelchOptions};
+use geodesic_util::output::write_atomic;
 use serde_json::json;
 use std::path::PathBuf;
 

@@ -4,11 +4,11 @@
 
 use std::path::PathBuf;
 
+use geodesic_capture::report::CaptureReport;
 use geodesic_capture::{
     CaptureInputs, CaptureProbability, Evaluation, StateModel, StateName, TmState, Xlim,
-    consistency_sum, evaluate, max_box_scale, single_state_limits,
+    consistency_sum, evaluate, max_box_scale,
 };
-use serde_json::{Map, Value, json};
 
 use crate::error::{CliError, CmdResult};
 
@@ -95,7 +95,7 @@ impl Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let file = crate::cmd::verify::input_file("capture", args.capture.as_ref())?;
+    let file = crate::inputs::resolve(crate::inputs::ModelInput::Capture, args.capture.as_deref())?;
     crate::inputs::announce(args.json, crate::inputs::ModelInput::Capture, &file);
     let inputs = CaptureInputs::from_yaml_str(&file.text, &file.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
@@ -136,8 +136,8 @@ pub fn run(args: Args) -> CmdResult {
         None => None,
     };
     if args.json {
-        let mut doc = to_json(&xlim, &state, &eval, prob.as_ref());
-        doc["inputs"] = serde_json::json!({"capture": crate::inputs::json(&file)});
+        let doc = CaptureReport::new(&xlim, &state, &eval, prob.as_ref(), &file);
+        let doc = serde_json::to_value(&doc).map_err(|e| CliError::Io(e.to_string()))?;
         println!("{doc}");
     } else {
         print_text(&xlim, &eval, prob.as_ref());
@@ -175,56 +175,6 @@ fn read_samples(path: &std::path::Path) -> Result<Vec<f64>, CliError> {
         return Err(CliError::bad(format!("{file}: no velocity samples")));
     }
     Ok(out)
-}
-
-fn per_state(values: &[f64; 12]) -> Value {
-    let mut m = Map::new();
-    for s in StateName::ALL {
-        m.insert(s.as_str().into(), json!(values[s.index()]));
-    }
-    Value::Object(m)
-}
-
-fn to_json(
-    xlim: &Xlim,
-    state: &TmState,
-    eval: &Evaluation,
-    prob: Option<&(CaptureProbability, String)>,
-) -> Value {
-    let terms: [f64; 12] = std::array::from_fn(|i| eval.terms[i].term);
-    let dominant: Vec<Value> = eval
-        .dominant
-        .iter()
-        .map(|t| {
-            json!({"state": t.state.as_str(), "value": t.value, "xlim": t.xlim,
-                   "term": t.term, "share": t.share})
-        })
-        .collect();
-    let mut doc = json!({
-        "quartic_sum": eval.quartic_sum,
-        "captured": eval.captured,
-        "state": per_state(&state.0),
-        "terms": per_state(&terms),
-        "dominant": dominant,
-        "xlim": per_state(&xlim.xlim),
-        "xlim_source": xlim.source,
-        "requirement": per_state(&xlim.req),
-        "box_scale": xlim.box_scale,
-        "consistency_sum": consistency_sum(xlim),
-        "single_state_limits": per_state(&single_state_limits(xlim)),
-        "max_box_scale": max_box_scale(xlim),
-        "units": {"x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "vz": "m/s",
-                  "thx": "rad", "thy": "rad", "thz": "rad",
-                  "wx": "rad/s", "wy": "rad/s", "wz": "rad/s"},
-    });
-    if let Some((p, source)) = prob {
-        doc["capture_probability"] = json!({
-            "n": p.n, "captured": p.captured, "probability": p.probability,
-            "lower_95": p.lower_95, "sum_p9973": p.sum_p9973, "sum_max": p.sum_max,
-            "seed": p.seed, "distribution_source": source,
-        });
-    }
-    doc
 }
 
 fn print_text(xlim: &Xlim, eval: &Evaluation, prob: Option<&(CaptureProbability, String)>) {

@@ -3,11 +3,11 @@
 //! `Q` and `V_TM` analytically and by Monte Carlo, and the time cosmic-ray charging takes to
 //! neutralise a negative charge. Thin: the physics is in `geodesic-charge`.
 
+use geodesic_charge::report::{CRt, ChargeReport};
 use geodesic_charge::{
-    ChargeInputs, DAY_S, ELEMENTARY_CHARGE_C, THESIS_RATE_E_S, TipGeometry, c_rt_exact_f,
-    c_rt_quadrature_f, c_rt_small_angle_f, monte_carlo, time_to_neutralise_s,
+    ChargeInputs, DAY_S, THESIS_RATE_E_S, TipGeometry, c_rt_exact_f, c_rt_quadrature_f,
+    c_rt_small_angle_f, monte_carlo, time_to_neutralise_s,
 };
-use serde_json::{Value, json};
 
 use crate::error::{CliError, CmdResult};
 
@@ -159,47 +159,20 @@ pub fn run(args: Args) -> CmdResult {
         )));
     }
 
-    let doc: Value = json!({
-        "c_rt_pf": c_rt_used * 1e12,
-        "c_rt_quadrature_pf": c_rt_quad * 1e12,
-        "c_rt_exact_pf": c_rt_exact * 1e12,
-        "c_rt_small_angle_pf": c_rt_small * 1e12,
-        "c_rt_quadrature_vs_exact_rel": (c_rt_quad - c_rt_exact).abs() / c_rt_exact,
-        "c_rt_small_angle_vs_exact_rel": (c_rt_small - c_rt_exact).abs() / c_rt_exact,
-        "c_rt_source": if args.c_rt_pf.is_some() { "--c-rt-pf" } else { "cap integral (quadrature)" },
-        "q_2sigma_e": q2,
-        "q_2sigma_c": inputs.q_2sigma_c(),
-        "v_2sigma_v": inputs.v_2sigma_v(),
-        "monte_carlo": {
-            "n": mc.n, "seed": mc.seed,
-            "q_2sd_e": mc.q_2sd_e, "q_p9545_e": mc.q_p9545_e,
-            "v_2sd_v": mc.v_2sd_v, "v_p9545_v": mc.v_p9545_v,
+    let doc = ChargeReport::new(
+        &geometry,
+        &inputs,
+        CRt {
+            quadrature_f: c_rt_quad,
+            exact_f: c_rt_exact,
+            small_angle_f: c_rt_small,
+            given: args.c_rt_pf.is_some(),
         },
-        "neutralise": {
-            "rate_e_s": rate,
-            "rate_source": if (rate - THESIS_RATE_E_S).abs() < 1e-12 * THESIS_RATE_E_S {
-                "default: 3e8 e / 50 days, back-derived from the thesis (ch. 7)"
-            } else { "--rate-e-s" },
-            "q_e": args.neutralise_e,
-            "seconds": t_given,
-            "days": days(t_given),
-            "q_2sigma_negative_days": days(t_q2),
-        },
-        "inputs": {
-            "c_eh_pf": inputs.c_eh_f * 1e12,
-            "c_pyr_pf": inputs.c_pyr_f * 1e12,
-            "c_cyl_pf": inputs.c_cyl_f * 1e12,
-            "c_rt_pf": inputs.c_rt_f * 1e12,
-            "d_m": geometry.gap_m,
-            "r_m": geometry.radius_m,
-            "cap_radius_m": geometry.cap_radius_m,
-            "theta_f_rad": geometry.theta_f_rad(),
-            "dv_2sigma_v": inputs.dv_2sigma_v,
-            "elementary_charge_c": ELEMENTARY_CHARGE_C,
-            "charge": crate::inputs::json(&charge_file),
-        },
-        "thesis": {"c_rt_pf": 2.5, "q_2sigma_e": 3e8, "v_2sigma_v": 1.1, "neutralise_days": 50.0},
-    });
+        &mc,
+        (rate, args.neutralise_e),
+        &charge_file,
+    );
+    let doc = serde_json::to_value(&doc).map_err(|e| CliError::Io(e.to_string()))?;
     if args.json {
         println!("{doc}");
         return Ok(0);

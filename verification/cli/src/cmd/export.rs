@@ -5,7 +5,6 @@ use crate::cmd::verify::load_requirements;
 use crate::error::{CliError, CmdResult};
 use geodesic_exchange::reqif::{ExportOptions, export};
 use geodesic_exchange::status::StatusSet;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Flags of `geodesic export`.
@@ -74,7 +73,8 @@ pub fn creation_time() -> Result<String, CliError> {
     ))
 }
 
-/// Writes `bytes` to `path` whole or not at all: a temporary file beside it, then a rename.
+/// Writes `bytes` to `path` whole or not at all ([`geodesic_util::output::write_atomic`]),
+/// creating its folder first.
 pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
     let dir = path
         .parent()
@@ -82,24 +82,7 @@ pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)
         .map_err(|e| CliError::Io(format!("{}: cannot create directory: {e}", dir.display())))?;
-    let name = path
-        .file_name()
-        .ok_or_else(|| CliError::bad(format!("{}: not a file name", path.display())))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp-{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let res = std::fs::File::create(&tmp)
-        .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
-        .and_then(|_| std::fs::rename(&tmp, path));
-    if let Err(e) = res {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(CliError::Io(format!(
-            "{}: cannot write: {e}",
-            path.display()
-        )));
-    }
+    geodesic_util::output::write_atomic(path, bytes)?;
     Ok(())
 }
 

@@ -3,8 +3,8 @@
 
 use crate::error::{CliError, CmdResult};
 use geodesic_core::Requirements;
-use geodesic_exchange::reqif::{Field, ImportOptions, import_file};
-use std::path::PathBuf;
+use geodesic_exchange::reqif::{Field, ImportOptions, Imported, ImportedFamily, import_file};
+use std::path::{Path, PathBuf};
 
 /// Largest ReqIF file read [bytes] (256 MiB).
 const MAX_REQIF_BYTES: u64 = 256 << 20;
@@ -75,35 +75,7 @@ const MAX_PRINTED_WARNINGS: usize = 100;
 
 fn reqif(a: ReqifArgs) -> CmdResult {
     crate::preflight::out_dir("--out", &a.out)?;
-    let mut opts = ImportOptions {
-        skip_incomplete: a.skip_incomplete,
-        strict: a.strict,
-        checks: Some(
-            geodesic_checks::check_names()
-                .into_iter()
-                .map(str::to_string)
-                .collect(),
-        ),
-        ..ImportOptions::default()
-    };
-    for m in &a.attribute {
-        let (f, name) = m
-            .split_once('=')
-            .ok_or_else(|| CliError::bad(format!("--attribute `{m}`: write FIELD=NAME")))?;
-        let field = Field::parse(f.trim()).ok_or_else(|| {
-            let all: Vec<&str> = Field::ALL.iter().map(|f| f.name()).collect();
-            CliError::bad(format!(
-                "--attribute `{m}`: unknown field `{f}` (fields: {})",
-                all.join(", ")
-            ))
-        })?;
-        if name.trim().is_empty() {
-            return Err(CliError::bad(format!(
-                "--attribute `{m}`: the attribute name is empty"
-            )));
-        }
-        opts.attribute.insert(field, name.trim().to_string());
-    }
+    let opts = options(&a)?;
     let bytes = geodesic_core::fsio::read_bytes(&a.file, MAX_REQIF_BYTES).map_err(|e| {
         CliError::bad(format!(
             "{}:{}: {}",
@@ -125,67 +97,9 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     reqs.validate_checks(&names)
         .map_err(|e| CliError::bad(format!("{}: {}", a.file.display(), e.cause)))?;
 
-    // write whole or not at all: stage in DIR/.staging-PID, then move the files into DIR
-    if a.out.is_dir() {
-        let existing = std::fs::read_dir(&a.out)
-            .map_err(|e| CliError::Io(format!("{}: {e}", a.out.display())))?
-            .filter_map(|e| e.ok())
-            .any(|e| {
-                matches!(
-                    e.path().extension().and_then(|x| x.to_str()),
-                    Some("yaml" | "yml")
-                )
-            });
-        if existing {
-            return Err(CliError::bad(format!(
-                "{}: already holds requirement YAML files; import into an empty or new directory",
-                a.out.display()
-            )));
-        }
-    }
-    let stage = a.out.join(format!(".staging-{}", std::process::id()));
-    let io = |e: std::io::Error| CliError::Io(format!("{}: {e}", a.out.display()));
-    std::fs::create_dir_all(&stage).map_err(io)?;
-    let staged = (|| -> std::io::Result<()> {
-        for f in &imported.families {
-            std::fs::write(stage.join(&f.file_name), &f.yaml)?;
-        }
-        for f in &imported.families {
-            std::fs::rename(stage.join(&f.file_name), a.out.join(&f.file_name))?;
-        }
-        Ok(())
-    })();
-    let _ = std::fs::remove_dir_all(&stage);
-    staged.map_err(io)?;
+    write_staged(&a.out, &imported.families)?;
 
-    let shown = imported.warnings.len().min(MAX_PRINTED_WARNINGS);
-    for w in &imported.warnings[..shown] {
-        eprintln!(
-            "geodesic: warning: {}:{}: {}",
-            imported.document, w.line, w.cause
-        );
-    }
-    if imported.warnings.len() > shown {
-        eprintln!(
-            "geodesic: warning: {}: {} more warnings (all of them in --json)",
-            imported.document,
-            imported.warnings.len() - shown
-        );
-    }
-    // the qualitative requirements --skip-incomplete left out (the incomplete ones are warned)
-    for s in imported
-        .skipped
-        .iter()
-        .filter(|s| s.missing.len() == 1 && s.missing[0].ends_with(": qualitative"))
-    {
-        eprintln!(
-            "geodesic: {}:{}: skipped requirement {}: {}",
-            imported.document,
-            s.line,
-            s.id,
-            s.missing.join("; ")
-        );
-    }
+    print_warnings(&imported);
     let files: Vec<String> = imported
         .families
         .iter()
@@ -225,32 +139,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         return Ok(0);
     }
     if a.report {
-        println!(
-            "{}: ReqIF attribute -> geodesic field, over the {} requirements imported:",
-            imported.document,
-            imported.count()
-        );
-        for m in &imported.mapping {
-            let parts: Vec<String> = m
-                .sources
-                .iter()
-                .map(|(s, n)| format!("{s} ({n})"))
-                .collect();
-            println!("  {:<15} <- {}", m.field.name(), parts.join("; "));
-        }
-        if imported.unmapped.is_empty() {
-            println!("  every attribute with a value was taken by a field");
-        } else {
-            let parts: Vec<String> = imported
-                .unmapped
-                .iter()
-                .map(|(n, k)| format!("`{n}` ({k})"))
-                .collect();
-            println!("  not taken by any field: {}", parts.join(", "));
-        }
-        println!(
-            "  to take another attribute for a field: --attribute FIELD=NAME (docs/exchange.md)"
-        );
+        print_mapping(&imported);
     }
     println!(
         "imported {} requirement{} ({} qualitative) of {} SPEC-OBJECTs ({} headings, {} without text, {} duplicates, {} skipped), {} relations, {} warnings, into {}/{{{}}}",
@@ -268,4 +157,137 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         files.join(",")
     );
     Ok(0)
+}
+
+/// The import options of the flags: skip, strict, the registered checks and `--attribute`s.
+fn options(a: &ReqifArgs) -> Result<ImportOptions, CliError> {
+    let mut opts = ImportOptions {
+        skip_incomplete: a.skip_incomplete,
+        strict: a.strict,
+        checks: Some(
+            geodesic_checks::check_names()
+                .into_iter()
+                .map(str::to_string)
+                .collect(),
+        ),
+        ..ImportOptions::default()
+    };
+    for m in &a.attribute {
+        let (f, name) = m
+            .split_once('=')
+            .ok_or_else(|| CliError::bad(format!("--attribute `{m}`: write FIELD=NAME")))?;
+        let field = Field::parse(f.trim()).ok_or_else(|| {
+            let all: Vec<&str> = Field::ALL.iter().map(|f| f.name()).collect();
+            CliError::bad(format!(
+                "--attribute `{m}`: unknown field `{f}` (fields: {})",
+                all.join(", ")
+            ))
+        })?;
+        if name.trim().is_empty() {
+            return Err(CliError::bad(format!(
+                "--attribute `{m}`: the attribute name is empty"
+            )));
+        }
+        opts.attribute.insert(field, name.trim().to_string());
+    }
+    Ok(opts)
+}
+
+/// Writes the families into `out` whole or not at all: staged in `out/.staging-PID`, then
+/// moved into `out`; refuses a folder that already holds requirement YAML.
+fn write_staged(out: &Path, families: &[ImportedFamily]) -> Result<(), CliError> {
+    // write whole or not at all: stage in DIR/.staging-PID, then move the files into DIR
+    if out.is_dir() {
+        let existing = std::fs::read_dir(&out)
+            .map_err(|e| CliError::Io(format!("{}: {e}", out.display())))?
+            .filter_map(|e| e.ok())
+            .any(|e| {
+                matches!(
+                    e.path().extension().and_then(|x| x.to_str()),
+                    Some("yaml" | "yml")
+                )
+            });
+        if existing {
+            return Err(CliError::bad(format!(
+                "{}: already holds requirement YAML files; import into an empty or new directory",
+                out.display()
+            )));
+        }
+    }
+    let stage = out.join(format!(".staging-{}", std::process::id()));
+    let io = |e: std::io::Error| CliError::Io(format!("{}: {e}", out.display()));
+    std::fs::create_dir_all(&stage).map_err(io)?;
+    let staged = (|| -> std::io::Result<()> {
+        for f in families {
+            std::fs::write(stage.join(&f.file_name), &f.yaml)?;
+        }
+        for f in families {
+            std::fs::rename(stage.join(&f.file_name), out.join(&f.file_name))?;
+        }
+        Ok(())
+    })();
+    let _ = std::fs::remove_dir_all(&stage);
+    staged.map_err(io)?;
+    Ok(())
+}
+
+/// Prints the import's warnings (at most [`MAX_PRINTED_WARNINGS`]) and the qualitative
+/// requirements `--skip-incomplete` left out, on standard error.
+fn print_warnings(imported: &Imported) {
+    let shown = imported.warnings.len().min(MAX_PRINTED_WARNINGS);
+    for w in &imported.warnings[..shown] {
+        eprintln!(
+            "geodesic: warning: {}:{}: {}",
+            imported.document, w.line, w.cause
+        );
+    }
+    if imported.warnings.len() > shown {
+        eprintln!(
+            "geodesic: warning: {}: {} more warnings (all of them in --json)",
+            imported.document,
+            imported.warnings.len() - shown
+        );
+    }
+    // the qualitative requirements --skip-incomplete left out (the incomplete ones are warned)
+    for s in imported
+        .skipped
+        .iter()
+        .filter(|s| s.missing.len() == 1 && s.missing[0].ends_with(": qualitative"))
+    {
+        eprintln!(
+            "geodesic: {}:{}: skipped requirement {}: {}",
+            imported.document,
+            s.line,
+            s.id,
+            s.missing.join("; ")
+        );
+    }
+}
+
+/// Prints which ReqIF attribute each geodesic field was taken from (`--report`).
+fn print_mapping(imported: &Imported) {
+    println!(
+        "{}: ReqIF attribute -> geodesic field, over the {} requirements imported:",
+        imported.document,
+        imported.count()
+    );
+    for m in &imported.mapping {
+        let parts: Vec<String> = m
+            .sources
+            .iter()
+            .map(|(s, n)| format!("{s} ({n})"))
+            .collect();
+        println!("  {:<15} <- {}", m.field.name(), parts.join("; "));
+    }
+    if imported.unmapped.is_empty() {
+        println!("  every attribute with a value was taken by a field");
+    } else {
+        let parts: Vec<String> = imported
+            .unmapped
+            .iter()
+            .map(|(n, k)| format!("`{n}` ({k})"))
+            .collect();
+        println!("  not taken by any field: {}", parts.join(", "));
+    }
+    println!("  to take another attribute for a field: --attribute FIELD=NAME (docs/exchange.md)");
 }

@@ -2,10 +2,10 @@
 //! --out PART.json` into the summary of the whole run, identical to an unsharded run with the
 //! same N and seed (interface.md). Missing, duplicate or foreign shards are bad input (exit 2).
 
-use crate::cmd::montecarlo::{print_text, summary_json, write_histogram};
 use crate::error::{CliError, CmdResult};
 use geodesic_release::montecarlo::{self, McResult};
 use geodesic_release::parts;
+use geodesic_release::report::McReport;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -38,6 +38,7 @@ const MAX_PART_BYTES: u64 = 24 * montecarlo::MAX_N as u64 + (1 << 20);
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let t0 = Instant::now();
+    let limit = limit_um_s()?;
     let mut parts: Vec<McResult> = Vec::with_capacity(args.parts.len().min(montecarlo::MAX_SHARDS));
     let mut names: Vec<String> = Vec::new();
     for p in &args.parts {
@@ -77,16 +78,25 @@ pub fn run(args: Args) -> CmdResult {
     }
     let merged = montecarlo::merge(parts)
         .map_err(|e| CliError::bad(format!("merge of {}: {e}", names.join(", "))))?;
-    write_histogram(&merged, args.histogram.as_deref())?;
+    if let Some(p) = args.histogram.as_deref() {
+        let svg = geodesic_checks::release::mc_histogram_svg(&merged, Some(limit));
+        geodesic_util::output::write_atomic(p, svg.as_bytes())?;
+    }
     let seconds = t0.elapsed().as_secs_f64();
     let summary = merged.summary();
     if args.json {
-        let mut v = summary_json(&summary, seconds);
-        crate::cmd::montecarlo::add_uncertainty(&mut v, &merged);
-        crate::cmd::montecarlo::add_inputs(&mut v, &merged);
+        let report = McReport::new(&merged, summary, seconds, limit);
+        let v = serde_json::to_value(&report).map_err(|e| CliError::Io(e.to_string()))?;
         println!("{v}");
     } else {
-        print_text(&summary, seconds, None);
+        for line in summary.text_lines() {
+            println!("{line}");
+        }
+        println!(
+            "  budget sha256 {} ({})",
+            summary.budget_hash, summary.budget
+        );
+        println!("  {seconds:.2} s");
         if let Some(b) = &merged.budget_source {
             println!(
                 "  release budget read by the parts: {} ({})",
@@ -95,4 +105,11 @@ pub fn run(args: Args) -> CmdResult {
         }
     }
     Ok(0)
+}
+
+/// REL-GPRM-VEL's limit [um/s] from the requirements `verify` would load (`./requirements`
+/// when run from the repository's root, else the built-in set).
+fn limit_um_s() -> Result<f64, CliError> {
+    let (reqs, _, _) = crate::cmd::verify::load_requirements(None)?;
+    geodesic_checks::release::gprm_limit_um_s(&reqs).map_err(|e| CliError::bad(e.0))
 }

@@ -4,13 +4,12 @@
 //! `geodesic_checks::plunger`. Prints the extra velocity, the smallest TM-plunger gap, whether it
 //! touches, and the force against the DFACS authority.
 
-use crate::cmd::montecarlo::write_atomic;
 use crate::error::{CliError, CmdResult};
 use geodesic_charge::plunger::{
     FlatDisc, PlungerCapacitance, Retraction, SpherePlane, default_model, simulate,
 };
-use geodesic_checks::plunger::{case, plunger_svg};
-use serde_json::json;
+use geodesic_checks::plunger::{CaseRow, PlungerReport, case, plunger_svg};
+use geodesic_util::output::write_atomic;
 use std::path::PathBuf;
 
 /// Flags of `geodesic plunger`.
@@ -132,23 +131,7 @@ pub fn run(args: Args) -> CmdResult {
     for (name, r) in &procs {
         for &v in &args.voltage {
             let run = simulate(cap.as_ref(), &case(v, args.v0, *r));
-            let mut row = json!({
-                "retraction": name,
-                "v_tm_v": v,
-                "extra_velocity_um_s": run.extra_velocity_m_s * 1e6,
-                "extra_velocity_half_step_um_s": run.extra_velocity_half_step_m_s * 1e6,
-                "min_gap_um": run.min_gap_m * 1e6,
-                "min_gap_at_s": run.min_gap_at_s,
-                "touched_at_s": run.touched_at_s,
-                "force_ratio_at_4_3_s": run.force_ratio_at_compare,
-                "force_above_1pct_until_s": run.force_above_1pct_until_s,
-            });
-            // a run that touched a plunger stops there: what it did not reach (the force at
-            // 4.3 s) has no number and is absent (docs/outputs.md); `touched_at_s` is null
-            // when the TM never touched
-            if let Some(o) = row.as_object_mut() {
-                o.retain(|k, v| !v.is_null() || k == "touched_at_s");
-            }
+            let row = CaseRow::new(name, v, &run);
             rows.push(row);
             // the plot's legend names the procedure; the check's plot takes static names
             let label: &'static str = match name.as_str() {
@@ -164,13 +147,14 @@ pub fn run(args: Args) -> CmdResult {
         write_atomic(p, svg.as_bytes())?;
     }
     if args.json {
-        let doc = json!({
-            "capacitance": cap.describe(),
-            "v0_um_s": args.v0 * 1e6,
-            "authority_n": geodesic_checks::plunger::AUTHORITY_N,
-            "duration_s": geodesic_checks::plunger::DURATION_S,
-            "cases": rows,
-        });
+        let doc = PlungerReport {
+            capacitance: cap.describe(),
+            v0_um_s: args.v0 * 1e6,
+            authority_n: geodesic_checks::plunger::AUTHORITY_N,
+            duration_s: geodesic_checks::plunger::DURATION_S,
+            cases: rows,
+        };
+        let doc = serde_json::to_value(&doc).map_err(|e| CliError::Io(e.to_string()))?;
         let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
         println!("{text}");
     } else {
@@ -182,24 +166,20 @@ pub fn run(args: Args) -> CmdResult {
             geodesic_checks::plunger::AUTHORITY_N
         );
         for r in &rows {
-            let head = format!(
-                "{:>14} {:5.2} V:",
-                r["retraction"].as_str().unwrap_or(""),
-                r["v_tm_v"].as_f64().unwrap_or(f64::NAN)
-            );
-            match r["touched_at_s"].as_f64() {
+            let head = format!("{:>14} {:5.2} V:", r.retraction, r.v_tm_v);
+            let nan = f64::NAN;
+            match r.touched_at_s {
                 Some(t) => println!(
                     "{head} TOUCHES a plunger at {t:.3} s (velocity change before it {:.4} um/s, growing without bound at contact)",
-                    r["extra_velocity_um_s"].as_f64().unwrap_or(f64::NAN)
+                    r.extra_velocity_um_s.unwrap_or(nan)
                 ),
                 None => println!(
                     "{head} extra {:.4} um/s, smallest gap {:.2} um, F/u_max at 4.3 s {}, >= 1 % until {:.2} s",
-                    r["extra_velocity_um_s"].as_f64().unwrap_or(f64::NAN),
-                    r["min_gap_um"].as_f64().unwrap_or(f64::NAN),
-                    r["force_ratio_at_4_3_s"]
-                        .as_f64()
+                    r.extra_velocity_um_s.unwrap_or(nan),
+                    r.min_gap_um.unwrap_or(nan),
+                    r.force_ratio_at_4_3_s
                         .map_or("-".to_string(), |x| format!("{x:.2e}")),
-                    r["force_above_1pct_until_s"].as_f64().unwrap_or(f64::NAN)
+                    r.force_above_1pct_until_s.unwrap_or(nan)
                 ),
             }
         }

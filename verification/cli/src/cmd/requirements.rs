@@ -487,7 +487,14 @@ fn show(a: ShowArgs) -> CmdResult {
     if let Some(n) = &req.note {
         println!("  note         {n}");
     }
-    match (&tests_label, row.tests.is_empty()) {
+    print_tests(tests_label.as_deref(), &row.tests, fresh);
+    print_last_run(last.as_ref(), last_row, &a.reports, &hash);
+    Ok(0)
+}
+
+/// Prints the traced tests of a requirement from the recorded test run `tests_label`.
+fn print_tests(tests_label: Option<&str>, tests: &[geodesic_core::matrix::TestRef], fresh: bool) {
+    match (tests_label, tests.is_empty()) {
         (None, _) => println!(
             "  traced tests no recorded test run (`cargo xtask test` writes target/geodesic/test-run.json)"
         ),
@@ -504,7 +511,7 @@ fn show(a: ShowArgs) -> CmdResult {
                     " (stale: results of another tree)"
                 }
             );
-            for t in &row.tests {
+            for t in tests {
                 println!(
                     "    {} {} ({}, {})",
                     t.result.as_str(),
@@ -515,14 +522,18 @@ fn show(a: ShowArgs) -> CmdResult {
             }
         }
     }
-    match (&last, last_row) {
+}
+
+/// Prints a requirement's row of the last run (`compliance.json` under `reports`).
+fn print_last_run(last: Option<&LastRun>, last_row: Option<&Value>, reports: &Path, hash: &str) {
+    match (last, last_row) {
         (None, _) => println!(
             "  last run     none: no {} (run `geodesic verify`, or give --reports DIR)",
-            a.reports.join("compliance.json").display()
+            reports.join("compliance.json").display()
         ),
         (Some(l), None) => println!("  last run     {}: not in it", l.file.display()),
         (Some(l), Some(r)) => {
-            println!("  {}", l.line(&hash));
+            println!("  {}", l.line(hash));
             println!(
                 "  verdict      {}",
                 r["verdict"]
@@ -560,7 +571,6 @@ fn show(a: ShowArgs) -> CmdResult {
             }
         }
     }
-    Ok(0)
 }
 
 #[cfg(test)]

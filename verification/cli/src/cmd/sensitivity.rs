@@ -4,8 +4,8 @@
 //! 99.73 % point when each group is frozen at nominal. Thin: the estimators are in
 //! `geodesic_release::sensitivity`.
 
-use crate::cmd::montecarlo::{budget_input, check_threads, load_budget, with_threads};
 use crate::error::{CliError, CmdResult};
+use crate::threads::{check_threads, with_threads};
 use geodesic_release::sensitivity::{release_groups, release_sensitivity};
 use serde_json::json;
 use std::path::PathBuf;
@@ -45,9 +45,11 @@ pub fn run(args: Args) -> CmdResult {
             args.n
         )));
     }
-    let budget_file = budget_input(args.budget.as_deref())?;
+    let budget_file =
+        crate::inputs::resolve(crate::inputs::ModelInput::Budget, args.budget.as_deref())?;
     crate::inputs::announce(args.json, crate::inputs::ModelInput::Budget, &budget_file);
-    let budget = load_budget(&budget_file)?;
+    let (budget, _) =
+        geodesic_checks::release::budget_from_file(&budget_file).map_err(|e| CliError::bad(e.0))?;
     let groups = release_groups().len() as u64;
     let task = crate::progress::Task::counter(
         args.json,

@@ -3,10 +3,9 @@
 //! test of the heights (thesis ch. 5 and appendix "Surfaces matching"; interface.md). Thin: the
 //! analysis is in `geodesic-images`.
 
-use crate::cmd::montecarlo::write_atomic;
-use crate::cmd::tiptrack::images_dir;
 use crate::error::{CliError, CmdResult};
 use geodesic_images::surfaces::{HeightMap, register};
+use geodesic_util::output::write_atomic;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -35,7 +34,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let dir = images_dir(&args.reports)?;
+    let dir = crate::preflight::images_dir(&args.reports)?;
     let b = HeightMap::load(&args.before).map_err(|e| CliError::bad(e.to_string()))?;
     let a = HeightMap::load(&args.after).map_err(|e| CliError::bad(e.to_string()))?;
     let r = register(&b, &a).map_err(|e| CliError::bad(e.to_string()))?;

@@ -2,11 +2,11 @@
 //! (thesis appendix "Mitigation of Non Linear Motion of the Ground Release Tip"; interface.md).
 //! Thin: the analysis is in `geodesic-images`.
 
-use crate::cmd::montecarlo::write_atomic;
 use crate::error::{CliError, CmdResult};
 use geodesic_images::tiptrack;
+use geodesic_util::output::write_atomic;
 use serde_json::json;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Flags of `geodesic tiptrack`.
 #[derive(clap::Args, Debug)]
@@ -34,20 +34,9 @@ fn opt(v: &[Option<f64>]) -> Vec<serde_json::Value> {
         .collect()
 }
 
-/// Where a command of the image analyses writes: `DIR/images/`, refusing a file as DIR.
-pub fn images_dir(reports: &Path) -> Result<PathBuf, CliError> {
-    if reports.exists() && !reports.is_dir() {
-        return Err(CliError::bad(format!(
-            "--reports {}: is not a directory",
-            reports.display()
-        )));
-    }
-    Ok(reports.join("images"))
-}
-
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let dir = images_dir(&args.reports)?;
+    let dir = crate::preflight::images_dir(&args.reports)?;
     let (cfg, tr) = tiptrack::run(&args.frames).map_err(|e| CliError::bad(e.to_string()))?;
     let verdict = cfg.validity.and_then(|v| tiptrack::judge(&tr, v));
     if cfg.validity.is_some() && verdict.is_none() {

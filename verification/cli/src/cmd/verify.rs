@@ -58,28 +58,6 @@ pub fn load_requirements(
     geodesic_verify::pipeline::load_requirements(&m, dir)
 }
 
-/// The root mission's input `name` resolved as `verify` resolves it (given, else on disk,
-/// else built in).
-pub fn input_file(
-    name: &str,
-    given: Option<&PathBuf>,
-) -> Result<geodesic_core::check::InputFile, CliError> {
-    let m = crate::missions::root()?;
-    let spec = m
-        .spec
-        .inputs
-        .iter()
-        .find(|i| i.name == name)
-        .ok_or_else(|| CliError::bad(format!("no input `{name}` in mission {}", m.spec.name)))?;
-    geodesic_verify::pipeline::resolve_file(
-        m,
-        &spec.path,
-        given.map(PathBuf::as_path),
-        &format!("--{name}"),
-    )?
-    .ok_or_else(|| CliError::bad(format!("{}: not found", spec.path)))
-}
-
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let mission = crate::missions::select(

@@ -1,14 +1,15 @@
-//! A self-contained SVG histogram of |X'| with the 99.73 % line and the requirement limit.
+//! Self-contained SVG histograms of the release velocities |X'| (the release model's Monte
+//! Carlo returns them: `McResult::abs_um_s`) with the percentile point and the requirement
+//! limit.
 //!
-//! Hand-written SVG (no font or system library); the reports embed or link it.
+//! Hand-written SVG (no font or system library; the style's font family); the reports embed
+//! or link it.
 
 use std::fmt::Write;
 
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
+use crate::style::FONT;
+use crate::{fmt_tick, nice_step};
+use geodesic_util::escape::text as esc;
 
 /// Returns an SVG document: histogram of `values_um_s` [um/s], a dashed line at `p9973_um_s`
 /// and a red line at `limit_um_s` (if given).
@@ -38,7 +39,7 @@ pub fn histogram_svg(
     let mut s = String::new();
     let _ = writeln!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="14">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="{FONT}" font-size="14">"#
     );
     let _ = writeln!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
     let _ = writeln!(
@@ -180,7 +181,7 @@ pub fn requirement_histogram_svg(
     let mut s = String::new();
     let _ = writeln!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="14">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="{FONT}" font-size="14">"#
     );
     let _ = writeln!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
     let _ = writeln!(
@@ -204,58 +205,8 @@ pub fn requirement_histogram_svg(
             t1 - yc(c as f64)
         );
     }
-    // exceedance curve: every point of the last 2000 releases, a thinned grid before
-    let mut sorted: Vec<f64> = values_um_s
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .collect();
-    sorted.sort_by(f64::total_cmp);
-    let m = sorted.len();
-    let step = (m / 2000).max(1);
-    let mut pts = Vec::new();
-    for (k, v) in sorted.iter().enumerate() {
-        let above = (m - k) as f64 / m.max(1) as f64; // fraction >= v
-        if m - k <= 2000 || k.is_multiple_of(step) {
-            pts.push(format!("{:.2},{:.2}", x(*v), yt(above)));
-        }
-    }
-    if !pts.is_empty() {
-        let _ = writeln!(
-            s,
-            r#"<polyline points="{}" fill="none" stroke="{blue}" stroke-width="2"/>"#,
-            pts.join(" ")
-        );
-    }
-    // axes, ticks and grid of both panels
-    let step = nice_step(xmax / 7.0);
-    for (p0, p1) in [(t0, t1), (b0, b1)] {
-        let _ = writeln!(
-            s,
-            r#"<rect x="{ml}" y="{p0}" width="{pw}" height="{}" fill="none" stroke="black"/>"#,
-            p1 - p0
-        );
-        let mut t = 0.0;
-        while t <= xmax + 1e-12 {
-            let _ = writeln!(
-                s,
-                r##"<line x1="{0:.2}" y1="{1}" x2="{0:.2}" y2="{2}" stroke="#ddd"/><line x1="{0:.2}" y1="{2}" x2="{0:.2}" y2="{3}" stroke="black"/><text x="{0:.2}" y="{4}" text-anchor="middle" font-size="13">{5}</text>"##,
-                x(t),
-                p0,
-                p1,
-                p1 + 5.0,
-                p1 + 20.0,
-                fmt_tick(t)
-            );
-            t += step;
-        }
-        let _ = writeln!(
-            s,
-            r#"<text x="{}" y="{}" text-anchor="middle">|X'| [um/s]</text>"#,
-            ml + pw / 2.0,
-            p1 + 40.0
-        );
-    }
+    exceedance_curve(&mut s, values_um_s, &x, &yt, blue);
+    x_axes(&mut s, &[(t0, t1), (b0, b1)], &x, xmax, ml, pw);
     let cstep = nice_step(cmax / 5.0).max(1.0);
     let mut c = 0.0;
     while c <= cmax {
@@ -271,26 +222,7 @@ pub fn requirement_histogram_svg(
         );
         c += cstep;
     }
-    let mut d = 0.0;
-    while d >= lo_dec {
-        let p = 10f64.powf(d);
-        let label = match d as i32 {
-            0 => "1".to_string(),
-            -1 => "0.1".to_string(),
-            -2 => "0.01".to_string(),
-            k => format!("1e{k}"),
-        };
-        let _ = writeln!(
-            s,
-            r##"<line x1="{ml}" y1="{0:.2}" x2="{1}" y2="{0:.2}" stroke="#ddd"/><line x1="{2}" y1="{0:.2}" x2="{ml}" y2="{0:.2}" stroke="black"/><text x="{3}" y="{4:.2}" text-anchor="end" font-size="13">{label}</text>"##,
-            yt(p),
-            ml + pw,
-            ml - 5.0,
-            ml - 8.0,
-            yt(p) + 4.5
-        );
-        d -= 1.0;
-    }
+    decade_ticks(&mut s, lo_dec, &yt, ml, pw);
     for (p0, p1, label) in [
         (t0, t1, "releases per bin"),
         (b0, b1, "fraction of releases above |X'| (log)"),
@@ -349,9 +281,113 @@ pub fn requirement_histogram_svg(
             "2,3",
         ),
     ];
+    legend(&mut s, &items, ml + pw, t0);
+    s.push_str("</svg>\n");
+    s
+}
+
+/// The frame, the x ticks with their grid, and the x label of each panel `(top, bottom)`.
+fn x_axes(
+    s: &mut String,
+    panels: &[(f64, f64)],
+    x: &dyn Fn(f64) -> f64,
+    xmax: f64,
+    ml: f64,
+    pw: f64,
+) {
+    let step = nice_step(xmax / 7.0);
+    for &(p0, p1) in panels {
+        let _ = writeln!(
+            s,
+            r#"<rect x="{ml}" y="{p0}" width="{pw}" height="{}" fill="none" stroke="black"/>"#,
+            p1 - p0
+        );
+        let mut t = 0.0;
+        while t <= xmax + 1e-12 {
+            let _ = writeln!(
+                s,
+                r##"<line x1="{0:.2}" y1="{1}" x2="{0:.2}" y2="{2}" stroke="#ddd"/><line x1="{0:.2}" y1="{2}" x2="{0:.2}" y2="{3}" stroke="black"/><text x="{0:.2}" y="{4}" text-anchor="middle" font-size="13">{5}</text>"##,
+                x(t),
+                p0,
+                p1,
+                p1 + 5.0,
+                p1 + 20.0,
+                fmt_tick(t)
+            );
+            t += step;
+        }
+        let _ = writeln!(
+            s,
+            r#"<text x="{}" y="{}" text-anchor="middle">|X'| [um/s]</text>"#,
+            ml + pw / 2.0,
+            p1 + 40.0
+        );
+    }
+}
+
+/// The exceedance curve of the tail panel: every point of the last 2000 releases, a thinned
+/// grid before (`x`: value [um/s] to abscissa, `yt`: exceedance fraction to ordinate).
+fn exceedance_curve(
+    s: &mut String,
+    values_um_s: &[f64],
+    x: &dyn Fn(f64) -> f64,
+    yt: &dyn Fn(f64) -> f64,
+    blue: &str,
+) {
+    let mut sorted: Vec<f64> = values_um_s
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .collect();
+    sorted.sort_by(f64::total_cmp);
+    let m = sorted.len();
+    let step = (m / 2000).max(1);
+    let mut pts = Vec::new();
+    for (k, v) in sorted.iter().enumerate() {
+        let above = (m - k) as f64 / m.max(1) as f64; // fraction >= v
+        if m - k <= 2000 || k.is_multiple_of(step) {
+            pts.push(format!("{:.2},{:.2}", x(*v), yt(above)));
+        }
+    }
+    if !pts.is_empty() {
+        let _ = writeln!(
+            s,
+            r#"<polyline points="{}" fill="none" stroke="{blue}" stroke-width="2"/>"#,
+            pts.join(" ")
+        );
+    }
+}
+
+/// The decade ticks and grid of the tail panel, from 1 down to `10^lo_dec`.
+fn decade_ticks(s: &mut String, lo_dec: f64, yt: &dyn Fn(f64) -> f64, ml: f64, pw: f64) {
+    let mut d = 0.0;
+    while d >= lo_dec {
+        let p = 10f64.powf(d);
+        let label = match d as i32 {
+            0 => "1".to_string(),
+            -1 => "0.1".to_string(),
+            -2 => "0.01".to_string(),
+            k => format!("1e{k}"),
+        };
+        let _ = writeln!(
+            s,
+            r##"<line x1="{ml}" y1="{0:.2}" x2="{1}" y2="{0:.2}" stroke="#ddd"/><line x1="{2}" y1="{0:.2}" x2="{ml}" y2="{0:.2}" stroke="black"/><text x="{3}" y="{4:.2}" text-anchor="end" font-size="13">{label}</text>"##,
+            yt(p),
+            ml + pw,
+            ml - 5.0,
+            ml - 8.0,
+            yt(p) + 4.5
+        );
+        d -= 1.0;
+    }
+}
+
+/// The legend box, its right edge 10 px left of `right`, its top 10 px below `top`: one line
+/// per item (label, colour, dash pattern; the first drawn thick as a bar).
+fn legend(s: &mut String, items: &[(String, &str, &str)], right: f64, top: f64) {
     let lw = 360.0;
-    let lx = ml + pw - lw - 10.0;
-    let ly = t0 + 10.0;
+    let lx = right - lw - 10.0;
+    let ly = top + 10.0;
     let _ = writeln!(
         s,
         r##"<rect x="{lx}" y="{ly}" width="{lw}" height="{}" fill="white" fill-opacity="0.92" stroke="#888"/>"##,
@@ -372,31 +408,6 @@ pub fn requirement_histogram_svg(
             esc(label)
         );
     }
-    s.push_str("</svg>\n");
-    s
-}
-
-fn nice_step(raw: f64) -> f64 {
-    if raw <= 0.0 || !raw.is_finite() {
-        return 1.0;
-    }
-    let p = 10f64.powf(raw.log10().floor());
-    let m = raw / p;
-    let n = if m <= 1.0 {
-        1.0
-    } else if m <= 2.0 {
-        2.0
-    } else if m <= 5.0 {
-        5.0
-    } else {
-        10.0
-    };
-    n * p
-}
-
-fn fmt_tick(v: f64) -> String {
-    let s = format!("{v:.3}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 #[cfg(test)]

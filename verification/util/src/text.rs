@@ -4,7 +4,7 @@
 /// input quoted in an error message keeps the message on one line.
 ///
 /// ```
-/// use geodesic_core::text::one_line;
+/// use geodesic_util::text::one_line;
 /// assert_eq!(one_line("a\nb\tc µ"), "a\\nb\\tc µ");
 /// ```
 pub fn one_line(s: &str) -> String {
@@ -23,7 +23,7 @@ pub fn one_line(s: &str) -> String {
 /// for input echoed in an error message (a header line, a value) that may be arbitrarily long.
 ///
 /// ```
-/// use geodesic_core::text::clip;
+/// use geodesic_util::text::clip;
 /// assert_eq!(clip("ab\ncd", 10), "ab\\ncd");
 /// assert_eq!(clip("abcdef", 3), "abc… (3 more characters)");
 /// ```
