@@ -3,7 +3,7 @@
 
 use crate::error::CliError;
 use geodesic_verify::Mission;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 static MISSIONS: OnceLock<Vec<Mission>> = OnceLock::new();
@@ -58,4 +58,13 @@ pub fn select(name: Option<&str>, requirements: Option<&Path>) -> Result<Mission
         }
     }
     root().cloned()
+}
+
+/// The root mission's requirement set (`dir` if given), with its source label and SHA-256:
+/// for the commands that read requirements outside `verify`.
+pub fn load_requirements(
+    dir: Option<&PathBuf>,
+) -> Result<(geodesic_core::Requirements, String, String), CliError> {
+    let m = select(None, dir.map(PathBuf::as_path))?;
+    geodesic_verify::pipeline::load_requirements(&m, dir)
 }

@@ -19,6 +19,7 @@ pub mod pipeline;
 pub mod plugin;
 pub mod preflight;
 pub mod progress;
+pub mod quantity;
 pub mod scaffold;
 
 pub use error::Error;

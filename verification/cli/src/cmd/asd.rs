@@ -43,7 +43,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let (reqs, _, _) = crate::cmd::verify::load_requirements(args.requirements.as_ref())?;
+    let (reqs, _, _) = crate::missions::load_requirements(args.requirements.as_ref())?;
     let req = reqs.get(args.requirement.trim()).ok_or_else(|| {
         CliError::bad(format!(
             "--requirement {}: no such requirement is loaded",

@@ -99,7 +99,7 @@ pub fn run(args: Args) -> CmdResult {
     crate::inputs::announce(args.json, crate::inputs::ModelInput::Capture, &file);
     let inputs = CaptureInputs::from_yaml_str(&file.text, &file.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
-    let (reqs, _, _) = crate::cmd::verify::load_requirements(args.requirements.as_ref())?;
+    let (reqs, _, _) = crate::missions::load_requirements(args.requirements.as_ref())?;
     let ctx = geodesic_checks::context(
         reqs,
         geodesic_checks::builtin_inputs(),

@@ -1,8 +1,8 @@
 //! `geodesic export reqif`: the requirement set (and, given a compliance matrix, the VCD status
 //! of each requirement) as a ReqIF 1.2 file for DOORS, Polarion, Jama, Capella and other tools.
 
-use crate::cmd::verify::load_requirements;
 use crate::error::{CliError, CmdResult};
+use crate::missions::load_requirements;
 use geodesic_exchange::reqif::{ExportOptions, export};
 use geodesic_exchange::status::StatusSet;
 use std::path::{Path, PathBuf};

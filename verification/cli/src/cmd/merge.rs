@@ -110,6 +110,6 @@ pub fn run(args: Args) -> CmdResult {
 /// REL-GPRM-VEL's limit [um/s] from the requirements `verify` would load (`./requirements`
 /// when run from the repository's root, else the built-in set).
 fn limit_um_s() -> Result<f64, CliError> {
-    let (reqs, _, _) = crate::cmd::verify::load_requirements(None)?;
+    let (reqs, _, _) = crate::missions::load_requirements(None)?;
     geodesic_checks::release::gprm_limit_um_s(&reqs).map_err(|e| CliError::bad(e.0))
 }

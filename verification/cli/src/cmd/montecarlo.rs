@@ -88,7 +88,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
 /// when run from the repository's root, else the built-in set): the limit against which
 /// `probability_met` is judged and the histogram's red line.
 fn limit_um_s() -> Result<f64, CliError> {
-    let (reqs, _, _) = crate::cmd::verify::load_requirements(None)?;
+    let (reqs, _, _) = crate::missions::load_requirements(None)?;
     geodesic_checks::release::gprm_limit_um_s(&reqs).map_err(|e| CliError::bad(e.0))
 }
 

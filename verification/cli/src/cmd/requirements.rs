@@ -92,7 +92,7 @@ pub fn run(args: Args) -> CmdResult {
 /// Loads and validates the requirement set as `verify` does: the same loader, the same
 /// `check:` names. Returns the set, its source and its SHA-256.
 fn load(dir: Option<&PathBuf>) -> Result<(Requirements, String, String), CliError> {
-    let (reqs, source, hash) = crate::cmd::verify::load_requirements(dir)?;
+    let (reqs, source, hash) = crate::missions::load_requirements(dir)?;
     reqs.validate_checks(&geodesic_checks::check_names())
         .map_err(|e| CliError::bad(e.to_string()))?;
     Ok((reqs, source, hash))

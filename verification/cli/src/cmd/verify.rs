@@ -2,10 +2,9 @@
 //! prints its outcome. Exit 0 when nothing is non-compliant, 1 when something is, 2 on bad
 //! input.
 
-use crate::error::{CliError, CmdResult};
+use crate::error::CmdResult;
 use clap::{Arg, ArgMatches, Command};
 use geodesic_verify::pipeline::Options;
-use std::path::PathBuf;
 
 /// Flags of `geodesic verify`: the pipeline's options ([`geodesic_verify::harness::verify_args`],
 /// with a `--NAME FILE` flag per input a registered mission declares) and `--mission`.
@@ -47,15 +46,6 @@ impl clap::Args for Args {
     fn augment_args_for_update(cmd: Command) -> Command {
         Self::augment_args(cmd)
     }
-}
-
-/// The root mission's requirement set (`dir` if given), with its source label and SHA-256:
-/// for the commands that read requirements outside `verify`.
-pub fn load_requirements(
-    dir: Option<&PathBuf>,
-) -> Result<(geodesic_core::Requirements, String, String), CliError> {
-    let m = crate::missions::select(None, dir.map(PathBuf::as_path))?;
-    geodesic_verify::pipeline::load_requirements(&m, dir)
 }
 
 /// Runs the command.
