@@ -28,21 +28,16 @@ const RT: [&str; 3] = ["piezo", "plunger_compliance", "voltage_ramp"];
 
 /// A synthetic record of `scenario` with about `n` samples (1 ms, 20 us before the trigger).
 fn record(scenario: Scenario, n: usize) -> Prepared {
-    let effects: &[&str] = match scenario {
-        Scenario::TmmfRelease => &TMMF,
-        Scenario::RtRetraction => &RT,
-    };
+    let tm = scenario == Scenario::TmmfRelease;
+    let effects: &[&str] = if tm { &TMMF } else { &RT };
     let mut spec = SynthSpec::defaults(scenario, effects);
-    match scenario {
-        Scenario::TmmfRelease => {
-            spec.params.insert("tip_adhesion.A1".into(), 1.3e5);
-            spec.params.insert("tip_adhesion.lambda".into(), 6e-7);
-            spec.profile = TipProfile {
-                jerk_m_s3: 6000.0,
-                v_m_s: 3e-3,
-            };
-        }
-        Scenario::RtRetraction => {}
+    if tm {
+        spec.params.insert("tip_adhesion.A1".into(), 1.3e5);
+        spec.params.insert("tip_adhesion.lambda".into(), 6e-7);
+        spec.profile = TipProfile {
+            jerk_m_s3: 6000.0,
+            v_m_s: 3e-3,
+        };
     }
     spec.post_s = (n as f64 - 1.0) / spec.fs_hz - spec.pre_s;
     spec.seed = 3;

@@ -2,7 +2,8 @@
 //!
 //! A model is a composition of named effects ([`effects::Effect`]), each one Rust type in its own
 //! file under `effects/`, registered in one list ([`effects::catalogue`]) that fit, diagnose,
-//! synth and the reports read. Two scenarios exist:
+//! synth and the reports read. A scenario is a type implementing [`ScenarioSpec`], registered
+//! in [`scenario::registry`]. Two scenarios exist:
 //!
 //! - `tmmf-release` ([`tmmf`]): one-sided release of a pendulum TM mock-up in the TMMF
 //!   (thesis ch. 5, physics.md section 4); the measured tip motion drives the TM dynamics.
@@ -17,12 +18,14 @@ pub mod predict;
 pub mod profile;
 pub mod retraction;
 pub mod rk4;
+pub mod scenario;
 pub mod tmmf;
 pub mod trap;
 
-pub use effects::{Effect, EffectKind, ParamSpec, Scenario, by_name, catalogue};
+pub use effects::{Effect, EffectKind, ParamSpec, by_name, catalogue};
 pub use model::{Model, ModelError};
 pub use profile::TipProfile;
+pub use scenario::{Scenario, ScenarioSpec};
 
 #[cfg(test)]
 mod tests {

@@ -3,9 +3,9 @@
 //! `effects -> retraction -> rk4`, `model -> effects`, `tmmf -> model, effects, rk4`,
 //! `predict -> model, tmmf, retraction` (checked by a test in `lib.rs`).
 
-use crate::effects::Scenario;
 use crate::model::{Inputs, Model};
 use crate::retraction::RtConfig;
+use crate::scenario::Dynamics;
 use crate::tmmf;
 
 impl Model {
@@ -22,9 +22,9 @@ impl Model {
 
     /// [`Model::predict`] without the effects' time shift.
     fn predict_unshifted(&self, p: &[f64], times: &[f64], inputs: &Inputs) -> Vec<f64> {
-        match self.scenario {
-            Scenario::TmmfRelease => tmmf::simulate(self, p, times, inputs),
-            Scenario::RtRetraction => retraction(self, p, times, inputs.e0_v),
+        match self.scenario.dynamics() {
+            Dynamics::TmRelease => tmmf::simulate(self, p, times, inputs),
+            Dynamics::TipMechanism => retraction(self, p, times, inputs.e0_v),
         }
     }
 
@@ -33,12 +33,35 @@ impl Model {
     /// integrate up to [`Model::lanes`] of them in lockstep in this thread
     /// ([`tmmf::simulate_many`]); otherwise one after the other.
     pub fn predict_many(&self, ps: &[Vec<f64>], times: &[f64], inputs: &Inputs) -> Vec<Vec<f64>> {
-        match self.scenario {
-            Scenario::TmmfRelease if self.lanes() > 1 && !self.shifts_time() => {
+        match self.scenario.dynamics() {
+            Dynamics::TmRelease if self.lanes() > 1 && !self.shifts_time() => {
                 tmmf::simulate_many(self, ps, times, inputs)
             }
             _ => ps.iter().map(|p| self.predict(p, times, inputs)).collect(),
         }
+    }
+
+    /// The mean of [`Model::predict`] over each group of `k` consecutive times of `fine` (the
+    /// sub-samples of a sampled record, `geodesic synth --oversample`): a TM release without a
+    /// time shift is integrated with its contact step divided by `k`
+    /// ([`tmmf::simulate_with_step`]), the others predicted at each sub-sample.
+    pub fn predict_subsampled(
+        &self,
+        p: &[f64],
+        fine: &[f64],
+        inputs: &Inputs,
+        k: usize,
+    ) -> Vec<f64> {
+        let k = k.max(1);
+        let v = if self.scenario.dynamics() == Dynamics::TmRelease && !self.shifts_time() {
+            let h = tmmf::step_for_mass(inputs.m_kg) / k as f64;
+            tmmf::simulate_with_step(self, p, fine, inputs, h)
+        } else {
+            self.predict(p, fine, inputs)
+        };
+        v.chunks(k)
+            .map(|c| c.iter().sum::<f64>() / k as f64)
+            .collect()
     }
 
     /// [`Model::predict`] and its derivatives with respect to the parameters `p[dirs[j]]`
@@ -67,7 +90,7 @@ impl Model {
     pub fn lanes(&self) -> usize {
         // every force a law, and at most one needle body's two states (tmmf::Run::new)
         let states: usize = self.effects.iter().map(|e| e.n_states()).sum();
-        let laws = self.scenario == Scenario::TmmfRelease
+        let laws = self.scenario.dynamics() == Dynamics::TmRelease
             && (states == 0 || states == 2)
             && self.effects.iter().all(|e| match e.kind() {
                 crate::effects::EffectKind::Force => {

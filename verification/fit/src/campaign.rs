@@ -35,7 +35,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::FitError;
-use crate::fit::{FitOptions, FitOutcome, FitReport, Prepared};
+use crate::estimate::{FitOptions, FitOutcome};
+use crate::prepare::Prepared;
+use crate::report::FitReport;
 
 /// One fitted release.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -392,7 +394,8 @@ pub fn run(
             let out = (|| {
                 let ds = crate::Dataset::load(f).map_err(|e| fail(e.to_string()))?;
                 let prep = Prepared::new(ds);
-                let o = crate::fit::fit(&prep, effects, opts).map_err(|e| fail(e.to_string()))?;
+                let o =
+                    crate::estimate::fit(&prep, effects, opts).map_err(|e| fail(e.to_string()))?;
                 let r = FitReport::new(&prep, &o);
                 let (p_x_model, p_x_data, f_peak_model, dt_model) = derived(&prep, &o);
                 let idx = |n: &str| {

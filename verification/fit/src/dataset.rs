@@ -196,10 +196,303 @@ fn channel_dim(name: &str) -> Option<Dim> {
 
 /// The channels a scenario reads (interface.md): those it needs, then the optional ones.
 pub fn scenario_channels(s: Scenario) -> &'static [&'static str] {
-    match s {
-        Scenario::TmmfRelease => &["x", "y"],
-        Scenario::RtRetraction => &["y", "E"],
+    s.channels()
+}
+
+/// The declared channels of `meta` (the dataset YAML `file`) as CSV columns, and their units:
+/// each a channel of `scenario`, with a unit of its dimension; every channel the scenario needs
+/// declared.
+fn channel_columns(
+    file: &str,
+    meta: &Meta,
+    scenario: Scenario,
+) -> Result<(Vec<Column>, BTreeMap<String, String>), FitError> {
+    let file = file.to_string();
+    let known_channels = scenario_channels(scenario);
+    // channels: unit, column
+    let mut columns: Vec<Column> = Vec::new();
+    let mut units = BTreeMap::new();
+    for (ch, spec) in &meta.channels.value {
+        let line = line_of(spec);
+        if !known_channels.contains(&ch.as_str()) {
+            return Err(FitError::input(
+                &file,
+                line,
+                format!(
+                    "channel `{}` is not one of scenario {} ({}){}; the CSV column goes under \
+                     the channel: `{}: {{column: \"{}\", unit: ...}}`",
+                    geodesic_core::text::clip(ch, 60),
+                    scenario.name(),
+                    known_channels.join(", "),
+                    did_you_mean(ch, known_channels.iter().copied()),
+                    nearest(ch, known_channels.iter().copied()).unwrap_or(known_channels[0]),
+                    geodesic_core::text::clip(ch, 60)
+                ),
+            ));
+        }
+        let Some(u) = spec.value.unit.as_deref() else {
+            return Err(FitError::input(
+                &file,
+                line,
+                format!(
+                    "channel `{ch}` has no unit: add `unit:` ({})",
+                    channel_hint(ch)
+                ),
+            ));
+        };
+        let unit = parse_unit(u.trim()).map_err(|e| {
+            FitError::input(
+                &file,
+                line,
+                format!(
+                    "channel `{ch}`: {e}: write {} (docs/spec/interface.md)",
+                    channel_hint(ch)
+                ),
+            )
+        })?;
+        if let Some(d) = channel_dim(ch)
+            && unit.dim != d
+        {
+            return Err(FitError::input(
+                &file,
+                line,
+                format!(
+                    "channel `{ch}` has unit `{}` of dimension {}, expected {d}: write {}",
+                    geodesic_core::text::clip(u, 40),
+                    unit.dim,
+                    channel_hint(ch)
+                ),
+            ));
+        }
+        let header = spec.value.column.clone().unwrap_or_else(|| ch.clone());
+        columns.push(Column {
+            channel: ch.clone(),
+            header,
+            scale: unit.scale,
+            line,
+        });
+        units.insert(ch.clone(), u.to_string());
     }
+    for need in scenario.required_channels() {
+        if !units.contains_key(*need) {
+            let found = meta
+                .channels
+                .value
+                .keys()
+                .map(|k| format!("`{k}`"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(FitError::input(
+                &file,
+                line_of(&meta.channels),
+                format!(
+                    "scenario {} needs channel `{need}` under channels: (declared: {}); add \
+                     `{need}: m` when the CSV column is named `{need}`, or `{need}: {{column: \
+                     \"HEADER\", unit: m}}` to read it from the column HEADER",
+                    scenario.name(),
+                    if found.is_empty() {
+                        "none".into()
+                    } else {
+                        found
+                    }
+                ),
+            ));
+        }
+    }
+    Ok((columns, units))
+}
+
+/// The known constants of `meta` (the dataset YAML `file`): those `scenario` uses, finite,
+/// every one it needs present, masses and voltages positive.
+fn known_constants(
+    file: &str,
+    meta: &Meta,
+    scenario: Scenario,
+) -> Result<BTreeMap<String, f64>, FitError> {
+    let file = file.to_string();
+    // known constants: those the scenario uses
+    let known_line = meta.known.as_ref().map_or(1, line_of);
+    let mut known = BTreeMap::new();
+    let wanted = scenario.required_known();
+    for (k, v) in meta.known.iter().flat_map(|m| m.value.iter()) {
+        if !wanted.contains(&k.as_str()) {
+            return Err(FitError::input(
+                &file,
+                line_of(v),
+                format!(
+                    "known constant `{}` is not one scenario {} uses ({}){}",
+                    geodesic_core::text::clip(k, 60),
+                    scenario.name(),
+                    wanted.join(", "),
+                    match nearest(k, wanted.iter().copied()).or_else(|| {
+                        // the one constant the scenario needs is absent: a rename
+                        let m = meta.known.as_ref().map(|m| &m.value);
+                        match wanted {
+                            [w] if m.is_some_and(|m| !m.contains_key(*w)) => Some(*w),
+                            _ => None,
+                        }
+                    }) {
+                        Some(n) => format!(": did you mean `{n}` ({})?", known_what(n)),
+                        None => ": remove it".into(),
+                    }
+                ),
+            ));
+        }
+        if !v.value.is_finite() {
+            return Err(FitError::input(
+                &file,
+                line_of(v),
+                format!("known `{k}` is not a finite number: write its value in SI"),
+            ));
+        }
+        known.insert(k.clone(), v.value);
+    }
+    for need in wanted {
+        if !known.contains_key(*need) {
+            return Err(FitError::input(
+                &file,
+                known_line,
+                format!(
+                    "scenario {} needs the known constant `{need}` ({}): add it under known:",
+                    scenario.name(),
+                    known_what(need)
+                ),
+            ));
+        }
+    }
+    for (k, what) in [("m", "TM mass, kg"), ("E0", "electrode voltage, V")] {
+        if let Some(v) = meta
+            .known
+            .as_ref()
+            .and_then(|m| m.value.get(k))
+            .filter(|v| v.value <= 0.0)
+        {
+            return Err(FitError::input(
+                &file,
+                line_of(v),
+                format!(
+                    "known `{k}` ({what}) must be positive, not {}: write it in SI",
+                    v.value
+                ),
+            ));
+        }
+    }
+    Ok(known)
+}
+
+/// The noise figures of `meta` (the dataset YAML `file`) [SI]: of declared channels, positive.
+fn noise_figures(
+    file: &str,
+    meta: &Meta,
+    columns: &[Column],
+    units: &BTreeMap<String, String>,
+) -> Result<BTreeMap<String, f64>, FitError> {
+    let file = file.to_string();
+    let mut noise = BTreeMap::new();
+    for (ch, v) in meta.noise.iter().flatten() {
+        let Some(c) = columns.iter().find(|c| &c.channel == ch) else {
+            let declared: Vec<&str> = columns.iter().map(|c| c.channel.as_str()).collect();
+            return Err(FitError::input(
+                &file,
+                line_of(v),
+                format!(
+                    "noise given for undeclared channel `{}` (channels: {}){}",
+                    geodesic_core::text::clip(ch, 60),
+                    declared.join(", "),
+                    match nearest(ch, declared.iter().copied()) {
+                        Some(n) => format!(": did you mean `{n}`?"),
+                        None => ": remove it or declare the channel".into(),
+                    }
+                ),
+            ));
+        };
+        if !(v.value.is_finite() && v.value > 0.0) {
+            return Err(FitError::input(
+                &file,
+                line_of(v),
+                format!(
+                    "noise of `{ch}` must be a positive number (1 sigma, in the channel's \
+                     unit {}), or leave it out to have it estimated",
+                    units[ch]
+                ),
+            ));
+        }
+        // as the CSV's cells: the decimal written, its exponent shifted (exact)
+        noise.insert(
+            ch.clone(),
+            to_si(
+                &format!("{:e}", v.value),
+                v.value,
+                c.scale,
+                power_of_ten(c.scale),
+            ),
+        );
+    }
+    Ok(noise)
+}
+
+/// The time column's scale to seconds (`time_unit`, seconds when absent).
+fn time_scale(file: &str, meta: &Meta) -> Result<f64, FitError> {
+    let file = file.to_string();
+    Ok(match &meta.time_unit {
+        None => 1.0,
+        Some(u) => {
+            let unit = parse_unit(u.value.trim()).map_err(|e| {
+                FitError::input(
+                    &file,
+                    line_of(u),
+                    format!("time_unit: {e}: write a time unit such as s, ms or us"),
+                )
+            })?;
+            if unit.dim != Dim::TIME {
+                return Err(FitError::input(
+                    &file,
+                    line_of(u),
+                    format!(
+                        "time_unit `{}` is of dimension {}, not a time: write s, ms or us",
+                        geodesic_core::text::clip(&u.value, 40),
+                        unit.dim
+                    ),
+                ));
+            }
+            unit.scale
+        }
+    })
+}
+
+/// Refuses a table (of the CSV `csv`) too short to fit or without a sample after the trigger.
+fn check_samples(csv: &str, table: &Table) -> Result<(), FitError> {
+    let csv = csv.to_string();
+    if table.t.len() < 10 {
+        return Err(FitError::input(
+            &csv,
+            table.rows.lines.last().copied().unwrap_or(1),
+            format!(
+                "only {} samples{}: a fit needs at least 10 rows",
+                table.t.len(),
+                if table.rows.skipped.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        " after skipping {} rows with a missing value",
+                        table.rows.skipped.len()
+                    )
+                }
+            ),
+        ));
+    }
+    if !table.t.iter().any(|&v| v >= 0.0) {
+        return Err(FitError::input(
+            &csv,
+            table.rows.lines.last().copied().unwrap_or(0),
+            format!(
+                "no sample at or after the trigger t = 0 (the last is at {:e} s): the time \
+                 column is measured from the trigger; check `time_unit` and `time_column`",
+                table.t.last().copied().unwrap_or(f64::NAN)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// What a channel is, for messages.
@@ -377,239 +670,25 @@ impl Dataset {
                 &file,
                 line_of(&meta.scenario),
                 format!(
-                    "unknown scenario `{}`{}: write `scenario: tmmf-release` or `scenario: \
-                     rt-retraction`",
+                    "unknown scenario `{}`{}: write {}",
                     geodesic_core::text::clip(&meta.scenario.value, 60),
-                    did_you_mean(&meta.scenario.value, ["tmmf-release", "rt-retraction"])
+                    did_you_mean(&meta.scenario.value, geodesic_facility::scenario::names()),
+                    geodesic_facility::scenario::names()
+                        .iter()
+                        .map(|n| format!("`scenario: {n}`"))
+                        .collect::<Vec<_>>()
+                        .join(" or ")
                 ),
             )
         })?;
-        let known_channels = scenario_channels(scenario);
-        // channels: unit, column
-        let mut columns: Vec<Column> = Vec::new();
-        let mut units = BTreeMap::new();
-        for (ch, spec) in &meta.channels.value {
-            let line = line_of(spec);
-            if !known_channels.contains(&ch.as_str()) {
-                return Err(FitError::input(
-                    &file,
-                    line,
-                    format!(
-                        "channel `{}` is not one of scenario {} ({}){}; the CSV column goes under \
-                         the channel: `{}: {{column: \"{}\", unit: ...}}`",
-                        geodesic_core::text::clip(ch, 60),
-                        scenario.name(),
-                        known_channels.join(", "),
-                        did_you_mean(ch, known_channels.iter().copied()),
-                        nearest(ch, known_channels.iter().copied()).unwrap_or(known_channels[0]),
-                        geodesic_core::text::clip(ch, 60)
-                    ),
-                ));
-            }
-            let Some(u) = spec.value.unit.as_deref() else {
-                return Err(FitError::input(
-                    &file,
-                    line,
-                    format!(
-                        "channel `{ch}` has no unit: add `unit:` ({})",
-                        channel_hint(ch)
-                    ),
-                ));
-            };
-            let unit = parse_unit(u.trim()).map_err(|e| {
-                FitError::input(
-                    &file,
-                    line,
-                    format!(
-                        "channel `{ch}`: {e}: write {} (docs/spec/interface.md)",
-                        channel_hint(ch)
-                    ),
-                )
-            })?;
-            if let Some(d) = channel_dim(ch)
-                && unit.dim != d
-            {
-                return Err(FitError::input(
-                    &file,
-                    line,
-                    format!(
-                        "channel `{ch}` has unit `{}` of dimension {}, expected {d}: write {}",
-                        geodesic_core::text::clip(u, 40),
-                        unit.dim,
-                        channel_hint(ch)
-                    ),
-                ));
-            }
-            let header = spec.value.column.clone().unwrap_or_else(|| ch.clone());
-            columns.push(Column {
-                channel: ch.clone(),
-                header,
-                scale: unit.scale,
-                line,
-            });
-            units.insert(ch.clone(), u.to_string());
-        }
-        for need in scenario.required_channels() {
-            if !units.contains_key(*need) {
-                let found = meta
-                    .channels
-                    .value
-                    .keys()
-                    .map(|k| format!("`{k}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ");
-                return Err(FitError::input(
-                    &file,
-                    line_of(&meta.channels),
-                    format!(
-                        "scenario {} needs channel `{need}` under channels: (declared: {}); add \
-                         `{need}: m` when the CSV column is named `{need}`, or `{need}: {{column: \
-                         \"HEADER\", unit: m}}` to read it from the column HEADER",
-                        scenario.name(),
-                        if found.is_empty() {
-                            "none".into()
-                        } else {
-                            found
-                        }
-                    ),
-                ));
-            }
-        }
-        // known constants: those the scenario uses
-        let known_line = meta.known.as_ref().map_or(1, line_of);
-        let mut known = BTreeMap::new();
-        let wanted = scenario.required_known();
-        for (k, v) in meta.known.iter().flat_map(|m| m.value.iter()) {
-            if !wanted.contains(&k.as_str()) {
-                return Err(FitError::input(
-                    &file,
-                    line_of(v),
-                    format!(
-                        "known constant `{}` is not one scenario {} uses ({}){}",
-                        geodesic_core::text::clip(k, 60),
-                        scenario.name(),
-                        wanted.join(", "),
-                        match nearest(k, wanted.iter().copied()).or_else(|| {
-                            // the one constant the scenario needs is absent: a rename
-                            let m = meta.known.as_ref().map(|m| &m.value);
-                            match wanted {
-                                [w] if m.is_some_and(|m| !m.contains_key(*w)) => Some(*w),
-                                _ => None,
-                            }
-                        }) {
-                            Some(n) => format!(": did you mean `{n}` ({})?", known_what(n)),
-                            None => ": remove it".into(),
-                        }
-                    ),
-                ));
-            }
-            if !v.value.is_finite() {
-                return Err(FitError::input(
-                    &file,
-                    line_of(v),
-                    format!("known `{k}` is not a finite number: write its value in SI"),
-                ));
-            }
-            known.insert(k.clone(), v.value);
-        }
-        for need in wanted {
-            if !known.contains_key(*need) {
-                return Err(FitError::input(
-                    &file,
-                    known_line,
-                    format!(
-                        "scenario {} needs the known constant `{need}` ({}): add it under known:",
-                        scenario.name(),
-                        known_what(need)
-                    ),
-                ));
-            }
-        }
-        for (k, what) in [("m", "TM mass, kg"), ("E0", "electrode voltage, V")] {
-            if let Some(v) = meta
-                .known
-                .as_ref()
-                .and_then(|m| m.value.get(k))
-                .filter(|v| v.value <= 0.0)
-            {
-                return Err(FitError::input(
-                    &file,
-                    line_of(v),
-                    format!(
-                        "known `{k}` ({what}) must be positive, not {}: write it in SI",
-                        v.value
-                    ),
-                ));
-            }
-        }
-        let mut noise = BTreeMap::new();
-        for (ch, v) in meta.noise.iter().flatten() {
-            let Some(c) = columns.iter().find(|c| &c.channel == ch) else {
-                let declared: Vec<&str> = columns.iter().map(|c| c.channel.as_str()).collect();
-                return Err(FitError::input(
-                    &file,
-                    line_of(v),
-                    format!(
-                        "noise given for undeclared channel `{}` (channels: {}){}",
-                        geodesic_core::text::clip(ch, 60),
-                        declared.join(", "),
-                        match nearest(ch, declared.iter().copied()) {
-                            Some(n) => format!(": did you mean `{n}`?"),
-                            None => ": remove it or declare the channel".into(),
-                        }
-                    ),
-                ));
-            };
-            if !(v.value.is_finite() && v.value > 0.0) {
-                return Err(FitError::input(
-                    &file,
-                    line_of(v),
-                    format!(
-                        "noise of `{ch}` must be a positive number (1 sigma, in the channel's \
-                         unit {}), or leave it out to have it estimated",
-                        units[ch]
-                    ),
-                ));
-            }
-            // as the CSV's cells: the decimal written, its exponent shifted (exact)
-            noise.insert(
-                ch.clone(),
-                to_si(
-                    &format!("{:e}", v.value),
-                    v.value,
-                    c.scale,
-                    power_of_ten(c.scale),
-                ),
-            );
-        }
+        let (columns, units) = channel_columns(&file, &meta, scenario)?;
+        let known = known_constants(&file, &meta, scenario)?;
+        let noise = noise_figures(&file, &meta, &columns, &units)?;
         let time_col = meta
             .time_column
             .as_ref()
             .map_or("t".to_string(), |s| s.value.clone());
-        let time_scale = match &meta.time_unit {
-            None => 1.0,
-            Some(u) => {
-                let unit = parse_unit(u.value.trim()).map_err(|e| {
-                    FitError::input(
-                        &file,
-                        line_of(u),
-                        format!("time_unit: {e}: write a time unit such as s, ms or us"),
-                    )
-                })?;
-                if unit.dim != Dim::TIME {
-                    return Err(FitError::input(
-                        &file,
-                        line_of(u),
-                        format!(
-                            "time_unit `{}` is of dimension {}, not a time: write s, ms or us",
-                            geodesic_core::text::clip(&u.value, 40),
-                            unit.dim
-                        ),
-                    ));
-                }
-                unit.scale
-            }
-        };
+        let time_scale = time_scale(&file, &meta)?;
         let csv_path = path
             .parent()
             .unwrap_or(Path::new("."))
@@ -633,35 +712,7 @@ impl Dataset {
             data_line: line_of(&meta.data),
         };
         let mut table = read_table(&csv_path, &spec)?;
-        if table.t.len() < 10 {
-            return Err(FitError::input(
-                &csv,
-                table.rows.lines.last().copied().unwrap_or(1),
-                format!(
-                    "only {} samples{}: a fit needs at least 10 rows",
-                    table.t.len(),
-                    if table.rows.skipped.is_empty() {
-                        String::new()
-                    } else {
-                        format!(
-                            " after skipping {} rows with a missing value",
-                            table.rows.skipped.len()
-                        )
-                    }
-                ),
-            ));
-        }
-        if !table.t.iter().any(|&v| v >= 0.0) {
-            return Err(FitError::input(
-                &csv,
-                table.rows.lines.last().copied().unwrap_or(0),
-                format!(
-                    "no sample at or after the trigger t = 0 (the last is at {:e} s): the time \
-                     column is measured from the trigger; check `time_unit` and `time_column`",
-                    table.t.last().copied().unwrap_or(f64::NAN)
-                ),
-            ));
-        }
+        check_samples(&csv, &table)?;
         // wild samples: excluded, or refused under --strict
         exclude_wild(&mut table, &spec, &noise, opts.strict)?;
         let mut rows = table.rows;
@@ -1195,7 +1246,7 @@ fn exclude_wild(
                          a warning",
                         c.header,
                         w.value,
-                        crate::outliers::fmt_sig(z)
+                        fmt_sig(z)
                     ),
                 ));
             }
@@ -1232,7 +1283,7 @@ fn exclude_wild(
                 w.line,
                 w.channel,
                 w.value,
-                crate::outliers::fmt_sig(w.robust_sigma)
+                fmt_sig(w.robust_sigma)
             )
         })
         .collect();
@@ -1253,6 +1304,22 @@ fn exclude_wild(
     ));
     table.rows.wild = found;
     Ok(())
+}
+
+/// `v` with four significant digits: plain between 1e-3 and 1e5, else scientific.
+pub fn fmt_sig(v: f64) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if (1e-3..1e5).contains(&a) {
+        let dec = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{v:.dec$}")
+    } else {
+        format!("{v:.3e}")
+    }
 }
 
 #[cfg(test)]

@@ -23,7 +23,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::FitError;
-use crate::fit::{FitOptions, FitOutcome, Prepared, fit_model};
+use crate::estimate::{FitOptions, FitOutcome, fit_model};
+use crate::prepare::Prepared;
 
 /// One measurement variant and the delta BIC it is expected to give between the candidates.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]

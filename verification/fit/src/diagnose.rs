@@ -15,9 +15,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::FitError;
-use crate::fit::{
-    FitOptions, FitOutcome, FitReport, Prepared, default_starts, fit_model, model_for,
-};
+use crate::estimate::{FitOptions, FitOutcome, default_starts, fit_model, model_for};
+use crate::prepare::Prepared;
+use crate::report::FitReport;
 
 /// Delta BIC below which a candidate is named missing.
 pub const DELTA_BIC_STRONG: f64 = -10.0;
@@ -40,7 +40,7 @@ pub struct Candidate {
     /// Whether its residual passes the whiteness test.
     pub residual_white: bool,
     /// Fitted values of the candidate's own parameters with 1-sigma.
-    pub params: BTreeMap<String, crate::fit::ParamOut>,
+    pub params: BTreeMap<String, crate::report::ParamOut>,
 }
 
 /// The diagnose object of interface.md.
@@ -149,30 +149,16 @@ pub fn diagnose(
     diagnose_with(prep, effects, opts, &mut |_| {})
 }
 
-/// [`diagnose`], saying on `progress` when the baseline is fitted and as each candidate's fit
-/// ends (`candidate k of n fitted (effect)`).
-///
-/// The candidates' fits are independent of one another: they run side by side on the thread
-/// pool (issue 33, item 6: on two cores the search of one fit leaves a core idle between its
-/// stages) and are collected in catalogue order, so the report is the same bits whatever the
-/// thread count or the order in which the fits end; only the order of the progress lines
-/// varies.
-pub fn diagnose_with(
+/// Every candidate of the scenario's catalogue that `model` lacks, with its model and its
+/// warm starts (the baseline fit `base`'s values and the candidate's own starts), in catalogue
+/// order.
+#[allow(clippy::type_complexity)]
+fn candidate_jobs(
     prep: &Prepared,
-    effects: &[&str],
-    opts: &FitOptions,
-    progress: &mut dyn FnMut(&str),
-) -> Result<(DiagnoseReport, FitOutcome), FitError> {
-    let model = model_for(prep, effects)?;
-    let starts = default_starts(
-        &model,
-        &prep.guess,
-        opts.max_starts.unwrap_or(crate::fit::MAX_STARTS),
-    );
-    progress("fitting the model");
-    let mut base = fit_model(prep, &model, opts, &starts)?;
+    model: &geodesic_facility::Model,
+    base: &FitOutcome,
+) -> Result<Vec<(&'static str, geodesic_facility::Model, Vec<Vec<f64>>)>, FitError> {
     let names = model.effect_names();
-    // every candidate's model and starts, in catalogue order
     let mut jobs: Vec<(&'static str, geodesic_facility::Model, Vec<Vec<f64>>)> = Vec::new();
     for cand in of_scenario(prep.dataset.scenario) {
         if names.contains(&cand.name()) {
@@ -200,9 +186,36 @@ pub fn diagnose_with(
             p[cm.range(ci)].copy_from_slice(&cs);
             starts.push(p);
         }
-        starts.extend(default_starts(&cm, &guess, crate::fit::MAX_STARTS));
+        starts.extend(default_starts(&cm, &guess, crate::estimate::MAX_STARTS));
         jobs.push((cand.name(), cm, starts));
     }
+    Ok(jobs)
+}
+
+/// [`diagnose`], saying on `progress` when the baseline is fitted and as each candidate's fit
+/// ends (`candidate k of n fitted (effect)`).
+///
+/// The candidates' fits are independent of one another: they run side by side on the thread
+/// pool (issue 33, item 6: on two cores the search of one fit leaves a core idle between its
+/// stages) and are collected in catalogue order, so the report is the same bits whatever the
+/// thread count or the order in which the fits end; only the order of the progress lines
+/// varies.
+pub fn diagnose_with(
+    prep: &Prepared,
+    effects: &[&str],
+    opts: &FitOptions,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(DiagnoseReport, FitOutcome), FitError> {
+    let model = model_for(prep, effects)?;
+    let starts = default_starts(
+        &model,
+        &prep.guess,
+        opts.max_starts.unwrap_or(crate::estimate::MAX_STARTS),
+    );
+    progress("fitting the model");
+    let mut base = fit_model(prep, &model, opts, &starts)?;
+    let names = model.effect_names();
+    let jobs = candidate_jobs(prep, &model, &base)?;
     let total = jobs.len();
     let fitted = map_reporting(
         &jobs,
@@ -287,10 +300,10 @@ pub fn diagnose_with(
                 .iter()
                 .find(|(n, _)| n == m)
                 .expect("a fitted candidate");
-            let (e, why) = crate::discover::is_explained(&FitReport::new(prep, o));
+            let (e, why) = crate::report::is_explained(&FitReport::new(prep, o));
             (e, format!("with {m}: {why}"))
         }
-        None => crate::discover::is_explained(&base_report),
+        None => crate::report::is_explained(&base_report),
     };
     Ok((
         DiagnoseReport {

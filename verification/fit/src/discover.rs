@@ -32,9 +32,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::diagnose::{DELTA_BIC_STRONG, diagnose_with};
 use crate::error::FitError;
-use crate::fit::{FitOptions, FitOutcome, FitReport, Prepared, fit_model, model_for};
+use crate::estimate::{FitOptions, FitOutcome, fit_model, model_for};
 use crate::kinds::KindFit;
-use crate::residual::Failure;
+pub use crate::kinds::{Peak, StateCorrelation};
+use crate::numeric::residual::Failure;
+use crate::prepare::Prepared;
+use crate::report::FitReport;
+pub use crate::report::is_explained;
 
 /// One round of the ledger (interface.md `rounds[]`).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -72,28 +76,6 @@ pub struct Improvement {
     pub delta_bic: f64,
     /// Reduced chi-square with it.
     pub chi2_red: f64,
-}
-
-/// A spectral peak of the residual.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct Peak {
-    /// Channel.
-    pub channel: String,
-    /// Frequency [Hz].
-    pub hz: f64,
-    /// Amplitude of the equivalent sinusoid [channel unit, SI].
-    pub amplitude: f64,
-    /// Power over the median power of the periodogram.
-    pub over_floor: f64,
-}
-
-/// Correlation of the residual with a state of the model.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct StateCorrelation {
-    /// The state.
-    pub state: String,
-    /// Pearson correlation coefficient.
-    pub r: f64,
 }
 
 /// What the residual still holds.
@@ -187,37 +169,6 @@ pub struct DiscoverReport {
     pub improves: Vec<Improvement>,
     /// Detection thresholds of the candidates not in the final model.
     pub thresholds: Vec<Threshold>,
-}
-
-/// The residual is consistent with noise: chi2_red within 5 sigma of 1 and white.
-pub fn is_explained(r: &FitReport) -> (bool, String) {
-    let nu = (r.n_samples.saturating_sub(r.n_free)).max(1) as f64;
-    let bound = 1.0 + 5.0 * (2.0 / nu).sqrt();
-    if r.chi2_red > bound {
-        (
-            false,
-            format!(
-                "chi2_red {:.3} is above {bound:.3} (1 + 5 sqrt(2/nu)): structure is left in the residual",
-                r.chi2_red
-            ),
-        )
-    } else if !r.whiteness.white {
-        (
-            false,
-            format!(
-                "the residual is not white (Ljung-Box Q {:.1} above {:.1} for {} lags at 1 %)",
-                r.whiteness.q, r.whiteness.threshold, r.whiteness.lags
-            ),
-        )
-    } else {
-        (
-            true,
-            format!(
-                "chi2_red {:.3} within {bound:.3} and a white residual (Ljung-Box Q {:.1} <= {:.1})",
-                r.chi2_red, r.whiteness.q, r.whiteness.threshold
-            ),
-        )
-    }
 }
 
 /// Options of [`discover`].
@@ -368,7 +319,7 @@ pub fn discover(
             if !row.removed.is_empty() {
                 progress(&format!("round {k}: removing {}", row.removed.join(", ")));
                 let names: Vec<&str> = effects.iter().map(String::as_str).collect();
-                let o = crate::fit::fit(prep, &names, &fit_opts)?;
+                let o = crate::estimate::fit(prep, &names, &fit_opts)?;
                 let mut r2 = round_of(prep, &o, row.added.clone(), Some(prev_bic));
                 r2.removed = row.removed.clone();
                 r2.margin = row.margin;
@@ -989,15 +940,12 @@ pub fn describe_with(
         (format!("{channel} (model) [m]"), o.pred.clone()),
         (format!("d{channel}/dt (model) [m/s]"), vel.clone()),
     ];
-    if prep.dataset.scenario == Scenario::TmmfRelease
-        && let Some(y) = prep.dataset.channels.get("y")
-    {
-        states.push(("tip y [m]".into(), y.clone()));
-        states.push((
-            "tip-TM gap y - x (model) [m]".into(),
-            y.iter().zip(&o.pred).map(|(y, x)| y - x).collect(),
-        ));
-    }
+    // the scenario's measured states (the tip and the tip-TM gap of a release)
+    states.extend(
+        prep.dataset
+            .scenario
+            .measured_states(&prep.dataset.channels, &o.pred),
+    );
     let mut all = crate::kinds::kinds_of(basis, prep, o, &peaks);
     let correlations = crate::kinds::state_correlations(basis, &states);
     let mut indistinguishable = Vec::new();
@@ -1101,7 +1049,7 @@ mod tests {
     /// interval, and left where it does not; a detected candidate changes nothing.
     #[test]
     fn a_threshold_below_what_the_records_own_fit_allows_is_raised() {
-        let p = |v: f64, s: Option<f64>| -> crate::fit::ParamOut {
+        let p = |v: f64, s: Option<f64>| -> crate::report::ParamOut {
             serde_json::from_value(
                 serde_json::json!({"value": v, "sigma": s, "unit": "N/m", "fixed": false}),
             )

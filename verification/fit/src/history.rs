@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::error::FitError;
-use crate::fit::FitReport;
+use crate::report::FitReport;
 
 /// One fit of a dataset.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -218,7 +218,9 @@ pub fn table(entries: &[Entry]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::{FitOptions, FitReport, Prepared, fit};
+    use crate::estimate::{FitOptions, fit};
+    use crate::prepare::Prepared;
+    use crate::report::FitReport;
     use crate::synth::{SynthSpec, generate};
     use geodesic_facility::Scenario;
 
@@ -271,7 +273,7 @@ mod tests {
     }
 
     #[test]
-    fn appends_versions_and_plots_them() {
+    fn appends_versions() {
         let mut spec = SynthSpec::defaults(Scenario::RtRetraction, &["piezo", "voltage_ramp"]);
         spec.post_s = 2e-4;
         let prep = Prepared::new(generate(&spec, "h.yaml").unwrap());
@@ -309,19 +311,5 @@ mod tests {
         );
         assert!(h[1].rms < h[0].rms / 3.0, "{} vs {}", h[1].rms, h[0].rms);
         assert!(table(&h).contains("piezo,voltage_ramp"));
-        let svg = crate::plot::history_svg(&h).unwrap();
-        assert!(svg.starts_with("<svg") && svg.contains("</svg>"));
-        let o = fit(&prep, &["piezo"], &FitOptions::default()).unwrap();
-        let r = FitReport::new(&prep, &o);
-        let fsvg = crate::plot::fit_svg(&prep, &o.pred, &r).unwrap();
-        assert!(!r.failures.is_empty());
-        assert!(
-            fsvg.to_uppercase().contains("#FFC8C8"),
-            "failure windows are shaded"
-        );
-        assert!(
-            fsvg.contains("failure window") && fsvg.contains("noise band"),
-            "every shaded band is in a legend"
-        );
     }
 }

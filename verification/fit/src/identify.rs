@@ -37,26 +37,6 @@ pub const EXACT_TOLERANCE: f64 = 0.2;
 /// takes part in a symmetry.
 pub const WEIGHT: f64 = 0.1;
 
-/// The relative 1-sigma of the retraction's scale when the fit holds it (the release budget's
-/// spread of every mechanism parameter, models/release/budget.yaml).
-pub const SCALE_RELATIVE_SIGMA: f64 = 0.115;
-
-/// The retraction's parameters that the exact scaling multiplies by `s` (with `piezo.R`
-/// divided by `s`).
-pub const SCALED: [&str; 8] = [
-    "piezo.R",
-    "piezo.m",
-    "piezo.Ca",
-    "piezo.k",
-    "piezo.b",
-    "piezo.T",
-    "plunger_compliance.Mg",
-    "plunger_compliance.Kg",
-];
-
-/// The parameter held to fix the retraction's scale.
-pub const SCALE_PARAM: &str = "piezo.Ca";
-
 /// A parameter a fit holds at a stated value because the record cannot tell it (issue 33),
 /// with the value's own uncertainty, which is propagated to the parameters the fit moves to
 /// compensate it ([`propagate_held`]).
@@ -73,22 +53,27 @@ pub struct Held {
     pub reason: String,
 }
 
-/// The parameters the retraction's fit holds when the user holds none of its mechanism
-/// parameters (the model's two exact symmetries, docs/fitting.md): `piezo.Ca` for the scaling
-/// and `piezo.R` for the electrical time `R Ca` (which the record's identifiable combinations
-/// leave free), each at its nominal value (the thesis table, clamped into a user bound) known
-/// to the release budget's 11.5 %. Empty for other scenarios, or when the user fixes or bounds
-/// one of [`SCALED`] (then the null-space check reports what is left free).
+/// The parameters a fit holds when the user holds none of those its model's exact symmetries
+/// move (the scenario's [`Holds`](geodesic_facility::scenario::Holds); for the retraction, docs/fitting.md: `piezo.Ca` for the
+/// scaling and `piezo.R` for the electrical time `R Ca`, which the record's identifiable
+/// combinations leave free), each at its nominal value (the thesis table, clamped into a user
+/// bound) known to the scenario's relative sigma (the release budget's 11.5 %). Empty for a
+/// scenario without holds, a model without the effect they need, or when the user fixes or
+/// bounds one of the moved parameters (then the null-space check reports what is left free).
 pub fn holds(
     model: &Model,
     fixed: &BTreeMap<String, f64>,
     bounds: &BTreeMap<String, (f64, f64)>,
 ) -> Vec<Held> {
-    if model.scenario != Scenario::RtRetraction || !model.has("piezo") {
+    let Some(spec) = model.scenario.holds() else {
+        return Vec::new();
+    };
+    if !model.has(spec.requires_effect) {
         return Vec::new();
     }
     let mut out = Vec::new();
     let specs = model.specs();
+    let relative_sigma = spec.relative_sigma;
     let mut hold = |param: &str, reason: &str| {
         let Some(i) = model.index(param) else { return };
         let mut value = specs[i].nominal;
@@ -100,141 +85,32 @@ pub fn holds(
         out.push(Held {
             param: param.to_string(),
             value,
-            relative_sigma: SCALE_RELATIVE_SIGMA,
+            relative_sigma,
             reason: format!(
                 "{reason}: held at {value:e} {} (thesis table), known to {:.1} % (the release \
                  budget's spread of the mechanism parameters), propagated to the parameters \
                  that move with it",
                 specs[i].unit,
-                100.0 * SCALE_RELATIVE_SIGMA
+                100.0 * relative_sigma
             ),
         });
     };
-    // a user who holds any mechanism parameter chooses the holds (the null-space check
-    // reports what the record leaves free then)
-    if SCALED
+    // a user who holds any parameter the symmetries move chooses the holds (the null-space
+    // check reports what the record leaves free then)
+    if spec
+        .moved
         .iter()
         .any(|n| fixed.contains_key(*n) || bounds.contains_key(*n))
     {
         return out;
     }
-    hold(
-        SCALE_PARAM,
-        "the retraction is unchanged when m, b, k, Ca, T, Mg, Kg are multiplied by s and R \
-         divided by it (its scale)",
-    );
-    {
-        hold(
-            "piezo.R",
-            "the record fixes the poles and the stroke, not the electrical time R Ca apart from \
-             the mechanics (a second exact symmetry)",
-        );
+    for (param, reason) in spec.held {
+        hold(param, reason);
     }
     out
 }
 
-/// Folds the held values' uncertainties into a fit: for each held parameter `h`, the free
-/// parameters' optimum moves by `G_h = (J^T J)^-1 J^T J_h` per unit of `ln h` (the regression
-/// of its whitened Jacobian column on the free ones, central differences at the optimum), so
-/// the covariance of the free parameters gains `r_h^2 G_h G_h^T` and `h` itself has the
-/// relative sigma `r_h`. The parameters' sigmas, and the combinations' (with
-/// [`combinations`]), include it; a combination that the held values move is not resolved by
-/// the data and gets no sigma.
-pub fn propagate_held(prep: &crate::fit::Prepared, o: &mut crate::fit::FitOutcome, held: &[Held]) {
-    if held.is_empty() {
-        return;
-    }
-    let model = o.model.clone();
-    let specs = model.specs();
-    let t = &prep.dataset.t;
-    let fidx: Vec<usize> = (0..o.p.len()).filter(|&i| o.free[i]).collect();
-    let hidx: Vec<usize> = held.iter().filter_map(|h| model.index(&h.param)).collect();
-    let column = |i: usize| -> Vec<f64> {
-        // d prediction / d ln p_i (all the retraction's parameters are log-fitted), whitened
-        let h: f64 = 1e-5;
-        let mut up = o.p.clone();
-        let mut dn = o.p.clone();
-        up[i] *= h.exp();
-        dn[i] *= (-h).exp();
-        let a = model.predict(&up, t, &prep.inputs);
-        let b = model.predict(&dn, t, &prep.inputs);
-        let mut c: Vec<f64> = a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect();
-        prep.normalise(&mut c, o.sigma);
-        c
-    };
-    if fidx.iter().chain(&hidx).any(|&i| !specs[i].log) {
-        return;
-    }
-    let jf: Vec<Vec<f64>> = fidx.iter().map(|&i| column(i)).collect();
-    let k = jf.len();
-    let jtj = DMatrix::from_fn(k, k, |a, b| dot(&jf[a], &jf[b]));
-    let Some(inv) = crate::linalg::pseudo_inverse(&jtj, 1e-14 * jtj.norm()) else {
-        return;
-    };
-    // the covariance of the free parameters in ln p, from the fit's sigmas and correlations
-    let sd: Vec<f64> = fidx
-        .iter()
-        .map(|&i| o.sigma_p[i] / o.p[i].abs().max(1e-300))
-        .collect();
-    let n_all = k + hidx.len();
-    let mut cov = DMatrix::zeros(n_all, n_all);
-    for a in 0..k {
-        for b in 0..k {
-            cov[(a, b)] = o.corr[(a, b)] * sd[a] * sd[b];
-        }
-    }
-    for (m, (&hi, h)) in hidx.iter().zip(held).enumerate() {
-        let jh = column(hi);
-        let b = DVector::from_fn(k, |a, _| dot(&jf[a], &jh));
-        let g = &inv * b;
-        let r2 = h.relative_sigma * h.relative_sigma;
-        let row = k + m;
-        for a in 0..k {
-            for c in 0..k {
-                cov[(a, c)] += r2 * g[a] * g[c];
-            }
-            cov[(a, row)] = -r2 * g[a];
-            cov[(row, a)] = -r2 * g[a];
-        }
-        cov[(row, row)] = r2;
-        o.sigma_p[hi] = h.relative_sigma * o.p[hi];
-    }
-    for (a, &i) in fidx.iter().enumerate() {
-        if o.resolved[i] {
-            o.sigma_p[i] = o.p[i].abs() * cov[(a, a)].max(0.0).sqrt();
-        }
-    }
-    // the combinations: their variance from the data alone and with the held values
-    let order: Vec<usize> = fidx.iter().chain(&hidx).copied().collect();
-    for (name, c) in o.combinations.iter_mut() {
-        let Some(exps) = combination_exponents(name) else {
-            continue;
-        };
-        let g: Vec<f64> = order
-            .iter()
-            .map(|&i| {
-                let n = &o.model.param_names()[i];
-                exps.iter().filter(|(e, _)| e == n).map(|(_, x)| *x).sum()
-            })
-            .collect();
-        let mut var_all = 0.0;
-        let mut var_data = 0.0;
-        for a in 0..n_all {
-            for b in 0..n_all {
-                var_all += g[a] * cov[(a, b)] * g[b];
-                if a < k && b < k {
-                    var_data += g[a] * o.corr[(a, b)] * sd[a] * sd[b] * g[b];
-                }
-            }
-        }
-        // moved by the held values beyond the data's own spread: not resolved by the data
-        if c.sigma.is_some() && var_all > 1.21 * var_data + 1e-30 {
-            c.sigma = None;
-        }
-    }
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
@@ -293,7 +169,7 @@ pub fn symmetries(
     let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
     let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
     let sh = DMatrix::from_fn(n, n, |i, j| a_half[(i, j)] * a_half_scale / (d[i] * d[j]));
-    let Some(eig0) = crate::linalg::sym_eigen(s.clone()) else {
+    let Some(eig0) = crate::numeric::linalg::sym_eigen(s.clone()) else {
         // a normal matrix that is not finite resolves nothing
         return NullSpace {
             symmetries: Vec::new(),
@@ -332,7 +208,7 @@ pub fn symmetries(
         if let Some(li) = l.clone().try_inverse() {
             let m = &li * &shr * li.transpose();
             let m = (&m + m.transpose()) * 0.5;
-            let eig = crate::linalg::sym_eigen(m);
+            let eig = crate::numeric::linalg::sym_eigen(m);
             for k in 0..eig.as_ref().map_or(0, |e| e.eigenvalues.len()) {
                 let eig = eig.as_ref().expect("decomposed");
                 let mu = eig.eigenvalues[k];
@@ -377,7 +253,7 @@ pub fn symmetries(
     // near symmetries among the rest: an eigen-direction of P S P whose 1-sigma leaves the box
     let p = projector(&basis);
     let psp = &p * &s * &p;
-    let Some(eig) = crate::linalg::sym_eigen((&psp + psp.transpose()) * 0.5) else {
+    let Some(eig) = crate::numeric::linalg::sym_eigen((&psp + psp.transpose()) * 0.5) else {
         return NullSpace {
             symmetries: found.into_iter().map(|(_, s)| s).collect(),
             resolved: vec![false; n],
@@ -446,105 +322,42 @@ pub struct Combination {
     pub formula: String,
 }
 
-/// The retraction's identifiable combinations: (name, unit, formula, constant factor, exponents
-/// of the parameters). Each exponent vector sums to zero over the scaled parameters with `R`
-/// counted negative, so that the scaling leaves it unchanged.
-#[allow(clippy::type_complexity)]
-fn retraction_combinations(
-    e0: f64,
-) -> Vec<(
-    &'static str,
-    &'static str,
-    &'static str,
-    f64,
-    Vec<(&'static str, f64)>,
-)> {
-    vec![
-        (
-            "d0",
-            "m",
-            "T E0 / k (static stroke)",
-            e0,
-            vec![("piezo.T", 1.0), ("piezo.k", -1.0)],
-        ),
-        (
-            "tau_e",
-            "s",
-            "R Ca (electrical time)",
-            1.0,
-            vec![("piezo.R", 1.0), ("piezo.Ca", 1.0)],
-        ),
-        (
-            "w_tip",
-            "rad/s",
-            "sqrt(k / m) (tip on the stack)",
-            1.0,
-            vec![("piezo.k", 0.5), ("piezo.m", -0.5)],
-        ),
-        (
-            "b_over_m",
-            "1/s",
-            "b / m (damping rate)",
-            1.0,
-            vec![("piezo.b", 1.0), ("piezo.m", -1.0)],
-        ),
-        (
-            "kappa",
-            "1",
-            "T^2 / (Ca k) (electromechanical coupling)",
-            1.0,
-            vec![("piezo.T", 2.0), ("piezo.Ca", -1.0), ("piezo.k", -1.0)],
-        ),
-        (
-            "mass_ratio",
-            "1",
-            "Mg / m",
-            1.0,
-            vec![("plunger_compliance.Mg", 1.0), ("piezo.m", -1.0)],
-        ),
-        (
-            "stiffness_ratio",
-            "1",
-            "Kg / k",
-            1.0,
-            vec![("plunger_compliance.Kg", 1.0), ("piezo.k", -1.0)],
-        ),
-        (
-            "em",
-            "V/s",
-            "em (voltage slope)",
-            1.0,
-            vec![("voltage_ramp.em", 1.0)],
-        ),
-    ]
-}
-
-/// The exponents of a named retraction combination.
-fn combination_exponents(name: &str) -> Option<Vec<(String, f64)>> {
-    retraction_combinations(1.0)
+/// The exponents of the combination `name` of `scenario`.
+pub(crate) fn combination_exponents(scenario: Scenario, name: &str) -> Option<Vec<(String, f64)>> {
+    scenario
+        .combinations(&BTreeMap::new())
         .into_iter()
-        .find(|c| c.0 == name)
-        .map(|c| c.4.into_iter().map(|(n, e)| (n.to_string(), e)).collect())
+        .find(|c| c.name == name)
+        .map(|c| {
+            c.exponents
+                .into_iter()
+                .map(|(n, e)| (n.to_string(), e))
+                .collect()
+        })
 }
 
-/// The identifiable combinations of a retraction fit (empty for other scenarios): `p` the
+/// The identifiable combinations of a fit (its scenario's, empty for most): `p` the
 /// parameters, `free` which are free, `fidx` their indices, `ns` the null-space analysis (its
 /// covariance in the fit's coordinates, all log for these parameters), `inflate` the factor on
-/// variances (chi2_red when above 1), `e0` the initial voltage [V].
+/// variances (chi2_red when above 1), `known` the record's known constants.
 pub fn combinations(
     model: &Model,
     p: &[f64],
     fidx: &[usize],
     ns: &NullSpace,
     inflate: f64,
-    e0: f64,
+    known: &BTreeMap<String, f64>,
 ) -> BTreeMap<String, Combination> {
     let mut out = BTreeMap::new();
-    if model.scenario != Scenario::RtRetraction {
-        return out;
-    }
     let specs = model.specs();
-    for (name, unit, formula, c, exps) in retraction_combinations(e0) {
+    for spec in model.scenario.combinations(known) {
+        let (name, unit, formula, c, exps) = (
+            spec.name,
+            spec.unit,
+            spec.formula,
+            spec.constant,
+            spec.exponents,
+        );
         let idx: Option<Vec<(usize, f64)>> = exps
             .iter()
             .map(|(n, e)| model.index(n).map(|i| (i, *e)))

@@ -33,9 +33,32 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::discover::{Peak, StateCorrelation};
-use crate::fit::{FitOutcome, Prepared, from_u, to_u};
-use crate::lm::{LmOptions, fd_steps, jacobian_columns};
+use crate::coords::{from_u, to_u};
+use crate::estimate::FitOutcome;
+use crate::numeric::lm::{LmOptions, fd_steps, jacobian_columns};
+use crate::prepare::Prepared;
+
+/// A spectral peak of the residual.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Peak {
+    /// Channel.
+    pub channel: String,
+    /// Frequency [Hz].
+    pub hz: f64,
+    /// Amplitude of the equivalent sinusoid [channel unit, SI].
+    pub amplitude: f64,
+    /// Power over the median power of the periodogram.
+    pub over_floor: f64,
+}
+
+/// Correlation of the residual with a state of the model.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct StateCorrelation {
+    /// The state.
+    pub state: String,
+    /// Pearson correlation coefficient.
+    pub r: f64,
+}
 
 /// The scanned or derived parameter of a term.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -495,7 +518,7 @@ pub fn refit_without(
     prep: &Prepared,
     o: &FitOutcome,
     kind: &KindFit,
-    opts: &crate::fit::FitOptions,
+    opts: &crate::estimate::FitOptions,
 ) -> Result<Vec<f64>, crate::FitError> {
     let mut fo = opts.clone();
     fo.profile = false;
@@ -542,12 +565,12 @@ pub fn refit_without(
         }
     }
     let mut starts = vec![o.p.clone()];
-    starts.extend(crate::fit::default_starts(
+    starts.extend(crate::estimate::default_starts(
         &o.model,
         &prep.guess,
         opts.max_starts.unwrap_or(16).min(16),
     ));
-    Ok(crate::fit::fit_model(&less, &o.model, &fo, &starts)?.p)
+    Ok(crate::estimate::fit_model(&less, &o.model, &fo, &starts)?.p)
 }
 
 /// The term `kind` fitted jointly with the model: one local Levenberg-Marquardt run over the
@@ -718,7 +741,7 @@ fn joint_lm_as(
                 }
             }
         }
-        let r = crate::lm::minimize(&g, &best_u, &lo[..nm + 1], &hi[..nm + 1], &opts);
+        let r = crate::numeric::lm::minimize(&g, &best_u, &lo[..nm + 1], &hi[..nm + 1], &opts);
         if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
             eprintln!(
                 "delay joint fit: start {:e} s cost {best_c:.1}, end {:e} s cost {:.1} (model alone {:.1})",
@@ -730,7 +753,7 @@ fn joint_lm_as(
         }
         return (o.chi2 - r.cost, vec![r.u[nm] * sd / kind.scan]);
     }
-    let r = crate::lm::minimize(&f, &u0, &lo, &hi, &opts);
+    let r = crate::numeric::lm::minimize(&f, &u0, &lo, &hi, &opts);
     let coefs = (0..w.len()).map(|j| r.u[nm + j] * sc[j]).collect();
     (o.chi2 - r.cost, coefs)
 }
@@ -862,7 +885,7 @@ pub fn refined_leading(
     prep: &Prepared,
     o: &FitOutcome,
     peaks: &[Peak],
-    opts: &crate::fit::FitOptions,
+    opts: &crate::estimate::FitOptions,
     max_iter: usize,
 ) -> Result<Option<KindFit>, crate::FitError> {
     Ok(refined_terms(prep, o, peaks, opts, max_iter)?
@@ -882,7 +905,7 @@ pub fn refined_terms(
     prep: &Prepared,
     o: &FitOutcome,
     peaks: &[Peak],
-    opts: &crate::fit::FitOptions,
+    opts: &crate::estimate::FitOptions,
     max_iter: usize,
 ) -> Result<Vec<KindFit>, crate::FitError> {
     let (all, basis) = kinds(prep, o, peaks);
@@ -896,7 +919,7 @@ pub fn refined_terms_of(
     o: &FitOutcome,
     all: &[KindFit],
     basis: &Basis,
-    opts: &crate::fit::FitOptions,
+    opts: &crate::estimate::FitOptions,
     max_iter: usize,
 ) -> Result<Vec<KindFit>, crate::FitError> {
     let mut done: Vec<KindFit> = Vec::new();

@@ -1,39 +1,45 @@
 //! geodesic-fit: confront the facility models with measurements.
 //!
-//! - [`dataset`]: YAML + CSV datasets (interface.md), bad input refused with file and line.
-//! - [`lm`]: bounded Levenberg-Marquardt with finite-difference Jacobians.
-//! - [`prepare`]: noise per channel, the smooth tip profile, data-driven guesses.
-//! - [`fit`]: data-driven multi-start fits, covariance, profile likelihood.
-//! - [`report`]: the fit object of interface.md.
-//! - [`outliers`]: outliers and stuck parameters, said out loud.
-//! - [`residual`]: reduced chi-square, whiteness test, failure windows.
-//! - [`diagnose`]: fits every candidate effect a model lacks and ranks them by delta BIC.
-//! - [`synth`]: synthetic datasets from a truth model built from the same effect code.
-//! - [`history`]: per-dataset fit history (JSON lines) and its table.
-//! - [`plot`]: SVGs of data, model and residual, and of the history.
+//! Two layers, each a module tree, the lower never importing the upper (`modules_form_no_cycle`
+//! below checks the whole graph):
+//!
+//! - the numeric core, [`numeric`]: Levenberg-Marquardt ([`lm`]), linear algebra ([`linalg`]),
+//!   noise ([`noise`], [`residual`]), sampling and posteriors ([`ensemble`], [`posterior`]),
+//!   progress ([`progress`]); it knows no dataset, model, effect or scenario;
+//! - identification, on top of it:
+//!   - [`dataset`]: YAML + CSV datasets (interface.md), bad input refused with file and line;
+//!   - [`prepare`]: noise per channel, the smooth tip profile, data-driven guesses;
+//!   - [`coords`]: the fit's coordinates of a parameter, checks of user values and bounds;
+//!   - [`identify`]: symmetries, held values, identifiable combinations;
+//!   - [`estimate`]: data-driven multi-start fits, covariance, profile likelihood;
+//!   - [`report`]: the fit object of interface.md, with [`outliers`] (outliers and stuck
+//!     parameters, said out loud);
+//!   - [`fit`]: the public face of the three above (re-exports only);
+//!   - [`diagnose`], [`kinds`], [`discover`], [`scaffold`]: candidate effects ranked by delta
+//!     BIC, the kinds of term outside the catalogue, the discovery loop, a new effect's code;
+//!   - [`synth`]: synthetic datasets from a truth model built from the same effect code;
+//!   - [`history`], [`plot`], [`campaign`], [`campaign_page`], [`design`], [`spectral`].
+//!
+//! The engine names no scenario: what differs between scenarios is asked of the scenario's
+//! implementation in the facility crate (`geodesic_facility::scenario`).
 
 pub mod campaign;
 pub mod campaign_page;
+pub mod coords;
 pub mod dataset;
 pub mod design;
 pub mod diagnose;
 pub mod discover;
-pub mod ensemble;
 pub mod error;
+pub mod estimate;
 pub mod fit;
 pub mod history;
 pub mod identify;
 pub mod kinds;
-pub mod linalg;
-pub mod lm;
-pub mod noise;
-pub mod outliers;
+pub mod numeric;
 pub mod plot;
-pub mod posterior;
 pub mod prepare;
-pub mod progress;
 pub mod report;
-pub mod residual;
 pub mod scaffold;
 pub mod spectral;
 pub mod synth;
@@ -41,3 +47,121 @@ pub mod synth;
 pub use dataset::Dataset;
 pub use error::FitError;
 pub use fit::{FitOptions, FitOutcome, FitReport, Prepared, fit};
+// the numeric core's modules under the paths callers have always used
+pub use numeric::{ensemble, linalg, lm, noise, posterior, progress, residual};
+pub use report::outliers;
+
+#[cfg(test)]
+mod tests {
+    use std::collections::{BTreeMap, BTreeSet};
+    use std::path::{Path, PathBuf};
+
+    /// The module of a source file: its top-level module, or `numeric::NAME` inside the
+    /// numeric core.
+    fn module_of(rel: &Path) -> Option<String> {
+        let mut parts: Vec<String> = rel
+            .with_extension("")
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .collect();
+        if parts.last().is_some_and(|p| p == "mod") {
+            parts.pop();
+        }
+        match parts.as_slice() {
+            [one] if one == "lib" => None,
+            [n, sub, ..] if n == "numeric" => Some(format!("numeric::{sub}")),
+            [top, ..] => Some(top.clone()),
+            [] => None,
+        }
+    }
+
+    fn files(dir: &Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                files(&p, out);
+            } else if p.extension().is_some_and(|x| x == "rs") {
+                out.push(p);
+            }
+        }
+    }
+
+    /// The crate's modules use each other without a cycle (issue 34, item 4: the former
+    /// `diagnose -> discover -> kinds -> discover` and `noise <-> residual` loops, and the
+    /// engine's own), and the numeric core imports nothing of identification. The graph is read
+    /// from the source: every `crate::MODULE` (or `crate::numeric::MODULE`) a module's files
+    /// name, tests included, comments excluded.
+    #[test]
+    fn modules_form_no_cycle() {
+        let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+        let mut all = Vec::new();
+        files(&src, &mut all);
+        let of: Vec<(String, PathBuf)> = all
+            .into_iter()
+            .filter_map(|p| module_of(p.strip_prefix(&src).unwrap()).map(|m| (m, p)))
+            .collect();
+        let modules: BTreeSet<String> = of.iter().map(|(m, _)| m.clone()).collect();
+        let mut deps: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for (m, p) in &of {
+            let text = std::fs::read_to_string(p).unwrap();
+            for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
+                for (i, _) in line.match_indices("crate::") {
+                    let rest = &line[i + "crate::".len()..];
+                    let word = |s: &str| -> String {
+                        s.chars()
+                            .take_while(|c| c.is_alphanumeric() || *c == '_')
+                            .collect()
+                    };
+                    let mut name = word(rest);
+                    if name == "numeric" {
+                        let sub = word(rest.get("numeric::".len()..).unwrap_or(""));
+                        if modules.contains(&format!("numeric::{sub}")) {
+                            name = format!("numeric::{sub}");
+                        }
+                    }
+                    if modules.contains(&name) && &name != m {
+                        deps.entry(m.clone()).or_default().insert(name);
+                    }
+                }
+            }
+        }
+        assert!(
+            deps.get("estimate")
+                .is_some_and(|d| d.contains("numeric::lm")),
+            "the scan sees the known edge estimate -> numeric::lm: {deps:?}"
+        );
+        for (m, d) in &deps {
+            if m.starts_with("numeric") {
+                for x in d {
+                    assert!(
+                        x.starts_with("numeric"),
+                        "the numeric core imports {x} ({m})"
+                    );
+                }
+            }
+        }
+        fn visit(
+            m: &str,
+            deps: &BTreeMap<String, BTreeSet<String>>,
+            state: &mut BTreeMap<String, u8>,
+            path: &mut Vec<String>,
+        ) {
+            match state.get(m) {
+                Some(2) => return,
+                Some(1) => panic!("module cycle: {} -> {m}", path.join(" -> ")),
+                _ => {}
+            }
+            state.insert(m.to_string(), 1);
+            path.push(m.to_string());
+            for d in deps.get(m).into_iter().flatten() {
+                visit(d, deps, state, path);
+            }
+            path.pop();
+            state.insert(m.to_string(), 2);
+        }
+        let mut state = BTreeMap::new();
+        for m in &modules {
+            visit(m, &deps, &mut state, &mut Vec::new());
+        }
+    }
+}

@@ -5,8 +5,9 @@ use std::path::Path;
 use geodesic_plot::prelude::*;
 
 use crate::error::{FitError, write_atomic};
-use crate::fit::{FitReport, Prepared};
 use crate::history::Entry;
+use crate::prepare::Prepared;
+use crate::report::FitReport;
 
 fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -322,7 +323,7 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
 /// parameter `i` back), as an SVG string.
 pub fn corner_svg(
     names: &[String],
-    chain: &crate::ensemble::Chain,
+    chain: &crate::numeric::ensemble::Chain,
     back: &[&dyn Fn(f64) -> f64],
 ) -> Result<String, FitError> {
     let k = names.len();
@@ -357,8 +358,8 @@ pub fn corner_svg(
                 sx.sort_by(f64::total_cmp);
                 let (x0, x1) = range(
                     [
-                        crate::ensemble::quantile(&sx, 0.001),
-                        crate::ensemble::quantile(&sx, 0.999),
+                        crate::numeric::ensemble::quantile(&sx, 0.001),
+                        crate::numeric::ensemble::quantile(&sx, 0.999),
                     ]
                     .into_iter(),
                 );
@@ -399,7 +400,7 @@ pub fn corner_svg(
                         (0.5, RED.stroke_width(2)),
                         (0.975, RED.stroke_width(1)),
                     ] {
-                        let x = crate::ensemble::quantile(&sx, q);
+                        let x = crate::numeric::ensemble::quantile(&sx, q);
                         ch.draw_series(std::iter::once(PathElement::new(
                             vec![(x, 0.0), (x, top)],
                             style,
@@ -411,8 +412,8 @@ pub fn corner_svg(
                     sy.sort_by(f64::total_cmp);
                     let (y0, y1) = range(
                         [
-                            crate::ensemble::quantile(&sy, 0.001),
-                            crate::ensemble::quantile(&sy, 0.999),
+                            crate::numeric::ensemble::quantile(&sy, 0.001),
+                            crate::numeric::ensemble::quantile(&sy, 0.999),
                         ]
                         .into_iter(),
                     );
@@ -456,6 +457,40 @@ pub fn write_svg(path: &Path, svg: &str) -> Result<(), FitError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A history of two versions and a fit with failure windows, plotted (moved from
+    /// `history`'s tests so that `history` does not depend on `plot`).
+    #[test]
+    fn plots_a_history_and_a_fit_with_its_failure_windows() {
+        use crate::estimate::{FitOptions, fit};
+        use crate::history::{append, path_for, read};
+        use crate::synth::{SynthSpec, generate};
+        use geodesic_facility::Scenario;
+        let mut spec = SynthSpec::defaults(Scenario::RtRetraction, &["piezo", "voltage_ramp"]);
+        spec.post_s = 2e-4;
+        let prep = Prepared::new(generate(&spec, "h.yaml").unwrap());
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().to_path_buf();
+        for effects in [vec!["piezo"], vec!["piezo", "voltage_ramp"]] {
+            let o = fit(&prep, &effects, &FitOptions::default()).unwrap();
+            append(&dir, "h", &FitReport::new(&prep, &o)).unwrap();
+        }
+        let h = read(&path_for(&dir, "h")).unwrap();
+        let svg = history_svg(&h).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("</svg>"));
+        let o = fit(&prep, &["piezo"], &FitOptions::default()).unwrap();
+        let r = FitReport::new(&prep, &o);
+        let fsvg = fit_svg(&prep, &o.pred, &r).unwrap();
+        assert!(!r.failures.is_empty());
+        assert!(
+            fsvg.to_uppercase().contains("#FFC8C8"),
+            "failure windows are shaded"
+        );
+        assert!(
+            fsvg.contains("failure window") && fsvg.contains("noise band"),
+            "every shaded band is in a legend"
+        );
+    }
 
     /// A log axis's keys are its 1-2-5 values inside the range, each once and increasing; over
     /// more than three decades only the powers of ten (the history plot's axis printed 1e-8 twice).

@@ -3,14 +3,14 @@
 
 use std::collections::BTreeMap;
 
+use geodesic_facility::TipProfile;
 use geodesic_facility::effects::GuessContext;
 use geodesic_facility::model::Inputs;
-use geodesic_facility::{Scenario, TipProfile};
 use serde::{Deserialize, Serialize};
 
 use crate::dataset::Dataset;
-use crate::lm::{LmOptions, minimize};
-use crate::residual::noise_from_differences;
+use crate::numeric::lm::{LmOptions, minimize};
+use crate::numeric::residual::noise_from_differences;
 
 /// A dataset made ready for fitting: fitted channel, noise, inputs and data-driven guesses.
 #[derive(Debug, Clone)]
@@ -23,7 +23,7 @@ pub struct Prepared {
     /// figure the whitened residual is normalised by.
     pub sigma: f64,
     /// The fitted channel's coloured-noise model (`None`: white noise of `sigma`).
-    pub ar: Option<crate::noise::ArNoise>,
+    pub ar: Option<crate::numeric::noise::ArNoise>,
     /// Noise per channel [SI].
     pub noise: BTreeMap<String, f64>,
     /// Where each noise figure came from (`yaml`, `pre-trigger`, `differences`).
@@ -105,7 +105,7 @@ fn fit_profile(t: &[f64], y: &[f64], sigma: f64) -> ProfileFit {
             .map(|(t, y)| (p.y(*t) - y) / sigma)
             .collect::<Vec<f64>>()
     };
-    let mut best = None::<crate::lm::LmResult>;
+    let mut best = None::<crate::numeric::lm::LmResult>;
     for s in [1.0, 0.3, 3.0] {
         let r = minimize(
             &f,
@@ -155,7 +155,7 @@ impl Prepared {
                 .filter(|(t, _)| **t < 0.0)
                 .map(|(_, v)| *v)
                 .collect();
-            if let Some(m) = crate::noise::estimate(&pre) {
+            if let Some(m) = crate::numeric::noise::estimate(&pre) {
                 sigma = m.innovation_sigma;
                 noise.insert(channel.to_string(), m.marginal_sigma);
                 noise_source.insert(
@@ -167,8 +167,9 @@ impl Prepared {
         }
         let m_kg = dataset.known.get("m").copied().unwrap_or(0.0);
         let e0_v = dataset.known.get("E0").copied().unwrap_or(120.0);
-        let profile = (scenario == Scenario::TmmfRelease)
-            .then(|| fit_profile(&dataset.t, dataset.channel("y"), noise["y"]));
+        let profile = scenario
+            .tip_profile_channel()
+            .map(|ch| fit_profile(&dataset.t, dataset.channel(ch), noise[ch]));
         let inputs = Inputs {
             m_kg,
             profile: profile.map_or(
@@ -229,7 +230,7 @@ impl Prepared {
     }
 
     /// A reduced copy of a record longer than `max_n` samples, for the search of a fit (screening
-    /// and first stages of [`crate::fit::fit_model`]): about `max_n / 8` pre-trigger samples
+    /// and first stages of [`crate::estimate::fit_model`]): about `max_n / 8` pre-trigger samples
     /// (evenly thinned, the last one kept), the first `max_n / 2` samples after the trigger, where
     /// the contact dynamics and the ringing are, all kept, and the rest of the record evenly
     /// thinned to the remaining budget. Noise figures, inputs, guesses and profile are those of

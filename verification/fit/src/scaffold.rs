@@ -283,7 +283,7 @@ impl Scaffold {
                     10.0,
                     "frequency of the restoring force, w0 = 2 pi f0",
                 )];
-                if scenario == Scenario::TmmfRelease {
+                if scenario.scaffold_force().equilibrium {
                     let c0 = coef(0)?;
                     let x_eq = k.coefs.get(1).map_or(0.0, |c1| -c1 / c0);
                     let x_eq = if x_eq.is_finite() { x_eq } else { 0.0 };
@@ -421,22 +421,20 @@ impl Scaffold {
     }
 
     fn effect_kind(&self) -> &'static str {
-        match (self.is_force(), self.scenario) {
-            (true, Scenario::TmmfRelease) => "Force",
-            (true, Scenario::RtRetraction) => "Mechanism",
-            _ => "Distortion",
+        if self.is_force() {
+            self.scenario.scaffold_force().kind
+        } else {
+            "Distortion"
         }
     }
 
     /// The law in words (the doc comment and `summary`).
     pub fn law(&self) -> String {
-        let tm = self.scenario == Scenario::TmmfRelease;
+        let force = self.scenario.scaffold_force();
         let ch = self.scenario.fitted_channel();
         match self.kind.as_str() {
-            "position" if tm => "restoring force F = -m (2 pi f0)^2 (x - x_eq) on the TM".into(),
-            "position" => "restoring force on the tip: stiffness m (2 pi f0)^2 added to k".into(),
-            "velocity" if tm => "damping force F = -m gamma dx/dt on the TM".into(),
-            "velocity" => "damping of the tip: m gamma added to b".into(),
+            "position" => force.position_law.into(),
+            "velocity" => force.velocity_law.into(),
             "delay" => "the motion delayed after the trigger: the model at t - delay".into(),
             "creep" => format!("creep c ln(1 + t/tau) after the trigger, added to {ch}"),
             "slip" => format!("a slip: a jump a at t0 after the trigger, added to {ch}"),
@@ -461,11 +459,18 @@ impl Scaffold {
             ),
         ));
         s.push('\n');
-        let uses = match self.effect_kind() {
-            "Force" => "Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState",
-            "Mechanism" => "Effect, EffectKind, GuessContext, ParamSpec, RtConfig, Scenario",
-            _ => "Effect, EffectKind, GuessContext, ParamSpec, Scenario",
-        };
+        let mut uses = vec![
+            "Effect",
+            "EffectKind",
+            "GuessContext",
+            "ParamSpec",
+            "Scenario",
+        ];
+        if self.is_force() {
+            uses.push(self.scenario.scaffold_force().import);
+        }
+        uses.sort_unstable();
+        let uses = uses.join(", ");
         let _ = writeln!(s, "use super::{{{uses}}};");
         s.push('\n');
         s.push_str(&wrap("/// ", &format!("{}.", capitalise(&self.law()))));
@@ -538,10 +543,7 @@ impl Scaffold {
             s,
             "    fn name(&self) -> &'static str {{\n        \"{name}\"\n    }}"
         );
-        let sc = match self.scenario {
-            Scenario::TmmfRelease => "TmmfRelease",
-            Scenario::RtRetraction => "RtRetraction",
-        };
+        let sc = self.scenario.handle_name();
         let _ = writeln!(
             s,
             "    fn scenario(&self) -> Scenario {{\n        Scenario::{sc}\n    }}"
@@ -593,12 +595,10 @@ impl Scaffold {
 
     /// The methods of the effect's law.
     fn body(&self) -> String {
-        let tm = self.scenario == Scenario::TmmfRelease;
+        let force = self.scenario.scaffold_force();
         match self.kind.as_str() {
-            "position" if tm => "    fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {\n        let w0 = std::f64::consts::TAU * p[0];\n        -s.m_kg * w0 * w0 * (s.x - p[1])\n    }\n".into(),
-            "position" => "    fn configure_rt(&self, p: &[f64], rt: &mut RtConfig) {\n        let w0 = std::f64::consts::TAU * p[0];\n        rt.k_n_m += rt.m_kg * w0 * w0;\n    }\n".into(),
-            "velocity" if tm => "    fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {\n        -s.m_kg * p[0] * s.v\n    }\n".into(),
-            "velocity" => "    fn configure_rt(&self, p: &[f64], rt: &mut RtConfig) {\n        rt.b_ns_m += rt.m_kg * p[0];\n    }\n".into(),
+            "position" => force.position_code.into(),
+            "velocity" => force.velocity_code.into(),
             "delay" => "    fn time_shift(&self, p: &[f64]) -> Option<f64> {\n        Some(p[0])\n    }\n".into(),
             "creep" => "    fn distortion(&self, p: &[f64], t: f64, _x: f64) -> f64 {\n        if t > 0.0 {\n            p[0] * (t / p[1]).ln_1p()\n        } else {\n            0.0\n        }\n    }\n".into(),
             "slip" => "    fn distortion(&self, p: &[f64], t: f64, _x: f64) -> f64 {\n        if t >= p[1] { p[0] } else { 0.0 }\n    }\n".into(),
@@ -629,10 +629,7 @@ impl Scaffold {
     /// The hiding test (appended to `hide_each.rs`).
     pub fn hiding_test(&self) -> String {
         let c = &self.conditions;
-        let sc = match self.scenario {
-            Scenario::TmmfRelease => "TmmfRelease",
-            Scenario::RtRetraction => "RtRetraction",
-        };
+        let sc = self.scenario.handle_name();
         let mut s = String::new();
         s.push_str("#[test]\n");
         let _ = writeln!(s, "fn hidden_{}_is_named() {{", self.name);

@@ -59,22 +59,12 @@ fn one() -> usize {
 impl SynthSpec {
     /// Defaults of a scenario: the public examples' sampling and noise, nominal parameters.
     pub fn defaults(scenario: Scenario, effects: &[&str]) -> SynthSpec {
-        let (known, noise, fs, pre, post) = match scenario {
-            Scenario::TmmfRelease => (
-                BTreeMap::from([("m".to_string(), 0.089)]),
-                BTreeMap::from([("x".to_string(), 8e-10), ("y".to_string(), 3e-9)]),
-                2e5,
-                1e-3,
-                8e-3,
-            ),
-            Scenario::RtRetraction => (
-                BTreeMap::from([("E0".to_string(), 120.0)]),
-                BTreeMap::from([("y".to_string(), 1e-9)]),
-                1e6,
-                2e-5,
-                1e-3,
-            ),
+        let d = scenario.synth_defaults();
+        let pairs = |v: &[(&str, f64)]| -> BTreeMap<String, f64> {
+            v.iter().map(|(k, x)| (k.to_string(), *x)).collect()
         };
+        let (known, noise, fs, pre, post) =
+            (pairs(d.known), pairs(d.noise), d.fs_hz, d.pre_s, d.post_s);
         SynthSpec {
             scenario: scenario.name().to_string(),
             effects: effects.iter().map(|s| s.to_string()).collect(),
@@ -156,7 +146,7 @@ pub fn validate(spec: &SynthSpec, scenario: Scenario, model: &Model) -> Result<(
     let specs = model.specs();
     for (k, v) in &spec.params {
         if let Some(i) = model.index(k) {
-            crate::fit::check_value(&specs[i], k, *v)
+            crate::coords::check_value(&specs[i], k, *v)
                 .map_err(|c| FitError::input("synth", 0, format!("--param {k}={v}: {c}")))?;
         }
     }
@@ -164,14 +154,15 @@ pub fn validate(spec: &SynthSpec, scenario: Scenario, model: &Model) -> Result<(
         if !v.is_finite() {
             return bad(format!("--known {k}={v}: must be finite"));
         }
-        if matches!(k.as_str(), "m" | "E0") && *v <= 0.0 {
+        // a constant some scenario needs is a physical magnitude: positive
+        let needed = geodesic_facility::scenario::registry()
+            .iter()
+            .any(|s| s.required_known().contains(&k.as_str()));
+        if needed && *v <= 0.0 {
             return bad(format!("--known {k}={v}: must be positive"));
         }
     }
-    let mut channels = vec![scenario.fitted_channel()];
-    if scenario == Scenario::TmmfRelease {
-        channels.push("y");
-    }
+    let channels = synthesised_channels(scenario);
     for (ch, v) in &spec.noise {
         if !channels.contains(&ch.as_str()) {
             return bad(format!(
@@ -204,6 +195,18 @@ pub fn validate(spec: &SynthSpec, scenario: Scenario, model: &Model) -> Result<(
         }
     }
     Ok(())
+}
+
+/// The channels a synthetic record of `scenario` carries: the fitted one, then the measured
+/// inputs ([`ScenarioSpec::synth_inputs`](geodesic_facility::ScenarioSpec::synth_inputs)).
+fn synthesised_channels(scenario: Scenario) -> Vec<&'static str> {
+    let mut channels = vec![scenario.fitted_channel()];
+    for ch in scenario.required_channels() {
+        if !channels.contains(ch) {
+            channels.push(ch);
+        }
+    }
+    channels
 }
 
 /// Generates the dataset in memory (its `yaml_path` is `name`).
@@ -240,13 +243,8 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
     };
     let truth = if k == 1 {
         model.predict(&p, &t, &inputs)
-    } else if scenario == Scenario::TmmfRelease && !model.shifts_time() {
-        let h = geodesic_facility::tmmf::step_for_mass(inputs.m_kg) / k as f64;
-        mean_of(geodesic_facility::tmmf::simulate_with_step(
-            &model, &p, &fine, &inputs, h,
-        ))
     } else {
-        mean_of(model.predict(&p, &fine, &inputs))
+        model.predict_subsampled(&p, &fine, &inputs, k)
     };
     let fitted = scenario.fitted_channel();
     let mut add = |ch: &str, clean: Vec<f64>| {
@@ -273,11 +271,8 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
         channels.insert(ch.to_string(), noisy);
     };
     add(fitted, truth);
-    if scenario == Scenario::TmmfRelease {
-        add(
-            "y",
-            mean_of(fine.iter().map(|&ti| spec.profile.y(ti)).collect()),
-        );
+    for (ch, v) in scenario.synth_inputs(&spec.profile, &fine) {
+        add(ch, mean_of(v));
     }
     let units = channels
         .keys()

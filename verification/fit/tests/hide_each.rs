@@ -37,19 +37,16 @@ fn dataset_record(c: &Case, record: Option<(f64, f64)>) -> (Prepared, Vec<&'stat
     }
     spec.seed = c.seed;
     spec.noise_in_yaml = c.noise_in_yaml;
-    match c.scenario {
-        Scenario::TmmfRelease => {
-            spec.fs_hz = 1e5;
-            spec.pre_s = 5e-4;
-            spec.post_s = 4e-3;
-            spec.profile = TipProfile {
-                jerk_m_s3: c.jerk,
-                v_m_s: 3e-3,
-            };
-        }
-        Scenario::RtRetraction => {
-            spec.post_s = 5e-4;
-        }
+    if c.scenario == Scenario::TmmfRelease {
+        spec.fs_hz = 1e5;
+        spec.pre_s = 5e-4;
+        spec.post_s = 4e-3;
+        spec.profile = TipProfile {
+            jerk_m_s3: c.jerk,
+            v_m_s: 3e-3,
+        };
+    } else if c.scenario == Scenario::RtRetraction {
+        spec.post_s = 5e-4;
     }
     if let Some((fs_hz, post_s)) = record {
         spec.fs_hz = fs_hz;

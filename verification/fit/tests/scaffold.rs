@@ -103,10 +103,11 @@ fn every_kind_generates_rust_that_parses_and_is_formatted() {
                     }
                 }
             }
-            let law = match (kind, scenario) {
-                ("position" | "velocity", Scenario::TmmfRelease) => "force",
-                ("position" | "velocity", Scenario::RtRetraction) => "configure_rt",
-                ("delay", _) => "time_shift",
+            let tm = scenario == Scenario::TmmfRelease;
+            let law = match kind {
+                "position" | "velocity" if tm => "force",
+                "position" | "velocity" => "configure_rt",
+                "delay" => "time_shift",
                 _ => "distortion",
             };
             for m in [

@@ -30,66 +30,7 @@ pub use tip_contact::TipContact;
 pub use voltage_ramp::VoltageRamp;
 
 use crate::retraction::RtConfig;
-
-/// The measurement scenarios of interface.md.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Scenario {
-    /// One-sided release of a pendulum TM mock-up in the TMMF (physics.md section 4).
-    TmmfRelease,
-    /// Unloaded retraction of the release tip (physics.md section 5).
-    RtRetraction,
-}
-
-impl Scenario {
-    /// The scenario's name in datasets and JSON.
-    pub fn name(self) -> &'static str {
-        match self {
-            Scenario::TmmfRelease => "tmmf-release",
-            Scenario::RtRetraction => "rt-retraction",
-        }
-    }
-
-    /// Parses a scenario name.
-    pub fn from_name(s: &str) -> Option<Scenario> {
-        match s {
-            "tmmf-release" => Some(Scenario::TmmfRelease),
-            "rt-retraction" => Some(Scenario::RtRetraction),
-            _ => None,
-        }
-    }
-
-    /// The data channels the scenario needs, with their dimension name (`length`, `voltage`).
-    pub fn required_channels(self) -> &'static [&'static str] {
-        match self {
-            Scenario::TmmfRelease => &["x", "y"],
-            Scenario::RtRetraction => &["y"],
-        }
-    }
-
-    /// The channel the model predicts and the fit compares with.
-    pub fn fitted_channel(self) -> &'static str {
-        match self {
-            Scenario::TmmfRelease => "x",
-            Scenario::RtRetraction => "y",
-        }
-    }
-
-    /// The `known` constants the scenario needs.
-    pub fn required_known(self) -> &'static [&'static str] {
-        match self {
-            Scenario::TmmfRelease => &["m"],
-            Scenario::RtRetraction => &["E0"],
-        }
-    }
-
-    /// The minimal model of the scenario (the effects every model contains).
-    pub fn base_effects(self) -> &'static [&'static str] {
-        match self {
-            Scenario::TmmfRelease => &["needle_contact", "tip_contact"],
-            Scenario::RtRetraction => &["piezo"],
-        }
-    }
-}
+pub use crate::scenario::Scenario;
 
 /// What an effect does to the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -52,7 +52,7 @@ const ROLES: usize = 7;
 /// `tmmf-release` model whose forces are springs and adhesions on the TM's two states (no
 /// needle body) and whose distortions offer their gradient.
 pub fn covers(model: &Model, n_dirs: usize) -> bool {
-    if n_dirs > MAX_TANGENTS || model.scenario != crate::effects::Scenario::TmmfRelease {
+    if n_dirs > MAX_TANGENTS || model.scenario.dynamics() != crate::scenario::Dynamics::TmRelease {
         return false;
     }
     model.effects.iter().all(|e| {

@@ -275,10 +275,12 @@ fn scaffold(
         .copied()
         .filter(|v| v.is_finite() && *v > 0.0)
         .unwrap_or(1e-9);
-    let known = match ds.scenario {
-        geodesic_facility::Scenario::TmmfRelease => ("m", prep.inputs.m_kg),
-        geodesic_facility::Scenario::RtRetraction => ("E0", prep.inputs.e0_v),
-    };
+    // the scenario's first known constant (the TM mass, the initial voltage), as loaded
+    let known = ds
+        .scenario
+        .required_known()
+        .first()
+        .map_or(("", 0.0), |&k| (k, ds.known.get(k).copied().unwrap_or(0.0)));
     let conditions = Conditions {
         fs_hz,
         post_s,

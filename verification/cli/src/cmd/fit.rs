@@ -408,7 +408,7 @@ pub fn run(args: Args) -> CmdResult {
     if args.posterior {
         match args.posterior_method.as_str() {
             "laplace" => {
-                report.posterior = Some(geodesic_fit::posterior::of_fit(&o, &opts.bounds));
+                report.posterior = Some(geodesic_fit::fit::posterior_of_fit(&o, &opts.bounds));
                 report.posterior_method = Some(serde_json::json!({"method": "laplace"}));
             }
             _ => {

@@ -1,13 +1,15 @@
 //! The fit object of interface.md (`geodesic fit --json`): RMS, noise, chi-square, whiteness,
 //! parameters with 1-sigma, strong correlations and failure windows.
 
+pub mod outliers;
+
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use crate::fit::FitOutcome;
+use crate::estimate::FitOutcome;
+use crate::numeric::residual::{Failure, Whiteness, failures, ljung_box};
 use crate::prepare::{Prepared, ProfileFit};
-use crate::residual::{Failure, Whiteness, failures, ljung_box};
 
 /// One fitted parameter in the JSON report.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -89,11 +91,11 @@ pub struct FitReport {
     pub noise: BTreeMap<String, f64>,
     /// Where the noise figures came from.
     pub noise_source: BTreeMap<String, String>,
-    /// The coloured-noise model per channel, when the noise is not white (`crate::noise`):
+    /// The coloured-noise model per channel, when the noise is not white (`crate::numeric::noise`):
     /// chi-square, BIC and the whiteness test are then those of the whitened residual, and
     /// `noise` is the noise's own 1-sigma.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub noise_model: Option<BTreeMap<String, crate::noise::ArNoise>>,
+    pub noise_model: Option<BTreeMap<String, crate::numeric::noise::ArNoise>>,
     /// Chi-square.
     pub chi2: f64,
     /// Reduced chi-square.
@@ -114,7 +116,7 @@ pub struct FitReport {
     /// The noise model refined on the residual when the pre-trigger's left it coloured at
     /// chi2_red within the noise (the whiteness test is then of that whitening).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub residual_noise_model: Option<crate::noise::ArNoise>,
+    pub residual_noise_model: Option<crate::numeric::noise::ArNoise>,
     /// The whiteness test.
     pub whiteness: Whiteness,
     /// Parameters with 1-sigma.
@@ -158,9 +160,9 @@ pub struct FitReport {
     /// SVG of data, model and residual, when written.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub svg: Option<String>,
-    /// Marginal posterior of each free parameter (`fit --posterior`; `crate::posterior`).
+    /// Marginal posterior of each free parameter (`fit --posterior`; `crate::numeric::posterior`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub posterior: Option<BTreeMap<String, crate::posterior::Posterior>>,
+    pub posterior: Option<BTreeMap<String, crate::numeric::posterior::Posterior>>,
     /// How the posterior was obtained (`ensemble`: sampled, with walkers, kept samples and
     /// acceptance; `laplace`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -173,7 +175,7 @@ impl FitReport {
         let data = prep.data();
         let resid: Vec<f64> = data.iter().zip(&o.pred).map(|(d, m)| d - m).collect();
         let rms = (resid.iter().map(|r| r * r).sum::<f64>() / resid.len() as f64).sqrt();
-        // coloured noise: the whiteness test is of the whitened residual (crate::noise)
+        // coloured noise: the whiteness test is of the whitened residual (crate::numeric::noise)
         let mut norm = resid.clone();
         prep.normalise(&mut norm, o.sigma);
         let mut whiteness = ljung_box(&norm);
@@ -189,13 +191,13 @@ impl FitReport {
         if !whiteness.white
             && prep.ar.is_some()
             && o.chi2_red() <= 1.0 + 5.0 * (2.0 / nu).sqrt()
-            && let Some(m) = crate::noise::estimate_any(&resid)
+            && let Some(m) = crate::numeric::noise::estimate_any(&resid)
         {
-            let mut w = crate::noise::detrend(&resid);
+            let mut w = crate::numeric::noise::detrend(&resid);
             m.whiten(&mut w);
             let sd = (w.iter().map(|v| v * v).sum::<f64>() / w.len().max(1) as f64).sqrt();
             w.iter_mut().for_each(|v| *v /= sd.max(1e-300));
-            let mut refined = crate::residual::ljung_box_dof(&w, m.order());
+            let mut refined = crate::numeric::residual::ljung_box_dof(&w, m.order());
             refined.white = refined.q <= refined.threshold;
             whiteness = refined;
             residual_noise_model = Some(m);
@@ -288,8 +290,39 @@ impl FitReport {
             posterior_method: None,
         };
         // outliers, stuck parameters, whiteness they make meaningless (issue 37)
-        crate::outliers::assess(prep, o, &resid, &mut report);
+        outliers::assess(prep, o, &resid, &mut report);
         report
+    }
+}
+
+/// The residual is consistent with noise: chi2_red within 5 sigma of 1 and white.
+pub fn is_explained(r: &FitReport) -> (bool, String) {
+    let nu = (r.n_samples.saturating_sub(r.n_free)).max(1) as f64;
+    let bound = 1.0 + 5.0 * (2.0 / nu).sqrt();
+    if r.chi2_red > bound {
+        (
+            false,
+            format!(
+                "chi2_red {:.3} is above {bound:.3} (1 + 5 sqrt(2/nu)): structure is left in the residual",
+                r.chi2_red
+            ),
+        )
+    } else if !r.whiteness.white {
+        (
+            false,
+            format!(
+                "the residual is not white (Ljung-Box Q {:.1} above {:.1} for {} lags at 1 %)",
+                r.whiteness.q, r.whiteness.threshold, r.whiteness.lags
+            ),
+        )
+    } else {
+        (
+            true,
+            format!(
+                "chi2_red {:.3} within {bound:.3} and a white residual (Ljung-Box Q {:.1} <= {:.1})",
+                r.chi2_red, r.whiteness.q, r.whiteness.threshold
+            ),
+        )
     }
 }
 

@@ -1,6 +1,6 @@
 //! `geodesic fit --posterior` (interface.md: `"posterior": {"PARAM": {"median", "lo68", "hi68",
 //! "lo95", "hi95"}}`): the marginal posterior of each free parameter. By default it is sampled
-//! (`crate::ensemble`); `--posterior-method laplace` gives the approximation below.
+//! (`crate::numeric::ensemble`); `--posterior-method laplace` gives the approximation below.
 //!
 //! **Laplace method, stated**: the Laplace approximation at the best fit, in the coordinate the fit
 //! itself works in (the logarithm for the parameters the catalogue fits in log space, the
@@ -44,8 +44,8 @@ pub struct Posterior {
     pub converged: Option<bool>,
 }
 
-impl From<crate::ensemble::Marginal> for Posterior {
-    fn from(m: crate::ensemble::Marginal) -> Self {
+impl From<crate::numeric::ensemble::Marginal> for Posterior {
+    fn from(m: crate::numeric::ensemble::Marginal) -> Self {
         Posterior {
             median: m.median,
             lo68: m.lo68,
@@ -103,40 +103,6 @@ pub fn truncated_normal(mu: f64, s: f64, lo: f64, hi: f64, back: &dyn Fn(f64) ->
         autocorr_steps: None,
         converged: None,
     }
-}
-
-/// The posterior summary of every free parameter of a fit outcome, `bounds` the user's
-/// `--bound` ranges (the catalogue's range otherwise).
-pub fn of_fit(
-    o: &crate::fit::FitOutcome,
-    bounds: &std::collections::BTreeMap<String, (f64, f64)>,
-) -> std::collections::BTreeMap<String, Posterior> {
-    let names = o.model.param_names();
-    let specs = o.model.specs();
-    let mut out = std::collections::BTreeMap::new();
-    for (i, n) in names.iter().enumerate() {
-        if !o.free[i] {
-            continue;
-        }
-        let s = &specs[i];
-        let (lo, hi) = bounds.get(n).copied().unwrap_or((s.lower, s.upper));
-        let p = o.p[i];
-        let sp = o.sigma_p[i];
-        let post = if s.log {
-            // u = ln p, sigma_u = sigma_p / p (delta method)
-            truncated_normal(
-                p.max(1e-300).ln(),
-                sp / p.abs().max(1e-300),
-                lo.max(1e-300).ln(),
-                hi.ln(),
-                &f64::exp,
-            )
-        } else {
-            truncated_normal(p, sp, lo, hi, &|u| u)
-        };
-        out.insert(n.clone(), post);
-    }
-    out
 }
 
 #[cfg(test)]

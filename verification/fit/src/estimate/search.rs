@@ -3,11 +3,10 @@
 //! Levenberg-Marquardt runs on growing windows of the record, long runs from the survivors
 //! (those that cannot win stopped early), and the effects' equivalent canonical forms.
 
-use geodesic_facility::Scenario;
 use rayon::prelude::*;
 
 use super::{FitOptions, Problem, hi_of, lo_of, to_u};
-use crate::lm::{LmOptions, LmRun, minimize};
+use crate::numeric::lm::{LmOptions, LmRun, minimize};
 
 /// An equivalent canonical form is kept when its chi-square is at most this much above the
 /// best (2 sigma for one degree of freedom: the two forms differ only in how they absorb noise).
@@ -19,28 +18,12 @@ const SCREEN_FULL: usize = 8;
 /// Number of screened starts that get a short Levenberg-Marquardt run.
 const SCREEN_KEEP: usize = 32;
 
-/// Successive-halving stages after screening: (iterations, starts kept for the next stage).
-const STAGES: [(usize, usize); 2] = [(10, 8), (40, 3)];
-/// The same for `rt-retraction`, whose exactly propagated linear model costs about 50 times
-/// less per evaluation and whose nine parameters need longer runs along correlated valleys.
-const STAGES_RT: [(usize, usize); 2] = [(40, 12), (200, 4)];
-
-/// Stages, refinement iterations and the time window of each stage (fraction of the record
-/// after the trigger) of a scenario. A TMMF release is decided in its first milliseconds
-/// (contact, catapult, bond); the record after mostly extrapolates it, so starts are judged
-/// and first refined on the first quarter, then half, of the record. The retraction rings at about 73 kHz for a millisecond:
-/// a 10 % error on a frequency slips seven cycles by the end of the record, a forest of local
-/// minima; fitting the first fifth of the record, then half, then all (continuation) follows
-/// the phase. The last flag also runs the stages on the whole record from the starts that fit
-/// it best, and refines the survivors of both. Fixed per scenario: deterministic.
-pub(super) fn effort(s: Scenario) -> ([(usize, usize); 2], usize, [f64; 2], bool) {
-    match s {
-        Scenario::TmmfRelease => (STAGES, LONG_ITER, [0.25, 0.5], true),
-        Scenario::RtRetraction => (STAGES_RT, 4 * LONG_ITER, [0.2, 0.5], false),
-    }
+/// The stages, refinement iterations and stage windows of a model's fits: its scenario's
+/// [`SearchHints`](geodesic_facility::scenario::SearchHints) (fixed per scenario:
+/// deterministic).
+pub(super) fn effort(model: &geodesic_facility::Model) -> geodesic_facility::scenario::SearchHints {
+    model.scenario.search()
 }
-/// Iterations of the refinement of the best three.
-const LONG_ITER: usize = 200;
 
 /// Stage "start values": the given starts of the right length (the problem's base when none),
 /// at most `max_starts`, with the fixed values and superseded parameters imposed, duplicates
@@ -93,7 +76,8 @@ pub(super) fn search(
     let model = pb.model;
     let t = pb.t;
     let full = |u: &[f64], start: &[f64]| pb.full(u, start);
-    let (stages, _, windows, also_full) = effort(model.scenario);
+    let hints = effort(model);
+    let (stages, windows, also_full) = (hints.stages, hints.windows, hints.stages_on_whole_record);
     let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
     // sample count of a window: the pre-trigger samples plus a fraction of the record after
     let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(0);
@@ -133,29 +117,7 @@ pub(super) fn search(
             .collect();
         let mut sorted = screened;
         sorted.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        // keep the best start for each distinct starting value of the first effect's parameters
-        // (the base of the model, whose basins differ most), best first, so that one basin cannot
-        // fill every slot
-        let first_len = model.range(0).len();
-        let mut order: Vec<(usize, f64)> = Vec::new();
-        for &(si, c) in &sorted {
-            if order.len() >= SCREEN_KEEP {
-                break;
-            }
-            let key = &starts[si][..first_len];
-            if !order.iter().any(|&(sj, _)| &starts[sj][..first_len] == key) {
-                order.push((si, c));
-            }
-        }
-        // then fill up with the next best overall
-        for &(si, c) in &sorted {
-            if order.len() >= SCREEN_KEEP {
-                break;
-            }
-            if !order.iter().any(|&(sj, _)| sj == si) {
-                order.push((si, c));
-            }
-        }
+        let mut order = keep_screened(model, starts, &sorted);
         // the cost of every start on the whole record (only needed when the stages are windowed)
         let full_costs: Vec<(usize, f64)> = if windows[0] < 1.0 {
             pb.resid_of_many(&clamped, t.len())
@@ -187,41 +149,8 @@ pub(super) fn search(
                 })
                 .collect()
         };
-        let run_stages = |mut first: Vec<(usize, f64, Vec<f64>)>, windows: [f64; 2]| {
-            for (&(iters, keep), &frac) in stages.iter().zip(&windows) {
-                let n_use = n_window(frac);
-                let opts_stage = LmOptions {
-                    max_iter: iters,
-                    ..LmOptions::default()
-                };
-                let t0 = std::time::Instant::now();
-                let nfirst = first.len();
-                first = first
-                    .par_iter()
-                    .map(|(si, _, u)| {
-                        let r = minimize(&pb.window(&starts[*si], n_use), u, lo, hi, &opts_stage);
-                        (*si, r.cost, r.u)
-                    })
-                    .collect();
-                first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-                if debug {
-                    eprintln!(
-                        "stage {iters} (window {frac}): {nfirst} runs in {:.3} s",
-                        t0.elapsed().as_secs_f64()
-                    );
-                }
-                if debug {
-                    for (si, c, u) in &first {
-                        let p = full(u, &starts[*si]);
-                        eprintln!(
-                            "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
-                            &starts[*si]
-                        );
-                    }
-                }
-                first.truncate(keep);
-            }
-            first
+        let run_stages = |first: Vec<(usize, f64, Vec<f64>)>, windows: [f64; 2]| {
+            run_stages(pb, starts, &stages, &n_window, first, windows, debug)
         };
         let mut first = run_stages(initial(&order), windows);
         if windows[0] < 1.0 && also_full {
@@ -256,6 +185,92 @@ pub(super) fn search(
         }
         first
     }
+}
+
+/// The screened starts (`sorted`: (start, cost), best first) kept for the stages: the best
+/// start for each distinct starting value of the first effect's parameters (the base of the
+/// model, whose basins differ most), best first, so that one basin cannot fill every slot;
+/// then the next best overall, up to [`SCREEN_KEEP`].
+fn keep_screened(
+    model: &geodesic_facility::Model,
+    starts: &[Vec<f64>],
+    sorted: &[(usize, f64)],
+) -> Vec<(usize, f64)> {
+    // keep the best start for each distinct starting value of the first effect's parameters
+    // (the base of the model, whose basins differ most), best first, so that one basin cannot
+    // fill every slot
+    let first_len = model.range(0).len();
+    let mut order: Vec<(usize, f64)> = Vec::new();
+    for &(si, c) in sorted {
+        if order.len() >= SCREEN_KEEP {
+            break;
+        }
+        let key = &starts[si][..first_len];
+        if !order.iter().any(|&(sj, _)| &starts[sj][..first_len] == key) {
+            order.push((si, c));
+        }
+    }
+    // then fill up with the next best overall
+    for &(si, c) in sorted {
+        if order.len() >= SCREEN_KEEP {
+            break;
+        }
+        if !order.iter().any(|&(sj, _)| sj == si) {
+            order.push((si, c));
+        }
+    }
+    order
+}
+
+/// The successive-halving stages (`stages`, on the windows `windows` of the record, sample
+/// counts from `n_window`) of short Levenberg-Marquardt runs from `first` ((start, cost, u)),
+/// the best `keep` of each stage going on; returns the survivors, best first.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn run_stages(
+    pb: &Problem,
+    starts: &[Vec<f64>],
+    stages: &[(usize, usize); 2],
+    n_window: &dyn Fn(f64) -> usize,
+    mut first: Vec<(usize, f64, Vec<f64>)>,
+    windows: [f64; 2],
+    debug: bool,
+) -> Vec<(usize, f64, Vec<f64>)> {
+    let (lo, hi) = (&pb.lo, &pb.hi);
+    let full = |u: &[f64], start: &[f64]| pb.full(u, start);
+    for (&(iters, keep), &frac) in stages.iter().zip(&windows) {
+        let n_use = n_window(frac);
+        let opts_stage = LmOptions {
+            max_iter: iters,
+            ..LmOptions::default()
+        };
+        let t0 = std::time::Instant::now();
+        let nfirst = first.len();
+        first = first
+            .par_iter()
+            .map(|(si, _, u)| {
+                let r = minimize(&pb.window(&starts[*si], n_use), u, lo, hi, &opts_stage);
+                (*si, r.cost, r.u)
+            })
+            .collect();
+        first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        if debug {
+            eprintln!(
+                "stage {iters} (window {frac}): {nfirst} runs in {:.3} s",
+                t0.elapsed().as_secs_f64()
+            );
+        }
+        if debug {
+            for (si, c, u) in &first {
+                let p = full(u, &starts[*si]);
+                eprintln!(
+                    "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
+                    &starts[*si]
+                );
+            }
+        }
+        first.truncate(keep);
+    }
+    first
 }
 
 /// Iterations of a round of [`refine`]: between rounds, the runs that cannot catch up with

@@ -2,7 +2,7 @@
 //! exact one, when the residuals offer it: [`Residuals::jacobian`]).
 //!
 //! Minimises `sum r_i(u)^2` over internal coordinates `u` (log or scaled parameters, see
-//! [`crate::fit`]). Bounds are enforced by projecting each trial step onto the box. The
+//! the fitting engine). Bounds are enforced by projecting each trial step onto the box. The
 //! `levenberg-marquardt` crate was not used because it has no bounds and our residuals come
 //! from an ODE whose Jacobian is taken by finite differences anyway; this 100-line solver keeps
 //! the damping, projection and stopping rules in one readable place.
@@ -270,7 +270,7 @@ pub fn minimize_with_steps<F: Residuals + ?Sized>(
 /// A [`minimize`] run that can be advanced in rounds: its iterates are those of one
 /// [`minimize_with_steps`] call, bit for bit, however its iterations are split. A caller
 /// refining several starts can then look at them between rounds (and stop those that cannot
-/// catch up with the best, [`crate::fit`]'s refinement).
+/// catch up with the best, the fitting engine's refinement).
 #[derive(Debug, Clone)]
 pub struct LmRun {
     u: Vec<f64>,
@@ -386,8 +386,8 @@ impl LmRun {
             if !accepted || self.small >= 2 || self.iterations >= opts.max_iter {
                 self.finished = true;
             }
-            if self.r.len() >= crate::progress::ITERATION_SAMPLES {
-                crate::progress::note(false, || {
+            if self.r.len() >= crate::numeric::progress::ITERATION_SAMPLES {
+                crate::numeric::progress::note(false, || {
                     format!(
                         "Levenberg-Marquardt iteration {}, chi2 {:.6e} ({} samples)",
                         self.iterations,

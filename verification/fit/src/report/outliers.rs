@@ -1,6 +1,6 @@
 //! Outliers and stuck fits, said out loud (issue 37, item 2). Called once from
 //! [`crate::report::FitReport::new`]; the residual's whitening and its judgement stay
-//! `crate::residual`'s and `crate::noise`'s.
+//! `crate::numeric::residual`'s and `crate::numeric::noise`'s.
 //!
 //! * **Outliers.** A sample of the fitted channel whose residual (data - model) lies more than
 //!   [`OUTLIER_ROBUST_SIGMA`] robust sigma from the median of its ten neighbours' residuals, and
@@ -27,8 +27,11 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use crate::coords::to_u;
+pub use crate::dataset::fmt_sig;
 use crate::dataset::{local_deviation, robust_scale};
-use crate::fit::{FitOutcome, Prepared, default_starts, to_u};
+use crate::estimate::{FitOutcome, default_starts};
+use crate::prepare::Prepared;
 use crate::report::FitReport;
 
 /// An outlier is this many robust sigma from its neighbours' median residual...
@@ -60,22 +63,6 @@ pub struct Outlier {
     pub robust_sigma: f64,
     /// Left out of the fit by the loader (a wild sample); false: in the fit, flagged.
     pub excluded: bool,
-}
-
-/// `v` with four significant digits: plain between 1e-3 and 1e5, else scientific.
-pub fn fmt_sig(v: f64) -> String {
-    if !v.is_finite() {
-        return format!("{v}");
-    }
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&a) {
-        let dec = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
-        format!("{v:.dec$}")
-    } else {
-        format!("{v:.3e}")
-    }
 }
 
 /// The outliers of the fitted channel's residual `resid` (data - model, SI), in time order.
@@ -114,7 +101,7 @@ fn at(u: f64, v: f64) -> bool {
 pub fn stuck_parameters(prep: &Prepared, o: &FitOutcome) -> BTreeMap<String, &'static str> {
     let specs = o.model.specs();
     let names = o.model.param_names();
-    let starts = default_starts(&o.model, &prep.guess, crate::fit::MAX_STARTS);
+    let starts = default_starts(&o.model, &prep.guess, crate::estimate::MAX_STARTS);
     let mut out = BTreeMap::new();
     for (i, spec) in specs.iter().enumerate() {
         if !o.free[i] {
@@ -272,7 +259,7 @@ pub fn flag_user_bounds(r: &mut FitReport, bounds: &BTreeMap<String, (f64, f64)>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::{FitOptions, fit};
+    use crate::estimate::{FitOptions, fit};
     use crate::synth::{SynthSpec, generate};
     use geodesic_facility::Scenario;
 

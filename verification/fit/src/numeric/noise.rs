@@ -20,7 +20,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::residual::ljung_box;
+pub use crate::numeric::residual::chi2_sf;
+use crate::numeric::residual::ljung_box;
 
 /// An autoregressive noise model `n_i = sum_k a_k n_{i-k} + e_i`, `e ~ N(0, innovation^2)`.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -116,13 +117,6 @@ pub fn burg(x: &[f64], pmax: usize) -> Vec<(Vec<f64>, f64)> {
         out.push((a.clone(), e));
     }
     out
-}
-
-/// Chi-square survival function `P(X > q)` for `dof` degrees of freedom (Wilson-Hilferty).
-pub fn chi2_sf(q: f64, dof: f64) -> f64 {
-    let h = 2.0 / (9.0 * dof);
-    let z = ((q / dof).cbrt() - (1.0 - h)) / h.sqrt();
-    1.0 - geodesic_core::normal::normal_cdf(z)
 }
 
 /// Ljung-Box p-value of `v`.

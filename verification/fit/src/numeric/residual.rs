@@ -62,8 +62,15 @@ pub fn ljung_box_dof(r: &[f64], p: usize) -> Whiteness {
         lags,
         threshold,
         white: q <= threshold,
-        p_value: crate::noise::chi2_sf(q, h),
+        p_value: chi2_sf(q, h),
     }
+}
+
+/// Chi-square survival function `P(X > q)` for `dof` degrees of freedom (Wilson-Hilferty).
+pub fn chi2_sf(q: f64, dof: f64) -> f64 {
+    let h = 2.0 / (9.0 * dof);
+    let z = ((q / dof).cbrt() - (1.0 - h)) / h.sqrt();
+    1.0 - geodesic_core::normal::normal_cdf(z)
 }
 
 /// A time window where the residual leaves the noise band.

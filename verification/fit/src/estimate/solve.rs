@@ -1,0 +1,591 @@
+//! The solution of one fit (`super::fit_model`'s stages after the search): refinement,
+//! covariance, profile likelihood along each parameter, evidence.
+
+use geodesic_facility::Model;
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+use super::problem::{Problem, Profiled};
+use super::search::{canonical_forms, effort, refine, search, start_values};
+use super::{FitOptions, FitOutcome, STEP_RATIO_TOLERANCE, effective_sigma};
+use crate::coords::from_u;
+use crate::error::FitError;
+use crate::numeric::lm::{
+    LmOptions, fd_steps, jacobian_columns, minimize_with_steps, normal_equations,
+};
+use crate::prepare::Prepared;
+
+/// [`fit_model`](super::fit_model) on `prep` itself; with `refine_only`, `starts[0]` is
+/// refined by the long run only (no screening, no stages).
+pub(super) fn fit_model_on(
+    prep: &Prepared,
+    model: &Model,
+    opts: &FitOptions,
+    starts: &[Vec<f64>],
+    refine_only: bool,
+    depth: usize,
+) -> Result<FitOutcome, FitError> {
+    let clock = std::time::Instant::now();
+    let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
+    let lap = |what: &str| {
+        if debug {
+            eprintln!(
+                "[{:.2} s] {what} ({} samples)",
+                clock.elapsed().as_secs_f64(),
+                prep.dataset.t.len()
+            );
+        }
+        crate::numeric::progress::note(true, || {
+            format!(
+                "fit on {} samples: {what} done ({:.1} s)",
+                prep.dataset.t.len(),
+                clock.elapsed().as_secs_f64()
+            )
+        });
+    };
+    // the stages, in order: data and constraints (the noise model is the dataset's:
+    // `Prepared`), start values, search, refinement, canonical forms, uncertainty (covariance,
+    // Laplace evidence, profiles) and the outcome; the residual analysis and the report are
+    // `crate::report`'s
+    let pb = Problem::new(prep, model, opts)?;
+    let long_iter = effort(model).refine_iterations;
+    let starts = start_values(&pb, opts, starts);
+    let first = search(&pb, &starts, refine_only);
+    lap("search (screening and short runs)");
+    let refined = refine(&pb, &starts, &first, long_iter, debug);
+    lap("long Levenberg-Marquardt runs");
+    let (si, chi2, u) = refined
+        .into_iter()
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+        .expect("at least one start");
+    let start = &starts[si];
+    let (chi2, u) = canonical_forms(&pb, start, chi2, u, long_iter);
+    lap("canonical forms");
+    let mut c = uncertainty(&pb, opts, start, chi2, &u);
+    lap("covariance");
+    if opts.profile && c.n_free > 0 {
+        let ctx = ProfileContext {
+            pb: &pb,
+            c: &c,
+            start,
+            u: &u,
+            depth,
+            debug,
+            clock,
+        };
+        // a profile that went below the best fit shows that the refinement stopped short of
+        // the optimum (a sloppy valley): refine again from the lowest point met, so that the
+        // fit reported, and every comparison of models made from it, is an optimum
+        match profiles(&ctx) {
+            Profiles::Lower(w) => {
+                let mut o =
+                    fit_model_on(prep, model, opts, &[pb.full(&w, start)], true, depth + 1)?;
+                o.starts = starts.len();
+                return Ok(o);
+            }
+            Profiles::Widths(widths) => widen(&pb, &mut c, &u, &widths),
+        }
+    }
+    lap("profiles");
+    outcome(&pb, c, starts.len())
+}
+
+/// What the covariance stage leaves for the profiles and the outcome.
+struct Uncertainty {
+    /// Best parameters [SI] and the model's prediction there.
+    p: Vec<f64>,
+    pred: Vec<f64>,
+    /// Chi-square at the fit's noise `sig`, and where `sig` came from.
+    chi2: f64,
+    sig: f64,
+    sigma_source: String,
+    /// `prep.sigma / sig` (the residuals were normalised by `prep.sigma`).
+    ratio: f64,
+    n: usize,
+    n_free: usize,
+    /// Finite-difference steps of the free parameters (fit coordinates).
+    steps: Vec<f64>,
+    /// Covariance in the fit's coordinates (on the resolved directions when a symmetry is
+    /// found), and `max(1, chi2_red)`.
+    cov: DMatrix<f64>,
+    inflate: f64,
+    step_ratio: Vec<f64>,
+    resolved: Vec<bool>,
+    ns: crate::identify::NullSpace,
+    half_log_det_2pi_cov: Option<f64>,
+    log_prior_volume: Option<f64>,
+    sigma_p: Vec<f64>,
+    sigma_cov: Vec<f64>,
+    corr: DMatrix<f64>,
+    free_names: Vec<String>,
+}
+
+/// Stage "uncertainty": the noise figure, the covariance from the Jacobian (and from half the
+/// steps, the step test), the null space, the Laplace evidence's ingredients, the sigmas and
+/// correlations at the best fit `u` over `start`.
+fn uncertainty(
+    pb: &Problem,
+    opts: &FitOptions,
+    start: &[f64],
+    chi2: f64,
+    u: &[f64],
+) -> Uncertainty {
+    let prep = pb.prep;
+    let model = pb.model;
+    let (specs, fidx, lo, hi) = (&pb.specs, &pb.fidx, &pb.lo, &pb.hi);
+    let np = specs.len();
+    let (data, t) = (pb.data, pb.t);
+    let p = pb.full(u, start);
+    let pred = model.predict(&p, t, &prep.inputs);
+    let n = data.len();
+    let n_free = fidx.len();
+    let r0 = pb.resid(u, start);
+    let f = pb.window(start, t.len());
+    let steps = fd_steps(&f, u, &r0, lo, hi, LmOptions::default().fd_step);
+    let cols = jacobian_columns(&f, u, &r0, lo, hi, &steps);
+    let (jtj, _) = normal_equations(&cols, &r0);
+    drop(cols);
+    // the same from differences over half the steps: in a direction the data do not constrain
+    // the curvature is the differences' own truncation error, and the sigma grows like 1/step
+    let half: Vec<f64> = steps.iter().map(|h| h / 2.0).collect();
+    let (jtj_half, _) = normal_equations(&jacobian_columns(&f, u, &r0, lo, hi, &half), &r0);
+    let raw: Vec<f64> = data.iter().zip(&pred).map(|(d, m)| d - m).collect();
+    let (sig, sigma_source) = match opts.sigma {
+        Some(s) => match &prep.ar {
+            // the whitening stays the dataset's: say so
+            Some(m) => (
+                s,
+                format!("given, whitened by pre-trigger AR({})", m.order()),
+            ),
+            None => (s, "given".to_string()),
+        },
+        None => effective_sigma(prep, &raw),
+    };
+    // the residuals were normalised by prep.sigma: rescale chi-square and covariance
+    let ratio = prep.sigma / sig;
+    let chi2 = chi2 * ratio * ratio;
+    let a = jtj * (ratio * ratio);
+    let cov = invert_spd(&a);
+    // (`cov` is the inverse of `J^T J` times ratio^2, `cov_half` of the plain one)
+    let cov_half = invert_spd(&jtj_half);
+    let mut step_ratio = vec![1.0; np];
+    for (k, &i) in fidx.iter().enumerate() {
+        step_ratio[i] = (cov_half[(k, k)] / (cov[(k, k)] * ratio * ratio)).sqrt();
+    }
+    // the Jacobian's null space: exact and near symmetries of the model on this record
+    // (crate::identify); the covariance then lives on the resolved directions only
+    let widths: Vec<f64> = lo.iter().zip(hi).map(|(l, h)| h - l).collect();
+    let free_names: Vec<String> = fidx.iter().map(|&i| pb.names[i].clone()).collect();
+    let ns = crate::identify::symmetries(&a, &jtj_half, ratio * ratio, &widths, &free_names);
+    let exact_symmetry = ns.symmetries.iter().any(|s| s.kind == "exact");
+    let cov = if ns.symmetries.is_empty() {
+        cov
+    } else {
+        ns.cov.clone()
+    };
+    let mut resolved = vec![true; np];
+    for (k, &i) in fidx.iter().enumerate() {
+        let r = step_ratio[i];
+        resolved[i] = ns.resolved[k] && !(r.is_nan() || (r - 1.0).abs() > STEP_RATIO_TOLERANCE);
+    }
+    // Laplace evidence ingredients (FitOutcome::log_evidence): on the identifiable space, so
+    // undefined while an exact symmetry is left (its flat direction is not integrated)
+    let half_log_det_2pi_cov = log_det_spd(&a)
+        .filter(|_| !exact_symmetry)
+        .map(|ld| 0.5 * (n_free as f64 * (2.0 * std::f64::consts::PI).ln() - ld));
+    let log_prior_volume = lo
+        .iter()
+        .zip(hi)
+        .map(|(l, h)| h - l)
+        .try_fold(0.0, |acc, w| {
+            (w.is_finite() && w > 0.0).then(|| acc + w.ln())
+        });
+    let chi2_red = chi2 / (n.saturating_sub(n_free)).max(1) as f64;
+    let inflate = chi2_red.max(1.0);
+    let mut sigma_p = vec![0.0; np];
+    let mut sigma_cov = vec![0.0; np];
+    let mut corr = DMatrix::zeros(n_free, n_free);
+    for (k, &i) in fidx.iter().enumerate() {
+        let su = cov[(k, k)].max(0.0).sqrt();
+        sigma_cov[i] = if specs[i].log {
+            p[i] * su
+        } else {
+            specs[i].scale * su
+        };
+        sigma_p[i] = sigma_cov[i] * inflate.sqrt();
+        for l in 0..n_free {
+            let d = (cov[(k, k)] * cov[(l, l)]).sqrt();
+            corr[(k, l)] = if d > 0.0 { cov[(k, l)] / d } else { 0.0 };
+        }
+    }
+    Uncertainty {
+        p,
+        pred,
+        chi2,
+        sig,
+        sigma_source,
+        ratio,
+        n,
+        n_free,
+        steps,
+        cov,
+        inflate,
+        step_ratio,
+        resolved,
+        ns,
+        half_log_det_2pi_cov,
+        log_prior_volume,
+        sigma_p,
+        sigma_cov,
+        corr,
+        free_names,
+    }
+}
+
+/// What the profiles read.
+struct ProfileContext<'p, 'a> {
+    pb: &'p Problem<'a>,
+    c: &'p Uncertainty,
+    start: &'p [f64],
+    u: &'p [f64],
+    depth: usize,
+    debug: bool,
+    clock: std::time::Instant,
+}
+
+/// The profiles' answer.
+enum Profiles {
+    /// Each free parameter's reach up and down (fit coordinates).
+    Widths(Vec<[f64; 2]>),
+    /// A point below the best fit (free parameters, fit coordinates) to refine from.
+    Lower(Vec<f64>),
+}
+
+/// Stage "profiles": the profile likelihood of each free parameter, both sides in parallel.
+/// Moves each free parameter away from the best fit, refits the others and widens its 1-sigma
+/// to where chi-square has risen by max(1, chi2_red); only ever widens the covariance figure
+/// (banana-shaped valleys, examples README pitfall).
+fn profiles(ctx: &ProfileContext) -> Profiles {
+    let n_free = ctx.c.n_free;
+    // one task per parameter and side (sixteen for eight parameters: two cores stay busy
+    // to the end); each returns its reach and the lowest point it met below the best fit
+    let sides_done = std::sync::atomic::AtomicUsize::new(0);
+    #[allow(clippy::type_complexity)]
+    let sides: Vec<(f64, Option<(f64, Vec<f64>)>)> = (0..2 * n_free)
+        .into_par_iter()
+        .map(|ks| {
+            let side = profile_side(ctx, ks / 2, ks % 2);
+            if !is_profiled(ctx.c, ctx.pb.fidx[ks / 2], ks / 2) {
+                // not profiled: not counted among the sides done
+                return side;
+            }
+            let done = sides_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            crate::numeric::progress::note(true, || {
+                format!(
+                    "profiles: {done} of {} sides done ({:.1} s)",
+                    2 * n_free,
+                    ctx.clock.elapsed().as_secs_f64()
+                )
+            });
+            side
+        })
+        .collect();
+    // the lowest point met below the best fit (the first in parameter and side order among
+    // equals)
+    let mut lowest: Option<&(f64, Vec<f64>)> = None;
+    for (_, l) in &sides {
+        if let Some(c) = l
+            && lowest.is_none_or(|b| c.0 < b.0)
+        {
+            lowest = Some(c);
+        }
+    }
+    if let Some((c, w)) = lowest
+        && ctx.depth < PROFILE_RESTARTS
+    {
+        if ctx.debug {
+            let r2 = ctx.c.ratio * ctx.c.ratio;
+            eprintln!(
+                "a profile met chi-square {:.3} below the best fit: refining from there",
+                (ctx.c.chi2 / r2 - c) * r2
+            );
+        }
+        return Profiles::Lower(w.clone());
+    }
+    Profiles::Widths(sides.chunks(2).map(|c| [c[0].0, c[1].0]).collect())
+}
+
+/// Whether the `k`-th free parameter (parameter `i`) is profiled: not along a symmetry (the
+/// profile would walk along it), with a finite, positive covariance sigma.
+fn is_profiled(c: &Uncertainty, i: usize, k: usize) -> bool {
+    let su = (c.cov[(k, k)].max(0.0) * c.inflate).sqrt();
+    su.is_finite() && su > 0.0 && c.resolved[i]
+}
+
+/// One side (`side` 0 up, 1 down) of the profile of the `k`-th free parameter: its reach, and
+/// the lowest point met below the best fit (by more than 0.01 in chi-square), if any.
+#[allow(clippy::type_complexity)]
+fn profile_side(ctx: &ProfileContext, k: usize, side: usize) -> (f64, Option<(f64, Vec<f64>)>) {
+    let (pb, c, u, start) = (ctx.pb, ctx.c, ctx.u, ctx.start);
+    let (fidx, lo, hi, t) = (&pb.fidx, &pb.lo, &pb.hi, pb.t);
+    let (cov, inflate, n_free) = (&c.cov, c.inflate, c.n_free);
+    let target = inflate;
+    let r2 = c.ratio * c.ratio;
+    let cost_best = c.chi2 / r2;
+    let (debug, depth) = (ctx.debug, ctx.depth);
+    let sgn = if side == 0 { 1.0 } else { -1.0 };
+    let su = (cov[(k, k)].max(0.0) * inflate).sqrt();
+    let mut out = su;
+    // the lowest point met below the best fit (by more than 0.01 in chi-square)
+    let mut lowest: Option<(f64, Vec<f64>)> = None;
+    if !is_profiled(c, fidx[k], k) {
+        return (out, lowest);
+    }
+    let others: Vec<usize> = (0..n_free).filter(|&j| j != k).collect();
+    let lo2: Vec<f64> = others.iter().map(|&j| lo[j]).collect();
+    let hi2: Vec<f64> = others.iter().map(|&j| hi[j]).collect();
+    let steps2: Vec<f64> = others.iter().map(|&j| c.steps[j]).collect();
+    // where the others' optimum moves per unit of u_k, to first order: the
+    // regression slope of the covariance, cov(j, k) / cov(k, k). Each profile
+    // point starts from the previous one moved along it, next to its optimum, so
+    // the refit of the others takes a few iterations instead of a crawl along the
+    // valley.
+    let slope: Vec<f64> = others
+        .iter()
+        .map(|&j| {
+            let s = cov[(j, k)] / cov[(k, k)];
+            if s.is_finite() { s } else { 0.0 }
+        })
+        .collect();
+    let mut step = su;
+    let mut v0: Vec<f64> = others.iter().map(|&j| u[j]).collect();
+    let mut uk_prev = u[k];
+    for _ in 0..PROFILE_DOUBLINGS {
+        let uk = (u[k] + sgn * step).clamp(lo[k], hi[k]);
+        let at_bound = uk != u[k] + sgn * step;
+        for (i, v) in v0.iter_mut().enumerate() {
+            *v = (*v + slope[i] * (uk - uk_prev)).clamp(lo2[i], hi2[i]);
+        }
+        uk_prev = uk;
+        let f = Profiled {
+            window: pb.window(start, t.len()),
+            k,
+            uk,
+        };
+        // chi-square to 1 % of `target`, the rise the profile compares it with: one
+        // unit for a model that fits (chi2_red <= 1: as before), chi2_red units for
+        // one that does not, whose sigmas are inflated by sqrt(chi2_red). Refining
+        // a wrong model's profile point to 1 % of a unit of a chi-square of 1e10
+        // made a million-sample record's profiles crawl for 60 iterations each
+        // (issue 35) without moving its width beyond that 1 %.
+        let opts_p = LmOptions {
+            max_iter: 60,
+            atol: 0.01 * target / r2,
+            ..LmOptions::default()
+        };
+        let r = minimize_with_steps(&f, &v0, &lo2, &hi2, &opts_p, Some(&steps2));
+        if debug {
+            eprintln!(
+                "profile {k} side {side}: {} iterations, dchi2 {:.3}",
+                r.iterations,
+                (r.cost - cost_best) * r2
+            );
+        }
+        crate::numeric::progress::note(false, || {
+            format!(
+                "profile of {} ({}): {} iterations, delta chi2 {:.4e} (target {:.4e})",
+                c.free_names[k],
+                if side == 0 { "up" } else { "down" },
+                r.iterations,
+                (r.cost - cost_best) * r2,
+                target
+            )
+        });
+        if r.cost < cost_best - 0.01 / r2 && lowest.as_ref().is_none_or(|(c, _)| r.cost < *c) {
+            let mut w = r.u.clone();
+            w.insert(k, uk);
+            lowest = Some((r.cost, w));
+            // the fit is refined from here and profiled again: this side stops
+            // (the others run to their end, so that the point chosen does not
+            // depend on the threads' timing)
+            if depth < PROFILE_RESTARTS {
+                break;
+            }
+        }
+        let dchi = ((r.cost - cost_best) * r2).max(0.0);
+        let reach = (uk - u[k]).abs();
+        if dchi >= target {
+            out = out.max(reach * (target / dchi).sqrt());
+            break;
+        }
+        out = out.max(reach);
+        if at_bound {
+            break;
+        }
+        v0 = r.u;
+        step *= 2.0;
+    }
+    (out, lowest)
+}
+
+/// Widens each free parameter's sigma to its profile's reach (`widths`, up and down in the
+/// fit's coordinates) where that is wider.
+fn widen(pb: &Problem, c: &mut Uncertainty, u: &[f64], widths: &[[f64; 2]]) {
+    let (specs, fidx) = (&pb.specs, &pb.fidx);
+    let (p, sigma_p) = (&c.p, &mut c.sigma_p);
+    for (k, &i) in fidx.iter().enumerate() {
+        let up = (from_u(&specs[i], u[k] + widths[k][0]) - p[i]).abs();
+        let down = (p[i] - from_u(&specs[i], u[k] - widths[k][1])).abs();
+        let prof = up.max(down);
+        if prof.is_finite() && prof > sigma_p[i] {
+            sigma_p[i] = prof;
+        }
+    }
+}
+
+/// Stage "outcome": sigmas of parameters the data do not constrain bounded by their range,
+/// the finiteness check, the identifiable combinations.
+fn outcome(pb: &Problem, c: Uncertainty, n_starts: usize) -> Result<FitOutcome, FitError> {
+    let (prep, model) = (pb.prep, pb.model);
+    let (specs, fidx, lo, hi) = (&pb.specs, &pb.fidx, &pb.lo, &pb.hi);
+    let Uncertainty {
+        p,
+        pred,
+        chi2,
+        sig,
+        sigma_source,
+        n,
+        n_free,
+        inflate,
+        step_ratio,
+        resolved,
+        ns,
+        half_log_det_2pi_cov,
+        log_prior_volume,
+        mut sigma_p,
+        mut sigma_cov,
+        corr,
+        ..
+    } = c;
+    // a parameter the data do not constrain (its Jacobian column is zero: an effect pinned at
+    // values where it vanishes) has an infinite variance; its uncertainty is then its allowed
+    // range, which is what the report states, instead of failing the fit (a candidate or a
+    // baseline that lands there is a legitimate, if poor, optimum)
+    for (k, &i) in fidx.iter().enumerate() {
+        let range = from_u(&specs[i], hi[k]) - from_u(&specs[i], lo[k]);
+        for s in [&mut sigma_p, &mut sigma_cov] {
+            if !ns.resolved[k] {
+                // along a symmetry: no sigma from the covariance on the resolved directions
+                s[i] = f64::INFINITY;
+            }
+            if range.is_finite() && (s[i].is_nan() || s[i] > range) {
+                s[i] = range;
+            }
+        }
+    }
+    let finite = chi2.is_finite()
+        && sig.is_finite()
+        && sig > 0.0
+        && p.iter().all(|v| v.is_finite())
+        && pred.iter().all(|v| v.is_finite())
+        && sigma_p
+            .iter()
+            .zip(&resolved)
+            .all(|(v, r)| v.is_finite() || !r);
+    if !finite {
+        return Err(FitError::input(
+            &prep.dataset.name,
+            0,
+            format!(
+                "the fit of {} gave non-finite values (chi-square {chi2:e}, noise {sig:e}); \
+                 the data or the constraints overflow the model's arithmetic",
+                model
+                    .effects
+                    .iter()
+                    .map(|e| e.name())
+                    .collect::<Vec<_>>()
+                    .join("+")
+            ),
+        ));
+    }
+    let combinations =
+        crate::identify::combinations(model, &p, fidx, &ns, inflate, &prep.dataset.known);
+    Ok(FitOutcome {
+        model: model.clone(),
+        p,
+        free: pb.free.clone(),
+        sigma_p,
+        sigma_cov,
+        corr,
+        pred,
+        chi2,
+        n,
+        n_free,
+        starts: n_starts,
+        sigma: sig,
+        sigma_source,
+        half_log_det_2pi_cov,
+        log_prior_volume,
+        step_ratio,
+        combinations,
+        resolved,
+        symmetries: ns.symmetries,
+        held: Vec::new(),
+    })
+}
+
+/// `ln det a` of a symmetric positive-definite matrix (scaled to unit diagonal, then its
+/// eigenvalues); `None` when it is singular to the precision of [`invert_spd`]'s cut.
+fn log_det_spd(a: &DMatrix<f64>) -> Option<f64> {
+    let n = a.nrows();
+    if n == 0 {
+        return Some(0.0);
+    }
+    let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
+    let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
+    let eig = crate::numeric::linalg::sym_eigen(s)?;
+    let max = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
+    let mut ld = d.iter().map(|v| 2.0 * v.ln()).sum::<f64>();
+    for &lam in eig.eigenvalues.iter() {
+        if !(lam > max * 1e-15 && lam > 0.0) {
+            return None;
+        }
+        ld += lam.ln();
+    }
+    ld.is_finite().then_some(ld)
+}
+
+/// Most refinements restarted from a point a profile found below the best fit.
+const PROFILE_RESTARTS: usize = 2;
+
+/// Doublings of the profile step (up to 16 covariance sigmas).
+const PROFILE_DOUBLINGS: usize = 5;
+
+/// Inverse of a symmetric positive semi-definite matrix; a singular direction gets an infinite
+/// variance rather than the pseudo-inverse's optimistic zero.
+fn invert_spd(a: &DMatrix<f64>) -> DMatrix<f64> {
+    let n = a.nrows();
+    if n == 0 {
+        return DMatrix::zeros(0, 0);
+    }
+    // scale to unit diagonal for conditioning
+    let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
+    let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
+    let Some(eig) = crate::numeric::linalg::sym_eigen(s.clone()) else {
+        // not finite: no covariance (every sigma unresolved)
+        return DMatrix::from_element(n, n, f64::NAN);
+    };
+    let max = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
+    let mut inv = DMatrix::zeros(n, n);
+    for k in 0..n {
+        let lam = eig.eigenvalues[k];
+        let li = if lam > max * 1e-15 && lam > 0.0 {
+            1.0 / lam
+        } else {
+            1e30
+        };
+        let v = eig.eigenvectors.column(k);
+        inv += v * v.transpose() * li;
+    }
+    DMatrix::from_fn(n, n, |i, j| inv[(i, j)] / (d[i] * d[j]))
+}

@@ -1,0 +1,20 @@
+//! The numeric core of the fitting engine: what a least-squares identification needs from
+//! numerical analysis and statistics, knowing nothing of datasets, models, effects or scenarios
+//! (it never imports the identification modules of this crate; `modules_form_no_cycle` in
+//! `lib.rs` checks it).
+//!
+//! - [`lm`]: bounded Levenberg-Marquardt with finite-difference (or exact) Jacobians.
+//! - [`linalg`]: symmetric eigen-decomposition and pseudo-inverse with stated failure.
+//! - [`residual`]: noise from differences, Ljung-Box whiteness, failure windows.
+//! - [`noise`]: coloured (AR) measurement noise, Burg's method, the whitening filter.
+//! - [`ensemble`]: the affine-invariant ensemble sampler, autocorrelation times, marginals.
+//! - [`posterior`]: posterior summaries (truncated normals of the Laplace approximation).
+//! - [`progress`]: the progress hook long computations report to.
+
+pub mod ensemble;
+pub mod linalg;
+pub mod lm;
+pub mod noise;
+pub mod posterior;
+pub mod progress;
+pub mod residual;
