@@ -45,7 +45,7 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
         })
         .collect();
     render((900, 480), |root| {
-        let mut c = ChartBuilder::on(&root)
+        let mut c = ChartBuilder::on(root)
             .caption(
                 format!("Adhesion force-to-elongation curves: {n} draws of the Monte Carlo budget"),
                 font(24),
@@ -112,7 +112,7 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
     let vz_only = grid(&|s| (s * vz_req / vz_lim).powi(4));
     let s_box = criterion::max_box_scale(x);
     render((900, 520), |root| {
-        let mut c = ChartBuilder::on(&root)
+        let mut c = ChartBuilder::on(root)
             .caption("DFACS quartic capture criterion", font(24))
             .margin(14)
             .x_label_area_size(50)
@@ -218,7 +218,7 @@ pub fn tip_radius_svg(
     let y0 = ys.iter().copied().fold(f64::INFINITY, f64::min) / 2.0;
     let y1 = ys.iter().copied().fold(0.0f64, f64::max) * 2.0;
     render((900, 540), |root| {
-        let mut c = ChartBuilder::on(&root)
+        let mut c = ChartBuilder::on(root)
             .caption("Worst-case release velocity against tip radius", font(22))
             .margin(14)
             .x_label_area_size(50)

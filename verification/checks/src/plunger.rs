@@ -282,7 +282,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
         } else {
             (1e-5, 10.0)
         };
-        let mut c = ChartBuilder::on(&root)
+        let mut c = ChartBuilder::on(root)
             .caption(
                 "Plunger attraction: |net force| / DFACS authority (5e-7 N)",
                 font(22),

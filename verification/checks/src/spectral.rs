@@ -270,7 +270,7 @@ pub fn asd_svg(req: &Requirement, asd: &Asd) -> Result<String, CheckError> {
     }
     let (y0, y1) = (y0 / 2.0, y1 * 2.0);
     render((900, 520), |root| {
-        let mut c = ChartBuilder::on(&root)
+        let mut c = ChartBuilder::on(root)
             .caption(
                 format!("{}: amplitude spectral density against its limit", req.id),
                 font(22),

@@ -235,7 +235,7 @@ pub fn adhesion_svg(r: &CampaignReport) -> Result<Option<String>, FitError> {
             (Some(v), None) => format!("rho {v:+.2}"),
             _ => "rho not estimated".to_string(),
         };
-        let mut c = ChartBuilder::on(&root)
+        let mut c = ChartBuilder::on(root)
             .caption(
                 format!("adhesion across {} releases: {rho_txt}", pts.len()),
                 font(21),

@@ -93,7 +93,7 @@ pub fn difference_svg(reg: &Registration, title: &str) -> String {
     }
     let scale = (3.0 * reg.change_threshold_m).max(1e-30);
     render((900, 820), |root| {
-        let Ok(mut chart) = ChartBuilder::on(&root)
+        let Ok(mut chart) = ChartBuilder::on(root)
             .caption(title, font(20))
             .margin(12)
             .x_label_area_size(40)

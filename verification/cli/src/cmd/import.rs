@@ -198,7 +198,7 @@ fn options(a: &ReqifArgs) -> Result<ImportOptions, CliError> {
 fn write_staged(out: &Path, families: &[ImportedFamily]) -> Result<(), CliError> {
     // write whole or not at all: stage in DIR/.staging-PID, then move the files into DIR
     if out.is_dir() {
-        let existing = std::fs::read_dir(&out)
+        let existing = std::fs::read_dir(out)
             .map_err(|e| CliError::Io(format!("{}: {e}", out.display())))?
             .filter_map(|e| e.ok())
             .any(|e| {
