@@ -3,10 +3,32 @@
 //! [`drag_free_cubesat`] (`missions/drag-free-cubesat/`). The `geodesic` program registers
 //! [`all`]; `geodesic verify --mission NAME` picks one.
 
+mod cmd;
 pub mod drag_free_cubesat;
+mod inputs;
+mod threads;
 pub mod lisa_pathfinder;
 
 use geodesic_verify::Mission;
+// the paths the commands were written with
+use geodesic_verify::{preflight, progress, quantity};
+
+/// The commands' error type.
+mod error {
+    pub use geodesic_verify::error::{CmdResult, Error as CliError};
+}
+
+/// The root mission's requirement set, for its commands.
+mod missions {
+    use std::path::PathBuf;
+
+    /// The root mission's requirement set (`dir` if given), with its source label and SHA-256.
+    pub fn load_requirements(
+        dir: Option<&PathBuf>,
+    ) -> Result<(geodesic_core::Requirements, String, String), crate::error::CliError> {
+        geodesic_verify::pipeline::load_requirements(&crate::lisa_pathfinder::mission(), dir)
+    }
+}
 
 /// Every mission of the repository; the first is the root mission (`verify` without
 /// `--mission`).
@@ -16,7 +38,7 @@ pub fn all() -> Vec<Mission> {
 
 /// The missions' own commands for the `geodesic` program (beside the framework's).
 pub fn commands() -> Vec<geodesic_verify::plugin::PluginCommand> {
-    Vec::new()
+    cmd::commands()
 }
 
 /// Checks a time series (the spectral check's input) before anything runs.

@@ -8,10 +8,8 @@
 
 mod cmd;
 mod error;
-mod inputs;
 mod missions;
 mod quantity;
-mod threads;
 mod usage;
 
 use geodesic_verify::{preflight, progress};
@@ -61,17 +59,6 @@ enum Command {
 Exit status: 0 nothing non-compliant (with --baseline: nothing regressed), 1 a non-compliance
 or a regression, 2 bad input.")]
     Verify(cmd::verify::Args),
-    /// Run the in-flight release Monte Carlo.
-    #[command(after_help = "Examples:
-  geodesic montecarlo --n 100000 --seed 1
-  geodesic montecarlo --n 100000 --case adhesion --budget my-budget.yaml --json
-  geodesic montecarlo --n 1000000 --seed 1 --shard 2/8 --out parts/part-2.json   # then `geodesic merge`")]
-    Montecarlo(cmd::montecarlo::Args),
-    /// Merge partial Monte Carlo results written with --shard.
-    #[command(after_help = "Examples:
-  geodesic merge parts/part-*.json
-  geodesic merge parts/part-1.json parts/part-2.json --json")]
-    Merge(cmd::merge::Args),
     /// Fit a model (a list of effects) to a measurement dataset.
     #[command(after_help = "Examples:
   geodesic effects --scenario tmmf-release                 # the effects you can fit
@@ -97,19 +84,6 @@ Writes X.yaml, X.csv and X.truth.json (the truth parameters) beside each other."
   geodesic history data/examples/tmmf-adhesion.yaml
   geodesic history tmmf-adhesion --json")]
     History(cmd::history::Args),
-    /// Charge left on the TM after release (contact electrification).
-    #[command(after_help = "Examples:
-  geodesic charge
-  geodesic charge --c-rt-pf 2.5 --json          # the thesis's rounded C_RT
-  geodesic charge --dv-2sigma-v 0.5V --neutralise-e \"-1e8 e\"")]
-    Charge(cmd::charge::Args),
-    /// Evaluate the DFACS quartic capture criterion for one TM state.
-    #[command(after_help = "Examples:
-  geodesic capture --vz 3um/s                        # exit 1 when the TM is not captured
-  geodesic capture --vz 12um/s --x 20um --thz 1mrad --json
-  geodesic capture --state state.yaml --vz-samples velocities.txt
-Values may carry units; bare numbers are SI (m, m/s, rad, rad/s).")]
-    Capture(cmd::capture::Args),
     /// List the effect catalogue: effects, scenarios, parameters with units and ranges.
     #[command(after_help = "Examples:
   geodesic effects
@@ -129,8 +103,6 @@ See docs/exchange.md.")]
     Import(cmd::import::Args),
     /// Fit every release of a campaign, tabulate P_x, F_peak, dt and estimate the adhesion population
     Campaign(cmd::campaign::Args),
-    /// What drives the release velocity: Saltelli/Jansen indices per uncertainty group
-    Sensitivity(cmd::sensitivity::Args),
     /// The discovery loop: diagnose, add the supported effect, refit, until the residual is noise
     Discover(cmd::discover::Args),
     /// The release tip's trajectory from high-speed camera frames (threshold crossings)
@@ -139,11 +111,6 @@ See docs/exchange.md.")]
     Surfaces(cmd::surfaces::Args),
     /// Amplitude spectral density of a time series judged against a spectral requirement
     Asd(cmd::asd::Args),
-    /// The plungers' attraction on the charged TM in the 25 s after the release
-    Plunger(cmd::plunger::Args),
-    /// The tip-radius trade-off: worst-case release velocity against tip radius
-    #[command(name = "tip-radius")]
-    TipRadius(cmd::tipradius::Args),
     /// Validate, list and show the requirements (status and evidence from the last run)
     #[command(after_help = "Examples:
   geodesic requirements check                       # validate requirements/ only (exit 2: file:line:column)
@@ -246,24 +213,17 @@ fn main() -> ExitCode {
 fn run(command: Command) -> error::CmdResult {
     match command {
         Command::Verify(a) => cmd::verify::run(a),
-        Command::Montecarlo(a) => cmd::montecarlo::run(a),
-        Command::Merge(a) => cmd::merge::run(a),
         Command::Fit(a) => cmd::fit::run(a),
         Command::Diagnose(a) => cmd::diagnose::run(a),
         Command::Synth(a) => cmd::synth::run(a),
         Command::History(a) => cmd::history::run(a),
-        Command::Charge(a) => cmd::charge::run(a),
-        Command::Capture(a) => cmd::capture::run(a),
         Command::Effects(a) => cmd::effects::run(a),
         Command::Export(a) => cmd::export::run(a),
         Command::Import(a) => cmd::import::run(a),
         Command::Discover(a) => cmd::discover::run(a),
-        Command::Sensitivity(a) => cmd::sensitivity::run(a),
         Command::Campaign(a) => cmd::campaign::run(a),
         Command::Tiptrack(a) => cmd::tiptrack::run(a),
         Command::Asd(a) => cmd::asd::run(a),
-        Command::TipRadius(a) => cmd::tipradius::run(a),
-        Command::Plunger(a) => cmd::plunger::run(a),
         Command::Surfaces(a) => cmd::surfaces::run(a),
         Command::Requirements(a) => cmd::requirements::run(a),
         Command::New(a) => cmd::new::run(a),

@@ -1,6 +1,5 @@
-//! Commands a mission adds to a program (`geodesic capture`, `geodesic charge`, ... are the
-//! root mission's): each a clap command and the function that runs it. The `geodesic` program
-//! lists the commands of every registered mission beside its own.
+//! Commands a mission adds to a program: each a clap command and the function that runs it.
+//! The `geodesic` program lists the commands of every registered mission beside its own.
 
 use crate::error::CmdResult;
 use clap::{ArgMatches, Command};
@@ -14,15 +13,19 @@ pub struct PluginCommand {
 }
 
 impl PluginCommand {
-    /// A command from a clap-derived `Args` type and its `run` function.
+    /// A command named `name` from a clap-derived `Args` type, its one-line `about`, its
+    /// examples (`after_help`) and its `run` function.
     pub fn of<A: clap::Args + clap::FromArgMatches>(
-        command: Command,
+        name: &'static str,
+        about: &'static str,
+        after_help: Option<&'static str>,
         run: fn(&ArgMatches) -> CmdResult,
     ) -> PluginCommand {
-        PluginCommand {
-            command: A::augment_args(command),
-            run,
+        let mut command = A::augment_args(Command::new(name)).about(about);
+        if let Some(h) = after_help {
+            command = command.after_help(h);
         }
+        PluginCommand { command, run }
     }
 
     /// The command's name.

@@ -12,7 +12,6 @@ use std::path::PathBuf;
 /// Flags of `geodesic asd`.
 #[derive(clap::Args, Debug)]
 #[command(after_help = "Examples:
-  geodesic asd data/spectra/lpf-da-example.yaml --requirement LPF-DA-ASD
   geodesic asd series.yaml --requirement DFC-ACC-ASD --requirements missions/drag-free-cubesat/requirements --json
 SERIES.yaml: `data` (CSV beside it), `time_column` (default t, seconds, uniformly sampled),
 `channel` (the CSV column) and its `unit`; see docs/spectra.md.")]

@@ -1,5 +1,5 @@
 //! `geodesic campaign DIR|CAMPAIGN.yaml --effects E`: fits every release of a campaign in
-//! parallel, tabulates P_x, F_peak and dt as the thesis does (ch. 5), and estimates the adhesion
+//! parallel, tabulates P_x, F_peak and dt as a campaign report does, and estimates the adhesion
 //! population with the measurement errors deconvolved (issue 14; interface.md). Thin: the work
 //! is in `geodesic_fit::campaign`.
 

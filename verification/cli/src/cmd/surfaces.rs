@@ -1,6 +1,6 @@
 //! `geodesic surfaces BEFORE.yaml AFTER.yaml`: registration of two surface height maps of the
 //! same spot before and after contact, the difference map and a two-sample Kolmogorov-Smirnov
-//! test of the heights (thesis ch. 5 and appendix "Surfaces matching"; interface.md). Thin: the
+//! test of the heights (interface.md). Thin: the
 //! analysis is in `geodesic-images`.
 
 use crate::error::{CliError, CmdResult};

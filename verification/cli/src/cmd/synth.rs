@@ -198,7 +198,7 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
         .is_some_and(|s| s != "tmmf-release")
     {
         return Err(CliError::bad(
-            "--campaign writes tmmf-release campaigns (the thesis's ch. 5)",
+            "--campaign writes tmmf-release campaigns (a campaign of TMMF releases)",
         ));
     }
     let d = TruePopulation::default();

@@ -1,5 +1,5 @@
 //! `geodesic tiptrack FRAMES.yaml`: the release tip's trajectory from high-speed camera frames
-//! (thesis appendix "Mitigation of Non Linear Motion of the Ground Release Tip"; interface.md).
+//! (threshold crossings; interface.md).
 //! Thin: the analysis is in `geodesic-images`.
 
 use crate::error::{CliError, CmdResult};
