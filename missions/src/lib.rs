@@ -6,8 +6,8 @@
 mod cmd;
 pub mod drag_free_cubesat;
 mod inputs;
-mod threads;
 pub mod lisa_pathfinder;
+mod threads;
 
 use geodesic_verify::Mission;
 // the paths the commands were written with

@@ -6,18 +6,18 @@ use geodesic_verify::plugin::{PluginCommand, args};
 
 pub mod capture;
 pub mod charge;
-pub mod montecarlo;
 pub mod merge;
+pub mod montecarlo;
 pub mod plunger;
-pub mod tipradius;
 pub mod sensitivity;
+pub mod tipradius;
 
 /// The commands, each with its help and examples.
 pub fn commands() -> Vec<PluginCommand> {
     vec![
         PluginCommand::of::<capture::Args>(
             "capture",
-            "Evaluate the DFACS quartic capture criterion for one TM state.",
+            "Evaluate the DFACS quartic capture criterion for one TM state",
             Some("Examples:
   geodesic capture --vz 3um/s                        # exit 1 when the TM is not captured
   geodesic capture --vz 12um/s --x 20um --thz 1mrad --json
@@ -25,21 +25,21 @@ pub fn commands() -> Vec<PluginCommand> {
 Values may carry units; bare numbers are SI (m, m/s, rad, rad/s)."), |m| capture::run(args(m)?)),
         PluginCommand::of::<charge::Args>(
             "charge",
-            "Charge left on the TM after release (contact electrification).",
+            "Charge left on the TM after release (contact electrification)",
             Some("Examples:
   geodesic charge
   geodesic charge --c-rt-pf 2.5 --json          # the thesis's rounded C_RT
   geodesic charge --dv-2sigma-v 0.5V --neutralise-e \"-1e8 e\""), |m| charge::run(args(m)?)),
         PluginCommand::of::<montecarlo::Args>(
             "montecarlo",
-            "Run the in-flight release Monte Carlo.",
+            "Run the in-flight release Monte Carlo",
             Some("Examples:
   geodesic montecarlo --n 100000 --seed 1
   geodesic montecarlo --n 100000 --case adhesion --budget my-budget.yaml --json
   geodesic montecarlo --n 1000000 --seed 1 --shard 2/8 --out parts/part-2.json   # then `geodesic merge`"), |m| montecarlo::run(args(m)?)),
         PluginCommand::of::<merge::Args>(
             "merge",
-            "Merge partial Monte Carlo results written with --shard.",
+            "Merge partial Monte Carlo results written with --shard",
             Some("Examples:
   geodesic merge parts/part-*.json
   geodesic merge parts/part-1.json parts/part-2.json --json"), |m| merge::run(args(m)?)),

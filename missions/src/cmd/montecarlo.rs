@@ -77,13 +77,6 @@ fn parse_shard(s: &str) -> Result<(usize, usize), CliError> {
     Ok((i, k))
 }
 
-/// Writes `bytes` to `path` whole or not at all: [`geodesic_util::output::write_atomic`]. Kept
-/// for `cmd/synth.rs` (part F's file), which should call that directly.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    geodesic_util::output::write_atomic(path, bytes)?;
-    Ok(())
-}
-
 /// REL-GPRM-VEL's limit [um/s] from the requirements `verify` would load (`./requirements`
 /// when run from the repository's root, else the built-in set): the limit against which
 /// `probability_met` is judged and the histogram's red line.

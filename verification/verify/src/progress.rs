@@ -44,6 +44,9 @@ pub fn enabled(json: bool) -> bool {
     }
 }
 
+/// A callback receiving a library's progress lines (`line`, `milestone`).
+pub type LineHook = std::sync::Arc<dyn Fn(&str, bool) + Send + Sync>;
+
 /// A task whose progress is shown: a counted bar or a spinner with the elapsed time.
 pub struct Task {
     bar: Option<indicatif::ProgressBar>,
@@ -157,7 +160,7 @@ impl Task {
     /// on a terminal the line replaces the spinner's message; with `--progress` elsewhere each
     /// stage is a line and the iterations between are thinned to one line every 2 s; `None`
     /// when progress is not shown.
-    pub fn fit_hook(&self) -> Option<std::sync::Arc<dyn Fn(&str, bool) + Send + Sync>> {
+    pub fn fit_hook(&self) -> Option<LineHook> {
         if self.bar.is_none() && !self.plain {
             return None;
         }

@@ -263,10 +263,10 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
             .map(|n| format!("  - {n}\n"))
             .collect::<String>()
     );
-    crate::cmd::montecarlo::write_atomic(&dir.join("campaign.yaml"), list.as_bytes())?;
+    geodesic_core::output::write_atomic(&dir.join("campaign.yaml"), list.as_bytes())?;
     let doc = serde_json::json!({"population": pop, "seed": args.seed, "releases": truth});
     let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
-    crate::cmd::montecarlo::write_atomic(&dir.join("truth.json"), text.as_bytes())?;
+    geodesic_core::output::write_atomic(&dir.join("truth.json"), text.as_bytes())?;
     if args.json {
         println!(
             "{}",
