@@ -9,8 +9,8 @@
 //!
 //! and its program runs the verification (`verify`, or no command at all) with the flags
 //! `geodesic verify` has (`--reports DIR`, `--json`, `--baseline OLD.json`, `--require-tests`,
-//! `--junit FILE`, `--mc-n`, `--seed`, `--only`, `--NAME FILE` for each declared input), lists
-//! and checks its requirements (`requirements list|check`), and exports them as ReqIF
+//! `--junit FILE`, `--mc-n`, `--seed`, `--only`, `--NAME FILE` for each declared input), lists,
+//! checks and shows its requirements (`requirements check|list|show ID`), and exports them as ReqIF
 //! (`export-reqif --out FILE [--matrix compliance.json]`). Its traced tests (`verifies!`) are
 //! recorded by `cargo test` with `GEODESIC_TEST_RECORD` set (see [`geodesic_core::testrun`]).
 
@@ -18,7 +18,6 @@ use crate::error::Error;
 use crate::mission::Mission;
 use crate::pipeline::{self, Options};
 use clap::{Arg, ArgAction, ArgMatches, Command};
-use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -203,27 +202,6 @@ fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
     Ok(0)
 }
 
-fn requirements_cmd(mission: &Mission, list: bool, m: &ArgMatches) -> Result<u8, Error> {
-    let (reqs, source, hash) =
-        pipeline::load_requirements(mission, m.get_one::<PathBuf>("requirements"))?;
-    let names = mission.check_names();
-    reqs.validate_checks(&names)
-        .map_err(|e| Error::bad(e.to_string()))?;
-    let mut o = std::io::stdout().lock();
-    if list {
-        for r in &reqs.items {
-            let _ = writeln!(o, "{}\t{}\t{}", r.id, r.family, r.title);
-        }
-    } else {
-        let _ = writeln!(
-            o,
-            "{source}: {} requirements valid (sha256 {hash})",
-            reqs.items.len()
-        );
-    }
-    Ok(0)
-}
-
 /// The program of a project verified with geodesic: `verify` (the default), `requirements
 /// list|check`, `export-reqif`. Exit status: 0 compliant (with `--baseline`: nothing
 /// regressed), 1 non-compliant or regressed, 2 bad input with a one-line cause.
@@ -257,12 +235,10 @@ pub fn main(mission: Mission) -> ExitCode {
                 Command::new("verify").about("Check every requirement and write the reports"),
                 &[&mission],
             ))
-            .subcommand(
+            .subcommand(<crate::requirements::Args as clap::Args>::augment_args(
                 Command::new("requirements")
-                    .about("List or check the requirement set")
-                    .subcommand(Command::new("list").arg(req_arg()))
-                    .subcommand(Command::new("check").arg(req_arg())),
-            )
+                    .about("Validate, list and show the requirements (status and evidence from the last run)"),
+            ))
             .subcommand(
                 Command::new("export-reqif")
                     .about("Export the requirements (and the VCD status) as ReqIF 1.2")
@@ -290,10 +266,12 @@ pub fn main(mission: Mission) -> ExitCode {
         }
     };
     let res = match m.subcommand() {
-        Some(("requirements", sub)) => match sub.subcommand() {
-            Some((name, s)) => requirements_cmd(&mission, name == "list", s),
-            None => requirements_cmd(&mission, false, sub),
-        },
+        Some(("requirements", sub)) => {
+            match <crate::requirements::Args as clap::FromArgMatches>::from_arg_matches(sub) {
+                Ok(a) => crate::requirements::run(&mission, a),
+                Err(e) => Err(Error::bad(e.to_string())),
+            }
+        }
         Some(("export-reqif", sub)) => export_reqif(&mission, sub),
         Some((_, sub)) => run_verify(&program, &mission, sub),
         None => run_verify(&program, &mission, &m),

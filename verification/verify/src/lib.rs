@@ -20,6 +20,7 @@ pub mod plugin;
 pub mod preflight;
 pub mod progress;
 pub mod quantity;
+pub mod requirements;
 pub mod scaffold;
 
 pub use error::Error;
