@@ -11,7 +11,8 @@ The guide's steps are read from the guide itself (its "## Steps" section), not c
   5. the second ```rust block is written to the test file step 5 names, and `mod NAME;` into
      that test binary's main.rs among its `mod` lines in name order;
   6. every command of the plain ``` block of step 6 is run, in order, from the tree's root.
-Then the promise of step 6 is checked: every command exits 0, and the row `verify` prints for
+Then the promise of step 6 is checked: every command exits 0, or the status its comment states
+(`# exits N`), and the row `verify` prints for
 the new requirement holds, in order, each part of the row the guide quotes after "prints"
 (its ID, `compliant`, the basis, the value, the limit, the margin), and is not non-compliant.
 
@@ -190,8 +191,10 @@ def main():
             r = subprocess.run(cmd, shell=True, cwd=tree, env=env, capture_output=True, text=True)
             sys.stdout.write(r.stdout[-3000:])
             sys.stderr.write(r.stderr[-2000:])
-            if r.returncode != 0:
-                fail(f"`{cmd}` exited {r.returncode}")
+            m = re.search(r"#\s*exits\s+(\d+)", cmd)
+            expected = int(m.group(1)) if m else 0
+            if r.returncode != expected:
+                fail(f"`{cmd}` exited {r.returncode}, not {expected}")
             if " verify " in f" {cmd} ":
                 verify_out = r.stdout
         if verify_out is None:
