@@ -9,6 +9,9 @@ each Markdown link `[text](target)` outside code blocks and code spans:
     GitHub makes it (lower case, punctuation other than `-` and `_` dropped, spaces to `-`, a
     repeated heading suffixed `-1`, `-2`, ...).
 Prints one line per broken link, `file:line: target: why`, and exits 1 if there is any, else 0.
+A page listed in PENDING (written in parallel, landing with issue 34) may be missing: its links
+are reported as a warning until it exists, then checked as every other; remove it from the list
+once it has landed.
 
 Usage: .ci/links.py [FILE.md ...]   (default: the pages above)
 """
@@ -53,6 +56,10 @@ def strip_code(lines):
         out.append(re.sub(r"(`+)(.+?)\1", "", line))
     return out
 
+
+# pages being written in parallel on another branch (issue 34, part F), relative to the root
+PENDING = {"docs/scenario.md"}
+WARNINGS = []
 
 _anchors = {}
 
@@ -100,7 +107,11 @@ def check(page):
             path, _, anchor = t.partition("#")
             target = (page.parent / path).resolve() if path else page
             if path and not target.exists():
-                errors.append(f"{rel}:{no}: {t}: no such file or folder")
+                inside = target.is_relative_to(ROOT)
+                if inside and str(target.relative_to(ROOT)) in PENDING:
+                    WARNINGS.append(f"{rel}:{no}: {t}: not there yet (pending: landing with issue 34)")
+                else:
+                    errors.append(f"{rel}:{no}: {t}: no such file or folder")
                 continue
             try:
                 target.relative_to(ROOT)
@@ -120,6 +131,8 @@ def main():
     errors, links = [], 0
     for f in files:
         errors += check(f)
+    for w in WARNINGS:
+        print(f"warning: {w}")
     for e in errors:
         print(e)
     if errors:
