@@ -1,17 +1,19 @@
 #!/usr/bin/env python3
 """Follows docs/guide-check.md ("Adding a check and a requirement family") exactly as written.
 
-The guide's steps are read from the guide itself (its "## Steps" section), not copied here:
-  1. the first ```yaml block is written to the requirement file step 1 names;
-  2. the first ```rust block is written to the check's file step 2 names;
-  3. the two snippets of step 3 (`pub mod NAME;`, `all.extend(NAME::checks());`) go into the
-     file it names: the module among the `pub mod` lines in name order, the registration after
-     the last `all.extend(` line of `registry_with`;
-  4. the entry of step 4 goes into `REQUIREMENTS` of the file it names, in file-name order;
-  5. the second ```rust block is written to the test file step 5 names, and `mod NAME;` into
-     that test binary's main.rs among its `mod` lines in name order;
-  6. every command of the plain ``` block of step 6 is run, in order, from the tree's root.
-Then the promise of step 6 is checked: every command exits 0, or the status its comment states
+The guide's steps are read from the guide itself (its "## Steps" section), not copied here,
+each found by what it does rather than by its number:
+  - the step with the ```yaml block: written to the requirement file it names;
+  - the step with a ```rust block naming a file of verification/checks/src/: the check;
+  - the step naming `all.extend(`: its two snippets (`pub mod NAME;`,
+    `all.extend(NAME::checks());`) go into the file it names, the module among the `pub mod`
+    lines in name order, the registration after the last `all.extend(` of `registry_with`;
+  - the step naming verification/cli/src/builtin.rs, if there is one: its entry goes into
+    `REQUIREMENTS`, in file-name order;
+  - the step with a ```rust block naming verification/checks/tests/: the traced test, and
+    `mod NAME;` into that test binary's main.rs among its `mod` lines in name order;
+  - the step with the plain ``` block: every command run, in order, from the tree's root.
+Then the promise of that step is checked: every command exits 0, or the status its comment states
 (`# exits N`), and the row `verify` prints for
 the new requirement holds, in order, each part of the row the guide quotes after "prints"
 (its ID, `compliant`, the basis, the value, the limit, the margin), and is not non-compliant.
@@ -44,14 +46,6 @@ def section(text):
     start = text.index("\n## Steps")
     end = text.find("\n## ", start + 5)
     return text[start:] if end < 0 else text[start:end]
-
-
-def step(sec, n):
-    """The text of step `n` (from `n. ` at the start of a line to the next step)."""
-    m = re.search(rf"^{n}\. (.*?)(?=^{n + 1}\. |\Z)", sec, re.S | re.M)
-    if not m:
-        fail(f"the guide has no step {n}")
-    return m.group(0)
 
 
 def blocks(sec):
@@ -96,25 +90,41 @@ def insert_sorted(text, pattern, line):
     return "".join(lines)
 
 
+def steps_of(sec):
+    """The text of every numbered step (`N. ` at the start of a line up to the next one)."""
+    return [m.group(0) for m in re.finditer(r"^\d+\. .*?(?=^\d+\. |\Z)", sec, re.S | re.M)]
+
+
+def flat(text):
+    return re.sub(r"\s*\n\s*", " ", text)
+
+
+def the_step(steps, what, pred, optional=False):
+    found = [t for t in steps if pred(t)]
+    if not found:
+        if optional:
+            return None
+        fail(f"the guide has no step {what}")
+    return found[0]
+
+
 def apply_steps(tree, sec):
-    bl = blocks(sec)
-    yaml = [c for (lang, c) in bl if lang == "yaml"]
-    rust = [c for (lang, c) in bl if lang == "rust"]
-    plain = [c for (lang, c) in bl if lang == ""]
-    if not yaml or len(rust) < 2 or not plain:
-        fail("the steps have not the yaml block, the two rust blocks and the command block they had")
-    # 1: the requirement family
-    s1 = step(sec, 1)
-    create(tree, path_in(s1, r"`(requirements/[^`]+\.yaml)`"), yaml[0])
-    # 2: the check
-    s2 = step(sec, 2)
-    create(tree, path_in(s2, r"`(verification/checks/src/[^`]+\.rs)`"), rust[0])
-    # 3: registration
-    s3 = step(sec, 3)
-    lib = tree / path_in(s3, r"`(verification/checks/src/lib\.rs)`")
-    sn = snippets(s3)
-    mod_line = next(s for s in sn if s.startswith("pub mod "))
-    reg_line = next(s for s in sn if s.startswith("all.extend("))
+    """Applies the steps, found by what they do (not by their number, so that a step added or
+    removed does not shift the others): returns the command block and the promised row."""
+    steps = steps_of(sec)
+    code = lambda t, lang: [c for (l, c) in blocks(t) if l == lang]
+    # the requirement family: the step with the yaml block
+    s = the_step(steps, "with a yaml block", lambda t: code(t, "yaml"))
+    create(tree, path_in(s, r"`(requirements/[^`]+\.yaml)`"), code(s, "yaml")[0])
+    # the check: the step with a rust block that names a file of verification/checks/src/
+    s = the_step(steps, "creating the check", lambda t: code(t, "rust") and re.search(r"`verification/checks/src/\w+\.rs`", flat(t)))
+    create(tree, path_in(s, r"`(verification/checks/src/\w+\.rs)`"), code(s, "rust")[0])
+    # registration: `pub mod NAME;` and `all.extend(NAME::checks());` in the file it names
+    s = the_step(steps, "registering the check", lambda t: "`all.extend(" in flat(t))
+    lib = tree / path_in(s, r"`(verification/checks/src/lib\.rs)`")
+    sn = snippets(s)
+    mod_line = next(x for x in sn if x.startswith("pub mod "))
+    reg_line = next(x for x in sn if x.startswith("all.extend("))
     text = insert_sorted(lib.read_text(), r"^pub mod (\w+);$", mod_line)
     lines = text.splitlines(keepends=True)
     start = next(i for i, l in enumerate(lines) if "fn registry_with" in l)
@@ -125,35 +135,36 @@ def apply_steps(tree, sec):
     indent = re.match(r"\s*", lines[last]).group(0)
     lines.insert(last + 1, indent + reg_line.strip() + "\n")
     lib.write_text("".join(lines))
-    # 4: the built-in embedding
-    s4 = step(sec, 4)
-    builtin = tree / path_in(s4, r"`(verification/cli/src/builtin\.rs)`")
-    entry = next(s for s in snippets(s4) if s.startswith("(\"") and s.endswith("),"))
-    name = re.match(r'\("([^"]+)"', entry).group(1)
-    lines = builtin.read_text().splitlines(keepends=True)
-    start = next(i for i, l in enumerate(lines) if "REQUIREMENTS" in l and "&[" in l)
-    end = next(i for i in range(start, len(lines)) if lines[i].strip() == "];")
-    at = end
-    for i in range(start, end):
-        m = re.match(r'\s*"([^"]+\.yaml)",', lines[i])
-        if m and m.group(1) > name:
-            at = i - 1 if lines[i - 1].strip() == "(" else i
-            break
-    lines.insert(at, "    " + entry.strip() + "\n")
-    builtin.write_text("".join(lines))
-    # 5: the traced test and its module
-    s5 = step(sec, 5)
-    test = path_in(s5, r"`(verification/checks/tests/[^`]+\.rs)`")
-    create(tree, test, rust[1])
+    # the built-in embedding, when the guide has that step (the binary's list of family files)
+    s = the_step(steps, "embedding", lambda t: "`verification/cli/src/builtin.rs`" in flat(t), optional=True)
+    if s is not None:
+        builtin = tree / "verification/cli/src/builtin.rs"
+        entry = next(x for x in snippets(s) if x.startswith("(\"") and x.endswith("),"))
+        name = re.match(r'\("([^"]+)"', entry).group(1)
+        lines = builtin.read_text().splitlines(keepends=True)
+        start = next(i for i, l in enumerate(lines) if "REQUIREMENTS" in l and "&[" in l)
+        end = next(i for i in range(start, len(lines)) if lines[i].strip() == "];")
+        at = end
+        for i in range(start, end):
+            m = re.match(r'\s*"([^"]+\.yaml)",', lines[i])
+            if m and m.group(1) > name:
+                at = i - 1 if lines[i - 1].strip() == "(" else i
+                break
+        lines.insert(at, "    " + entry.strip() + "\n")
+        builtin.write_text("".join(lines))
+    # the traced test and its module in the test binary's main.rs
+    s = the_step(steps, "adding the traced test", lambda t: code(t, "rust") and "verification/checks/tests/" in flat(t))
+    test = path_in(s, r"`(verification/checks/tests/[^`]+\.rs)`")
+    create(tree, test, code(s, "rust")[0])
     main_rs = (tree / test).parent / "main.rs"
-    mod_line = next(s for s in snippets(s5) if re.match(r"^mod \w+;$", s))
+    mod_line = next(x for x in snippets(s) if re.match(r"^mod \w+;$", x))
     main_rs.write_text(insert_sorted(main_rs.read_text(), r"^mod (\w+);$", mod_line))
-    # 6: the commands and the promised row
-    s6 = step(sec, 6)
-    m = re.search(r"prints\s+`([^`]+)`", re.sub(r"\s*\n\s*", " ", s6))
+    # the commands (the plain block) and the promised row
+    s = the_step(steps, "with the commands", lambda t: code(t, ""))
+    m = re.search(r"prints\s+`([^`]+)`", flat(s))
     if not m:
-        fail("step 6 quotes no row after `prints`")
-    return plain[0], m.group(1)
+        fail("the step of the commands quotes no row after `prints`")
+    return code(s, "")[0], m.group(1)
 
 
 def commands(block):
@@ -182,7 +193,7 @@ def main():
     try:
         block, promised = apply_steps(tree, sec)
         rid = promised.split()[0]
-        print(f"guide-check: applied steps 1 to 5 of {GUIDE} (requirement {rid}); running step 6", flush=True)
+        print(f"guide-check: applied the steps of {GUIDE} (requirement {rid}); running its commands", flush=True)
         verify_out = None
         for cmd in commands(block):
             print(f"guide-check: $ {cmd}", flush=True)
@@ -198,7 +209,7 @@ def main():
             if " verify " in f" {cmd} ":
                 verify_out = r.stdout
         if verify_out is None:
-            fail("step 6 runs no verify")
+            fail("the commands run no verify")
         row = next((l for l in verify_out.splitlines() if l.startswith(rid + " ")), None)
         if row is None:
             fail(f"verify printed no row for {rid}:\n{verify_out[-1500:]}")
