@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Follows the README's "Adding an effect" exactly as written, and checks what it promises.
+"""Follows docs/guide-effect.md ("Adding an effect") exactly as written, and checks what it promises.
 
-The README's steps are read from the README itself, not copied here:
+The guide's steps are read from the guide itself (its "## Steps" section), not copied here:
   1. the first ```rust block is written to the path named in step 1;
   2. the three snippets step 2 names (`mod pendulum;`, `pub use pendulum::Pendulum;`,
      `&Pendulum,`) are added after the last line of their kind in the effects' mod.rs (the
@@ -35,10 +35,13 @@ def fail(msg):
     sys.exit(1)
 
 
-def section(readme):
-    start = readme.index("\n## Adding an effect")
-    end = readme.index("\n## ", start + 5)
-    return readme[start:end]
+GUIDE = "docs/guide-effect.md"
+
+
+def section(guide):
+    start = guide.index("\n## Steps")
+    end = guide.find("\n## ", start + 5)
+    return guide[start:] if end < 0 else guide[start:end]
 
 
 def blocks(sec):
@@ -77,7 +80,7 @@ def apply_steps(tree, sec):
     name = path.stem
     path.write_text(rust[0])
     CREATED.append(path)
-    # step 2: registration, the snippets as the README writes them
+    # step 2: registration, the snippets as the guide writes them
     step2 = sec[sec.index("2. Register"):sec.index("3. ")]
     mod_rs = tree / re.search(r"`(models/[^`]+/mod\.rs)`", step2).group(1)
     snippets = re.findall(r"`([^`]+)`", re.sub(r"\s*\n\s*", " ", step2))
@@ -108,8 +111,7 @@ def commands(block):
 
 def main():
     in_place = "--in-place" in sys.argv[1:]
-    readme = (ROOT / "README.md").read_text()
-    sec = section(readme)
+    sec = section((ROOT / GUIDE).read_text())
     env = dict(os.environ)
     if in_place:
         if subprocess.run(["git", "status", "--porcelain"], cwd=ROOT, capture_output=True, text=True).stdout.strip():
@@ -127,7 +129,7 @@ def main():
         env["CARGO_TARGET_DIR"] = str(base / "target")
     try:
         name, block = apply_steps(tree, sec)
-        print(f"walkthrough: added the effect `{name}` as the README says; running step 4", flush=True)
+        print(f"walkthrough: added the effect `{name}` as {GUIDE} says; running step 4", flush=True)
         outputs = {}
         for cmd in commands(block):
             print(f"walkthrough: $ {cmd}", flush=True)

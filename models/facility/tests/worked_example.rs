@@ -64,15 +64,18 @@ fn the_worked_example_is_a_valid_force_effect() {
     assert_eq!(Pendulum.kind(), EffectKind::Force);
 }
 
-/// The README's "Adding an effect" shows this file's code (with `use super::...` instead of the
+/// The guide docs/guide-effect.md ("Adding an effect") shows this file's code (with `use super::...` instead of the
 /// crate path): the two must not drift apart.
 #[test]
 fn the_readme_shows_this_code_line_for_line() {
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md"))
-        .expect("README.md at the workspace root");
+    let readme = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/guide-effect.md"
+    ))
+    .expect("docs/guide-effect.md in the workspace");
     let here = include_str!("worked_example.rs");
     let code = &here[here.find("/// The TM mock-up hangs").unwrap()..here.find("#[test]").unwrap()];
-    let section = &readme[readme.find("## Adding an effect").expect("the section")..];
+    let section = &readme[readme.find("## Steps").expect("the section")..];
     let start = section.find("```rust\n").expect("a rust block") + "```rust\n".len();
     let block: String = section[start..start + section[start..].find("```").unwrap()]
         .lines()
@@ -83,11 +86,11 @@ fn the_readme_shows_this_code_line_for_line() {
                          use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};\n\n";
     assert!(
         block.starts_with(expected_head),
-        "the README's block starts differently:\n{block}"
+        "the guide's block starts differently:\n{block}"
     );
     assert_eq!(
         block[expected_head.len()..].trim_end(),
         code.trim_end(),
-        "README.md and models/facility/tests/worked_example.rs differ"
+        "docs/guide-effect.md and models/facility/tests/worked_example.rs differ"
     );
 }
