@@ -8,8 +8,8 @@ each found by what it does rather than by its number:
   - the step naming `all.extend(`: its two snippets (`pub mod NAME;`,
     `all.extend(NAME::checks());`) go into the file it names, the module among the `pub mod`
     lines in name order, the registration after the last `all.extend(` of `registry_with`;
-  - the step naming verification/cli/src/builtin.rs, if there is one: its entry goes into
-    `REQUIREMENTS`, in file-name order;
+  - the step naming missions/src/lisa_pathfinder.rs, if there is one: its entry goes into
+    `FILES`, in path order;
   - the step with a ```rust block naming verification/checks/tests/: the traced test, and
     `mod NAME;` into that test binary's main.rs among its `mod` lines in name order;
   - the step with the plain ``` block: every command run, in order, from the tree's root.
@@ -136,13 +136,13 @@ def apply_steps(tree, sec):
     lines.insert(last + 1, indent + reg_line.strip() + "\n")
     lib.write_text("".join(lines))
     # the built-in embedding, when the guide has that step (the binary's list of family files)
-    s = the_step(steps, "embedding", lambda t: "`verification/cli/src/builtin.rs`" in flat(t), optional=True)
+    s = the_step(steps, "embedding", lambda t: "`missions/src/lisa_pathfinder.rs`" in flat(t), optional=True)
     if s is not None:
-        builtin = tree / "verification/cli/src/builtin.rs"
+        builtin = tree / "missions/src/lisa_pathfinder.rs"
         entry = next(x for x in snippets(s) if x.startswith("(\"") and x.endswith("),"))
         name = re.match(r'\("([^"]+)"', entry).group(1)
         lines = builtin.read_text().splitlines(keepends=True)
-        start = next(i for i, l in enumerate(lines) if "REQUIREMENTS" in l and "&[" in l)
+        start = next(i for i, l in enumerate(lines) if "FILES" in l and "&[" in l)
         end = next(i for i in range(start, len(lines)) if lines[i].strip() == "];")
         at = end
         for i in range(start, end):

@@ -58,7 +58,7 @@ const FILES: &[(&str, &str)] = &[
 
 fn session() -> Session {
     let mc = SharedMonteCarlo::new();
-    let checks = geodesic_checks::mission_registry(mc.clone());
+    let checks = geodesic_checks::registry_with(mc.clone());
     Session {
         checks,
         reference: Some(Box::new(move |ctx| {

@@ -104,30 +104,19 @@ pub fn context(
 
 /// Every registered check, in a stable order.
 pub fn registry() -> Vec<Box<dyn Check>> {
-    registry_with(release::SharedMonteCarlo::new())
-}
-
-/// The registry with a given release Monte Carlo cache (shared by the checks that need its
-/// velocities, and by [`fidelity::table`], so that `geodesic verify` runs it once).
-pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<dyn Check>> {
-    let mut all: Vec<Box<dyn Check>> = Vec::new();
-    all.extend(release::checks_with(mc.clone()));
-    all.extend(capture::checks_with(Some(release::vz_source(mc.clone()))));
-    all.extend(charge::checks());
-    all.extend(tm_state::checks_with(Some(release::vz_source(mc.clone()))));
-    all.extend(facility::checks());
-    all.extend(images::checks());
-    all.extend(plunger::checks_with(Some(release::vz_source(mc))));
-    all.extend(tipradius::checks());
-    all.extend(sensitivity::checks());
+    let mut all = registry_with(release::SharedMonteCarlo::new());
+    // the order of old: the Drag-Free CubeSat's before the generic spectral check
+    let generic = all.split_off(all.len() - spectral::checks().len());
     all.extend(dfc::checks());
-    all.extend(spectral::checks());
+    all.extend(generic);
     all
 }
 
-/// The root mission's checks (LISA Pathfinder's release; the generic spectral check), sharing
-/// the release Monte Carlo `mc` with its fidelity table.
-pub fn mission_registry(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<dyn Check>> {
+/// The root mission's checks (LISA Pathfinder's release and the generic spectral check), with
+/// a given release Monte Carlo cache (shared by the checks that need its velocities, and by
+/// [`fidelity::table`], so that `geodesic verify` runs it once). The Drag-Free CubeSat's checks
+/// ([`dfc::checks`]) are its own mission's; [`registry`] lists both.
+pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<dyn Check>> {
     let mut all: Vec<Box<dyn Check>> = Vec::new();
     all.extend(release::checks_with(mc.clone()));
     all.extend(capture::checks_with(Some(release::vz_source(mc.clone()))));
