@@ -145,7 +145,7 @@ mod tests {
         // SHA-256 (what `verify` prints for models/release/budget.yaml)
         for m in [ModelInput::Budget, ModelInput::Capture, ModelInput::Charge] {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../..")
+                .join("..")
                 .join(m.repository_path());
             let bytes = std::fs::read(&path).unwrap();
             let given = resolve(m, Some(&path)).unwrap();

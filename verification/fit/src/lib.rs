@@ -42,6 +42,7 @@ pub mod prepare;
 pub mod report;
 pub mod scaffold;
 pub mod spectral;
+pub mod summary;
 pub mod synth;
 
 pub use dataset::Dataset;

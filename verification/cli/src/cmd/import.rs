@@ -3,7 +3,7 @@
 
 use crate::error::{CliError, CmdResult};
 use geodesic_core::Requirements;
-use geodesic_exchange::reqif::{Field, ImportOptions, Imported, ImportedFamily, import_file};
+use geodesic_exchange::reqif::{Field, ImportOptions, import_file};
 use std::path::{Path, PathBuf};
 
 /// Largest ReqIF file read [bytes] (256 MiB).
@@ -97,9 +97,14 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     reqs.validate_checks(&names)
         .map_err(|e| CliError::bad(format!("{}: {}", a.file.display(), e.cause)))?;
 
-    write_staged(&a.out, &imported.families)?;
+    geodesic_exchange::reqif::write_families(&a.out, &imported.families).map_err(|e| match e {
+        geodesic_exchange::reqif::WriteFamilies::Occupied(m) => CliError::bad(m),
+        geodesic_exchange::reqif::WriteFamilies::Io(m) => CliError::Io(m),
+    })?;
 
-    print_warnings(&imported);
+    for l in geodesic_exchange::reqif::warning_lines(&imported, MAX_PRINTED_WARNINGS) {
+        eprintln!("geodesic: {l}");
+    }
     let files: Vec<String> = imported
         .families
         .iter()
@@ -139,7 +144,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         return Ok(0);
     }
     if a.report {
-        print_mapping(&imported);
+        print!("{}", geodesic_exchange::reqif::mapping_text(&imported));
     }
     println!(
         "imported {} requirement{} ({} qualitative) of {} SPEC-OBJECTs ({} headings, {} without text, {} duplicates, {} skipped), {} relations, {} warnings, into {}/{{{}}}",
@@ -191,103 +196,4 @@ fn options(a: &ReqifArgs) -> Result<ImportOptions, CliError> {
         opts.attribute.insert(field, name.trim().to_string());
     }
     Ok(opts)
-}
-
-/// Writes the families into `out` whole or not at all: staged in `out/.staging-PID`, then
-/// moved into `out`; refuses a folder that already holds requirement YAML.
-fn write_staged(out: &Path, families: &[ImportedFamily]) -> Result<(), CliError> {
-    // write whole or not at all: stage in DIR/.staging-PID, then move the files into DIR
-    if out.is_dir() {
-        let existing = std::fs::read_dir(out)
-            .map_err(|e| CliError::Io(format!("{}: {e}", out.display())))?
-            .filter_map(|e| e.ok())
-            .any(|e| {
-                matches!(
-                    e.path().extension().and_then(|x| x.to_str()),
-                    Some("yaml" | "yml")
-                )
-            });
-        if existing {
-            return Err(CliError::bad(format!(
-                "{}: already holds requirement YAML files; import into an empty or new directory",
-                out.display()
-            )));
-        }
-    }
-    let stage = out.join(format!(".staging-{}", std::process::id()));
-    let io = |e: std::io::Error| CliError::Io(format!("{}: {e}", out.display()));
-    std::fs::create_dir_all(&stage).map_err(io)?;
-    let staged = (|| -> std::io::Result<()> {
-        for f in families {
-            std::fs::write(stage.join(&f.file_name), &f.yaml)?;
-        }
-        for f in families {
-            std::fs::rename(stage.join(&f.file_name), out.join(&f.file_name))?;
-        }
-        Ok(())
-    })();
-    let _ = std::fs::remove_dir_all(&stage);
-    staged.map_err(io)?;
-    Ok(())
-}
-
-/// Prints the import's warnings (at most [`MAX_PRINTED_WARNINGS`]) and the qualitative
-/// requirements `--skip-incomplete` left out, on standard error.
-fn print_warnings(imported: &Imported) {
-    let shown = imported.warnings.len().min(MAX_PRINTED_WARNINGS);
-    for w in &imported.warnings[..shown] {
-        eprintln!(
-            "geodesic: warning: {}:{}: {}",
-            imported.document, w.line, w.cause
-        );
-    }
-    if imported.warnings.len() > shown {
-        eprintln!(
-            "geodesic: warning: {}: {} more warnings (all of them in --json)",
-            imported.document,
-            imported.warnings.len() - shown
-        );
-    }
-    // the qualitative requirements --skip-incomplete left out (the incomplete ones are warned)
-    for s in imported
-        .skipped
-        .iter()
-        .filter(|s| s.missing.len() == 1 && s.missing[0].ends_with(": qualitative"))
-    {
-        eprintln!(
-            "geodesic: {}:{}: skipped requirement {}: {}",
-            imported.document,
-            s.line,
-            s.id,
-            s.missing.join("; ")
-        );
-    }
-}
-
-/// Prints which ReqIF attribute each geodesic field was taken from (`--report`).
-fn print_mapping(imported: &Imported) {
-    println!(
-        "{}: ReqIF attribute -> geodesic field, over the {} requirements imported:",
-        imported.document,
-        imported.count()
-    );
-    for m in &imported.mapping {
-        let parts: Vec<String> = m
-            .sources
-            .iter()
-            .map(|(s, n)| format!("{s} ({n})"))
-            .collect();
-        println!("  {:<15} <- {}", m.field.name(), parts.join("; "));
-    }
-    if imported.unmapped.is_empty() {
-        println!("  every attribute with a value was taken by a field");
-    } else {
-        let parts: Vec<String> = imported
-            .unmapped
-            .iter()
-            .map(|(n, k)| format!("`{n}` ({k})"))
-            .collect();
-        println!("  not taken by any field: {}", parts.join(", "));
-    }
-    println!("  to take another attribute for a field: --attribute FIELD=NAME (docs/exchange.md)");
 }

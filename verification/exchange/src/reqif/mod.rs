@@ -20,6 +20,7 @@ mod archive;
 mod export;
 mod fields;
 mod import;
+mod output;
 mod read;
 mod xhtml;
 pub mod yaml;
@@ -31,6 +32,7 @@ pub use import::{
     ImportError, ImportOptions, Imported, ImportedFamily, ImportedRequirement, MappingRow, Skipped,
     Warning, import,
 };
+pub use output::{WriteFamilies, mapping_text, warning_lines, write_families};
 pub use xhtml::{text_to_xhtml, xhtml_objects, xhtml_to_text};
 
 /// The ReqIF 1.2 XML namespace.
