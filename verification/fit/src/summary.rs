@@ -37,7 +37,6 @@ pub fn summary(r: &FitReport) -> String {
 
 /// The parameters with their sigmas, what is held, the symmetries and the combinations.
 fn parameter_lines(r: &FitReport) -> String {
-    use crate::outliers::fmt_sig;
     let mut s = String::new();
     for (k, p) in &r.params {
         let held = r.held.iter().any(|h| &h.param == k);
@@ -158,7 +157,6 @@ fn diagnostic_lines(r: &FitReport) -> String {
 
 /// The posterior's quantiles and flags, when sampled.
 fn posterior_lines(r: &FitReport) -> String {
-    use crate::outliers::fmt_sig;
     let mut s = String::new();
     if let Some(post) = &r.posterior {
         let how = match r

@@ -4,7 +4,7 @@
 use crate::error::{CliError, CmdResult};
 use geodesic_core::Requirements;
 use geodesic_exchange::reqif::{Field, ImportOptions, import_file};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Largest ReqIF file read [bytes] (256 MiB).
 const MAX_REQIF_BYTES: u64 = 256 << 20;
