@@ -235,10 +235,10 @@ pub fn main(mission: Mission) -> ExitCode {
                 Command::new("verify").about("Check every requirement and write the reports"),
                 &[&mission],
             ))
-            .subcommand(<crate::requirements::Args as clap::Args>::augment_args(
-                Command::new("requirements")
+            .subcommand(
+                <crate::requirements::Args as clap::Args>::augment_args(Command::new("requirements"))
                     .about("Validate, list and show the requirements (status and evidence from the last run)"),
-            ))
+            )
             .subcommand(
                 Command::new("export-reqif")
                     .about("Export the requirements (and the VCD status) as ReqIF 1.2")

@@ -223,7 +223,7 @@ impl LastRun {
         }
         if run["requirements_hash"] != hash {
             l.push_str(
-                "; the requirement files changed since (another sha256): run `geodesic verify` again",
+                "; the requirement files changed since (another sha256): run `verify` again",
             );
         }
         l
@@ -334,7 +334,7 @@ fn list(mission: &Mission, a: ListArgs) -> CmdResult {
     match &last {
         Some(l) => println!("{}", l.line(&hash)),
         None => println!(
-            "no last run: no {} (run `geodesic verify`, or give --reports DIR)",
+            "no last run: no {} (run `verify`, or give --reports DIR)",
             a.reports.join("compliance.json").display()
         ),
     }
@@ -496,7 +496,7 @@ fn print_tests(tests_label: Option<&str>, tests: &[geodesic_core::matrix::TestRe
 fn print_last_run(last: Option<&LastRun>, last_row: Option<&Value>, reports: &Path, hash: &str) {
     match (last, last_row) {
         (None, _) => println!(
-            "  last run     none: no {} (run `geodesic verify`, or give --reports DIR)",
+            "  last run     none: no {} (run `verify`, or give --reports DIR)",
             reports.join("compliance.json").display()
         ),
         (Some(l), None) => println!("  last run     {}: not in it", l.file.display()),
