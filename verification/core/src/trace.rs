@@ -325,9 +325,17 @@ mod tests {
     }
 
     #[test]
-    fn a_test_outside_any_mission_knows_no_id() {
+    fn the_ids_are_those_of_the_mission_the_tests_run_under() {
         // the core's own tests run in verification/core, under the repository's mission.yaml:
-        // whatever it declares, an empty ID is never one
+        // every ID of its requirement folder is known, an altered one is not
+        let (_, reqs) = super::missions()
+            .first()
+            .expect("a mission.yaml above the crate");
+        assert!(!reqs.items.is_empty());
+        for r in &reqs.items {
+            assert!(super::is_known(r.id.as_str()), "{}", r.id);
+            assert!(!super::is_known(&format!("{}-X", r.id)), "{}-X", r.id);
+        }
         assert!(!super::is_known(""));
     }
 
