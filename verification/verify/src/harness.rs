@@ -162,6 +162,29 @@ pub fn print(program: &str, opts: &Options, out: &crate::Outcome) -> u8 {
     out.code
 }
 
+/// UTC time as xsd:dateTime: now, or `SOURCE_DATE_EPOCH` (seconds) when set, as reproducible
+/// builds do.
+pub fn creation_time() -> Result<String, Error> {
+    let secs = match std::env::var("SOURCE_DATE_EPOCH") {
+        Ok(s) => s.trim().parse::<i64>().map_err(|_| {
+            Error::bad(format!(
+                "SOURCE_DATE_EPOCH `{s}` is not a number of seconds since 1970-01-01"
+            ))
+        })?,
+        Err(_) => std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs() as i64),
+    };
+    let (day, s) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    Ok(format!(
+        "{}T{:02}:{:02}:{:02}Z",
+        geodesic_core::disposition::civil_from_days(day),
+        s / 3600,
+        (s / 60) % 60,
+        s % 60
+    ))
+}
+
 fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
     use geodesic_exchange::reqif::{ExportOptions, export};
     let out = m
@@ -182,7 +205,7 @@ fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
         }
         None => None,
     };
-    let time = pipeline::utc_now();
+    let time = creation_time()?;
     let tool = format!("geodesic {}", env!("CARGO_PKG_VERSION"));
     let doc = export(
         &reqs,

@@ -50,29 +50,6 @@ pub struct ReqifArgs {
     pub json: bool,
 }
 
-/// UTC time as xsd:dateTime: now, or `SOURCE_DATE_EPOCH` (seconds) when set, as reproducible
-/// builds do.
-pub fn creation_time() -> Result<String, CliError> {
-    let secs = match std::env::var("SOURCE_DATE_EPOCH") {
-        Ok(s) => s.trim().parse::<i64>().map_err(|_| {
-            CliError::bad(format!(
-                "SOURCE_DATE_EPOCH `{s}` is not a number of seconds since 1970-01-01"
-            ))
-        })?,
-        Err(_) => std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_secs() as i64),
-    };
-    let (day, s) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
-    Ok(format!(
-        "{}T{:02}:{:02}:{:02}Z",
-        geodesic_core::disposition::civil_from_days(day),
-        s / 3600,
-        (s / 60) % 60,
-        s % 60
-    ))
-}
-
 /// Writes `bytes` to `path` whole or not at all ([`geodesic_util::output::write_atomic`]),
 /// creating its folder first.
 pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
@@ -107,7 +84,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         }
         None => None,
     };
-    let time = creation_time()?;
+    let time = geodesic_verify::harness::creation_time()?;
     let tool = format!("geodesic {}", env!("CARGO_PKG_VERSION"));
     let doc = export(
         &reqs,
