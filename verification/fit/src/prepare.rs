@@ -45,6 +45,24 @@ pub struct ProfileFit {
     pub v_m_s: f64,
     /// Reduced chi-square of the profile against `y`.
     pub chi2_red: f64,
+    /// Samples of `y` the profile was fitted to (those at `t >= 0`); not in the JSON.
+    #[serde(skip)]
+    pub n_samples: usize,
+}
+
+impl ProfileFit {
+    /// Whether the profile describes the tip channel within its noise: `chi2_red` at most
+    /// `1 + 5 sqrt(2/nu)` (`nu` = samples - 2), the bound a fitted channel is judged by
+    /// ([`crate::report::is_explained`]). A tip that starts late (a trigger delay of tens of
+    /// microseconds), stalls or accelerates otherwise leaves it above. `None` when the sample
+    /// count is unknown (a profile read back from JSON).
+    pub fn misfit(&self) -> Option<(f64, f64)> {
+        if self.n_samples < 3 {
+            return None;
+        }
+        let bound = 1.0 + 5.0 * (2.0 / (self.n_samples - 2) as f64).sqrt();
+        (self.chi2_red > bound).then_some((self.chi2_red, bound))
+    }
 }
 
 /// Estimates the noise of a channel: from the samples before the trigger when there are at
@@ -123,6 +141,7 @@ fn fit_profile(t: &[f64], y: &[f64], sigma: f64) -> ProfileFit {
         jerk_m_s3: b.u[0].exp(),
         v_m_s: b.u[1].exp(),
         chi2_red: b.cost / (tp.len().saturating_sub(2)).max(1) as f64,
+        n_samples: tp.len(),
     }
 }
 

@@ -106,6 +106,13 @@ fn check_added(name: &str) {
         "{name}: explained; {}",
         v["reason"]
     );
+    if let Some(want) = exp["expect"]["reason_contains"].as_str() {
+        let reason = v["reason"].as_str().unwrap_or("");
+        assert!(
+            reason.contains(want),
+            "{name}: the reason names {want:?}: {reason}"
+        );
+    }
 }
 
 /// Outside the catalogue: nothing added, not explained, the expected kind leading or reported
@@ -287,6 +294,8 @@ record_tests! {
     outside_floor_vibration: check_outside("floor-vibration"), "minutes in the test profile: CI runs it in release";
     outside_delay_3us: check_outside("delay-3us");
     outside_delay_5us: check_outside("delay-5us");
+    trigger_delay_tmmf_absorbed: check_added("delay-tmmf-4us"), "minutes in the test profile: CI runs it in release";
+    trigger_delay_tmmf_shown_by_the_tip: check_added("delay-tmmf-30us"), "minutes in the test profile: CI runs it in release";
     threshold_1: check_threshold("threshold-1"), "minutes in the test profile: CI runs it in release";
     threshold_2: check_threshold("threshold-2"), "minutes in the test profile: CI runs it in release";
     threshold_3: check_threshold("threshold-3"), "minutes in the test profile: CI runs it in release";

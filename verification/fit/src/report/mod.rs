@@ -315,6 +315,16 @@ pub fn is_explained(r: &FitReport) -> (bool, String) {
                 r.whiteness.q, r.whiteness.threshold, r.whiteness.lags
             ),
         )
+    } else if let Some((chi2_red, tip_bound)) = r.tip_profile.as_ref().and_then(|p| p.misfit()) {
+        (
+            false,
+            format!(
+                "the tip channel is not described by its constant-jerk profile from t = 0 \
+                 (chi2_red {chi2_red:.3} above {tip_bound:.3}): the tip moves otherwise or starts \
+                 later than the trigger (a trigger delay), and the model of the TM, driven by that \
+                 profile, cannot be judged explained"
+            ),
+        )
     } else {
         (
             true,

@@ -209,6 +209,15 @@ pub fn assess(prep: &Prepared, o: &FitOutcome, resid: &[f64], r: &mut FitReport)
     if !outliers.is_empty() || astronomical {
         r.residual_white = false;
     }
+    if let Some((chi2_red, bound)) = prep.profile.as_ref().and_then(|p| p.misfit()) {
+        warnings.push(format!(
+            "the tip channel is not described by its constant-jerk profile from t = 0 (chi2_red \
+             {} above {}): the tip moves otherwise or starts later than the trigger (a trigger \
+             delay); the model of the TM is driven by that profile",
+            fmt_sig(chi2_red),
+            fmt_sig(bound)
+        ));
+    }
     for (name, flag) in stuck_parameters(prep, o) {
         if let Some(p) = r.params.get_mut(&name) {
             p.flag = Some(flag.to_string());
