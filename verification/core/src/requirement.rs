@@ -738,16 +738,7 @@ fn requirement(
     seen.insert(id.to_string(), at(&r.id));
     let limit = entry_limit(&id, &r, &err)?;
     let method = parse_method(&r.method, &err)?;
-    for (name, v) in [
-        ("title", &r.title),
-        ("text", &r.text),
-        ("source", &r.source),
-        ("activity", &r.activity),
-    ] {
-        if v.trim().is_empty() {
-            return Err(err(&r.id, format!("requirement {id}: `{name}` is empty")));
-        }
-    }
+    texts_stated(&id, &r, &err)?;
     let level = match &r.level {
         Some(l) => parse_level(file, l)?,
         None => defaults.0,
@@ -763,14 +754,7 @@ fn requirement(
         ),
         None => None,
     };
-    let (probability_value, probability_sigma) = match &r.probability {
-        Some(p) => {
-            let (v, k) = parse_probability(&p.value)
-                .map_err(|c| err(p, format!("requirement {id}: {c}")))?;
-            (Some(v), k)
-        }
-        None => (None, None),
-    };
+    let (probability_value, probability_sigma) = entry_probability(&id, &r, &err)?;
     let parent = match r.parent {
         Some(p) if !(p.margin.is_finite() && p.margin > 0.0) => {
             return Err(err(
@@ -804,6 +788,42 @@ fn requirement(
         origin: at(&r.id),
     };
     Ok((req, parent))
+}
+
+/// Title, text, source and activity must not be empty.
+fn texts_stated(
+    id: &ReqId,
+    r: &RawRequirement,
+    err: &dyn Fn(&Spanned<String>, String) -> LoadError,
+) -> Result<(), LoadError> {
+    for (name, v) in [
+        ("title", &r.title),
+        ("text", &r.text),
+        ("source", &r.source),
+        ("activity", &r.activity),
+    ] {
+        if v.trim().is_empty() {
+            return Err(err(&r.id, format!("requirement {id}: `{name}` is empty")));
+        }
+    }
+    Ok(())
+}
+
+/// An entry's probability as a fraction, and its sigma level when written with one (both
+/// `None` without a probability).
+fn entry_probability(
+    id: &ReqId,
+    r: &RawRequirement,
+    err: &dyn Fn(&Spanned<String>, String) -> LoadError,
+) -> Result<(Option<f64>, Option<f64>), LoadError> {
+    match &r.probability {
+        Some(p) => {
+            let (v, k) = parse_probability(&p.value)
+                .map_err(|c| err(p, format!("requirement {id}: {c}")))?;
+            Ok((Some(v), k))
+        }
+        None => Ok((None, None)),
+    }
 }
 
 /// An entry's limit: with a limit, its dimension and quantity must be stated; without one
