@@ -1043,6 +1043,38 @@ impl Fields<'_> {
     }
 }
 
+/// Each object embedded in the text of object `o` (`embedded`: their `data`) is kept as a
+/// mention, said.
+fn warn_embedded(o: &Object, embedded: &[String], model: &mut Model) {
+    for data in embedded {
+        model.problems.warn(
+            o.line,
+            format!(
+                "SPEC-OBJECT `{}` embeds the object `{}` in its text: kept as [object: {}]; the object's file is not imported",
+                clip(&o.ident, 100),
+                clip(data, 200),
+                clip(data, 200)
+            ),
+        );
+    }
+}
+
+/// The attributes (as [`norm`]ed) a field takes on object `o`: the text's (`text_key`) and
+/// those of the other fields.
+fn used_keys(o: &Object, text_key: Option<String>, opts: &ImportOptions) -> HashSet<String> {
+    let mut used: HashSet<String> = text_key.into_iter().collect();
+    let mut used_later: Vec<String> = Vec::new();
+    for field in Field::ALL {
+        if field != Field::Text
+            && let Some(v) = get(o, field, opts)
+        {
+            used_later.push(v.key.clone());
+        }
+    }
+    used.extend(used_later);
+    used
+}
+
 /// The value of the ID attribute with the prefix attribute's value before it, and the
 /// attribute's name (added to `used`); an ID attribute that is there but empty is said.
 fn raw_id(
@@ -1081,17 +1113,7 @@ impl Context<'_> {
     /// The fields of requirement `c` (object `o`): a requirement waiting for its ID.
     fn pending(&self, c: Cand, o: &Object, model: &mut Model) -> Pending {
         let opts = self.opts;
-        for data in &c.embedded {
-            model.problems.warn(
-                o.line,
-                format!(
-                    "SPEC-OBJECT `{}` embeds the object `{}` in its text: kept as [object: {}]; the object's file is not imported",
-                    clip(&o.ident, 100),
-                    clip(data, 200),
-                    clip(data, 200)
-                ),
-            );
-        }
+        warn_embedded(o, &c.embedded, model);
         let (place, text) = (c.place, c.text);
         let mut f = Fields {
             o,
@@ -1100,16 +1122,7 @@ impl Context<'_> {
             notes: Vec::new(),
             missing: Vec::new(),
         };
-        let mut used: HashSet<String> = c.key.into_iter().collect();
-        let mut used_later: Vec<String> = Vec::new();
-        for field in Field::ALL {
-            if field != Field::Text
-                && let Some(v) = get(o, field, opts)
-            {
-                used_later.push(v.key.clone());
-            }
-        }
-        used.extend(used_later);
+        let mut used = used_keys(o, c.key, opts);
         let raw_id = raw_id(o, opts, model, &mut used);
         let title = f.title(&text);
         let source = self.source(&mut f, &place, raw_id.as_ref(), o);
@@ -1132,11 +1145,7 @@ impl Context<'_> {
             );
         }
         f.registered_check(&mut check, qualitative, model);
-        let family = place
-            .family
-            .clone()
-            .or_else(|| place.spec.clone().map(|s| (s, None)))
-            .unwrap_or_else(|| (self.stem.to_string(), None));
+        let family = self.family(&place);
         let note = f.take(Field::Note);
         let quantity = f.take(Field::Quantity).unwrap_or_default();
         let level = f.take(Field::Level);
@@ -1178,6 +1187,16 @@ impl Context<'_> {
             sources: f.sources,
             used,
         }
+    }
+
+    /// The family of an object at `place`: the heading above it, else its specification, else
+    /// the document's stem.
+    fn family(&self, place: &Place) -> (String, Option<String>) {
+        place
+            .family
+            .clone()
+            .or_else(|| place.spec.clone().map(|s| (s, None)))
+            .unwrap_or_else(|| (self.stem.to_string(), None))
     }
 
     /// The source: the source attribute, else the file, its tool, the specification and the
