@@ -40,6 +40,9 @@ use crate::prepare::Prepared;
 use crate::report::FitReport;
 pub use crate::report::is_explained;
 
+pub mod new_effect;
+pub mod text;
+
 /// One round of the ledger (interface.md `rounds[]`).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct Round {
