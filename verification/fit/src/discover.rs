@@ -659,7 +659,7 @@ pub fn thresholds_with(
         .collect();
     let one = |cand: &&'static dyn geodesic_facility::effects::Effect| -> Result<Option<Threshold>, FitError> {
         let params = cand.params();
-        let Some(null) = cand.null_params() else {
+        let Some(null) = cand.hints().null_params() else {
             return Ok(None);
         };
         let Some(main) = (0..params.len()).find(|&i| null[i] == 0.0 || null[i] == params[i].lower)
