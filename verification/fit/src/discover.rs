@@ -890,7 +890,7 @@ impl<'a> Detection<'a> {
         cand: &'static dyn geodesic_facility::effects::Effect,
     ) -> Result<Option<Self>, FitError> {
         let params = cand.params();
-        let Some(null) = cand.null_params() else {
+        let Some(null) = cand.hints().null_params() else {
             return Ok(None);
         };
         let Some(main) = (0..params.len()).find(|&i| null[i] == 0.0 || null[i] == params[i].lower)
