@@ -4,7 +4,7 @@
 //! `effect.param` (interface.md). [`Model::predict`] evaluates the fitted channel at the sample
 //! times for a parameter vector.
 
-use crate::effects::{Effect, ParamSpec, Scenario, by_name};
+use crate::effects::{Effect, ParamSpec, Role, Scenario, by_name};
 use crate::profile::TipProfile;
 
 /// Errors building a model.
@@ -129,24 +129,23 @@ impl Model {
     }
 
     /// The delay of the record's time axis [s] under `p`: the sum of the effects'
-    /// [`Effect::time_shift`](crate::effects::Effect::time_shift); `None` when no effect shifts
-    /// time.
+    /// [`TimeShiftEffect::time_shift`](crate::effects::TimeShiftEffect::time_shift); `None` when
+    /// no effect shifts time.
     pub fn time_shift(&self, p: &[f64]) -> Option<f64> {
         let mut any = None;
         for (i, e) in self.effects.iter().enumerate() {
-            if let Some(d) = e.time_shift(&p[self.range(i)]) {
-                any = Some(any.unwrap_or(0.0) + d);
+            if let Role::TimeShift(s) = e.role() {
+                any = Some(any.unwrap_or(0.0) + s.time_shift(&p[self.range(i)]));
             }
         }
         any
     }
 
-    /// Whether an effect of the model shifts time ([`Model::time_shift`] at nominal values).
+    /// Whether an effect of the model shifts time (one of [`Role::TimeShift`]).
     pub fn shifts_time(&self) -> bool {
-        self.effects.iter().any(|e| {
-            let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
-            e.time_shift(&nominal).is_some()
-        })
+        self.effects
+            .iter()
+            .any(|e| matches!(e.role(), Role::TimeShift(_)))
     }
 
     /// The effect names, in model order.

@@ -3,6 +3,7 @@
 //! `effects -> retraction -> rk4`, `model -> effects`, `tmmf -> model, effects, rk4`,
 //! `predict -> model, tmmf, retraction` (checked by a test in `lib.rs`).
 
+use crate::effects::Role;
 use crate::model::{Inputs, Model};
 use crate::retraction::RtConfig;
 use crate::scenario::Dynamics;
@@ -89,16 +90,23 @@ impl Model {
     /// nothing from grouping evaluations and should spread them over threads).
     pub fn lanes(&self) -> usize {
         // every force a law, and at most one needle body's two states (tmmf::Run::new)
-        let states: usize = self.effects.iter().map(|e| e.n_states()).sum();
+        let states: usize = self
+            .effects
+            .iter()
+            .map(|e| match e.role() {
+                Role::Force(f) => f.n_states(),
+                _ => 0,
+            })
+            .sum();
         let laws = self.scenario.dynamics() == Dynamics::TmRelease
             && (states == 0 || states == 2)
-            && self.effects.iter().all(|e| match e.kind() {
-                crate::effects::EffectKind::Force => {
+            && self.effects.iter().all(|e| match e.role() {
+                Role::Force(f) => {
                     let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
-                    e.law(&nominal).is_some()
+                    f.law(&nominal).is_some()
                 }
-                crate::effects::EffectKind::Distortion => true,
-                crate::effects::EffectKind::Mechanism => false,
+                Role::Distortion(_) | Role::TimeShift(_) => true,
+                Role::Mechanism(_) => false,
             });
         if laws && !self.shifts_time() {
             tmmf::LANES
@@ -118,14 +126,16 @@ pub fn retraction(model: &Model, p: &[f64], times: &[f64], e0_v: f64) -> Vec<f64
         ..RtConfig::default()
     };
     for (i, e) in model.effects.iter().enumerate() {
-        e.configure_rt(&p[model.range(i)], &mut cfg);
+        if let Role::Mechanism(m) = e.role() {
+            m.configure_rt(&p[model.range(i)], &mut cfg);
+        }
     }
     let mut y = cfg.retraction(times);
     for (i, e) in model.effects.iter().enumerate() {
-        if e.kind() == crate::effects::EffectKind::Distortion {
+        if let Role::Distortion(d) = e.role() {
             let pe = &p[model.range(i)];
             for (yi, &t) in y.iter_mut().zip(times) {
-                *yi += e.distortion(pe, t, *yi);
+                *yi += d.distortion(pe, t, *yi);
             }
         }
     }

@@ -90,10 +90,12 @@ pub struct CombinationSpec {
 /// `discover --scaffold` writes a new force term for it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ScaffoldForce {
-    /// The `EffectKind` variant of a scaffolded force term (`Force`, `Mechanism`).
+    /// The [`Role`](crate::effects::Role) variant of a scaffolded force term (`Force`,
+    /// `Mechanism`): the effect implements the capability trait of that name followed by
+    /// `Effect`.
     pub kind: &'static str,
-    /// The `effects` item its code needs beyond `Effect, EffectKind, GuessContext, ParamSpec,
-    /// Scenario` (`TmState`, `RtConfig`).
+    /// The `effects` item its code needs beyond `Effect, FitHints, GuessContext, ParamSpec, Role,
+    /// Scenario` and its capability trait (`TmState`, `RtConfig`).
     pub import: &'static str,
     /// Whether a restoring force has its own equilibrium (`x_eq`) as a parameter.
     pub equilibrium: bool,

@@ -5,13 +5,13 @@
 //! distortion effects are added to the predicted reading. Integrated with fixed-step RK4, the
 //! step depending only on the sampling and, per sample, on whether the contacts are open (so
 //! that finite-difference Jacobians are smooth: see the tail step below), until
-//! every force effect has let go of the TM for good ([`Effect::released`](crate::Effect)): from
+//! every force effect has let go of the TM for good ([`ForceEffect::released`]): from
 //! then on the TM is propagated exactly in free flight, `x = x_b + v_b (t - t_b)`, so that the
 //! cost of the long free-flight part of a record (a 2 s facility record at 200 kHz is
 //! 400 000 samples, the contact phase a few ms) is one multiply-add per sample.
 //!
 //! Between the two, once the contacts are open and the forces left are smooth on a longer step
-//! (the adhesions past the bond, [`Effect::smooth`](crate::Effect)), the TM is integrated with
+//! (the adhesions past the bond, [`ForceEffect::smooth`]), the TM is integrated with
 //! steps [`TAIL_STEP_FACTOR`] times the contact step, asked again at every sample: the
 //! adhesion's tail, which on a 4 ms record outlasts the record before its remaining impulse
 //! falls under [`RELEASE_TOL_M`], was most of a release fit's RK4 steps.
@@ -31,7 +31,9 @@
 mod tangent;
 pub use tangent::{MAX_TANGENTS, covers as tangents_cover, simulate_with_tangents};
 
-use crate::effects::{EffectKind, ForceLaw, LawState, ReleaseCheck, TmState};
+use crate::effects::{
+    DistortionEffect, ForceEffect, ForceLaw, LawState, ReleaseCheck, Role, TmState,
+};
 use crate::model::{Inputs, Model};
 use crate::trap::{NeedleWell, Orbit, TipNow};
 pub use crate::trap::{ORBIT_RECORD_PERIODS, ORBIT_REFINE, TRAP_MARGIN};
@@ -52,7 +54,7 @@ pub fn step_for_mass(m_kg: f64) -> f64 {
 }
 
 /// The tail step over the contact step: once the contacts are open and every force left is
-/// smooth on the tail step ([`crate::Effect::smooth`]: the adhesion laws, when the step
+/// smooth on the tail step ([`ForceEffect::smooth`]: the adhesion laws, when the step
 /// advances their argument by at most `lambda / 8` and turns their well's oscillation by at
 /// most a quarter radian), the TM is integrated with steps this many times longer, until a
 /// force is no longer smooth. Over 480 cases (tip or needle adhesion with `A1` 3e4 to 1e7 N/m
@@ -312,8 +314,8 @@ fn lockstep_dyn(runs: &mut [Run], active: &[usize], t: f64, h: f64, steps: usize
 struct Run<'a> {
     inputs: &'a Inputs,
     /// Force effects with their parameter slice, state offset and state count.
-    forces: Vec<(&'static dyn crate::Effect, &'a [f64], usize, usize)>,
-    distortions: Vec<(&'static dyn crate::Effect, &'a [f64])>,
+    forces: Vec<(&'static dyn ForceEffect, &'a [f64], usize, usize)>,
+    distortions: Vec<(&'static dyn DistortionEffect, &'a [f64])>,
     sh: Shared,
     /// Every force as an inline law (a two-component state), if each has one.
     laws: Option<Vec<ForceLaw>>,
@@ -370,13 +372,16 @@ impl<'a> Run<'a> {
         let mut distortions = Vec::new();
         let mut n = 2;
         for (i, e) in model.effects.iter().enumerate() {
-            let k = e.n_states();
-            match e.kind() {
-                EffectKind::Force => forces.push((*e, &p[model.range(i)], n, k)),
-                EffectKind::Distortion => distortions.push((*e, &p[model.range(i)])),
-                EffectKind::Mechanism => {}
+            match e.role() {
+                Role::Force(f) => {
+                    let k = f.n_states();
+                    forces.push((f, &p[model.range(i)], n, k));
+                    n += k;
+                }
+                Role::Distortion(d) => distortions.push((d, &p[model.range(i)])),
+                // a time shift acts on the times handed in (`Model::predict`)
+                Role::TimeShift(_) | Role::Mechanism(_) => {}
             }
-            n += k;
         }
         // every force as a closed-form law, evaluated inline, when each force effect offers one
         // and the state is the TM's alone: the same arithmetic in the same order as `deriv`, so
@@ -510,7 +515,7 @@ impl<'a> Run<'a> {
     /// Whether every force has let go of the TM for good at `t` [s] in state `s`, and whether
     /// the sample interval after `t` takes the tail step: the TM's two states alone (an
     /// effect's own states, a needle body's, keep their contact-scale dynamics) and every force
-    /// released or smooth on the tail step ([`crate::Effect::smooth`]). Neither before the
+    /// released or smooth on the tail step ([`ForceEffect::smooth`]). Neither before the
     /// trigger, for a state that is not finite, or in a run that may not release (the tests'
     /// integrate-throughout reference). One pass over the forces, asked at every sample.
     fn released_and_tail(&self, t: f64, s: &[f64]) -> (bool, bool) {
@@ -540,7 +545,7 @@ impl<'a> Run<'a> {
         &self,
         t: f64,
         s: &[f64],
-        mut test: impl FnMut(&dyn crate::Effect, &[f64], &TmState, &ReleaseCheck) -> bool,
+        mut test: impl FnMut(&dyn ForceEffect, &[f64], &TmState, &ReleaseCheck) -> bool,
     ) -> bool {
         let sh = &self.sh;
         let y = self.tip_y(t);

@@ -4,7 +4,7 @@
 //! integration ([`crate::tmmf`]) uses instead of integrating such a TM to the end of a long
 //! record.
 
-use crate::effects::EffectKind;
+use crate::effects::Role;
 use crate::model::Model;
 
 /// Relative margin under the escape energy of the needle well within which a TM is not
@@ -52,15 +52,15 @@ impl NeedleWell {
     pub(crate) fn of(model: &Model, p: &[f64], m: f64) -> Option<NeedleWell> {
         let mut names: Vec<&str> = Vec::new();
         for e in &model.effects {
-            match e.kind() {
-                EffectKind::Force => {
-                    if e.n_states() != 0 {
+            match e.role() {
+                Role::Force(f) => {
+                    if f.n_states() != 0 {
                         return None;
                     }
                     names.push(e.name());
                 }
-                EffectKind::Distortion => {}
-                EffectKind::Mechanism => return None,
+                Role::Distortion(_) | Role::TimeShift(_) => {}
+                Role::Mechanism(_) => return None,
             }
         }
         let allowed = [

@@ -1,7 +1,9 @@
 //! The worked example of docs/fitting.md, "Adding an effect", compiled and checked here so that
 //! the documentation cannot rot: a `pendulum` restoring force on the TM mock-up.
 
-use geodesic_facility::effects::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};
+use geodesic_facility::effects::{
+    Effect, EffectKind, FitHints, ForceEffect, GuessContext, ParamSpec, Role, Scenario, TmState,
+};
 
 /// The TM mock-up hangs as a pendulum of length `l`: restoring force `F = -k_p*x` with
 /// `k_p = m*g/l` (thesis ch. 5: TMMF pendulum).
@@ -17,18 +19,27 @@ impl Effect for Pendulum {
     fn scenario(&self) -> Scenario {
         Scenario::TmmfRelease
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Force
-    }
     fn summary(&self) -> &'static str {
         "pendulum restoring force F = -k_p*x, k_p = m*g/l (thesis ch. 5)"
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Force(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl ForceEffect for Pendulum {
     fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
         -p[0] * s.x
     }
+}
+
+impl FitHints for Pendulum {
     fn null_params(&self) -> Option<Vec<f64>> {
         Some(vec![PARAMS[0].lower])
     }
@@ -61,7 +72,8 @@ fn the_worked_example_is_a_valid_force_effect() {
         ..Default::default()
     };
     assert_eq!(Pendulum.starts(&g).len(), 3);
-    assert_eq!(Pendulum.kind(), EffectKind::Force);
+    assert_eq!(Pendulum.role().kind(), EffectKind::Force);
+    assert_eq!((&Pendulum as &dyn Effect).kind(), EffectKind::Force);
 }
 
 /// The guide docs/guide-effect.md ("Adding an effect") shows this file's code (with `use super::...` instead of the
@@ -83,7 +95,7 @@ fn the_readme_shows_this_code_line_for_line() {
         .collect::<Vec<_>>()
         .join("\n");
     let expected_head = "//! `pendulum`: restoring force of the TM mock-up's suspension (thesis ch. 5).\n\n\
-                         use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario, TmState};\n\n";
+                         use super::{Effect, FitHints, ForceEffect, GuessContext, ParamSpec, Role, Scenario, TmState};\n\n";
     assert!(
         block.starts_with(expected_head),
         "the guide's block starts differently:\n{block}"

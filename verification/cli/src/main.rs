@@ -8,11 +8,11 @@
 
 mod cmd;
 mod error;
+mod fitting;
 mod missions;
 mod quantity;
-mod usage;
 
-use geodesic_verify::{preflight, progress};
+use geodesic_verify::{preflight, progress, usage};
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
@@ -178,7 +178,8 @@ fn main() -> ExitCode {
     let cmd = plugins
         .iter()
         .fold(Cli::command(), |c, p| c.subcommand(p.command.clone()));
-    // usage errors: one line naming the argument (src/usage.rs); negative numbers are values
+    // usage errors: one line naming the argument (geodesic_verify::usage); negative numbers are
+    // values
     let matches = match usage::parse_matches(cmd) {
         Ok(m) => m,
         Err(code) => return ExitCode::from(code),
@@ -197,7 +198,7 @@ fn main() -> ExitCode {
         Some((p, sub)) => (p.run)(sub),
         None => match Cli::from_arg_matches(&matches) {
             Ok(cli) => run(cli.command),
-            Err(e) => return ExitCode::from(usage::report(&e, "geodesic")),
+            Err(e) => return ExitCode::from(usage::report(&e, "geodesic", "geodesic")),
         },
     };
     match result {

@@ -19,7 +19,7 @@ use serde_json::Value;
 fn a_synthetic_campaign_recovers_its_population() {
     geodesic_core::verifies!("REL-GPRM-VEL");
     let d = scratch("campaign");
-    let out = geodesic(
+    succeeds(
         &[
             "synth",
             "--campaign",
@@ -32,13 +32,7 @@ fn a_synthetic_campaign_recovers_its_population() {
         ],
         &d,
     );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = geodesic(
+    let out = succeeds(
         &[
             "campaign",
             "camp/campaign.yaml",
@@ -48,18 +42,35 @@ fn a_synthetic_campaign_recovers_its_population() {
         ],
         &d,
     );
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let truth: Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("camp/truth.json")).unwrap()).unwrap();
+    assert_eq!(doc["releases"].as_array().unwrap().len(), 8);
+    assert!(doc["failed"].as_array().unwrap().is_empty());
+    table_is_whole(&doc);
+    population_recovered(&doc, &truth);
+    page_written(&d, &out.stdout);
+    // closing the loop (issue 14 item 3)
+    std::fs::write(d.join("campaign.json"), &out.stdout).unwrap();
+    monte_carlo_holds_the_sampled_population(&d, &truth);
+    a_damaged_release_is_reported(&d);
+}
+
+/// Runs geodesic in `d` and asserts exit 0 (stderr shown otherwise).
+fn succeeds(args: &[&str], d: &std::path::Path) -> std::process::Output {
+    let out = geodesic(args, d);
     assert_eq!(
         out.status.code(),
         Some(0),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
-    let truth: Value =
-        serde_json::from_str(&std::fs::read_to_string(d.join("camp/truth.json")).unwrap()).unwrap();
-    let releases = doc["releases"].as_array().unwrap();
-    assert_eq!(releases.len(), 8);
-    assert!(doc["failed"].as_array().unwrap().is_empty());
+    out
+}
+
+/// The table's statistics of P_x, F_peak and dt, and P_x from the model and from the data in
+/// agreement within their spread.
+fn table_is_whole(doc: &Value) {
     for key in ["P_x_kg_m_s", "F_peak_N", "dt_s"] {
         for stat in ["mean", "sd", "sd_mean", "min", "max"] {
             assert!(
@@ -77,6 +88,13 @@ fn a_synthetic_campaign_recovers_its_population() {
         (pm - pd).abs() < px["model"]["sd"].as_f64().unwrap(),
         "P_x model {pm} data {pd}"
     );
+}
+
+/// Each release's A1 and lambda within 4 sigma of its truth; the population mean within 3
+/// `mean_sigma` of the mean of the drawn values; the correlation's bootstrap interval holds
+/// the estimate.
+fn population_recovered(doc: &Value, truth: &Value) {
+    let releases = doc["releases"].as_array().unwrap();
     for name in ["tip_adhesion.A1", "tip_adhesion.lambda"] {
         let mut drawn = Vec::new();
         for r in releases {
@@ -121,13 +139,16 @@ fn a_synthetic_campaign_recovers_its_population() {
             "{r} in [{lo}, {hi}]"
         );
     }
-    // the page: written whole under reports/campaign, the JSON identical to stdout, the table
-    // in the thesis's form, every release listed, both plots with their legends
+}
+
+/// The page: written whole under reports/campaign, the JSON identical to `stdout`, the table
+/// in the thesis's form, every release listed, both plots with their legends.
+fn page_written(d: &std::path::Path, stdout: &[u8]) {
     let page = d.join("reports/campaign");
     let json = std::fs::read(page.join("campaign.json")).unwrap();
     assert_eq!(
         String::from_utf8_lossy(&json).trim(),
-        String::from_utf8_lossy(&out.stdout).trim()
+        String::from_utf8_lossy(stdout).trim()
     );
     let md = std::fs::read_to_string(page.join("campaign.md")).unwrap();
     for want in [
@@ -144,29 +165,29 @@ fn a_synthetic_campaign_recovers_its_population() {
     assert!(svg.contains("population 1-sigma") && svg.contains("error ellipse"));
     let svg = std::fs::read_to_string(page.join("histograms.svg")).unwrap();
     assert!(svg.contains("from the fitted model") && svg.contains("from the data"));
+}
 
-    // closing the loop (issue 14 item 3): the Monte Carlo takes its adhesion from the campaign;
-    // its 99.73 % interval, which carries the identification uncertainty, holds the 99.73 % point
-    // of the population the campaign actually sampled (the drawn values' mean and spread)
-    std::fs::write(d.join("campaign.json"), &out.stdout).unwrap();
-    let mc = |args: &[&str]| -> Value {
-        let mut a = vec!["montecarlo", "--n", "4000", "--seed", "3", "--json", "-q"];
-        a.extend_from_slice(args);
-        let o = geodesic(&a, &d);
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        serde_json::from_slice(&o.stdout).unwrap()
-    };
-    let est = mc(&[
-        "--adhesion-from",
-        "campaign.json",
-        "--population-draws",
-        "12",
-    ]);
+/// `geodesic montecarlo --n 4000 --seed 3 --json` in `d` with `args`, exit 0, its JSON.
+fn montecarlo(d: &std::path::Path, args: &[&str]) -> Value {
+    let mut a = vec!["montecarlo", "--n", "4000", "--seed", "3", "--json", "-q"];
+    a.extend_from_slice(args);
+    serde_json::from_slice(&succeeds(&a, d).stdout).unwrap()
+}
+
+/// The Monte Carlo takes its adhesion from the campaign (`d/campaign.json`); its 99.73 %
+/// interval, which carries the identification uncertainty, holds the 99.73 % point of the
+/// population the campaign actually sampled (the drawn values' mean and spread, from `truth`)
+/// and meets REL-GPRM-VEL's limit; the budget key `adhesion_from` does the same as the flag.
+fn monte_carlo_holds_the_sampled_population(d: &std::path::Path, truth: &Value) {
+    let est = montecarlo(
+        d,
+        &[
+            "--adhesion-from",
+            "campaign.json",
+            "--population-draws",
+            "12",
+        ],
+    );
     let iv: Vec<f64> = est["p9973_interval_um_s"]
         .as_array()
         .unwrap()
@@ -195,7 +216,10 @@ fn a_synthetic_campaign_recovers_its_population() {
         "tip_adhesion.A1": moments("tip_adhesion.A1"),
         "tip_adhesion.lambda": moments("tip_adhesion.lambda")}});
     std::fs::write(d.join("sample.json"), sample.to_string()).unwrap();
-    let p = mc(&["--adhesion-from", "sample.json", "--population-draws", "1"])["p9973_um_s"]
+    let p = montecarlo(
+        d,
+        &["--adhesion-from", "sample.json", "--population-draws", "1"],
+    )["p9973_um_s"]
         .as_f64()
         .unwrap();
     // p inside [lo, hi]: |midpoint - p| <= half-width
@@ -213,10 +237,13 @@ fn a_synthetic_campaign_recovers_its_population() {
         geodesic_release::budget::DEFAULT_BUDGET_YAML.trim_end()
     );
     std::fs::write(d.join("b.yaml"), budget).unwrap();
-    let via_key = mc(&["--budget", "b.yaml", "--population-draws", "12"]);
+    let via_key = montecarlo(d, &["--budget", "b.yaml", "--population-draws", "12"]);
     assert_eq!(via_key["p9973_um_s"], est["p9973_um_s"]);
     assert_eq!(via_key["p9973_interval_um_s"], est["p9973_interval_um_s"]);
-    // a damaged release: reported with its file, the others still fitted, exit 2
+}
+
+/// A damaged release: reported with its file, the others still fitted, exit 2.
+fn a_damaged_release_is_reported(d: &std::path::Path) {
     std::fs::write(d.join("camp/release-003.csv"), "t,x,y\n0,1\n").unwrap();
     let out = geodesic(
         &[
@@ -226,7 +253,7 @@ fn a_synthetic_campaign_recovers_its_population() {
             "needle_contact,tip_contact,tip_adhesion",
             "--json",
         ],
-        &d,
+        d,
     );
     assert_eq!(out.status.code(), Some(2));
     let doc: Value = serde_json::from_slice(&out.stdout).unwrap();

@@ -19,7 +19,7 @@
 
 use crate::check::{Basis, Evidence, Outcome, Sampling};
 use crate::disposition::Disposition;
-use crate::requirement::{Op, Requirement, Requirements};
+use crate::requirement::{Limit, Op, Requirement, Requirements};
 use crate::testrun::{Assertion, Freshness, TestResult, TestRun};
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -661,11 +661,28 @@ fn row(
     tests: Option<TestEvidence<'_>>,
     disposition: Option<&Disposition>,
 ) -> Row {
-    let entry = |check: &str,
-                 e: &Evidence,
-                 value: Option<f64>,
-                 reason: Option<String>,
-                 sampling: Option<Sampling>| EvidenceEntry {
+    let verdict = match &r.limit {
+        Some(lim) => {
+            let mut tally = Tally::default();
+            for (check, e) in evs {
+                tally.add(lim, check, e);
+            }
+            tally.verdict(lim)
+        }
+        None => qualitative_verdict(r, evs),
+    };
+    finish_row(r, reqs, tests, disposition, verdict)
+}
+
+/// The evidence entry of `check` as the matrix shows it: its basis only with a value.
+fn evidence_entry(
+    check: &str,
+    e: &Evidence,
+    value: Option<f64>,
+    reason: Option<String>,
+    sampling: Option<Sampling>,
+) -> EvidenceEntry {
+    EvidenceEntry {
         check: check.to_string(),
         basis: if value.is_some() { e.basis } else { None },
         activity: e.activity.clone(),
@@ -678,83 +695,57 @@ fn row(
         model_inputs: e.model_inputs.clone(),
         judges_input: e.judges_input.clone(),
         by_construction: e.by_construction.clone(),
-    };
-    let Some(lim) = &r.limit else {
-        // qualitative: no value can decide; evidence that names it anyway is shown, not used
-        let entries = evs
-            .iter()
-            .map(|(check, e)| {
-                entry(
-                    check,
-                    e,
-                    None,
-                    Some(format!(
-                        "check {check} gave evidence for a qualitative requirement (no limit to compare with)"
-                    )),
-                    None,
-                )
-            })
-            .collect();
-        return finish_row(
-            r,
-            reqs,
-            tests,
-            disposition,
-            Verdict {
-                status: Status::NotVerified,
-                deciding: None,
-                value: None,
-                margin: None,
-                reason: Some(qualitative_reason(r.method)),
-                entries,
-                sampling: None,
-            },
-        );
-    };
-    let scale = lim.unit.scale;
-    let limit = lim.value.value / scale;
-    let mut entries: Vec<EvidenceEntry> = Vec::new();
-    // (entry index, value in unit, margin)
-    let mut best: Option<(usize, f64, f64)> = None;
-    let mut undecided_sampling: Option<Sampling> = None;
-    let mut reasons = Vec::new();
-    let mut illustrations = Vec::new();
-    for (check, e) in evs {
-        let sampling = e.sampling.clone().map(|s| s.scaled(1.0 / scale));
+    }
+}
+
+/// The verdict of a qualitative requirement: no value can decide; evidence that names it
+/// anyway is shown, not used.
+fn qualitative_verdict(r: &Requirement, evs: &[(&str, &Evidence)]) -> Verdict {
+    let entries = evs
+        .iter()
+        .map(|(check, e)| {
+            evidence_entry(
+                check,
+                e,
+                None,
+                Some(format!(
+                    "check {check} gave evidence for a qualitative requirement (no limit to compare with)"
+                )),
+                None,
+            )
+        })
+        .collect();
+    Verdict {
+        status: Status::NotVerified,
+        deciding: None,
+        value: None,
+        margin: None,
+        reason: Some(qualitative_reason(r.method)),
+        entries,
+        sampling: None,
+    }
+}
+
+/// The evidence of a quantitative requirement, read one piece at a time: the deciding value
+/// with the smallest margin, and why the others decide nothing.
+#[derive(Default)]
+struct Tally {
+    entries: Vec<EvidenceEntry>,
+    /// (entry index, value in the limit's unit, margin)
+    best: Option<(usize, f64, f64)>,
+    /// The sample of deciding evidence that could not decide.
+    undecided_sampling: Option<Sampling>,
+    reasons: Vec<String>,
+    illustrations: Vec<String>,
+}
+
+impl Tally {
+    /// Adds the evidence `e` of `check` against limit `lim`.
+    fn add(&mut self, lim: &Limit, check: &str, e: &Evidence) {
+        let sampling = e.sampling.clone().map(|s| s.scaled(1.0 / lim.unit.scale));
         let (value, reason) = match &e.outcome {
             Outcome::Measured(q) if q.dim == lim.dim && !q.value.is_nan() => {
-                let basis = e.basis.unwrap_or(Basis::Illustration);
-                let decision = match &sampling {
-                    Some(s) => decide_sampled(s, lim.op, limit, &lim.unit.symbol, check),
-                    None => {
-                        let v = q.value / scale;
-                        Decision::Value(v, lim.op.margin(v, limit))
-                    }
-                };
-                match decision {
-                    Decision::Value(v, m) if basis.decides() => {
-                        if best.is_none_or(|(_, _, bm)| m < bm) {
-                            best = Some((entries.len(), v, m));
-                        }
-                        (Some(v), None)
-                    }
-                    Decision::Value(v, _) => {
-                        illustrations.push(format!(
-                            "illustration only (not a verdict): {} gives {} {}",
-                            check,
-                            crate::units::fmt_num(v),
-                            lim.unit.symbol
-                        ));
-                        (Some(v), None)
-                    }
-                    Decision::Undecided(why) => {
-                        if basis.decides() {
-                            reasons.push(why.clone());
-                            undecided_sampling = undecided_sampling.or(sampling.clone());
-                        }
-                        (None, Some(why))
-                    }
-                }
+                self.measured(lim, check, e, q.value, sampling.as_ref())
             }
             Outcome::Measured(q) => {
                 let why = if q.value.is_nan() {
@@ -765,49 +756,101 @@ fn row(
                         q.dim, lim.dim
                     )
                 };
-                reasons.push(why.clone());
+                self.reasons.push(why.clone());
                 (None, Some(why))
             }
             Outcome::NotVerified(why) => {
-                reasons.push(why.clone());
+                self.reasons.push(why.clone());
                 (None, Some(why.clone()))
             }
         };
-        entries.push(entry(check, e, value, reason, sampling));
+        self.entries
+            .push(evidence_entry(check, e, value, reason, sampling));
     }
-    let verdict = match best {
-        Some((i, v, m)) => Verdict {
-            status: if lim.op.holds(v, limit) {
-                Status::Compliant
-            } else {
-                Status::NonCompliant
-            },
-            deciding: Some(i),
-            value: Some(v),
-            margin: Some(m),
-            reason: None,
-            sampling: entries[i].sampling.clone(),
-            entries,
-        },
-        None => {
-            reasons.extend(illustrations);
-            let why = if reasons.is_empty() {
-                "no check provides evidence for this requirement".to_string()
-            } else {
-                reasons.join("; ")
-            };
-            Verdict {
-                status: Status::NotVerified,
-                deciding: None,
-                value: None,
-                margin: None,
-                reason: Some(why),
-                sampling: undecided_sampling,
-                entries,
+
+    /// A measured value `si` (SI, of the limit's dimension) of `check`: its value in the
+    /// limit's unit, or why it decides nothing (a sample whose bounds straddle the limit).
+    fn measured(
+        &mut self,
+        lim: &Limit,
+        check: &str,
+        e: &Evidence,
+        si: f64,
+        sampling: Option<&Sampling>,
+    ) -> (Option<f64>, Option<String>) {
+        let scale = lim.unit.scale;
+        let limit = lim.value.value / scale;
+        let basis = e.basis.unwrap_or(Basis::Illustration);
+        let decision = match sampling {
+            Some(s) => decide_sampled(s, lim.op, limit, &lim.unit.symbol, check),
+            None => {
+                let v = si / scale;
+                Decision::Value(v, lim.op.margin(v, limit))
+            }
+        };
+        match decision {
+            Decision::Value(v, m) if basis.decides() => {
+                if self.best.is_none_or(|(_, _, bm)| m < bm) {
+                    self.best = Some((self.entries.len(), v, m));
+                }
+                (Some(v), None)
+            }
+            Decision::Value(v, _) => {
+                self.illustrations.push(format!(
+                    "illustration only (not a verdict): {} gives {} {}",
+                    check,
+                    crate::units::fmt_num(v),
+                    lim.unit.symbol
+                ));
+                (Some(v), None)
+            }
+            Decision::Undecided(why) => {
+                if basis.decides() {
+                    self.reasons.push(why.clone());
+                    self.undecided_sampling = self.undecided_sampling.take().or(sampling.cloned());
+                }
+                (None, Some(why))
             }
         }
-    };
-    finish_row(r, reqs, tests, disposition, verdict)
+    }
+
+    /// The verdict: by the deciding value with the smallest margin, else not verified with
+    /// every reason (the illustrations last).
+    fn verdict(mut self, lim: &Limit) -> Verdict {
+        let limit = lim.value.value / lim.unit.scale;
+        match self.best {
+            Some((i, v, m)) => Verdict {
+                status: if lim.op.holds(v, limit) {
+                    Status::Compliant
+                } else {
+                    Status::NonCompliant
+                },
+                deciding: Some(i),
+                value: Some(v),
+                margin: Some(m),
+                reason: None,
+                sampling: self.entries[i].sampling.clone(),
+                entries: self.entries,
+            },
+            None => {
+                self.reasons.extend(self.illustrations);
+                let why = if self.reasons.is_empty() {
+                    "no check provides evidence for this requirement".to_string()
+                } else {
+                    self.reasons.join("; ")
+                };
+                Verdict {
+                    status: Status::NotVerified,
+                    deciding: None,
+                    value: None,
+                    margin: None,
+                    reason: Some(why),
+                    sampling: self.undecided_sampling,
+                    entries: self.entries,
+                }
+            }
+        }
+    }
 }
 
 /// What the evidence decided for one requirement.
@@ -937,42 +980,7 @@ fn findings(rows: &mut [Row], tests: Option<TestEvidence<'_>>) {
         .iter()
         .map(|r| (r.id.clone(), r.assumes.clone()))
         .collect();
-    // the model inputs a non-compliant row rejects: input -> (row, its disposition)
-    let mut rejected: BTreeMap<String, (String, Option<String>)> = BTreeMap::new();
-    for r in rows.iter() {
-        if r.status != Status::NonCompliant {
-            continue;
-        }
-        for e in r.evidence.iter().filter(|e| e.value.is_some()) {
-            if let Some(i) = &e.judges_input {
-                rejected.entry(i.clone()).or_insert((
-                    r.id.clone(),
-                    r.disposition
-                        .as_ref()
-                        .map(|d| format!("{} {}", d.kind.as_str(), d.reference)),
-                ));
-            }
-        }
-    }
-    // the assumed rows that are not verified, through chains of assumptions
-    fn unmet(
-        id: &str,
-        status: &BTreeMap<String, Status>,
-        assumes: &BTreeMap<String, Vec<String>>,
-        seen: &mut BTreeSet<String>,
-        out: &mut Vec<(String, Status)>,
-    ) {
-        for a in assumes.get(id).into_iter().flatten() {
-            if !seen.insert(a.clone()) {
-                continue;
-            }
-            let s = status.get(a).copied().unwrap_or(Status::NotVerified);
-            if s != Status::Compliant {
-                out.push((a.clone(), s));
-            }
-            unmet(a, status, assumes, seen, out);
-        }
-    }
+    let rejected = rejected_inputs(rows);
     let fresh_run = tests.is_some_and(|t| t.freshness.is_fresh());
     for r in rows.iter_mut() {
         let mut qual: Vec<String> = Vec::new();
@@ -988,54 +996,8 @@ fn findings(rows: &mut [Row], tests: Option<TestEvidence<'_>>) {
             r.findings = found;
             continue;
         }
-        if r.status == Status::NonCompliant {
-            match &r.disposition {
-                Some(d) => qual.push(format!(
-                    "{} {}{}",
-                    d.kind.as_str(),
-                    d.reference,
-                    if d.expired { " EXPIRED" } else { "" }
-                )),
-                None => {
-                    qual.push("no disposition".into());
-                    found.push(
-                        "non-compliant with no disposition (NCR, waiver or RFD) in the dispositions file"
-                            .into(),
-                    );
-                }
-            }
-        }
-        if let Some(b) = r.basis
-            && b != Basis::Model
-        {
-            qual.push(b.label().to_string());
-        }
-        if let Some(why) = &r.by_construction {
-            qual.push("by construction".into());
-            found.push(format!("holds by construction: {why}"));
-        }
-        let mut miss = Vec::new();
-        unmet(
-            &r.id,
-            &status,
-            &assumes,
-            &mut BTreeSet::from([r.id.clone()]),
-            &mut miss,
-        );
-        match miss.as_slice() {
-            [] => {}
-            [(id, s)] => qual.push(format!("assumes {} {id}", s.as_str())),
-            many => qual.push(format!(
-                "assumes {} rows not verified or not met",
-                many.len()
-            )),
-        }
-        for (id, s) in &miss {
-            found.push(format!(
-                "takes {id} as met, which is {}: the verdict holds only if {id} does",
-                s.as_str()
-            ));
-        }
+        basis_findings(r, &mut qual, &mut found);
+        assumption_findings(r, &status, &assumes, &mut qual, &mut found);
         for i in &r.model_inputs {
             if let Some((judge, disp)) = rejected.get(i)
                 && *judge != r.id
@@ -1048,54 +1010,174 @@ fn findings(rows: &mut [Row], tests: Option<TestEvidence<'_>>) {
                 ));
             }
         }
-        match r.tests_status {
-            TestsStatus::Failed => {
-                qual.push("test failed".into());
-                let names: Vec<&str> = r
-                    .tests
-                    .iter()
-                    .filter(|t| t.result == TestResult::Failed)
-                    .map(|t| t.test.as_str())
-                    .collect();
-                found.push(format!("traced test failed: {}", names.join(", ")));
-            }
-            TestsStatus::Incomplete => {
-                qual.push("tests incomplete".into());
-                let names: Vec<String> = r
-                    .tests
-                    .iter()
-                    .filter(|t| matches!(t.result, TestResult::Ignored | TestResult::NotRun))
-                    .map(|t| format!("{} ({})", t.test, t.result.as_str()))
-                    .collect();
-                found.push(format!("traced test did not run: {}", names.join(", ")));
-            }
-            TestsStatus::Stale => {
-                qual.push("tests stale".into());
-                found.push(format!(
-                    "traced test results are stale: {}",
-                    tests.and_then(|t| t.freshness.reason()).unwrap_or("")
-                ));
-            }
-            TestsStatus::Passed | TestsStatus::None => {
-                let needs = matches!(
-                    r.basis,
-                    Some(Basis::Model | Basis::Measurement | Basis::MethodValidation)
-                );
-                if fresh_run && needs && !r.tests.iter().any(TestRef::is_evidence) {
-                    qual.push("no traced test".into());
-                    found.push(
-                        "no passing traced test asserts its limit or an independent reference"
-                            .into(),
-                    );
-                }
-            }
-        }
+        test_findings(r, tests, fresh_run, &mut qual, &mut found);
         r.verdict = if qual.is_empty() {
             r.status.as_str().to_string()
         } else {
             format!("{} ({})", r.status.as_str(), qual.join("; "))
         };
         r.findings = found;
+    }
+}
+
+/// The model inputs a non-compliant row rejects: input -> (the first such row, its
+/// disposition).
+fn rejected_inputs(rows: &[Row]) -> BTreeMap<String, (String, Option<String>)> {
+    let mut rejected: BTreeMap<String, (String, Option<String>)> = BTreeMap::new();
+    for r in rows {
+        if r.status != Status::NonCompliant {
+            continue;
+        }
+        for e in r.evidence.iter().filter(|e| e.value.is_some()) {
+            if let Some(i) = &e.judges_input {
+                rejected.entry(i.clone()).or_insert((
+                    r.id.clone(),
+                    r.disposition
+                        .as_ref()
+                        .map(|d| format!("{} {}", d.kind.as_str(), d.reference)),
+                ));
+            }
+        }
+    }
+    rejected
+}
+
+/// The assumed rows of `id` that are not verified or not met, through chains of assumptions
+/// (`seen`: the rows already followed).
+fn unmet(
+    id: &str,
+    status: &BTreeMap<String, Status>,
+    assumes: &BTreeMap<String, Vec<String>>,
+    seen: &mut BTreeSet<String>,
+    out: &mut Vec<(String, Status)>,
+) {
+    for a in assumes.get(id).into_iter().flatten() {
+        if !seen.insert(a.clone()) {
+            continue;
+        }
+        let s = status.get(a).copied().unwrap_or(Status::NotVerified);
+        if s != Status::Compliant {
+            out.push((a.clone(), s));
+        }
+        unmet(a, status, assumes, seen, out);
+    }
+}
+
+/// A verified row's qualifiers (`qual`) and findings (`found`) from what it rests on: a
+/// non-compliance's disposition (or its absence), a basis other than a model, a proof by
+/// construction.
+fn basis_findings(r: &Row, qual: &mut Vec<String>, found: &mut Vec<String>) {
+    if r.status == Status::NonCompliant {
+        match &r.disposition {
+            Some(d) => qual.push(format!(
+                "{} {}{}",
+                d.kind.as_str(),
+                d.reference,
+                if d.expired { " EXPIRED" } else { "" }
+            )),
+            None => {
+                qual.push("no disposition".into());
+                found.push(
+                    "non-compliant with no disposition (NCR, waiver or RFD) in the dispositions file"
+                        .into(),
+                );
+            }
+        }
+    }
+    if let Some(b) = r.basis
+        && b != Basis::Model
+    {
+        qual.push(b.label().to_string());
+    }
+    if let Some(why) = &r.by_construction {
+        qual.push("by construction".into());
+        found.push(format!("holds by construction: {why}"));
+    }
+}
+
+/// A verified row's qualifiers and findings from the rows it takes as met that are not
+/// verified or not met.
+fn assumption_findings(
+    r: &Row,
+    status: &BTreeMap<String, Status>,
+    assumes: &BTreeMap<String, Vec<String>>,
+    qual: &mut Vec<String>,
+    found: &mut Vec<String>,
+) {
+    let mut miss = Vec::new();
+    unmet(
+        &r.id,
+        status,
+        assumes,
+        &mut BTreeSet::from([r.id.clone()]),
+        &mut miss,
+    );
+    match miss.as_slice() {
+        [] => {}
+        [(id, s)] => qual.push(format!("assumes {} {id}", s.as_str())),
+        many => qual.push(format!(
+            "assumes {} rows not verified or not met",
+            many.len()
+        )),
+    }
+    for (id, s) in &miss {
+        found.push(format!(
+            "takes {id} as met, which is {}: the verdict holds only if {id} does",
+            s.as_str()
+        ));
+    }
+}
+
+/// A verified row's qualifiers and findings from its traced tests: failed, did not run,
+/// stale, or (in a fresh run) none that passes and asserts the limit of a verdict that needs
+/// one.
+fn test_findings(
+    r: &Row,
+    tests: Option<TestEvidence<'_>>,
+    fresh_run: bool,
+    qual: &mut Vec<String>,
+    found: &mut Vec<String>,
+) {
+    match r.tests_status {
+        TestsStatus::Failed => {
+            qual.push("test failed".into());
+            let names: Vec<&str> = r
+                .tests
+                .iter()
+                .filter(|t| t.result == TestResult::Failed)
+                .map(|t| t.test.as_str())
+                .collect();
+            found.push(format!("traced test failed: {}", names.join(", ")));
+        }
+        TestsStatus::Incomplete => {
+            qual.push("tests incomplete".into());
+            let names: Vec<String> = r
+                .tests
+                .iter()
+                .filter(|t| matches!(t.result, TestResult::Ignored | TestResult::NotRun))
+                .map(|t| format!("{} ({})", t.test, t.result.as_str()))
+                .collect();
+            found.push(format!("traced test did not run: {}", names.join(", ")));
+        }
+        TestsStatus::Stale => {
+            qual.push("tests stale".into());
+            found.push(format!(
+                "traced test results are stale: {}",
+                tests.and_then(|t| t.freshness.reason()).unwrap_or("")
+            ));
+        }
+        TestsStatus::Passed | TestsStatus::None => {
+            let needs = matches!(
+                r.basis,
+                Some(Basis::Model | Basis::Measurement | Basis::MethodValidation)
+            );
+            if fresh_run && needs && !r.tests.iter().any(TestRef::is_evidence) {
+                qual.push("no traced test".into());
+                found.push(
+                    "no passing traced test asserts its limit or an independent reference".into(),
+                );
+            }
+        }
     }
 }
 

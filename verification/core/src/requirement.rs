@@ -522,181 +522,62 @@ impl Requirements {
     pub fn from_sources(sources: &[(PathBuf, String)]) -> Result<Requirements, LoadError> {
         let mut out = Requirements::default();
         let mut seen: BTreeMap<String, Origin> = BTreeMap::new();
-        let mut parents: Vec<(usize, Spanned<String>, f64, PathBuf)> = Vec::new();
+        let mut parents: Vec<PendingParent> = Vec::new();
         for (file, text) in sources {
-            let raw: RawFile = serde_saphyr::from_str(text).map_err(|e| yaml_error(file, &e))?;
-            out.families.insert(
-                raw.family.clone(),
-                raw.description.clone().unwrap_or_default(),
-            );
-            let (def_level, def_stage) = default_level_stage(&raw.family);
-            let parse_level = |s: &Spanned<String>| {
-                Level::parse(s.value.trim()).ok_or_else(|| LoadError {
-                    origin: origin_of(file, s),
-                    cause: format!(
-                        "unknown verification level `{}` ({})",
-                        s.value,
-                        Level::NAMES.join(", ")
-                    ),
-                })
-            };
-            let parse_stage = |s: &Spanned<String>| {
-                Stage::parse(s.value.trim()).ok_or_else(|| LoadError {
-                    origin: origin_of(file, s),
-                    cause: format!(
-                        "unknown verification stage `{}` ({})",
-                        s.value,
-                        Stage::NAMES.join(", ")
-                    ),
-                })
-            };
-            let file_level = raw.level.as_ref().map(parse_level).transpose()?;
-            let file_stage = raw.stage.as_ref().map(parse_stage).transpose()?;
-            for r in raw.requirements {
-                let at = |s: &Spanned<String>| origin_of(file, s);
-                let err = |s: &Spanned<String>, cause: String| LoadError {
-                    origin: at(s),
-                    cause,
-                };
-                let id = ReqId::parse(&r.id.value).map_err(|c| err(&r.id, c))?;
-                if let Some(prev) = seen.get(id.as_str()) {
-                    return Err(err(
-                        &r.id,
-                        format!("duplicate requirement ID {id} (first defined at {prev})"),
-                    ));
-                }
-                seen.insert(id.to_string(), at(&r.id));
-                let limit = match &r.limit {
-                    Some(l) => {
-                        let Some(dimension) = &r.dimension else {
-                            return Err(err(
-                                l,
-                                format!("requirement {id} has a limit but no `dimension`"),
-                            ));
-                        };
-                        if r.quantity.is_none() {
-                            return Err(err(
-                                l,
-                                format!("requirement {id} has a limit but no `quantity`"),
-                            ));
-                        }
-                        Some(parse_limit(dimension, l, r.spectrum.is_some(), &err)?)
-                    }
-                    None => {
-                        // qualitative: nothing tied to a limit may be stated
-                        if let Some(sp) = &r.spectrum {
-                            return Err(err(
-                                &sp.band,
-                                format!(
-                                    "requirement {id} has a `spectrum` but no `limit` (the limit is the curve's level)"
-                                ),
-                            ));
-                        }
-                        let tied = [
-                            ("dimension", r.dimension.as_ref()),
-                            ("probability", r.probability.as_ref()),
-                            ("check", r.check.as_ref()),
-                        ];
-                        if let Some((name, s)) = tied.iter().find_map(|(n, s)| s.map(|s| (n, s))) {
-                            return Err(err(
-                                s,
-                                format!(
-                                    "requirement {id} has a `{name}` but no `limit` (a qualitative requirement has no dimension, probability or check)"
-                                ),
-                            ));
-                        }
-                        if let Some(p) = &r.parent {
-                            return Err(err(
-                                &p.id,
-                                format!(
-                                    "requirement {id} has a `parent` but no `limit` (a parent margin links two limits)"
-                                ),
-                            ));
-                        }
-                        None
-                    }
-                };
-                let method: Method = match r.method.value.as_str() {
-                    "test" => Method::Test,
-                    "analysis" => Method::Analysis,
-                    "review-of-design" => Method::ReviewOfDesign,
-                    "inspection" => Method::Inspection,
-                    other => {
-                        return Err(err(
-                            &r.method,
-                            format!(
-                                "unknown verification method `{other}` (test, analysis, review-of-design, inspection)"
-                            ),
-                        ));
-                    }
-                };
-                for (name, v) in [
-                    ("title", &r.title),
-                    ("text", &r.text),
-                    ("source", &r.source),
-                    ("activity", &r.activity),
-                ] {
-                    if v.trim().is_empty() {
-                        return Err(err(&r.id, format!("requirement {id}: `{name}` is empty")));
-                    }
-                }
-                let level = match &r.level {
-                    Some(l) => parse_level(l)?,
-                    None => file_level.unwrap_or(def_level),
-                };
-                let stage = match &r.stage {
-                    Some(l) => parse_stage(l)?,
-                    None => file_stage.unwrap_or(def_stage),
-                };
-                let spectrum = match &r.spectrum {
-                    Some(sp) => Some(
-                        crate::spectrum::Spectrum::parse(&sp.band.value, &sp.shape.value)
-                            .map_err(|c| err(&sp.band, format!("requirement {id}: {c}")))?,
-                    ),
-                    None => None,
-                };
-                let (probability_value, probability_sigma) = match &r.probability {
-                    Some(p) => {
-                        let (v, k) = parse_probability(&p.value)
-                            .map_err(|c| err(p, format!("requirement {id}: {c}")))?;
-                        (Some(v), k)
-                    }
-                    None => (None, None),
-                };
-                let idx = out.items.len();
-                if let Some(p) = r.parent {
-                    if !(p.margin.is_finite() && p.margin > 0.0) {
-                        return Err(err(
-                            &p.id,
-                            format!("parent margin {} must be a positive number", p.margin),
-                        ));
-                    }
-                    parents.push((idx, p.id, p.margin, file.clone()));
-                }
-                out.items.push(Requirement {
-                    id,
-                    family: raw.family.clone(),
-                    title: r.title,
-                    text: r.text,
-                    source: r.source,
-                    quantity: r.quantity.map(|q| q.value).unwrap_or_default(),
-                    limit,
-                    spectrum,
-                    probability: r.probability.map(|p| p.value),
-                    probability_value,
-                    probability_sigma,
-                    method,
-                    level,
-                    stage,
-                    activity: r.activity,
-                    check: r.check.as_ref().map(|c| c.value.clone()),
-                    check_origin: r.check.as_ref().map(&at),
-                    parent: None,
-                    note: r.note,
-                    origin: at(&r.id),
-                });
-            }
+            out.load_file(file, text, &mut seen, &mut parents)?;
         }
+        let origins = out.link_parents(parents)?;
+        out.check_derivation_chains(&origins)?;
+        Ok(out)
+    }
+
+    /// Appends the requirements of one file (`seen`: the IDs so far, where each is defined;
+    /// `parents`: the derivations to link once every file is read).
+    fn load_file(
+        &mut self,
+        file: &Path,
+        text: &str,
+        seen: &mut BTreeMap<String, Origin>,
+        parents: &mut Vec<PendingParent>,
+    ) -> Result<(), LoadError> {
+        let raw: RawFile = serde_saphyr::from_str(text).map_err(|e| yaml_error(file, &e))?;
+        self.families.insert(
+            raw.family.clone(),
+            raw.description.clone().unwrap_or_default(),
+        );
+        let (def_level, def_stage) = default_level_stage(&raw.family);
+        let file_level = raw
+            .level
+            .as_ref()
+            .map(|s| parse_level(file, s))
+            .transpose()?;
+        let file_stage = raw
+            .stage
+            .as_ref()
+            .map(|s| parse_stage(file, s))
+            .transpose()?;
+        let defaults = (
+            file_level.unwrap_or(def_level),
+            file_stage.unwrap_or(def_stage),
+        );
+        for r in raw.requirements {
+            let idx = self.items.len();
+            let (req, parent) = requirement(file, &raw.family, r, defaults, seen)?;
+            if let Some((pid, margin)) = parent {
+                parents.push((idx, pid, margin, file.to_path_buf()));
+            }
+            self.items.push(req);
+        }
+        Ok(())
+    }
+
+    /// Links each child to its parent, once every requirement is loaded: the parent exists, is
+    /// another requirement, has a limit of the same dimension, and the child's limit is the
+    /// margin times the parent's. Returns where each derivation is written.
+    fn link_parents(
+        &mut self,
+        parents: Vec<PendingParent>,
+    ) -> Result<Vec<(usize, Origin)>, LoadError> {
         let mut origins: Vec<(usize, Origin)> = Vec::new();
         for (idx, pid, margin, file) in parents {
             let origin = origin_of(&file, &pid);
@@ -705,13 +586,13 @@ impl Requirements {
                 cause,
             };
             let parent_id = ReqId::parse(&pid.value).map_err(perr)?;
-            let parent = out
+            let parent = self
                 .items
                 .iter()
                 .find(|p| p.id == parent_id)
                 .ok_or_else(|| perr(format!("parent {parent_id} does not exist")))?
                 .clone();
-            let child = &out.items[idx];
+            let child = &self.items[idx];
             if parent.id == child.id {
                 return Err(perr(format!("{} names itself as its parent", child.id)));
             }
@@ -734,15 +615,20 @@ impl Requirements {
                     child.id, cl.text, margin, parent.id, pl.text
                 )));
             }
-            out.items[idx].parent = Some((parent_id, margin));
+            self.items[idx].parent = Some((parent_id, margin));
             origins.push((idx, origin));
         }
-        // a derivation chain must end: following parents from any requirement may not return
-        for (idx, origin) in &origins {
-            let mut chain = vec![out.items[*idx].id.clone()];
+        Ok(origins)
+    }
+
+    /// A derivation chain must end: following parents from any requirement of `origins` (a
+    /// child, with where its derivation is written) may not return to it.
+    fn check_derivation_chains(&self, origins: &[(usize, Origin)]) -> Result<(), LoadError> {
+        for (idx, origin) in origins {
+            let mut chain = vec![self.items[*idx].id.clone()];
             let mut at = *idx;
-            while let Some((p, _)) = &out.items[at].parent {
-                let Some(next) = out.items.iter().position(|r| &r.id == p) else {
+            while let Some((p, _)) = &self.items[at].parent {
+                let Some(next) = self.items.iter().position(|r| &r.id == p) else {
                     break;
                 };
                 if next == *idx {
@@ -753,14 +639,14 @@ impl Requirements {
                         cause: format!("derivation cycle: {}", names.join(" -> parent ")),
                     });
                 }
-                if chain.len() > out.items.len() {
+                if chain.len() > self.items.len() {
                     break;
                 }
                 chain.push(p.clone());
                 at = next;
             }
         }
-        Ok(out)
+        Ok(())
     }
 
     /// Finds a requirement by ID.
@@ -794,6 +680,224 @@ impl Requirements {
             }
         }
         Ok(())
+    }
+}
+
+/// A derivation read and not linked yet: the child's index, the parent's ID as written, the
+/// margin, and the child's file.
+type PendingParent = (usize, Spanned<String>, f64, PathBuf);
+
+/// A parent as an entry names it: its ID as written and the margin.
+type WrittenParent = (Spanned<String>, f64);
+
+fn parse_level(file: &Path, s: &Spanned<String>) -> Result<Level, LoadError> {
+    Level::parse(s.value.trim()).ok_or_else(|| LoadError {
+        origin: origin_of(file, s),
+        cause: format!(
+            "unknown verification level `{}` ({})",
+            s.value,
+            Level::NAMES.join(", ")
+        ),
+    })
+}
+
+fn parse_stage(file: &Path, s: &Spanned<String>) -> Result<Stage, LoadError> {
+    Stage::parse(s.value.trim()).ok_or_else(|| LoadError {
+        origin: origin_of(file, s),
+        cause: format!(
+            "unknown verification stage `{}` ({})",
+            s.value,
+            Stage::NAMES.join(", ")
+        ),
+    })
+}
+
+/// One entry of `file` (of `family`) checked: its ID is new (`seen` records it), its limit,
+/// method, level (`defaults`: the file's level and stage, else the family's), stage,
+/// spectrum and probability read. Returns the requirement, without its parent, and the
+/// parent's ID and margin to link once every file is read.
+fn requirement(
+    file: &Path,
+    family: &str,
+    r: RawRequirement,
+    defaults: (Level, Stage),
+    seen: &mut BTreeMap<String, Origin>,
+) -> Result<(Requirement, Option<WrittenParent>), LoadError> {
+    let at = |s: &Spanned<String>| origin_of(file, s);
+    let err = |s: &Spanned<String>, cause: String| LoadError {
+        origin: at(s),
+        cause,
+    };
+    let id = ReqId::parse(&r.id.value).map_err(|c| err(&r.id, c))?;
+    if let Some(prev) = seen.get(id.as_str()) {
+        return Err(err(
+            &r.id,
+            format!("duplicate requirement ID {id} (first defined at {prev})"),
+        ));
+    }
+    seen.insert(id.to_string(), at(&r.id));
+    let limit = entry_limit(&id, &r, &err)?;
+    let method = parse_method(&r.method, &err)?;
+    texts_stated(&id, &r, &err)?;
+    let level = match &r.level {
+        Some(l) => parse_level(file, l)?,
+        None => defaults.0,
+    };
+    let stage = match &r.stage {
+        Some(l) => parse_stage(file, l)?,
+        None => defaults.1,
+    };
+    let spectrum = match &r.spectrum {
+        Some(sp) => Some(
+            crate::spectrum::Spectrum::parse(&sp.band.value, &sp.shape.value)
+                .map_err(|c| err(&sp.band, format!("requirement {id}: {c}")))?,
+        ),
+        None => None,
+    };
+    let (probability_value, probability_sigma) = entry_probability(&id, &r, &err)?;
+    let parent = match r.parent {
+        Some(p) if !(p.margin.is_finite() && p.margin > 0.0) => {
+            return Err(err(
+                &p.id,
+                format!("parent margin {} must be a positive number", p.margin),
+            ));
+        }
+        Some(p) => Some((p.id, p.margin)),
+        None => None,
+    };
+    let req = Requirement {
+        id,
+        family: family.to_string(),
+        title: r.title,
+        text: r.text,
+        source: r.source,
+        quantity: r.quantity.map(|q| q.value).unwrap_or_default(),
+        limit,
+        spectrum,
+        probability: r.probability.map(|p| p.value),
+        probability_value,
+        probability_sigma,
+        method,
+        level,
+        stage,
+        activity: r.activity,
+        check: r.check.as_ref().map(|c| c.value.clone()),
+        check_origin: r.check.as_ref().map(&at),
+        parent: None,
+        note: r.note,
+        origin: at(&r.id),
+    };
+    Ok((req, parent))
+}
+
+/// Title, text, source and activity must not be empty.
+fn texts_stated(
+    id: &ReqId,
+    r: &RawRequirement,
+    err: &dyn Fn(&Spanned<String>, String) -> LoadError,
+) -> Result<(), LoadError> {
+    for (name, v) in [
+        ("title", &r.title),
+        ("text", &r.text),
+        ("source", &r.source),
+        ("activity", &r.activity),
+    ] {
+        if v.trim().is_empty() {
+            return Err(err(&r.id, format!("requirement {id}: `{name}` is empty")));
+        }
+    }
+    Ok(())
+}
+
+/// An entry's probability as a fraction, and its sigma level when written with one (both
+/// `None` without a probability).
+fn entry_probability(
+    id: &ReqId,
+    r: &RawRequirement,
+    err: &dyn Fn(&Spanned<String>, String) -> LoadError,
+) -> Result<(Option<f64>, Option<f64>), LoadError> {
+    match &r.probability {
+        Some(p) => {
+            let (v, k) = parse_probability(&p.value)
+                .map_err(|c| err(p, format!("requirement {id}: {c}")))?;
+            Ok((Some(v), k))
+        }
+        None => Ok((None, None)),
+    }
+}
+
+/// An entry's limit: with a limit, its dimension and quantity must be stated; without one
+/// (a qualitative requirement), nothing tied to a limit may be (spectrum, dimension,
+/// probability, check, parent).
+fn entry_limit(
+    id: &ReqId,
+    r: &RawRequirement,
+    err: &dyn Fn(&Spanned<String>, String) -> LoadError,
+) -> Result<Option<Limit>, LoadError> {
+    let Some(l) = &r.limit else {
+        if let Some(sp) = &r.spectrum {
+            return Err(err(
+                &sp.band,
+                format!(
+                    "requirement {id} has a `spectrum` but no `limit` (the limit is the curve's level)"
+                ),
+            ));
+        }
+        let tied = [
+            ("dimension", r.dimension.as_ref()),
+            ("probability", r.probability.as_ref()),
+            ("check", r.check.as_ref()),
+        ];
+        if let Some((name, s)) = tied.iter().find_map(|(n, s)| s.map(|s| (n, s))) {
+            return Err(err(
+                s,
+                format!(
+                    "requirement {id} has a `{name}` but no `limit` (a qualitative requirement has no dimension, probability or check)"
+                ),
+            ));
+        }
+        if let Some(p) = &r.parent {
+            return Err(err(
+                &p.id,
+                format!(
+                    "requirement {id} has a `parent` but no `limit` (a parent margin links two limits)"
+                ),
+            ));
+        }
+        return Ok(None);
+    };
+    let Some(dimension) = &r.dimension else {
+        return Err(err(
+            l,
+            format!("requirement {id} has a limit but no `dimension`"),
+        ));
+    };
+    if r.quantity.is_none() {
+        return Err(err(
+            l,
+            format!("requirement {id} has a limit but no `quantity`"),
+        ));
+    }
+    Ok(Some(parse_limit(dimension, l, r.spectrum.is_some(), err)?))
+}
+
+/// The verification method as written (`test`, `analysis`, `review-of-design`,
+/// `inspection`).
+fn parse_method(
+    m: &Spanned<String>,
+    err: &dyn Fn(&Spanned<String>, String) -> LoadError,
+) -> Result<Method, LoadError> {
+    match m.value.as_str() {
+        "test" => Ok(Method::Test),
+        "analysis" => Ok(Method::Analysis),
+        "review-of-design" => Ok(Method::ReviewOfDesign),
+        "inspection" => Ok(Method::Inspection),
+        other => Err(err(
+            m,
+            format!(
+                "unknown verification method `{other}` (test, analysis, review-of-design, inspection)"
+            ),
+        )),
     }
 }
 

@@ -509,14 +509,22 @@ fn mutated_copies_import_with_a_warning_each() {
     let (name, text) = lpf();
     let clean = reqif::import(&name, &text, &opts()).unwrap();
     assert!(clean.warnings.is_empty());
+    dangling_references(&name, &text);
+    missing_definitions(&name, &text);
+    duplicated_objects_and_ids(&name, &text);
+    unread_content(&name, &text, &clean);
+    string_encoded_numbers(&name, &text);
+}
 
+/// Mutations of the clean file `text`: references to elements the file does not hold.
+fn dangling_references(name: &Path, text: &str) {
     // dangling reference in the hierarchy: the object is imported all the same, with its
     // children in place
     let t = text.replace(
         "<OBJECT><SPEC-OBJECT-REF>_obj_1</SPEC-OBJECT-REF></OBJECT>",
         "<OBJECT><SPEC-OBJECT-REF>_obj_404</SPEC-OBJECT-REF></OBJECT>",
     );
-    let imp = warned(&name, &t, line_of(&t, "_obj_404"), "SPEC-OBJECT `_obj_404`");
+    let imp = warned(name, &t, line_of(&t, "_obj_404"), "SPEC-OBJECT `_obj_404`");
     assert_eq!(imp.count(), 4);
 
     // dangling relation target: the relation is left out
@@ -524,26 +532,25 @@ fn mutated_copies_import_with_a_warning_each() {
         "<TARGET><SPEC-OBJECT-REF>_obj_12</SPEC-OBJECT-REF></TARGET>\n        </SPEC-RELATION>\n        <SPEC-RELATION IDENTIFIER=\"_rel_20_12\"",
         "<TARGET><SPEC-OBJECT-REF>_obj_99</SPEC-OBJECT-REF></TARGET>\n        </SPEC-RELATION>\n        <SPEC-RELATION IDENTIFIER=\"_rel_20_12\"",
     );
-    let imp = warned(
-        &name,
-        &t,
-        line_of(&t, "_obj_99"),
-        "the relation is left out",
-    );
+    let imp = warned(name, &t, line_of(&t, "_obj_99"), "the relation is left out");
     assert!(loads(&imp).get("GRS-13").unwrap().parent.is_none());
 
     // a missing enumeration value: its identifier is the label (here, no method geodesic
     // reads: GRS-12 is left out, said)
     let t = text.replacen("_ev_vm_a</ENUM-VALUE-REF>", "_ev_vm_x</ENUM-VALUE-REF>", 1);
-    let imp = warned(&name, &t, line_of(&t, "_ev_vm_x"), "ENUM-VALUE `_ev_vm_x`");
+    let imp = warned(name, &t, line_of(&t, "_ev_vm_x"), "ENUM-VALUE `_ev_vm_x`");
     assert!(imp.skipped.iter().any(|s| s.id == "GRS-12"));
+}
 
+/// Mutations of the clean file `text`: definitions (datatypes, attribute definitions, object
+/// types) left out.
+fn missing_definitions(name: &Path, text: &str) {
     // no DATATYPES at all: enumeration labels are their identifiers; `_ev_vm_a` is not a
     // method, so the two quantitative requirements it is the first method of are left out
     let start = text.find("      <DATATYPES>").unwrap();
     let end = text.find("</DATATYPES>\n").unwrap() + "</DATATYPES>\n".len();
     let t = format!("{}{}", &text[..start], &text[end..]);
-    let imp = reqif::import(&name, &t, &opts()).unwrap();
+    let imp = reqif::import(name, &t, &opts()).unwrap();
     assert_eq!(imp.spec_objects, 6);
     assert!(
         imp.warnings
@@ -553,9 +560,9 @@ fn mutated_copies_import_with_a_warning_each() {
     assert_eq!(accounted(&imp), 6);
 
     // a missing attribute definition: its values are named by the reference
-    let t = cut_element(&text, "ATTRIBUTE-DEFINITION-STRING", "_ad_source");
+    let t = cut_element(text, "ATTRIBUTE-DEFINITION-STRING", "_ad_source");
     let imp = warned(
-        &name,
+        name,
         &t,
         line_of(&t, "<ATTRIBUTE-DEFINITION-STRING-REF>_ad_source"),
         "ATTRIBUTE-DEFINITION-STRING `_ad_source`",
@@ -567,15 +574,19 @@ fn mutated_copies_import_with_a_warning_each() {
     );
 
     // a missing object type: the object is read without it
-    let t = cut_element(&text, "SPEC-OBJECT-TYPE", "_type_obj");
-    let imp = reqif::import(&name, &t, &opts()).unwrap();
+    let t = cut_element(text, "SPEC-OBJECT-TYPE", "_type_obj");
+    let imp = reqif::import(name, &t, &opts()).unwrap();
     assert!(
         imp.warnings
             .iter()
             .any(|w| w.cause.contains("SPEC-OBJECT-TYPE `_type_obj`"))
     );
     assert_eq!(imp.spec_objects, 6);
+}
 
+/// Mutations of the clean file `text`: an object defined twice, IDs shared or empty, an object
+/// embedded in a text.
+fn duplicated_objects_and_ids(name: &Path, text: &str) {
     // an object defined twice: the second is ignored
     let obj = {
         let s = text.find("<SPEC-OBJECT IDENTIFIER=\"_obj_21\"").unwrap();
@@ -584,13 +595,13 @@ fn mutated_copies_import_with_a_warning_each() {
     };
     let t = text.replace("</SPEC-OBJECTS>", &format!("{obj}\n      </SPEC-OBJECTS>"));
     let second = t.rfind("<SPEC-OBJECT IDENTIFIER=\"_obj_21\"").unwrap();
-    let imp = warned(&name, &t, line_at(&t, second), "is defined twice");
+    let imp = warned(name, &t, line_at(&t, second), "is defined twice");
     assert_eq!((imp.duplicates, imp.spec_objects, imp.count()), (1, 7, 4));
 
     // the same ID value on two objects: both take their SPEC-OBJECT identifier
     let t = text.replace("THE-VALUE=\"13\"", "THE-VALUE=\"12\"");
     let imp = warned(
-        &name,
+        name,
         &t,
         line_of(&t, "<SPEC-OBJECT IDENTIFIER=\"_obj_12\""),
         "value `GRS-12` of the ID attribute `ReqIF.ForeignID` is shared by 2 objects",
@@ -613,21 +624,12 @@ fn mutated_copies_import_with_a_warning_each() {
     // an empty ID value: the SPEC-OBJECT identifier
     let t = text.replace("THE-VALUE=\"20\"", "THE-VALUE=\"\"");
     let imp = warned(
-        &name,
+        name,
         &t,
         line_of(&t, "<SPEC-OBJECT IDENTIFIER=\"_obj_20\""),
         "its ID attribute `ReqIF.ForeignID` is empty",
     );
     assert!(loads(&imp).get("OBJ-20").is_some());
-
-    // TOOL-EXTENSIONS, whatever they hold, change nothing
-    let t = text.replace(
-        "  </CORE-CONTENT>",
-        "  </CORE-CONTENT>\n  <TOOL-EXTENSIONS><REQ-IF-TOOL-EXTENSION><x:cfg xmlns:x=\"urn:x\" IDENTIFIER=\"_obj_12\"><SPEC-OBJECT IDENTIFIER=\"_ghost\"/></x:cfg></REQ-IF-TOOL-EXTENSION></TOOL-EXTENSIONS>",
-    );
-    let imp = reqif::import(&name, &t, &opts()).unwrap();
-    assert!(imp.warnings.is_empty());
-    assert_eq!(content(&loads(&imp)), content(&loads(&clean)));
 
     // an embedded object in a requirement's XHTML
     let t = text.replace(
@@ -635,7 +637,7 @@ fn mutated_copies_import_with_a_warning_each() {
         "with 99.73 % probability. <xhtml:object data=\"fig/release.png\" type=\"image/png\">release</xhtml:object>",
     );
     let imp = warned(
-        &name,
+        name,
         &t,
         line_of(&t, "<SPEC-OBJECT IDENTIFIER=\"_obj_12\""),
         "embeds the object `fig/release.png`",
@@ -647,14 +649,31 @@ fn mutated_copies_import_with_a_warning_each() {
             .text
             .ends_with("probability. [object: fig/release.png]")
     );
+}
+
+/// Mutations of the clean file `text` that change nothing imported (`clean`: its import):
+/// tool extensions, a second specification naming objects already placed.
+fn unread_content(name: &Path, text: &str, clean: &Imported) {
+    // TOOL-EXTENSIONS, whatever they hold, change nothing
+    let t = text.replace(
+        "  </CORE-CONTENT>",
+        "  </CORE-CONTENT>\n  <TOOL-EXTENSIONS><REQ-IF-TOOL-EXTENSION><x:cfg xmlns:x=\"urn:x\" IDENTIFIER=\"_obj_12\"><SPEC-OBJECT IDENTIFIER=\"_ghost\"/></x:cfg></REQ-IF-TOOL-EXTENSION></TOOL-EXTENSIONS>",
+    );
+    let imp = reqif::import(name, &t, &opts()).unwrap();
+    assert!(imp.warnings.is_empty());
+    assert_eq!(content(&loads(&imp)), content(&loads(clean)));
 
     // a second specification naming some of the objects: they stay where they were first
     let spec2 = "<SPECIFICATION IDENTIFIER=\"_module2\" LAST-CHANGE=\"2025-03-14T09:26:53.000+01:00\" LONG-NAME=\"Annex\"><CHILDREN><SPEC-HIERARCHY IDENTIFIER=\"_h2_12\" LAST-CHANGE=\"2025-03-14T09:26:53.000+01:00\"><OBJECT><SPEC-OBJECT-REF>_obj_12</SPEC-OBJECT-REF></OBJECT></SPEC-HIERARCHY></CHILDREN></SPECIFICATION>";
     let t = text.replace("</SPECIFICATIONS>", &format!("{spec2}</SPECIFICATIONS>"));
-    let imp = reqif::import(&name, &t, &opts()).unwrap();
+    let imp = reqif::import(name, &t, &opts()).unwrap();
     assert!(imp.warnings.is_empty());
-    assert_eq!(content(&loads(&imp)), content(&loads(&clean)));
+    assert_eq!(content(&loads(&imp)), content(&loads(clean)));
+}
 
+/// Mutations of the clean file `text`: string-encoded numbers, a derivation margin and a limit
+/// with a decimal comma.
+fn string_encoded_numbers(name: &Path, text: &str) {
     // string-encoded numbers: a derivation margin with a decimal comma, a limit with one
     let t = text.replace(
         "<SOURCE><SPEC-OBJECT-REF>_obj_13</SPEC-OBJECT-REF></SOURCE>",
@@ -666,7 +685,7 @@ fn mutated_copies_import_with_a_warning_each() {
     )
     .replace("&lt;= 7.5 um/s", "&lt;= 7,5 um/s");
     let imp = warned(
-        &name,
+        name,
         &t,
         line_of(&t, "<SPEC-OBJECT IDENTIFIER=\"_obj_13\""),
         "limit `<= 7,5 um/s` read as `<= 7.5 um/s`",

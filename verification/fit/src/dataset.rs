@@ -848,38 +848,8 @@ struct Table {
 /// Reads a CSV by its [`TableSpec`]: values in SI, checked.
 fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
     let file = path.display().to_string();
-    let text =
-        geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_CSV_BYTES).map_err(|e| {
-            if spec.yaml.is_empty() {
-                FitError::input(&file, e.line(), format!("data file: {}", e.cause()))
-            } else {
-                FitError::input(
-                    &spec.yaml,
-                    spec.data_line,
-                    format!(
-                        "data file {}: {}: `data:` is a path relative to the YAML file",
-                        geodesic_core::text::clip(&file, 120),
-                        e.cause()
-                    ),
-                )
-            }
-        })?;
-    // `#` lines become empty lines, which the reader skips while counting them (its own
-    // comment option loses the count: the lines of the records after a comment would be off)
-    let body: std::borrow::Cow<str> = if spec.comments && text.contains('#') {
-        text.split_inclusive('\n')
-            .map(|l| {
-                if l.starts_with('#') {
-                    &l[l.trim_end_matches(['\r', '\n']).len()..]
-                } else {
-                    l
-                }
-            })
-            .collect::<String>()
-            .into()
-    } else {
-        text.as_str().into()
-    };
+    let text = read_csv_text(path, spec, &file)?;
+    let body = uncommented(&text, spec.comments);
     let blank: Vec<bool> = body.lines().map(|l| l.trim().is_empty()).collect();
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
@@ -899,13 +869,104 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
             )
         })?
         .clone();
-    // the header's line: the first that is neither empty nor a comment
-    let header_line = text
-        .lines()
-        .position(|l| !(l.trim().is_empty() || (spec.comments && l.starts_with('#'))))
-        .map_or(1, |i| i + 1);
-    let names: Vec<&str> = headers.iter().collect();
-    let col = |c: &Column| -> Result<usize, FitError> {
+    let header = Header {
+        names: headers.iter().collect(),
+        // the header's line: the first that is neither empty nor a comment
+        line: text
+            .lines()
+            .position(|l| !(l.trim().is_empty() || (spec.comments && l.starts_with('#'))))
+            .map_or(1, |i| i + 1),
+        text: &text,
+        file: &file,
+        spec,
+    };
+    let it = header.index(&spec.time)?;
+    let idx: Vec<usize> = spec
+        .channels
+        .iter()
+        .map(|c| header.index(c))
+        .collect::<Result<_, _>>()?;
+    let mut reading = Reading::new(spec, &file);
+    for rec in rdr.records() {
+        let rec = rec.map_err(|e| {
+            FitError::input(
+                &file,
+                record_line(e.position(), &blank),
+                format!(
+                    "malformed CSV row: {}: check the quotes of this row",
+                    short(&e.to_string())
+                ),
+            )
+        })?;
+        reading.record(&rec, record_line(rec.position(), &blank), it, &idx)?;
+    }
+    Ok(reading.finish(&text))
+}
+
+/// The CSV's text, a read error naming the file (or the YAML's `data:` line that names it).
+fn read_csv_text(path: &Path, spec: &TableSpec, file: &str) -> Result<String, FitError> {
+    geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_CSV_BYTES).map_err(|e| {
+        if spec.yaml.is_empty() {
+            FitError::input(file, e.line(), format!("data file: {}", e.cause()))
+        } else {
+            FitError::input(
+                &spec.yaml,
+                spec.data_line,
+                format!(
+                    "data file {}: {}: `data:` is a path relative to the YAML file",
+                    geodesic_core::text::clip(file, 120),
+                    e.cause()
+                ),
+            )
+        }
+    })
+}
+
+/// With `comments`, `#` lines become empty lines, which the reader skips while counting them
+/// (its own comment option loses the count: the lines of the records after a comment would be
+/// off).
+fn uncommented(text: &str, comments: bool) -> std::borrow::Cow<'_, str> {
+    if comments && text.contains('#') {
+        text.split_inclusive('\n')
+            .map(|l| {
+                if l.starts_with('#') {
+                    &l[l.trim_end_matches(['\r', '\n']).len()..]
+                } else {
+                    l
+                }
+            })
+            .collect::<String>()
+            .into()
+    } else {
+        text.into()
+    }
+}
+
+/// The line of a record: the reader gives the line it started from; past the empty and
+/// comment lines (`blank`) it skipped, the record's own.
+fn record_line(position: Option<&csv::Position>, blank: &[bool]) -> usize {
+    let mut line = position.map_or(0, |p| p.line() as usize);
+    while line > 0 && blank.get(line - 1).copied().unwrap_or(false) {
+        line += 1;
+    }
+    line
+}
+
+/// A CSV's header, for finding the columns of a [`TableSpec`].
+struct Header<'a> {
+    names: Vec<&'a str>,
+    /// Its line (1-based).
+    line: usize,
+    /// The CSV's text (the comment lines above the header are looked at).
+    text: &'a str,
+    file: &'a str,
+    spec: &'a TableSpec,
+}
+
+impl Header<'_> {
+    /// The index of column `c`, or an error that says how to name it.
+    fn index(&self, c: &Column) -> Result<usize, FitError> {
+        let (names, spec) = (&self.names, self.spec);
         names.iter().position(|h| *h == c.header).ok_or_else(|| {
             let mut fix = match nearest(&c.header, names.iter().copied()) {
                 Some(n) => format!("did you mean `{n}`? "),
@@ -916,9 +977,10 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
                         values; ";
             }
             if spec.comments
-                && text
+                && self
+                    .text
                     .lines()
-                    .take(header_line.saturating_sub(1))
+                    .take(self.line.saturating_sub(1))
                     .filter_map(|l| l.strip_prefix('#'))
                     .any(|l| l.split(',').any(|h| h.trim() == c.header))
             {
@@ -935,8 +997,8 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
                 )
             };
             FitError::input(
-                &file,
-                header_line,
+                self.file,
+                self.line,
                 format!(
                     "no column `{}` in the header ({}): {fix}",
                     geodesic_core::text::clip(&c.header, 80),
@@ -944,101 +1006,62 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
                 ),
             )
         })
-    };
-    let it = col(&spec.time)?;
-    let idx: Vec<usize> = spec.channels.iter().map(&col).collect::<Result<_, _>>()?;
-    let pow_t = power_of_ten(spec.time.scale);
-    let pows: Vec<Option<i32>> = spec
-        .channels
-        .iter()
-        .map(|c| power_of_ten(c.scale))
-        .collect();
-    let mut t = Vec::new();
-    let mut vals: Vec<Vec<f64>> = vec![Vec::new(); spec.channels.len()];
-    let mut rows = Rows {
-        file: file.clone(),
-        ..Rows::default()
-    };
-    let mut row_vals = vec![0.0; spec.channels.len()];
-    for rec in rdr.records() {
-        let rec = rec.map_err(|e| {
-            let mut line = e.position().map_or(0, |p| p.line() as usize);
-            while line > 0 && blank.get(line - 1).copied().unwrap_or(false) {
-                line += 1;
-            }
-            FitError::input(
-                &file,
-                line,
-                format!(
-                    "malformed CSV row: {}: check the quotes of this row",
-                    short(&e.to_string())
-                ),
-            )
-        })?;
-        // the reader gives the line it started from: past the empty and comment lines it
-        // skipped, the record's own
-        let mut line = rec.position().map_or(0, |p| p.line() as usize);
-        while line > 0 && blank.get(line - 1).copied().unwrap_or(false) {
-            line += 1;
+    }
+}
+
+/// The rows of a [`TableSpec`] read so far, in SI.
+struct Reading<'a> {
+    spec: &'a TableSpec,
+    file: &'a str,
+    /// The power of ten of the time column's scale, and of each channel's.
+    pow_t: Option<i32>,
+    pows: Vec<Option<i32>>,
+    t: Vec<f64>,
+    vals: Vec<Vec<f64>>,
+    rows: Rows,
+    /// The channels' values of the row being read.
+    row_vals: Vec<f64>,
+}
+
+impl<'a> Reading<'a> {
+    fn new(spec: &'a TableSpec, file: &'a str) -> Self {
+        Reading {
+            spec,
+            file,
+            pow_t: power_of_ten(spec.time.scale),
+            pows: spec
+                .channels
+                .iter()
+                .map(|c| power_of_ten(c.scale))
+                .collect(),
+            t: Vec::new(),
+            vals: vec![Vec::new(); spec.channels.len()],
+            rows: Rows {
+                file: file.to_string(),
+                ..Rows::default()
+            },
+            row_vals: vec![0.0; spec.channels.len()],
         }
-        // a cell: Ok(None) when empty (a missing value)
-        let cell = |i: usize, c: &Column, pow: Option<i32>| -> Result<Option<f64>, FitError> {
-            let s = rec.get(i).unwrap_or("");
-            if s.is_empty() {
-                return Ok(None);
-            }
-            let v: f64 = s.parse().map_err(|_| {
-                FitError::input(
-                    &file,
-                    line,
-                    if s.starts_with('"') {
-                        format!(
-                            "`{}` in column `{}` is not a number (unbalanced quote?): write a \
-                             plain or scientific number",
-                            short(s),
-                            c.header
-                        )
-                    } else {
-                        format!(
-                            "`{}` in column `{}` is not a number: write a plain or scientific \
-                             number with a `.` decimal point{}",
-                            short(s),
-                            c.header,
-                            if spec.missing == Missing::Skip {
-                                ", or leave the cell empty for a missing value"
-                            } else {
-                                ""
-                            }
-                        )
-                    },
-                )
-            })?;
-            if !v.is_finite() {
-                return Err(FitError::input(
-                    &file,
-                    line,
-                    format!(
-                        "`{}` in column `{}` is not a finite number: correct it{}",
-                        short(s),
-                        c.header,
-                        if spec.missing == Missing::Skip {
-                            ", or leave the cell empty to skip the row (a missing value)"
-                        } else {
-                            ""
-                        }
-                    ),
-                ));
-            }
-            Ok(Some(to_si(s, v, c.scale, pow)))
-        };
+    }
+
+    /// Reads record `rec` of CSV line `line` (the time in column `it`, the channels in `idx`):
+    /// kept, skipped for an empty cell, or refused.
+    fn record(
+        &mut self,
+        rec: &csv::StringRecord,
+        line: usize,
+        it: usize,
+        idx: &[usize],
+    ) -> Result<(), FitError> {
+        let spec = self.spec;
         let mut empty: Option<&str> = None;
-        let tv = cell(it, &spec.time, pow_t)?;
+        let tv = self.cell(rec, line, it, &spec.time, self.pow_t)?;
         if tv.is_none() {
             empty = Some(&spec.time.header);
         }
-        for (k, (c, &i)) in spec.channels.iter().zip(&idx).enumerate() {
-            match cell(i, c, pows[k])? {
-                Some(v) => row_vals[k] = v,
+        for (k, (c, &i)) in spec.channels.iter().zip(idx).enumerate() {
+            match self.cell(rec, line, i, c, self.pows[k])? {
+                Some(v) => self.row_vals[k] = v,
                 None => {
                     empty.get_or_insert(&c.header);
                 }
@@ -1047,7 +1070,7 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
         if let Some(column) = empty {
             if spec.missing == Missing::Refuse {
                 return Err(FitError::input(
-                    &file,
+                    self.file,
                     line,
                     if spec.yaml.is_empty() {
                         format!("empty cell in column `{column}`: fill it in")
@@ -1059,18 +1082,18 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
                     },
                 ));
             }
-            rows.skipped.push(Skipped {
+            self.rows.skipped.push(Skipped {
                 line,
                 column: column.to_string(),
             });
-            continue;
+            return Ok(());
         }
         let tv = tv.expect("not empty");
-        if let Some(&prev) = t.last()
+        if let Some(&prev) = self.t.last()
             && tv <= prev
         {
             return Err(FitError::input(
-                &file,
+                self.file,
                 line,
                 format!(
                     "time not strictly increasing ({tv:e} s after {prev:e} s): sort the rows by \
@@ -1078,15 +1101,21 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
                 ),
             ));
         }
-        t.push(tv);
-        rows.lines.push(line);
-        for (k, v) in row_vals.iter().enumerate() {
-            // values near the largest float overflow once in SI (or in any sum of squares
-            // downstream): a channel must stay well inside the float range
+        self.t.push(tv);
+        self.rows.lines.push(line);
+        self.keep_values(line)
+    }
+
+    /// The row's channel values appended, each checked to stay well inside the float range:
+    /// values near the largest float overflow once in SI (or in any sum of squares
+    /// downstream).
+    fn keep_values(&mut self, line: usize) -> Result<(), FitError> {
+        let spec = self.spec;
+        for (k, v) in self.row_vals.iter().enumerate() {
             if v.abs() > MAX_ABS_SI {
                 let c = &spec.channels[k];
                 return Err(FitError::input(
-                    &file,
+                    self.file,
                     line,
                     format!(
                         "channel `{}` (column `{}`) is {v:e} in SI, beyond the supported \
@@ -1101,23 +1130,90 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
                     ),
                 ));
             }
-            vals[k].push(*v);
+            self.vals[k].push(*v);
+        }
+        Ok(())
+    }
+
+    /// Cell `i` of `rec` (column `c`, its scale a power of ten `pow` when exact) in SI:
+    /// `Ok(None)` when empty (a missing value); not a finite number is refused.
+    fn cell(
+        &self,
+        rec: &csv::StringRecord,
+        line: usize,
+        i: usize,
+        c: &Column,
+        pow: Option<i32>,
+    ) -> Result<Option<f64>, FitError> {
+        let skip = self.spec.missing == Missing::Skip;
+        let s = rec.get(i).unwrap_or("");
+        if s.is_empty() {
+            return Ok(None);
+        }
+        let v: f64 = s.parse().map_err(|_| {
+            FitError::input(
+                self.file,
+                line,
+                if s.starts_with('"') {
+                    format!(
+                        "`{}` in column `{}` is not a number (unbalanced quote?): write a \
+                         plain or scientific number",
+                        short(s),
+                        c.header
+                    )
+                } else {
+                    format!(
+                        "`{}` in column `{}` is not a number: write a plain or scientific \
+                         number with a `.` decimal point{}",
+                        short(s),
+                        c.header,
+                        if skip {
+                            ", or leave the cell empty for a missing value"
+                        } else {
+                            ""
+                        }
+                    )
+                },
+            )
+        })?;
+        if !v.is_finite() {
+            return Err(FitError::input(
+                self.file,
+                line,
+                format!(
+                    "`{}` in column `{}` is not a finite number: correct it{}",
+                    short(s),
+                    c.header,
+                    if skip {
+                        ", or leave the cell empty to skip the row (a missing value)"
+                    } else {
+                        ""
+                    }
+                ),
+            ));
+        }
+        Ok(Some(to_si(s, v, c.scale, pow)))
+    }
+
+    /// The table read, with the count of `text`'s comment lines.
+    fn finish(self, text: &str) -> Table {
+        let mut rows = self.rows;
+        rows.comments = text
+            .lines()
+            .filter(|l| self.spec.comments && l.starts_with('#'))
+            .count();
+        Table {
+            t: self.t,
+            channels: self
+                .spec
+                .channels
+                .iter()
+                .zip(self.vals)
+                .map(|(c, v)| (c.channel.clone(), v))
+                .collect(),
+            rows,
         }
     }
-    rows.comments = text
-        .lines()
-        .filter(|l| spec.comments && l.starts_with('#'))
-        .count();
-    Ok(Table {
-        t,
-        channels: spec
-            .channels
-            .iter()
-            .zip(vals)
-            .map(|(c, v)| (c.channel.clone(), v))
-            .collect(),
-        rows,
-    })
 }
 
 /// Neighbours of a sample [`wild_samples`] compares it with (five on each side; at the ends

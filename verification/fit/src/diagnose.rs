@@ -171,7 +171,12 @@ fn candidate_jobs(
         let mut starts = Vec::new();
         let mut guess = prep.guess;
         guess.k_needle_n_m = model.get(&base.p, "needle_contact.k_nd").unwrap_or(0.0);
-        for cs in cand.null_params().into_iter().chain(cand.starts(&guess)) {
+        for cs in cand
+            .hints()
+            .null_params()
+            .into_iter()
+            .chain(cand.hints().starts(&guess))
+        {
             let mut p = cm.nominal();
             for (i, n) in cm.param_names().iter().enumerate() {
                 if let Some(j) = model.index(n) {

@@ -40,6 +40,9 @@ use crate::prepare::Prepared;
 use crate::report::FitReport;
 pub use crate::report::is_explained;
 
+pub mod new_effect;
+pub mod text;
+
 /// One round of the ledger (interface.md `rounds[]`).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct Round {
@@ -237,141 +240,240 @@ pub fn progress_line(what: &str, elapsed_s: f64) -> String {
     format!("{what} ({elapsed_s:.0} s)")
 }
 
-/// Runs the loop (see the module documentation). Returns the report and the final outcome.
+/// Runs the loop (see the module documentation). Returns the report, the final outcome and
+/// every round's fit (in the ledger's order).
 pub fn discover(
     prep: &Prepared,
     baseline: &[&str],
     opts: &DiscoverOptions,
     mut progress: impl FnMut(&str),
 ) -> Result<(DiscoverReport, FitOutcome, Vec<FitOutcome>), FitError> {
-    let mut effects: Vec<String> = baseline.iter().map(|s| s.to_string()).collect();
-    let mut added_so_far: Vec<String> = Vec::new();
-    let mut fits: Vec<FitOutcome> = Vec::new();
-    let mut rounds: Vec<Round> = Vec::new();
-    let mut improves = Vec::new();
-    let mut fit_opts = opts.fit.clone();
-    let mut vetoed: Option<String> = None;
-    // the guard's lookahead: the first round where a term outside the catalogue beat the best
-    // catalogue candidate (its text, the BIC of that round's model with the term, the round)
-    let mut term_path: Option<(String, f64, usize)> = None;
-    // each diagnosed model's effects and its fitted candidates (the thresholds' floor)
-    let mut diagnosed: Vec<(Vec<String>, Vec<crate::diagnose::Candidate>)> = Vec::new();
     // every progress line with the time since the start (the plain lines of a CI log carry it)
     let t0 = std::time::Instant::now();
     let mut progress = |m: &str| progress(&progress_line(m, t0.elapsed().as_secs_f64()));
+    let mut ledger = Ledger::new(prep, baseline, &opts.fit);
     for k in 0..=opts.max_rounds {
-        let owned = effects.clone();
+        if !ledger.round(k, opts.max_rounds, &mut progress)? {
+            break;
+        }
+    }
+    let lookahead_note = ledger.lookahead_verdict();
+    let verdict = ledger.verdict(lookahead_note);
+    ledger.report(verdict, &mut progress)
+}
+
+/// The discovery loop's state from round to round ([`discover`]).
+struct Ledger<'a> {
+    prep: &'a Prepared,
+    /// The current model's effects.
+    effects: Vec<String>,
+    /// The effects the loop added and still holds, in order.
+    added_so_far: Vec<String>,
+    /// Each round's fit (the ledger's optimum of that round's model).
+    fits: Vec<FitOutcome>,
+    /// The ledger, one row a round.
+    rounds: Vec<Round>,
+    /// Candidates added that lowered BIC (named only when the record ends unexplained).
+    improves: Vec<Improvement>,
+    /// The fit options; the first diagnosis's noise figure holds for every round, so that BICs
+    /// compare across rounds.
+    fit_opts: FitOptions,
+    /// Why the catalogue path was refused in favour of a term outside the catalogue.
+    vetoed: Option<String>,
+    /// The guard's lookahead: the first round where a term outside the catalogue beat the best
+    /// catalogue candidate (its text, the BIC of that round's model with the term, the round).
+    term_path: Option<(String, f64, usize)>,
+    /// Each diagnosed model's effects and its fitted candidates (the thresholds' floor).
+    diagnosed: Vec<(Vec<String>, Vec<crate::diagnose::Candidate>)>,
+}
+
+/// Where the ledger ends: the rounds kept, the final model's fit and outcome, and the verdict.
+struct Verdict {
+    rounds: Vec<Round>,
+    final_fit: FitReport,
+    final_outcome: FitOutcome,
+    explained: bool,
+    reason: String,
+}
+
+impl<'a> Ledger<'a> {
+    fn new(prep: &'a Prepared, baseline: &[&str], fit: &FitOptions) -> Self {
+        Ledger {
+            prep,
+            effects: baseline.iter().map(|s| s.to_string()).collect(),
+            added_so_far: Vec::new(),
+            fits: Vec::new(),
+            rounds: Vec::new(),
+            improves: Vec::new(),
+            fit_opts: fit.clone(),
+            vetoed: None,
+            term_path: None,
+            diagnosed: Vec::new(),
+        }
+    }
+
+    /// Round `k`: diagnoses the current model, records the round (the previous one confirmed,
+    /// earlier additions tested) and adds the effect the evidence supports. Returns whether the
+    /// loop goes on.
+    fn round(
+        &mut self,
+        k: usize,
+        max_rounds: usize,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<bool, FitError> {
+        let prep = self.prep;
+        let owned = self.effects.clone();
         let names: Vec<&str> = owned.iter().map(String::as_str).collect();
         progress(&format!("round {k}: diagnosing {}", names.join("+")));
-        let (report, base) = diagnose_with(prep, &names, &fit_opts, &mut |m| {
+        let (report, base) = diagnose_with(prep, &names, &self.fit_opts, &mut |m| {
             progress(&format!("round {k}: {m}"))
         })?;
-        diagnosed.push((owned.clone(), report.candidates.clone()));
+        self.diagnosed
+            .push((owned.clone(), report.candidates.clone()));
         // one noise figure for the whole ledger, so that BICs compare across rounds
-        if fit_opts.sigma.is_none() {
-            fit_opts.sigma = Some(base.sigma);
+        if self.fit_opts.sigma.is_none() {
+            self.fit_opts.sigma = Some(base.sigma);
         }
         if k == 0 {
-            rounds.push(round_of(prep, &base, None, None));
-            fits.push(base.clone());
-        } else {
-            // every comparison between optima: the previous model refitted from this one
-            let prev_names: Vec<&str> = rounds[k - 1].effects.iter().map(String::as_str).collect();
-            let prev = fits[k - 1].clone();
-            progress(&format!(
-                "round {k}: round {}'s model refitted from this one",
-                k - 1
-            ));
-            let (prev, note) = confirm(prep, &prev_names, prev, &base, &fit_opts)?;
-            let prev_bic = FitReport::new(prep, &prev).bic;
-            rounds[k - 1].bic = prev_bic;
-            rounds[k - 1].chi2_red = FitReport::new(prep, &prev).chi2_red;
-            rounds[k - 1].minus_2_log_evidence = prev.log_evidence().map(|l| -2.0 * l);
-            rounds[k - 1].confirmed = format!("{}; {note}", rounds[k - 1].confirmed);
-            if k >= 2 {
-                let b2 = rounds[k - 2].bic;
-                rounds[k - 1].delta_bic = Some(prev_bic - b2);
-            }
-            fits[k - 1] = prev;
-            let mut row = round_of(prep, &base, added_so_far.last().cloned(), Some(prev_bic));
-            row.margin = rounds[k - 1].margin;
-            rounds[k - 1].margin = None;
-            // test removing each earlier addition
-            for e in added_so_far.clone().iter().rev().skip(1) {
-                progress(&format!("round {k}: is {e} still supported?"));
-                let without: Vec<&str> = names.iter().copied().filter(|n| n != e).collect();
-                let m = model_for(prep, &without)?;
-                let mut p = m.nominal();
-                for (i, n) in m.param_names().iter().enumerate() {
-                    if let Some(j) = base.model.index(n) {
-                        p[i] = base.p[j];
-                    }
-                }
-                let o = fit_model(prep, &m, &fit_opts, &[p])?;
-                let bic_without = FitReport::new(prep, &o).bic;
-                if bic_without - row.bic < -DELTA_BIC_STRONG {
-                    // the evidence no longer supports `e` (less than strong): remove it
-                    row.removed.push(e.clone());
-                    added_so_far.retain(|a| a != e);
-                    effects.retain(|a| a != e);
-                }
-            }
-            if !row.removed.is_empty() {
-                progress(&format!("round {k}: removing {}", row.removed.join(", ")));
-                let names: Vec<&str> = effects.iter().map(String::as_str).collect();
-                let o = crate::estimate::fit(prep, &names, &fit_opts)?;
-                let mut r2 = round_of(prep, &o, row.added.clone(), Some(prev_bic));
-                r2.removed = row.removed.clone();
-                r2.margin = row.margin;
-                row = r2;
-                rounds.push(row);
-                fits.push(o);
-                continue;
-            }
-            rounds.push(row);
-            fits.push(base.clone());
+            self.rounds.push(round_of(prep, &base, None, None));
+            self.fits.push(base.clone());
+        } else if self.record(k, &names, &base, progress)? {
+            // earlier additions removed: the next round diagnoses the model without them
+            return Ok(true);
         }
         // a residual within the noise's bounds may still hold an effect that the evidence
         // supports strongly (delta BIC below -10: issue 33, a weak adhesion that chi2_red
         // 1.017 hides): the loop stops on `explained` only when nothing is missing
         let Some(best) = report.missing.clone() else {
-            break;
+            return Ok(false);
         };
-        if k == opts.max_rounds {
-            break;
+        if k == max_rounds {
+            return Ok(false);
         }
+        self.add(k, &report, &base, best, progress)
+    }
+
+    /// Records round `k > 0` whose model `names` fitted to `base`: the previous round refitted
+    /// from this one, then each earlier addition tested. Returns whether one was removed (the
+    /// round's model then refitted without it).
+    fn record(
+        &mut self,
+        k: usize,
+        names: &[&str],
+        base: &FitOutcome,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<bool, FitError> {
+        let prep = self.prep;
+        let prev_bic = self.confirm_previous(k, base, progress)?;
+        let mut row = round_of(
+            prep,
+            base,
+            self.added_so_far.last().cloned(),
+            Some(prev_bic),
+        );
+        row.margin = self.rounds[k - 1].margin;
+        self.rounds[k - 1].margin = None;
+        self.test_removals(k, names, base, &mut row, progress)?;
+        if row.removed.is_empty() {
+            self.rounds.push(row);
+            self.fits.push(base.clone());
+            return Ok(false);
+        }
+        progress(&format!("round {k}: removing {}", row.removed.join(", ")));
+        let names: Vec<&str> = self.effects.iter().map(String::as_str).collect();
+        let o = crate::estimate::fit(prep, &names, &self.fit_opts)?;
+        let mut r2 = round_of(prep, &o, row.added.clone(), Some(prev_bic));
+        r2.removed = row.removed.clone();
+        r2.margin = row.margin;
+        self.rounds.push(r2);
+        self.fits.push(o);
+        Ok(true)
+    }
+
+    /// Every comparison between optima: round `k - 1`'s model refitted from round `k`'s
+    /// solution `base`, its row updated. Returns its BIC.
+    fn confirm_previous(
+        &mut self,
+        k: usize,
+        base: &FitOutcome,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<f64, FitError> {
+        let prep = self.prep;
+        let prev_names: Vec<&str> = self.rounds[k - 1]
+            .effects
+            .iter()
+            .map(String::as_str)
+            .collect();
+        let prev = self.fits[k - 1].clone();
+        progress(&format!(
+            "round {k}: round {}'s model refitted from this one",
+            k - 1
+        ));
+        let (prev, note) = confirm(prep, &prev_names, prev, base, &self.fit_opts)?;
+        let prev_bic = FitReport::new(prep, &prev).bic;
+        let rounds = &mut self.rounds;
+        rounds[k - 1].bic = prev_bic;
+        rounds[k - 1].chi2_red = FitReport::new(prep, &prev).chi2_red;
+        rounds[k - 1].minus_2_log_evidence = prev.log_evidence().map(|l| -2.0 * l);
+        rounds[k - 1].confirmed = format!("{}; {note}", rounds[k - 1].confirmed);
+        if k >= 2 {
+            let b2 = rounds[k - 2].bic;
+            rounds[k - 1].delta_bic = Some(prev_bic - b2);
+        }
+        self.fits[k - 1] = prev;
+        Ok(prev_bic)
+    }
+
+    /// Tests removing each earlier addition (the latest excepted) from round `k`'s model
+    /// `names` fitted to `base`: one the evidence no longer supports strongly goes into
+    /// `row.removed` and out of the model.
+    fn test_removals(
+        &mut self,
+        k: usize,
+        names: &[&str],
+        base: &FitOutcome,
+        row: &mut Round,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<(), FitError> {
+        let prep = self.prep;
+        for e in self.added_so_far.clone().iter().rev().skip(1) {
+            progress(&format!("round {k}: is {e} still supported?"));
+            let without: Vec<&str> = names.iter().copied().filter(|n| n != e).collect();
+            let m = model_for(prep, &without)?;
+            let mut p = m.nominal();
+            for (i, n) in m.param_names().iter().enumerate() {
+                if let Some(j) = base.model.index(n) {
+                    p[i] = base.p[j];
+                }
+            }
+            let o = fit_model(prep, &m, &self.fit_opts, &[p])?;
+            let bic_without = FitReport::new(prep, &o).bic;
+            if bic_without - row.bic < -DELTA_BIC_STRONG {
+                // the evidence no longer supports `e` (less than strong): remove it
+                row.removed.push(e.clone());
+                self.added_so_far.retain(|a| a != e);
+                self.effects.retain(|a| a != e);
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds `best`, the candidate `report` names missing from round `k`'s model (fitted to
+    /// `base`), unless a term outside the catalogue describes the residual much better (the
+    /// loop stops, vetoed) or better (the lookahead starts). Returns whether the loop goes on.
+    fn add(
+        &mut self,
+        k: usize,
+        report: &crate::diagnose::DiagnoseReport,
+        base: &FitOutcome,
+        best: String,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<bool, FitError> {
         let best_c = &report.candidates[0];
-        // a term outside the catalogue that describes the residual much better than the best
-        // catalogue effect: the catalogue effect would only absorb part of it
         let lead = if report.candidates.is_empty() {
             None
         } else {
-            let resid: Vec<f64> = prep
-                .data()
-                .iter()
-                .zip(&base.pred)
-                .map(|(d, m)| d - m)
-                .collect();
-            let pk = peaks(prep.channel, &resid, median_step(&prep.dataset.t));
-            progress(&format!(
-                "round {k}: the residual's terms outside the catalogue"
-            ));
-            let (all, basis) = crate::kinds::kinds(prep, &base, &pk);
-            // the score test is a lower bound; refit jointly when it could matter (the kinds
-            // and their basis reused: the same bits as `refined_leading`)
-            match all.first() {
-                Some(q) if -q.delta_bic > 0.2 * -best_c.delta_bic => {
-                    progress(&format!(
-                        "round {k}: the leading terms fitted jointly with the model"
-                    ));
-                    crate::kinds::refined_terms_of(
-                        prep, &base, &all, &basis, &fit_opts, JOINT_ITER,
-                    )?
-                    .into_iter()
-                    .next()
-                }
-                _ => None,
-            }
+            self.lead_term(k, base, best_c, progress)?
         };
         // a term that beats the best catalogue effect by more than a tenth of what that effect
         // explains is a different shape, not a mixture of missing effects: outside the
@@ -381,27 +483,27 @@ pub fn discover(
         if let Some(kind) = &lead
             && kind.delta_bic < best_c.delta_bic + DELTA_BIC_STRONG.min(0.1 * best_c.delta_bic)
         {
-            vetoed = Some(format!(
+            self.vetoed = Some(format!(
                 "the residual is better described by a term outside the catalogue, {} (delta BIC {:.1}), than by the best catalogue effect {} (delta BIC {:.1}), by more than a tenth of what that effect explains",
                 kind.term, kind.delta_bic, best, best_c.delta_bic
             ));
-            break;
+            return Ok(false);
         }
         if let Some(kind) = lead
             && kind.delta_bic < best_c.delta_bic + DELTA_BIC_STRONG
-            && term_path.is_none()
+            && self.term_path.is_none()
         {
             // Look ahead instead of stopping: a generic term can absorb parts of several missing
             // catalogue effects and beat each one alone. The catalogue's best candidate is added
             // and the loop goes on; the physics is declared outside the catalogue only when the
             // catalogue path stalls above the noise, or ends with a BIC worse than this term's
             // by more than DELTA_BIC_STRONG (a tie goes to the catalogue).
-            let bic_here = rounds.last().expect("a round").bic;
+            let bic_here = self.rounds.last().expect("a round").bic;
             progress(&format!(
                 "round {k}: a term outside the catalogue ({}) beats {best}: looking ahead along the catalogue",
                 kind.kind
             ));
-            term_path = Some((
+            self.term_path = Some((
                 format!(
                     "the residual is better described by a term outside the catalogue, {} (delta BIC {:.1}), than by the best catalogue effect {} (delta BIC {:.1})",
                     kind.term, kind.delta_bic, best, best_c.delta_bic
@@ -410,7 +512,7 @@ pub fn discover(
                 k,
             ));
         }
-        improves.push(Improvement {
+        self.improves.push(Improvement {
             effect: best.clone(),
             delta_bic: best_c.delta_bic,
             chi2_red: best_c.chi2_red,
@@ -419,125 +521,215 @@ pub fn discover(
             .candidates
             .get(1)
             .map(|c| c.delta_bic - best_c.delta_bic);
-        rounds.last_mut().expect("a round").margin = margin;
-        effects.push(best.clone());
-        added_so_far.push(best);
+        self.rounds.last_mut().expect("a round").margin = margin;
+        self.effects.push(best.clone());
+        self.added_so_far.push(best);
+        Ok(true)
     }
-    // the lookahead's verdict: the catalogue path stands when it explains the record with a BIC
-    // not worse than the term's by more than DELTA_BIC_STRONG; otherwise the ledger is cut back
-    // to the round where the term led (and, not explained, to round 0 below)
-    let mut lookahead_note = None;
-    if let Some((text, term_bic, kv)) = term_path {
-        let last = fits.last().expect("round 0");
-        let last_bic = rounds.last().expect("a round").bic;
-        let explained_here = is_explained(&FitReport::new(prep, last)).0;
+
+    /// The term outside the catalogue that leads on round `k`'s residual (of `base`), fitted
+    /// jointly with the model when its score test could rival `best_c`, the best catalogue
+    /// candidate; `None` otherwise.
+    fn lead_term(
+        &self,
+        k: usize,
+        base: &FitOutcome,
+        best_c: &crate::diagnose::Candidate,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<Option<KindFit>, FitError> {
+        let prep = self.prep;
+        let resid: Vec<f64> = prep
+            .data()
+            .iter()
+            .zip(&base.pred)
+            .map(|(d, m)| d - m)
+            .collect();
+        let pk = peaks(prep.channel, &resid, median_step(&prep.dataset.t));
+        progress(&format!(
+            "round {k}: the residual's terms outside the catalogue"
+        ));
+        let (all, basis) = crate::kinds::kinds(prep, base, &pk);
+        // the score test is a lower bound; refit jointly when it could matter (the kinds
+        // and their basis reused: the same bits as `refined_leading`)
+        Ok(match all.first() {
+            Some(q) if -q.delta_bic > 0.2 * -best_c.delta_bic => {
+                progress(&format!(
+                    "round {k}: the leading terms fitted jointly with the model"
+                ));
+                crate::kinds::refined_terms_of(
+                    prep,
+                    base,
+                    &all,
+                    &basis,
+                    &self.fit_opts,
+                    JOINT_ITER,
+                )?
+                .into_iter()
+                .next()
+            }
+            _ => None,
+        })
+    }
+
+    /// The lookahead's verdict: the catalogue path stands when it explains the record with a
+    /// BIC not worse than the term's by more than DELTA_BIC_STRONG (returns the note that says
+    /// so); otherwise the ledger is cut back to the round where the term led (and, not
+    /// explained, to round 0 in [`Ledger::verdict`]) and the path is vetoed.
+    fn lookahead_verdict(&mut self) -> Option<String> {
+        let (text, term_bic, kv) = self.term_path.take()?;
+        let last = self.fits.last().expect("round 0");
+        let last_bic = self.rounds.last().expect("a round").bic;
+        let explained_here = is_explained(&FitReport::new(self.prep, last)).0;
         if explained_here && last_bic <= term_bic + DELTA_BIC_STRONG {
-            lookahead_note = Some(format!(
+            return Some(format!(
                 "at round {kv} {text}; looking ahead, the catalogue path explains the record with BIC {last_bic:.1} against the term's {term_bic:.1} (a tie within {} goes to the catalogue)",
                 -DELTA_BIC_STRONG
             ));
-        } else {
-            rounds.truncate(kv + 1);
-            fits.truncate(kv + 1);
-            rounds[kv].margin = None;
-            vetoed = Some(if explained_here {
-                format!(
-                    "{text}; the catalogue path explains the record only with BIC {last_bic:.1}, above the term's {term_bic:.1}"
-                )
-            } else {
-                format!("{text}; looking ahead, the catalogue path stalls above the noise")
-            });
         }
-    }
-    let last = fits.last().expect("round 0").clone();
-    let final_report = FitReport::new(prep, &last);
-    let (explained, reason) = is_explained(&final_report);
-    let reason = match lookahead_note {
-        Some(n) if explained => format!("{reason}; {n}"),
-        _ => reason,
-    };
-    let reason = match &vetoed {
-        Some(v) if !explained => format!("{reason}; {v}"),
-        _ => reason,
-    };
-    let (rounds, final_fit, final_outcome, reason) = if explained || rounds.len() == 1 {
-        let reason = if !explained && !improves.is_empty() {
-            format!("{reason}; no catalogue effect brings it to the noise")
-        } else {
-            reason
-        };
-        (rounds, final_report, last, reason)
-    } else {
-        // the additions did not explain the residual: none is named; describe the baseline's
-        let base = fits[0].clone();
-        (
-            vec![rounds[0].clone()],
-            FitReport::new(prep, &base),
-            base,
+        self.rounds.truncate(kv + 1);
+        self.fits.truncate(kv + 1);
+        self.rounds[kv].margin = None;
+        self.vetoed = Some(if explained_here {
             format!(
+                "{text}; the catalogue path explains the record only with BIC {last_bic:.1}, above the term's {term_bic:.1}"
+            )
+        } else {
+            format!("{text}; looking ahead, the catalogue path stalls above the noise")
+        });
+        None
+    }
+
+    /// Whether the last round explains the record, and why; when the additions did not
+    /// explain it, none is named and the baseline is the final model.
+    fn verdict(&self, lookahead_note: Option<String>) -> Verdict {
+        let prep = self.prep;
+        let last = self.fits.last().expect("round 0").clone();
+        let final_report = FitReport::new(prep, &last);
+        let (explained, reason) = is_explained(&final_report);
+        let reason = match lookahead_note {
+            Some(n) if explained => format!("{reason}; {n}"),
+            _ => reason,
+        };
+        let reason = match &self.vetoed {
+            Some(v) if !explained => format!("{reason}; {v}"),
+            _ => reason,
+        };
+        if explained || self.rounds.len() == 1 {
+            let reason = if !explained && !self.improves.is_empty() {
+                format!("{reason}; no catalogue effect brings it to the noise")
+            } else {
+                reason
+            };
+            return Verdict {
+                rounds: self.rounds.clone(),
+                final_fit: final_report,
+                final_outcome: last,
+                explained,
+                reason,
+            };
+        }
+        // the additions did not explain the residual: none is named; describe the baseline's
+        let base = self.fits[0].clone();
+        Verdict {
+            rounds: vec![self.rounds[0].clone()],
+            final_fit: FitReport::new(prep, &base),
+            final_outcome: base,
+            explained,
+            reason: format!(
                 "{reason}; {} improve the fit but do not explain it: the missing physics is not in the catalogue",
-                improves
+                self.improves
                     .iter()
                     .map(|i| i.effect.as_str())
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
-        )
-    };
-    let kept_owned = final_fit.effects.clone();
-    let kept: Vec<&str> = kept_owned.iter().map(String::as_str).collect();
-    // the final model's parameters with the sigmas `geodesic fit` reports for it: refined from
-    // the ledger's optimum and profiled (the rounds' fits are covariance-only, which gave
-    // discover 4 % smaller sigmas than fit on the public TMMF example, issue 37), at the
-    // ledger's noise figure (the same as fit's when the dataset states its noise)
-    progress("final model: profiling each parameter as `geodesic fit` does");
-    let (final_fit, final_outcome) = {
-        let fm = model_for(prep, &kept)?;
-        let po = FitOptions {
-            profile: true,
-            ..fit_opts.clone()
-        };
-        let mut o = fit_model(prep, &fm, &po, std::slice::from_ref(&final_outcome.p))?;
-        o.starts = final_outcome.starts;
-        if o.chi2 <= final_outcome.chi2 + 0.01 {
-            (FitReport::new(prep, &o), o)
-        } else {
-            (final_fit, final_outcome)
         }
-    };
-    progress("detection thresholds of the candidates not in the model, and the residual described");
-    // independent of each other: side by side on the thread pool, on one basis of the final
-    // fit (its Jacobian is most of their cost on a long record)
-    let basis = crate::kinds::Basis::new(prep, &final_outcome);
-    let (thresholds, residual) = rayon::join(
-        || thresholds_with(prep, &final_outcome, &kept, &fit_opts, &basis),
-        || describe_with(prep, &final_outcome, &final_fit, &fit_opts, &basis),
-    );
-    let (mut thresholds, residual) = (thresholds?, residual?);
-    let same = |a: &[String]| {
-        let mut a: Vec<&str> = a.iter().map(String::as_str).collect();
-        let mut b = kept.clone();
-        a.sort_unstable();
-        b.sort_unstable();
-        a == b
-    };
-    if let Some((_, cands)) = diagnosed.iter().rev().find(|(e, _)| same(e)) {
-        raise_to_the_fit(&mut thresholds, cands);
     }
-    Ok((
-        DiscoverReport {
-            dataset: prep.dataset.name.clone(),
-            rounds,
-            final_fit,
-            explained,
-            reason,
-            residual,
-            improves: if explained { Vec::new() } else { improves },
-            thresholds,
-        },
-        final_outcome,
-        fits,
-    ))
+
+    /// The report of `verdict`: the final model profiled, the thresholds of the candidates not
+    /// in it and the residual described. Returns it with the final outcome and every round's
+    /// fit.
+    fn report(
+        self,
+        verdict: Verdict,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<(DiscoverReport, FitOutcome, Vec<FitOutcome>), FitError> {
+        let prep = self.prep;
+        let kept_owned = verdict.final_fit.effects.clone();
+        let kept: Vec<&str> = kept_owned.iter().map(String::as_str).collect();
+        let (final_fit, final_outcome) = profile_final(
+            prep,
+            &kept,
+            &self.fit_opts,
+            verdict.final_fit,
+            verdict.final_outcome,
+            progress,
+        )?;
+        progress(
+            "detection thresholds of the candidates not in the model, and the residual described",
+        );
+        // independent of each other: side by side on the thread pool, on one basis of the final
+        // fit (its Jacobian is most of their cost on a long record)
+        let basis = crate::kinds::Basis::new(prep, &final_outcome);
+        let (thresholds, residual) = rayon::join(
+            || thresholds_with(prep, &final_outcome, &kept, &self.fit_opts, &basis),
+            || describe_with(prep, &final_outcome, &final_fit, &self.fit_opts, &basis),
+        );
+        let (mut thresholds, residual) = (thresholds?, residual?);
+        let same = |a: &[String]| {
+            let mut a: Vec<&str> = a.iter().map(String::as_str).collect();
+            let mut b = kept.clone();
+            a.sort_unstable();
+            b.sort_unstable();
+            a == b
+        };
+        if let Some((_, cands)) = self.diagnosed.iter().rev().find(|(e, _)| same(e)) {
+            raise_to_the_fit(&mut thresholds, cands);
+        }
+        let explained = verdict.explained;
+        Ok((
+            DiscoverReport {
+                dataset: prep.dataset.name.clone(),
+                rounds: verdict.rounds,
+                final_fit,
+                explained,
+                reason: verdict.reason,
+                residual,
+                improves: if explained { Vec::new() } else { self.improves },
+                thresholds,
+            },
+            final_outcome,
+            self.fits,
+        ))
+    }
+}
+
+/// The final model's parameters with the sigmas `geodesic fit` reports for it: refined from
+/// the ledger's optimum and profiled (the rounds' fits are covariance-only, which gave discover
+/// 4 % smaller sigmas than fit on the public TMMF example, issue 37), at the ledger's noise
+/// figure (the same as fit's when the dataset states its noise). The ledger's fit stands when
+/// the refinement is worse.
+fn profile_final(
+    prep: &Prepared,
+    kept: &[&str],
+    fit_opts: &FitOptions,
+    final_fit: FitReport,
+    final_outcome: FitOutcome,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(FitReport, FitOutcome), FitError> {
+    progress("final model: profiling each parameter as `geodesic fit` does");
+    let fm = model_for(prep, kept)?;
+    let po = FitOptions {
+        profile: true,
+        ..fit_opts.clone()
+    };
+    let mut o = fit_model(prep, &fm, &po, std::slice::from_ref(&final_outcome.p))?;
+    o.starts = final_outcome.starts;
+    Ok(if o.chi2 <= final_outcome.chi2 + 0.01 {
+        (FitReport::new(prep, &o), o)
+    } else {
+        (final_fit, final_outcome)
+    })
 }
 
 /// The first-order thresholds checked against the record's own fit of each candidate (issue 33:
@@ -648,9 +840,6 @@ pub fn thresholds_with(
     opts: &FitOptions,
     basis: &crate::kinds::Basis,
 ) -> Result<Vec<Threshold>, FitError> {
-    let mut out = Vec::new();
-    let n = final_outcome.n as f64;
-    let t = &prep.dataset.t;
     // each candidate's threshold is independent of the others': side by side on the thread
     // pool, collected in catalogue order
     let candidates: Vec<_> = geodesic_facility::effects::of_scenario(prep.dataset.scenario)
@@ -658,8 +847,50 @@ pub fn thresholds_with(
         .filter(|c| !kept.contains(&c.name()))
         .collect();
     let one = |cand: &&'static dyn geodesic_facility::effects::Effect| -> Result<Option<Threshold>, FitError> {
+        match Detection::new(prep, final_outcome, kept, *cand)? {
+            Some(d) => d.threshold(opts, basis),
+            None => Ok(None),
+        }
+    };
+    let all: Vec<Result<Option<Threshold>, FitError>> = candidates.par_iter().map(one).collect();
+    let mut out = Vec::new();
+    for t in all {
+        out.extend(t?);
+    }
+    Ok(out)
+}
+
+/// One candidate's detection threshold ([`thresholds_with`]): the final model with the
+/// candidate added, started where the final fit ended, and the candidate's main parameter.
+struct Detection<'a> {
+    prep: &'a Prepared,
+    final_outcome: &'a FitOutcome,
+    cand: &'static dyn geodesic_facility::effects::Effect,
+    /// The candidate's parameters' null values.
+    null: Vec<f64>,
+    /// The index of its main parameter (its first amplitude).
+    main: usize,
+    /// The final model with the candidate added.
+    model: geodesic_facility::model::Model,
+    /// Its parameters: the final fit's, the candidate's nominal.
+    start: Vec<f64>,
+    /// The candidate's parameters in `model`'s vector.
+    range: std::ops::Range<usize>,
+    /// The final fit's prediction, normalised.
+    base: Vec<f64>,
+}
+
+impl<'a> Detection<'a> {
+    /// `None` when the candidate has no null or its main parameter vanishes elsewhere than at
+    /// zero or its lower bound (no threshold).
+    fn new(
+        prep: &'a Prepared,
+        final_outcome: &'a FitOutcome,
+        kept: &[&str],
+        cand: &'static dyn geodesic_facility::effects::Effect,
+    ) -> Result<Option<Self>, FitError> {
         let params = cand.params();
-        let Some(null) = cand.null_params() else {
+        let Some(null) = cand.hints().null_params() else {
             return Ok(None);
         };
         let Some(main) = (0..params.len()).find(|&i| null[i] == 0.0 || null[i] == params[i].lower)
@@ -680,79 +911,119 @@ pub fn thresholds_with(
             .iter()
             .position(|e| e.name() == cand.name())
             .expect("candidate in model");
-        let r = model.range(ci);
-        let k = params.len() as f64;
-        let factor = (k * n.ln() - DELTA_BIC_STRONG).sqrt();
-        let full_name = |i: usize| format!("{}.{}", cand.name(), params[i].name);
-        // the candidate's parameters: `main` at `a`, the others at `others`
-        let with = |a: f64, others: &[f64]| -> Vec<f64> {
-            let mut p = start.clone();
-            let mut j = 0;
-            for i in 0..params.len() {
-                p[r.start + i] = if i == main {
-                    a
-                } else {
-                    j += 1;
-                    others[j - 1]
-                };
-            }
-            p
-        };
-        let normalised = |p: &[f64]| -> Vec<f64> {
-            let mut v = model.predict(p, t, &prep.inputs);
-            prep.normalise(&mut v, final_outcome.sigma);
-            v
-        };
-        let base = {
-            let mut v = final_outcome.pred.clone();
-            prep.normalise(&mut v, final_outcome.sigma);
-            v
-        };
-        let nominal_others: Vec<f64> = (0..params.len())
-            .filter(|&i| i != main)
-            .map(|i| params[i].nominal)
-            .collect();
-        // the amplitude's step for the linear response: a hundredth of its nominal scale
+        let range = model.range(ci);
+        let mut base = final_outcome.pred.clone();
+        prep.normalise(&mut base, final_outcome.sigma);
+        Ok(Some(Detection {
+            prep,
+            final_outcome,
+            cand,
+            null,
+            main,
+            model,
+            start,
+            range,
+            base,
+        }))
+    }
+
+    /// `effect.param` of the candidate's parameter `i`.
+    fn full_name(&self, i: usize) -> String {
+        format!("{}.{}", self.cand.name(), self.cand.params()[i].name)
+    }
+
+    /// The model's parameters with the candidate's main one at `a` and the others at `others`.
+    fn with(&self, a: f64, others: &[f64]) -> Vec<f64> {
+        let mut p = self.start.clone();
+        let mut j = 0;
+        for i in 0..self.cand.params().len() {
+            p[self.range.start + i] = if i == self.main {
+                a
+            } else {
+                j += 1;
+                others[j - 1]
+            };
+        }
+        p
+    }
+
+    /// The model's prediction at `p`, normalised.
+    fn normalised(&self, p: &[f64]) -> Vec<f64> {
+        let mut v = self
+            .model
+            .predict(p, &self.prep.dataset.t, &self.prep.inputs);
+        self.prep.normalise(&mut v, self.final_outcome.sigma);
+        v
+    }
+
+    /// sigma_A at `others`: the linear response when the effect vanishes at its null
+    /// amplitude whatever `others` are, else a fit of the amplitude with `others` held.
+    fn sigma_at(
+        &self,
+        others: &[f64],
+        opts: &FitOptions,
+        basis: &crate::kinds::Basis,
+    ) -> Result<Option<f64>, FitError> {
+        let (params, main) = (self.cand.params(), self.main);
         let spec = params[main];
+        // the amplitude's step for the linear response: a hundredth of its nominal scale
         let step = if spec.log {
             1e-2 * spec.nominal
         } else {
             1e-2 * spec.scale
         };
-        // sigma_A at `others`: the linear response when the effect vanishes at its null
-        // amplitude whatever `others` are, else a fit of the amplitude with `others` held
-        let sigma_at = |others: &[f64]| -> Result<Option<f64>, FitError> {
-            let at_null = normalised(&with(null[main], others));
-            let off: f64 = at_null
+        let at_null = self.normalised(&self.with(self.null[main], others));
+        let off: f64 = at_null
+            .iter()
+            .zip(&self.base)
+            .map(|(a, b)| (a - b).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if off < 0.1 {
+            let at_step = self.normalised(&self.with(self.null[main] + step, others));
+            let col: Vec<f64> = at_step
                 .iter()
-                .zip(&base)
-                .map(|(a, b)| (a - b).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            if off < 0.1 {
-                let at_step = normalised(&with(null[main] + step, others));
-                let col: Vec<f64> = at_step
-                    .iter()
-                    .zip(&at_null)
-                    .map(|(a, b)| (a - b) / step)
-                    .collect();
-                return Ok(basis.sigma_of_normalised(col));
+                .zip(&at_null)
+                .map(|(a, b)| (a - b) / step)
+                .collect();
+            return Ok(basis.sigma_of_normalised(col));
+        }
+        let mut fo = opts.clone();
+        fo.profile = false;
+        fo.sigma = Some(self.final_outcome.sigma);
+        let mut j = 0;
+        for (i, p) in params.iter().enumerate() {
+            if i != main {
+                fo.fixed
+                    .insert(format!("{}.{}", self.cand.name(), p.name), others[j]);
+                j += 1;
             }
-            let mut fo = opts.clone();
-            fo.profile = false;
-            fo.sigma = Some(final_outcome.sigma);
-            let mut j = 0;
-            for (i, p) in params.iter().enumerate() {
-                if i != main {
-                    fo.fixed
-                        .insert(format!("{}.{}", cand.name(), p.name), others[j]);
-                    j += 1;
-                }
-            }
-            let o = fit_model(prep, &model, &fo, &[with(spec.nominal, others)])?;
-            Ok(Some(o.sigma_cov[r.start + main]))
-        };
-        let Some(sigma_a) = sigma_at(&nominal_others)? else {
+        }
+        let o = fit_model(
+            self.prep,
+            &self.model,
+            &fo,
+            &[self.with(spec.nominal, others)],
+        )?;
+        Ok(Some(o.sigma_cov[self.range.start + main]))
+    }
+
+    /// The threshold at the other parameters' nominal values, with its curve along one other
+    /// parameter spanning decades; `None` when sigma_A is not finite and positive.
+    fn threshold(
+        &self,
+        opts: &FitOptions,
+        basis: &crate::kinds::Basis,
+    ) -> Result<Option<Threshold>, FitError> {
+        let (params, main) = (self.cand.params(), self.main);
+        let n = self.final_outcome.n as f64;
+        let k = params.len() as f64;
+        let factor = (k * n.ln() - DELTA_BIC_STRONG).sqrt();
+        let nominal_others: Vec<f64> = (0..params.len())
+            .filter(|&i| i != main)
+            .map(|i| params[i].nominal)
+            .collect();
+        let Some(sigma_a) = self.sigma_at(&nominal_others, opts, basis)? else {
             return Ok(None);
         };
         let a = sigma_a * factor;
@@ -761,46 +1032,55 @@ pub fn thresholds_with(
         }
         let assumes: BTreeMap<String, f64> = (0..params.len())
             .filter(|&i| i != main)
-            .map(|i| (full_name(i), params[i].nominal))
+            .map(|i| (self.full_name(i), params[i].nominal))
             .collect();
-        // one other parameter spanning decades: the threshold along it
-        let mut curve = Vec::new();
-        if params.len() == 2 {
-            let o = 1 - main;
-            let os = params[o];
-            if os.log {
-                let (lo, hi) = (
-                    (os.nominal / 30.0).max(os.lower),
-                    (os.nominal * 10.0).min(os.upper),
-                );
-                for j in 0..9 {
-                    let v = lo * (hi / lo).powf(j as f64 / 8.0);
-                    if let Some(s) = sigma_at(&[v])?
-                        && (s * factor).is_finite()
-                    {
-                        curve.push(CurvePoint {
-                            at: BTreeMap::from([(full_name(o), v)]),
-                            detectable_above: s * factor,
-                        });
-                    }
-                }
-            }
-        }
         Ok(Some(Threshold {
-            effect: cand.name().to_string(),
-            parameter: full_name(main),
+            effect: self.cand.name().to_string(),
+            parameter: self.full_name(main),
             detectable_above: a,
-            unit: spec.unit.to_string(),
+            unit: params[main].unit.to_string(),
             assumes,
-            curve,
+            curve: self.curve(factor, opts, basis)?,
             raised: None,
         }))
-    };
-    let all: Vec<Result<Option<Threshold>, FitError>> = candidates.par_iter().map(one).collect();
-    for t in all {
-        out.extend(t?);
     }
-    Ok(out)
+
+    /// For an effect with exactly one other parameter spanning decades (a log range), the
+    /// threshold at nine values of it from a thirtieth to ten times its nominal value; empty
+    /// otherwise.
+    fn curve(
+        &self,
+        factor: f64,
+        opts: &FitOptions,
+        basis: &crate::kinds::Basis,
+    ) -> Result<Vec<CurvePoint>, FitError> {
+        let params = self.cand.params();
+        let mut curve = Vec::new();
+        if params.len() != 2 {
+            return Ok(curve);
+        }
+        let o = 1 - self.main;
+        let os = params[o];
+        if !os.log {
+            return Ok(curve);
+        }
+        let (lo, hi) = (
+            (os.nominal / 30.0).max(os.lower),
+            (os.nominal * 10.0).min(os.upper),
+        );
+        for j in 0..9 {
+            let v = lo * (hi / lo).powf(j as f64 / 8.0);
+            if let Some(s) = self.sigma_at(&[v], opts, basis)?
+                && (s * factor).is_finite()
+            {
+                curve.push(CurvePoint {
+                    at: BTreeMap::from([(self.full_name(o), v)]),
+                    detectable_above: s * factor,
+                });
+            }
+        }
+        Ok(curve)
+    }
 }
 
 /// Spectral peaks of `r` sampled every `dt` [s].

@@ -301,90 +301,140 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
 pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) -> Vec<KindFit> {
     let t = &prep.dataset.t;
     let n = t.len();
-    let ch = prep.channel;
-    let ln_n = (o.n.max(2) as f64).ln();
-    let mut out: Vec<KindFit> = Vec::new();
     if n < 16 {
-        return out;
+        return Vec::new();
     }
-    let x = &o.pred;
-    let t_end = t[n - 1];
-    let span = t_end - t[0];
     let mut dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     dts.sort_by(f64::total_cmp);
-    let dt = dts[dts.len() / 2];
-    let mut push = |kind: &str,
-                    state: String,
-                    cols: Vec<Vec<f64>>,
-                    scanned: bool,
-                    unit: &str,
-                    describe: &dyn Fn(f64) -> (String, Option<TermParameter>)| {
+    let mut s = KindScan {
+        basis,
+        t,
+        ch: prep.channel,
+        x: &o.pred,
+        ln_n: (o.n.max(2) as f64).ln(),
+        dt: dts[dts.len() / 2],
+        span: t[n - 1] - t[0],
+        t_end: t[n - 1],
+        out: Vec::new(),
+    };
+    s.state_kinds();
+    let delay_d = s.delay();
+    if s.t_end > 4.0 * s.dt {
+        s.scanned_kinds();
+    }
+    s.vibration(peaks);
+    s.finish(delay_d)
+}
+
+/// The scan of every kind over a residual ([`kinds_of`]): the basis of the fit, the record's
+/// time axis and sampling, and the kinds fitted so far.
+struct KindScan<'s, 'b> {
+    basis: &'s Basis<'b>,
+    /// Time since the trigger [s].
+    t: &'s [f64],
+    /// The fitted channel.
+    ch: &'s str,
+    /// The model's prediction of it [SI].
+    x: &'s [f64],
+    /// ln N, N the samples the fit counts.
+    ln_n: f64,
+    /// The median sampling step [s].
+    dt: f64,
+    /// The record's length [s].
+    span: f64,
+    /// Its last time [s].
+    t_end: f64,
+    out: Vec<KindFit>,
+}
+
+impl KindScan<'_, '_> {
+    /// Scores the kind of columns `cols` (`scanned`: with a scanned parameter) and keeps it
+    /// when the score test is defined; `describe` gives its term and parameter from its
+    /// coefficient [`unit`].
+    fn push(
+        &mut self,
+        kind: &str,
+        state: String,
+        cols: Vec<Vec<f64>>,
+        scanned: bool,
+        unit: &str,
+        describe: &dyn Fn(f64) -> (String, Option<TermParameter>),
+    ) {
         let k = cols.len() + usize::from(scanned);
         let shape = cols.clone();
-        if let Some((c, s, d)) = basis.score(cols) {
-            let coefs = c.clone();
-            let (coef, sig) = if c.len() == 2 && kind != "position" {
-                let a = c[0].hypot(c[1]);
-                let sa = if a > 0.0 {
-                    ((c[0] * s[0]).powi(2) + (c[1] * s[1]).powi(2)).sqrt() / a
-                } else {
-                    s[0]
-                };
-                (a, sa)
+        let Some((c, s, d)) = self.basis.score(cols) else {
+            return;
+        };
+        let coefs = c.clone();
+        let (coef, sig) = if c.len() == 2 && kind != "position" {
+            let a = c[0].hypot(c[1]);
+            let sa = if a > 0.0 {
+                ((c[0] * s[0]).powi(2) + (c[1] * s[1]).powi(2)).sqrt() / a
             } else {
-                (c[0], s[0])
+                s[0]
             };
-            let (term, parameter) = describe(coef);
-            out.push(KindFit {
-                kind: kind.into(),
-                state,
-                term,
-                coefficient: coef,
-                sigma: sig,
-                coefficient_unit: unit.into(),
-                parameter,
-                delta_chi2: d,
-                delta_bic: -d + k as f64 * ln_n,
-                shape,
-                coefs,
-                scan: 0.0,
-            });
-        }
-    };
-    // forces proportional to the position (spring, pendulum) and to the velocity (damping), and
-    // a shift of the time axis
-    for (kind, state, unit) in [
-        ("position", format!("{ch} (position)"), "1/s^2"),
-        ("velocity", format!("d{ch}/dt (velocity)"), "1/s"),
-    ] {
-        let cols = state_shape(t, kind, x, 0.0).expect("a state kind");
-        push(kind, state, cols, false, unit, &|c| state_text(kind, ch, c));
+            (a, sa)
+        } else {
+            (c[0], s[0])
+        };
+        let (term, parameter) = describe(coef);
+        self.out.push(KindFit {
+            kind: kind.into(),
+            state,
+            term,
+            coefficient: coef,
+            sigma: sig,
+            coefficient_unit: unit.into(),
+            parameter,
+            delta_chi2: d,
+            delta_bic: -d + k as f64 * self.ln_n,
+            shape,
+            coefs,
+            scan: 0.0,
+        });
     }
-    // a shift of the time axis by d: x(t - d) - x(t), |d| scanned from a fifth of a sample to a
-    // twentieth of the record, both signs; the delay is the coefficient times d (a coefficient
-    // of 1 for a pure shift, and any product for a shift small enough to be linear)
-    let mut shift_best = (0.0, f64::NEG_INFINITY);
-    let mut delay_d = None;
-    for sign in [1.0, -1.0] {
-        let b = scan(
-            0.2 * dt,
-            (0.05 * span).max(0.4 * dt),
-            24,
-            true,
-            0.01,
-            &|d| {
-                let cols = state_shape(t, "delay", x, sign * d).expect("a state kind");
-                basis.score(cols).map_or(f64::NEG_INFINITY, |s| s.2)
-            },
-        );
-        if b.1 > shift_best.1 {
-            shift_best = (sign * b.0, b.1);
+
+    /// Forces proportional to the position (spring, pendulum) and to the velocity (damping).
+    fn state_kinds(&mut self) {
+        let ch = self.ch;
+        for (kind, state, unit) in [
+            ("position", format!("{ch} (position)"), "1/s^2"),
+            ("velocity", format!("d{ch}/dt (velocity)"), "1/s"),
+        ] {
+            let cols = state_shape(self.t, kind, self.x, 0.0).expect("a state kind");
+            self.push(kind, state, cols, false, unit, &|c| state_text(kind, ch, c));
         }
     }
-    if shift_best.1.is_finite() {
+
+    /// A shift of the time axis by d: x(t - d) - x(t), |d| scanned from a fifth of a sample to a
+    /// twentieth of the record, both signs; the delay is the coefficient times d (a coefficient
+    /// of 1 for a pure shift, and any product for a shift small enough to be linear). Returns
+    /// the shift scanned, when the kind was scored.
+    fn delay(&mut self) -> Option<f64> {
+        let (t, x, dt, ch, basis) = (self.t, self.x, self.dt, self.ch, self.basis);
+        let mut shift_best = (0.0, f64::NEG_INFINITY);
+        for sign in [1.0, -1.0] {
+            let b = scan(
+                0.2 * dt,
+                (0.05 * self.span).max(0.4 * dt),
+                24,
+                true,
+                0.01,
+                &|d| {
+                    let cols = state_shape(t, "delay", x, sign * d).expect("a state kind");
+                    basis.score(cols).map_or(f64::NEG_INFINITY, |s| s.2)
+                },
+            );
+            if b.1 > shift_best.1 {
+                shift_best = (sign * b.0, b.1);
+            }
+        }
+        if !shift_best.1.is_finite() {
+            return None;
+        }
         let d = shift_best.0;
         let cols = state_shape(t, "delay", x, d).expect("a state kind");
-        push(
+        self.push(
             "delay",
             "time (a shift of the time axis)".into(),
             cols,
@@ -392,11 +442,12 @@ pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) 
             "s",
             &|c| state_text("delay", ch, c * d),
         );
-        delay_d = Some(d);
+        Some(d)
     }
-    if t_end > 4.0 * dt {
-        let post = t_end;
-        // creep over a log grid of tau; a step in position and in velocity over t0
+
+    /// Creep over a log grid of tau; a step in position and in velocity over t0.
+    fn scanned_kinds(&mut self) {
+        let (t, dt, post, basis) = (self.t, self.dt, self.t_end, self.basis);
         for (kind, state, unit, name, lo, hi, m, log, tol) in [
             (
                 "creep",
@@ -436,7 +487,7 @@ pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) 
             let (v, _) = scan(lo, hi, m, log, tol, &|v| {
                 basis.score(cols(v)).map_or(f64::NEG_INFINITY, |s| s.2)
             });
-            push(kind, state.into(), cols(v), true, unit, &|c| {
+            self.push(kind, state.into(), cols(v), true, unit, &|c| {
                 (
                     term_text(kind, c, v),
                     Some(TermParameter {
@@ -448,67 +499,78 @@ pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) 
             });
         }
     }
-    // a vibration: the whole record
-    let sincos = |f: f64| -> Vec<Vec<f64>> {
-        let w = std::f64::consts::TAU * f;
-        vec![
-            t.iter().map(|t| (w * t).sin()).collect(),
-            t.iter().map(|t| (w * t).cos()).collect(),
-        ]
-    };
-    let score_f = |f: f64| basis.score(sincos(f)).map_or(f64::NEG_INFINITY, |s| s.2);
-    let res = 1.0 / span;
-    let nyq = 0.5 / dt;
-    let mut best = (0.0, f64::NEG_INFINITY);
-    let mut try_band = |lo: f64, hi: f64, m: usize| {
-        let hi = hi.min(0.98 * nyq);
-        if hi > lo {
-            let b = scan(lo, hi, m, false, 0.01 * res, &score_f);
-            if b.1 > best.1 {
-                best = b;
+
+    /// A vibration over the whole record: the whole band for records up to 4 096 samples, else
+    /// the low band and around the periodogram's first three `peaks`.
+    fn vibration(&mut self, peaks: &[Peak]) {
+        let (t, dt, basis) = (self.t, self.dt, self.basis);
+        let sincos = |f: f64| -> Vec<Vec<f64>> {
+            let w = std::f64::consts::TAU * f;
+            vec![
+                t.iter().map(|t| (w * t).sin()).collect(),
+                t.iter().map(|t| (w * t).cos()).collect(),
+            ]
+        };
+        let score_f = |f: f64| basis.score(sincos(f)).map_or(f64::NEG_INFINITY, |s| s.2);
+        let res = 1.0 / self.span;
+        let nyq = 0.5 / dt;
+        let mut best = (0.0, f64::NEG_INFINITY);
+        let mut try_band = |lo: f64, hi: f64, m: usize| {
+            let hi = hi.min(0.98 * nyq);
+            if hi > lo {
+                let b = scan(lo, hi, m, false, 0.01 * res, &score_f);
+                if b.1 > best.1 {
+                    best = b;
+                }
+            }
+        };
+        if t.len() <= 4096 {
+            try_band(0.5 * res, nyq, (4.0 * (nyq - 0.5 * res) / res) as usize + 2);
+        } else {
+            try_band(0.5 * res, 64.0 * res, 256);
+            for p in peaks.iter().take(3) {
+                try_band(p.hz - 2.0 * res, p.hz + 2.0 * res, 17);
             }
         }
-    };
-    if n <= 4096 {
-        try_band(0.5 * res, nyq, (4.0 * (nyq - 0.5 * res) / res) as usize + 2);
-    } else {
-        try_band(0.5 * res, 64.0 * res, 256);
-        for p in peaks.iter().take(3) {
-            try_band(p.hz - 2.0 * res, p.hz + 2.0 * res, 17);
+        if best.1.is_finite() {
+            let f = best.0;
+            self.push(
+                "vibration",
+                "time (periodic)".into(),
+                sincos(f),
+                true,
+                "m",
+                &|c| {
+                    (
+                        term_text("vibration", c, f),
+                        Some(TermParameter {
+                            name: "f".into(),
+                            value: f,
+                            unit: "Hz".into(),
+                        }),
+                    )
+                },
+            );
         }
     }
-    if best.1.is_finite() {
-        let f = best.0;
-        push(
-            "vibration",
-            "time (periodic)".into(),
-            sincos(f),
-            true,
-            "m",
-            &|c| {
-                (
-                    term_text("vibration", c, f),
-                    Some(TermParameter {
-                        name: "f".into(),
-                        value: f,
-                        unit: "Hz".into(),
-                    }),
-                )
-            },
-        );
+
+    /// The kinds, the delay's coefficient in seconds (`delay_d`, the shift scanned), each
+    /// described with its offset, most supported first.
+    fn finish(self, delay_d: Option<f64>) -> Vec<KindFit> {
+        let mut out = self.out;
+        if let Some(d) = delay_d
+            && let Some(k) = out.iter_mut().find(|k| k.kind == "delay")
+        {
+            k.scan = d;
+            k.coefficient *= d;
+            k.sigma *= d.abs();
+        }
+        for k in out.iter_mut() {
+            describe_offset(k, self.ch);
+        }
+        out.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
+        out
     }
-    if let Some(d) = delay_d
-        && let Some(k) = out.iter_mut().find(|k| k.kind == "delay")
-    {
-        k.scan = d;
-        k.coefficient *= d;
-        k.sigma *= d.abs();
-    }
-    for k in out.iter_mut() {
-        describe_offset(k, ch);
-    }
-    out.sort_by(|a, b| a.delta_bic.total_cmp(&b.delta_bic));
-    out
 }
 
 /// The model refitted, from `o`'s optimum and from its default starts, to the data less the
@@ -604,80 +666,129 @@ fn joint_lm_as(
     max_iter: usize,
     solved: bool,
 ) -> (f64, Vec<f64>) {
-    let t = &prep.dataset.t;
-    let sigma = o.sigma;
-    let specs = o.model.specs();
-    let fidx: Vec<usize> = (0..specs.len()).filter(|&i| o.free[i]).collect();
-    let w: Vec<Vec<f64>> = kind
-        .shape
-        .iter()
-        .map(|c| {
-            let mut c = c.clone();
-            prep.normalise(&mut c, sigma);
-            c
-        })
-        .collect();
-    // each coefficient in units of the change that moves chi-square by about one
-    let sc: Vec<f64> = w
-        .iter()
-        .map(|c| 1.0 / dot(c, c).sqrt().max(1e-300))
-        .collect();
-    let mut data = prep.data().to_vec();
-    prep.normalise(&mut data, sigma);
-    let nm = fidx.len();
-    let mut u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], from[i])).collect();
-    let mut lo: Vec<f64> = fidx
-        .iter()
-        .map(|&i| to_u(&specs[i], specs[i].lower))
-        .collect();
-    let mut hi: Vec<f64> = fidx
-        .iter()
-        .map(|&i| to_u(&specs[i], specs[i].upper))
-        .collect();
-    for (j, c) in kind.coefs.iter().enumerate() {
-        u0.push(if c.is_finite() { c / sc[j] } else { 0.0 });
-        lo.push(f64::NEG_INFINITY);
-        hi.push(f64::INFINITY);
+    let joint = Joint::new(prep, o, kind, from);
+    let opts = LmOptions {
+        max_iter,
+        ..LmOptions::default()
+    };
+    if kind.kind == "delay" && kind.scan != 0.0 {
+        return joint.delay(&opts);
     }
-    let f = |u: &[f64]| {
-        let mut p = from.to_vec();
-        for (k, &i) in fidx.iter().enumerate() {
-            p[i] = from_u(&specs[i], u[k]);
+    let r = crate::numeric::lm::minimize(
+        &|u: &[f64]| joint.residual(u, solved),
+        &joint.u0,
+        &joint.lo,
+        &joint.hi,
+        &opts,
+    );
+    let coefs = (0..joint.w.len())
+        .map(|j| r.u[joint.nm + j] * joint.sc[j])
+        .collect();
+    (o.chi2 - r.cost, coefs)
+}
+
+/// The joint problem of [`joint_lm_as`]: the model's free parameters (in the fit's
+/// coordinates) followed by the term's coefficients (each in units of the change that moves
+/// chi-square by about one), the data and the term's columns normalised at `o.sigma`.
+struct Joint<'a> {
+    prep: &'a Prepared,
+    o: &'a FitOutcome,
+    kind: &'a KindFit,
+    /// The model's parameters the free ones are put into.
+    from: &'a [f64],
+    /// The model's parameters' specifications.
+    specs: Vec<geodesic_facility::ParamSpec>,
+    /// Indices of the model's free parameters.
+    fidx: Vec<usize>,
+    /// Their count: the term's coefficients start at `nm` in `u`.
+    nm: usize,
+    /// The term's columns, normalised.
+    w: Vec<Vec<f64>>,
+    /// Each coefficient's scale.
+    sc: Vec<f64>,
+    /// The data, normalised.
+    data: Vec<f64>,
+    /// The start, lower and upper bounds of `u`.
+    u0: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl<'a> Joint<'a> {
+    fn new(prep: &'a Prepared, o: &'a FitOutcome, kind: &'a KindFit, from: &'a [f64]) -> Self {
+        let sigma = o.sigma;
+        let specs = o.model.specs();
+        let fidx: Vec<usize> = (0..specs.len()).filter(|&i| o.free[i]).collect();
+        let w: Vec<Vec<f64>> = kind
+            .shape
+            .iter()
+            .map(|c| {
+                let mut c = c.clone();
+                prep.normalise(&mut c, sigma);
+                c
+            })
+            .collect();
+        // each coefficient in units of the change that moves chi-square by about one
+        let sc: Vec<f64> = w
+            .iter()
+            .map(|c| 1.0 / dot(c, c).sqrt().max(1e-300))
+            .collect();
+        let mut data = prep.data().to_vec();
+        prep.normalise(&mut data, sigma);
+        let nm = fidx.len();
+        let mut u0: Vec<f64> = fidx.iter().map(|&i| to_u(&specs[i], from[i])).collect();
+        let mut lo: Vec<f64> = fidx
+            .iter()
+            .map(|&i| to_u(&specs[i], specs[i].lower))
+            .collect();
+        let mut hi: Vec<f64> = fidx
+            .iter()
+            .map(|&i| to_u(&specs[i], specs[i].upper))
+            .collect();
+        for (j, c) in kind.coefs.iter().enumerate() {
+            u0.push(if c.is_finite() { c / sc[j] } else { 0.0 });
+            lo.push(f64::NEG_INFINITY);
+            hi.push(f64::INFINITY);
         }
-        let raw = o.model.predict(&p, t, &prep.inputs);
-        let cs: Vec<f64> = (0..w.len()).map(|j| u[nm + j] * sc[j]).collect();
-        // a force on the state (position, velocity) acts on the state it changes: the term's
-        // displacement solves x_add = sum_j c_j K_j(x_model + x_add), a Volterra equation
-        // (double or single integrals from the trigger) solved by its Neumann series. A
-        // damping of 100 1/s over 9 ms (gamma t = 0.9) is far from first order.
+        Joint {
+            prep,
+            o,
+            kind,
+            from,
+            specs,
+            fidx,
+            nm,
+            w,
+            sc,
+            data,
+            u0,
+            lo,
+            hi,
+        }
+    }
+
+    /// The model's parameters with the free ones at `u`'s first `nm`.
+    fn params(&self, u: &[f64]) -> Vec<f64> {
+        let mut p = self.from.to_vec();
+        for (k, &i) in self.fidx.iter().enumerate() {
+            p[i] = from_u(&self.specs[i], u[k]);
+        }
+        p
+    }
+
+    /// The normalised residual (model plus term minus data) at `u`, the term to first order
+    /// or `solved` with the state it changes.
+    fn residual(&self, u: &[f64], solved: bool) -> Vec<f64> {
+        let (prep, sigma, t) = (self.prep, self.o.sigma, &self.prep.dataset.t);
+        let raw = self.o.model.predict(&self.params(u), t, &prep.inputs);
+        let cs: Vec<f64> = (0..self.w.len())
+            .map(|j| u[self.nm + j] * self.sc[j])
+            .collect();
         if solved {
-            let n = raw.len();
-            let mut xa = vec![0.0; n];
-            for _ in 0..12 {
-                let tot: Vec<f64> = raw.iter().zip(&xa).map(|(a, b)| a + b).collect();
-                let cols = state_shape(t, &kind.kind, &tot, 0.0).expect("a state kind");
-                let next: Vec<f64> = (0..n)
-                    .map(|i| cols.iter().zip(&cs).map(|(col, c)| c * col[i]).sum())
-                    .collect();
-                let change = next
-                    .iter()
-                    .zip(&xa)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
-                xa = next;
-                if change < 1e-4 * sigma {
-                    break;
-                }
-            }
-            let mut v: Vec<f64> = raw.iter().zip(&xa).map(|(a, b)| a + b).collect();
-            prep.normalise(&mut v, sigma);
-            for (vi, d) in v.iter_mut().zip(&data) {
-                *vi -= d;
-            }
-            return v;
+            return self.residual_solved(raw, &cs);
         }
         // to first order: a term on the model's own state follows the model as it moves
-        let moving = state_shape(t, &kind.kind, &raw, kind.scan).map(|mut cols| {
+        let moving = state_shape(t, &self.kind.kind, &raw, self.kind.scan).map(|mut cols| {
             for s in cols.iter_mut() {
                 prep.normalise(s, sigma);
             }
@@ -685,37 +796,66 @@ fn joint_lm_as(
         });
         let mut v = raw;
         prep.normalise(&mut v, sigma);
-        for (j, col) in w.iter().enumerate() {
+        for (j, col) in self.w.iter().enumerate() {
             let c = cs[j];
             let col = moving.as_ref().and_then(|m| m.get(j)).unwrap_or(col);
             for (vi, ci) in v.iter_mut().zip(col) {
                 *vi += c * ci;
             }
         }
-        for (vi, d) in v.iter_mut().zip(&data) {
+        for (vi, d) in v.iter_mut().zip(&self.data) {
             *vi -= d;
         }
         v
-    };
-    let opts = LmOptions {
-        max_iter,
-        ..LmOptions::default()
-    };
-    if kind.kind == "delay" && kind.scan != 0.0 {
-        // a pure shift: the model delayed by d, d fitted with the model's parameters
+    }
+
+    /// [`Joint::residual`] of a force on the state (position, velocity) acting on the state it
+    /// changes: the term's displacement solves x_add = sum_j c_j K_j(x_model + x_add), a
+    /// Volterra equation (double or single integrals from the trigger) solved by its Neumann
+    /// series. A damping of 100 1/s over 9 ms (gamma t = 0.9) is far from first order.
+    fn residual_solved(&self, raw: Vec<f64>, cs: &[f64]) -> Vec<f64> {
+        let (prep, sigma, t) = (self.prep, self.o.sigma, &self.prep.dataset.t);
+        let n = raw.len();
+        let mut xa = vec![0.0; n];
+        for _ in 0..12 {
+            let tot: Vec<f64> = raw.iter().zip(&xa).map(|(a, b)| a + b).collect();
+            let cols = state_shape(t, &self.kind.kind, &tot, 0.0).expect("a state kind");
+            let next: Vec<f64> = (0..n)
+                .map(|i| cols.iter().zip(cs).map(|(col, c)| c * col[i]).sum())
+                .collect();
+            let change = next
+                .iter()
+                .zip(&xa)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            xa = next;
+            if change < 1e-4 * sigma {
+                break;
+            }
+        }
+        let mut v: Vec<f64> = raw.iter().zip(&xa).map(|(a, b)| a + b).collect();
+        prep.normalise(&mut v, sigma);
+        for (vi, d) in v.iter_mut().zip(&self.data) {
+            *vi -= d;
+        }
+        v
+    }
+
+    /// A pure shift: the model delayed by d, d fitted with the model's parameters (in units of
+    /// the median sampling step). Returns the chi-square removed and the coefficient (the
+    /// shift over the scanned one).
+    fn delay(&self, opts: &LmOptions) -> (f64, Vec<f64>) {
+        let (prep, o, nm, t) = (self.prep, self.o, self.nm, &self.prep.dataset.t);
         let sd = (t[t.len() - 1] - t[0]) / (t.len().max(2) - 1) as f64;
         let g = |u: &[f64]| {
-            let mut p = from.to_vec();
-            for (k, &i) in fidx.iter().enumerate() {
-                p[i] = from_u(&specs[i], u[k]);
-            }
+            let p = self.params(u);
             // the model evaluated at the shifted times (not interpolated between samples: a
             // 73 kHz ringing sampled at 1 MHz is off by tens of nm between them)
             let d = u[nm] * sd;
             let shifted: Vec<f64> = t.iter().map(|&ti| ti - d).collect();
             let mut v = o.model.predict(&p, &shifted, &prep.inputs);
-            prep.normalise(&mut v, sigma);
-            for (vi, x) in v.iter_mut().zip(&data) {
+            prep.normalise(&mut v, o.sigma);
+            for (vi, x) in v.iter_mut().zip(&self.data) {
                 *vi -= x;
             }
             v
@@ -726,14 +866,14 @@ fn joint_lm_as(
         // run from a poor start stops in the wrong one)
         let span = t[t.len() - 1] - t[0];
         let cost = |u: &[f64]| g(u).iter().map(|v| v * v).sum::<f64>();
-        let mut best_u = u0[..nm].to_vec();
-        best_u.push(kind.coefficient / sd);
+        let mut best_u = self.u0[..nm].to_vec();
+        best_u.push(self.kind.coefficient / sd);
         let mut best_c = cost(&best_u);
         let (a, b) = ((0.2 * sd).ln(), (0.05 * span).max(0.4 * sd).ln());
         for sign in [1.0, -1.0] {
             for j in 0..48 {
                 let d = sign * (a + (b - a) * j as f64 / 47.0).exp();
-                let mut u = u0[..nm].to_vec();
+                let mut u = self.u0[..nm].to_vec();
                 u.push(d / sd);
                 let c = cost(&u);
                 if c < best_c {
@@ -741,7 +881,8 @@ fn joint_lm_as(
                 }
             }
         }
-        let r = crate::numeric::lm::minimize(&g, &best_u, &lo[..nm + 1], &hi[..nm + 1], &opts);
+        let r =
+            crate::numeric::lm::minimize(&g, &best_u, &self.lo[..nm + 1], &self.hi[..nm + 1], opts);
         if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
             eprintln!(
                 "delay joint fit: start {:e} s cost {best_c:.1}, end {:e} s cost {:.1} (model alone {:.1})",
@@ -751,11 +892,8 @@ fn joint_lm_as(
                 o.chi2
             );
         }
-        return (o.chi2 - r.cost, vec![r.u[nm] * sd / kind.scan]);
+        (o.chi2 - r.cost, vec![r.u[nm] * sd / self.kind.scan])
     }
-    let r = crate::numeric::lm::minimize(&f, &u0, &lo, &hi, &opts);
-    let coefs = (0..w.len()).map(|j| r.u[nm + j] * sc[j]).collect();
-    (o.chi2 - r.cost, coefs)
 }
 
 /// The columns of a kind on the model's state (`position`, `velocity`, `delay` by `d` [s]) for

@@ -227,6 +227,186 @@ fn lin_param(
     }
 }
 
+/// The fitted value of the term's parameter `n` (`delay`, `tau`, ...).
+fn fitted_parameter(k: &KindFit, n: &str) -> Result<f64, String> {
+    k.parameter
+        .as_ref()
+        .filter(|p| p.name == n && p.value.is_finite())
+        .map(|p| p.value)
+        .ok_or_else(|| {
+            format!(
+                "the leading term ({}) carries no fitted {n}: nothing to scaffold from",
+                k.kind
+            )
+        })
+}
+
+/// The term's fitted coefficient `j`.
+fn fitted_coef(k: &KindFit, j: usize) -> Result<f64, String> {
+    k.coefs
+        .get(j)
+        .copied()
+        .filter(|c| c.is_finite())
+        .ok_or_else(|| {
+            format!(
+                "the leading term ({}) carries no fitted coefficient {j}: nothing to scaffold from",
+                k.kind
+            )
+        })
+}
+
+/// A `position` term: a restoring force of frequency `f0` [Hz], with its equilibrium `x_eq`
+/// [m] in a scenario whose force has one. `Err` for an anti-restoring force.
+fn restoring_params(k: &KindFit, scenario: Scenario) -> Result<Vec<GenParam>, String> {
+    if k.coefs.first().is_some_and(|c| *c >= 0.0) || k.parameter.is_none() {
+        return Err(format!(
+            "the leading term is an anti-restoring force ({}): not a restoring force about an equilibrium, not scaffolded",
+            k.term
+        ));
+    }
+    let f0 = fitted_parameter(k, "f0")?;
+    let mut v = vec![log_param(
+        "f0",
+        "Hz",
+        f0,
+        10.0,
+        "frequency of the restoring force, w0 = 2 pi f0",
+    )];
+    if scenario.scaffold_force().equilibrium {
+        let c0 = fitted_coef(k, 0)?;
+        let x_eq = k.coefs.get(1).map_or(0.0, |c1| -c1 / c0);
+        let x_eq = if x_eq.is_finite() { x_eq } else { 0.0 };
+        v.push(lin_param(
+            "x_eq",
+            "m",
+            x_eq,
+            x_eq.abs().max(1e-7),
+            (100.0 * x_eq.abs()).max(1e-3),
+            "equilibrium of the restoring force (x at which it vanishes)",
+        ));
+    }
+    Ok(v)
+}
+
+/// A `velocity` term: a damping of rate `gamma` [1/s]. `Err` for a negative damping.
+fn damping_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
+    let g = fitted_parameter(k, "gamma")?;
+    if g <= 0.0 {
+        return Err(format!(
+            "the leading term is a negative damping (gamma {g:.4e} 1/s): not a damping force, not scaffolded"
+        ));
+    }
+    Ok(vec![log_param(
+        "gamma",
+        "1/s",
+        g,
+        100.0,
+        "damping rate: the force is -m gamma times the velocity",
+    )])
+}
+
+/// A `delay` term: the delay [s], bounded by ten times itself or 5 % of the record after the
+/// trigger, `span` [s].
+fn delay_params(k: &KindFit, span: f64) -> Result<Vec<GenParam>, String> {
+    let d = fitted_parameter(k, "delay")?;
+    Ok(vec![lin_param(
+        "delay",
+        "s",
+        d,
+        d.abs().max(1e-9),
+        (10.0 * d.abs()).max(0.05 * span),
+        "delay of the motion after the trigger: the model runs at t - delay",
+    )])
+}
+
+/// A `creep` term: its amplitude `c` [m] and time constant `tau` [s].
+fn creep_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
+    let tau = fitted_parameter(k, "tau")?;
+    let c = fitted_coef(k, 0)?;
+    Ok(vec![
+        lin_param(
+            "c",
+            "m",
+            c,
+            c.abs().max(1e-12),
+            (1e3 * c.abs()).max(1e-3),
+            "creep amplitude",
+        ),
+        log_param("tau", "s", tau, 100.0, "creep time constant"),
+    ])
+}
+
+/// A `slip` (a jump of the reading [m]) or an `impulse` (a velocity step [m/s]) at `t0` [s].
+fn step_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
+    let t0 = fitted_parameter(k, "t0")?;
+    let a = fitted_coef(k, 0)?;
+    let (unit, doc_a) = if k.kind == "slip" {
+        ("m", "jump of the reading")
+    } else {
+        ("m/s", "velocity step (the knock's impulse over the mass)")
+    };
+    Ok(vec![
+        lin_param(
+            "a",
+            unit,
+            a,
+            a.abs().max(1e-12),
+            (1e3 * a.abs()).max(1e-3),
+            doc_a,
+        ),
+        log_param("t0", "s", t0, 2.0, "time of the jump after the trigger"),
+    ])
+}
+
+/// A `vibration` term: its frequency `f` [Hz] and the amplitudes of its sine and cosine [m].
+fn vibration_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
+    let f = fitted_parameter(k, "f")?;
+    let (a_s, a_c) = (fitted_coef(k, 0)?, fitted_coef(k, 1)?);
+    let amp = a_s.hypot(a_c).max(1e-15);
+    Ok(vec![
+        log_param("f", "Hz", f, 2.0, "vibration frequency"),
+        lin_param(
+            "a_s",
+            "m",
+            a_s,
+            amp,
+            (1e3 * amp).max(1e-3),
+            "amplitude of the sine",
+        ),
+        lin_param(
+            "a_c",
+            "m",
+            a_c,
+            amp,
+            (1e3 * amp).max(1e-3),
+            "amplitude of the cosine",
+        ),
+    ])
+}
+
+/// The generated effect's parameters from the term `k` of a record of `scenario` with
+/// `post_s` [s] after the trigger, every value finite.
+fn params_of(k: &KindFit, scenario: Scenario, post_s: f64) -> Result<Vec<GenParam>, String> {
+    let params = match k.kind.as_str() {
+        "position" => restoring_params(k, scenario)?,
+        "velocity" => damping_params(k)?,
+        "delay" => delay_params(k, post_s.max(1e-9))?,
+        "creep" => creep_params(k)?,
+        "slip" | "impulse" => step_params(k)?,
+        "vibration" => vibration_params(k)?,
+        other => return Err(format!("no scaffold for a term of kind {other}")),
+    };
+    for p in &params {
+        if !(p.nominal.is_finite() && p.lower.is_finite() && p.upper.is_finite()) {
+            return Err(format!(
+                "the leading term's {} is not finite: nothing to scaffold from",
+                p.name
+            ));
+        }
+    }
+    Ok(params)
+}
+
 impl Scaffold {
     /// The effect `name` from the term `k` (a refined term of `discover`: its `coefs` and
     /// `parameter` set) of a record of `scenario` under `conditions`. `Err` (one line) for a
@@ -242,157 +422,7 @@ impl Scaffold {
         date: &str,
         conditions: Conditions,
     ) -> Result<Scaffold, String> {
-        let par = |n: &str| {
-            k.parameter
-                .as_ref()
-                .filter(|p| p.name == n && p.value.is_finite())
-                .map(|p| p.value)
-                .ok_or_else(|| {
-                    format!(
-                        "the leading term ({}) carries no fitted {n}: nothing to scaffold from",
-                        k.kind
-                    )
-                })
-        };
-        let coef = |j: usize| {
-            k.coefs
-                .get(j)
-                .copied()
-                .filter(|c| c.is_finite())
-                .ok_or_else(|| {
-                    format!(
-                        "the leading term ({}) carries no fitted coefficient {j}: nothing to scaffold from",
-                        k.kind
-                    )
-                })
-        };
-        let span = conditions.post_s.max(1e-9);
-        let params = match k.kind.as_str() {
-            "position" => {
-                if k.coefs.first().is_some_and(|c| *c >= 0.0) || k.parameter.is_none() {
-                    return Err(format!(
-                        "the leading term is an anti-restoring force ({}): not a restoring force about an equilibrium, not scaffolded",
-                        k.term
-                    ));
-                }
-                let f0 = par("f0")?;
-                let mut v = vec![log_param(
-                    "f0",
-                    "Hz",
-                    f0,
-                    10.0,
-                    "frequency of the restoring force, w0 = 2 pi f0",
-                )];
-                if scenario.scaffold_force().equilibrium {
-                    let c0 = coef(0)?;
-                    let x_eq = k.coefs.get(1).map_or(0.0, |c1| -c1 / c0);
-                    let x_eq = if x_eq.is_finite() { x_eq } else { 0.0 };
-                    v.push(lin_param(
-                        "x_eq",
-                        "m",
-                        x_eq,
-                        x_eq.abs().max(1e-7),
-                        (100.0 * x_eq.abs()).max(1e-3),
-                        "equilibrium of the restoring force (x at which it vanishes)",
-                    ));
-                }
-                v
-            }
-            "velocity" => {
-                let g = par("gamma")?;
-                if g <= 0.0 {
-                    return Err(format!(
-                        "the leading term is a negative damping (gamma {g:.4e} 1/s): not a damping force, not scaffolded"
-                    ));
-                }
-                vec![log_param(
-                    "gamma",
-                    "1/s",
-                    g,
-                    100.0,
-                    "damping rate: the force is -m gamma times the velocity",
-                )]
-            }
-            "delay" => {
-                let d = par("delay")?;
-                vec![lin_param(
-                    "delay",
-                    "s",
-                    d,
-                    d.abs().max(1e-9),
-                    (10.0 * d.abs()).max(0.05 * span),
-                    "delay of the motion after the trigger: the model runs at t - delay",
-                )]
-            }
-            "creep" => {
-                let tau = par("tau")?;
-                let c = coef(0)?;
-                vec![
-                    lin_param(
-                        "c",
-                        "m",
-                        c,
-                        c.abs().max(1e-12),
-                        (1e3 * c.abs()).max(1e-3),
-                        "creep amplitude",
-                    ),
-                    log_param("tau", "s", tau, 100.0, "creep time constant"),
-                ]
-            }
-            "slip" | "impulse" => {
-                let t0 = par("t0")?;
-                let a = coef(0)?;
-                let (unit, doc_a) = if k.kind == "slip" {
-                    ("m", "jump of the reading")
-                } else {
-                    ("m/s", "velocity step (the knock's impulse over the mass)")
-                };
-                vec![
-                    lin_param(
-                        "a",
-                        unit,
-                        a,
-                        a.abs().max(1e-12),
-                        (1e3 * a.abs()).max(1e-3),
-                        doc_a,
-                    ),
-                    log_param("t0", "s", t0, 2.0, "time of the jump after the trigger"),
-                ]
-            }
-            "vibration" => {
-                let f = par("f")?;
-                let (a_s, a_c) = (coef(0)?, coef(1)?);
-                let amp = a_s.hypot(a_c).max(1e-15);
-                vec![
-                    log_param("f", "Hz", f, 2.0, "vibration frequency"),
-                    lin_param(
-                        "a_s",
-                        "m",
-                        a_s,
-                        amp,
-                        (1e3 * amp).max(1e-3),
-                        "amplitude of the sine",
-                    ),
-                    lin_param(
-                        "a_c",
-                        "m",
-                        a_c,
-                        amp,
-                        (1e3 * amp).max(1e-3),
-                        "amplitude of the cosine",
-                    ),
-                ]
-            }
-            other => return Err(format!("no scaffold for a term of kind {other}")),
-        };
-        for p in &params {
-            if !(p.nominal.is_finite() && p.lower.is_finite() && p.upper.is_finite()) {
-                return Err(format!(
-                    "the leading term's {} is not finite: nothing to scaffold from",
-                    p.name
-                ));
-            }
-        }
+        let params = params_of(k, scenario, conditions.post_s)?;
         Ok(Scaffold {
             name: name.to_string(),
             scenario,
@@ -420,9 +450,14 @@ impl Scaffold {
         matches!(self.kind.as_str(), "position" | "velocity")
     }
 
-    fn effect_kind(&self) -> &'static str {
+    /// The [`Role`](geodesic_facility::effects::Role) variant of the effect (`Force`,
+    /// `Mechanism`, `TimeShift`, `Distortion`); its capability trait is that name followed by
+    /// `Effect`.
+    fn role(&self) -> &'static str {
         if self.is_force() {
             self.scenario.scaffold_force().kind
+        } else if self.kind == "delay" {
+            "TimeShift"
         } else {
             "Distortion"
         }
@@ -447,9 +482,20 @@ impl Scaffold {
 
     /// The effect's source file (`models/facility/src/effects/NAME.rs`).
     pub fn effect_source(&self) -> String {
-        let ty = self.type_name();
+        let mut s = self.header();
+        s.push_str(&self.params_static());
+        s.push_str(&self.impl_effect());
+        s.push('\n');
+        let _ = writeln!(s, "impl {}Effect for {} {{", self.role(), self.type_name());
+        s.push_str(&self.body());
+        s.push_str("}\n\n");
+        s.push_str(&self.impl_hints());
+        s
+    }
+
+    /// The module comment, the imports and the type with its doc comment.
+    fn header(&self) -> String {
         let name = &self.name;
-        let n = self.params.len();
         let mut s = String::new();
         s.push_str(&wrap(
             "//! ",
@@ -459,19 +505,30 @@ impl Scaffold {
             ),
         ));
         s.push('\n');
+        let capability = format!("{}Effect", self.role());
         let mut uses = vec![
             "Effect",
-            "EffectKind",
+            "FitHints",
             "GuessContext",
             "ParamSpec",
+            "Role",
             "Scenario",
+            capability.as_str(),
         ];
         if self.is_force() {
             uses.push(self.scenario.scaffold_force().import);
         }
         uses.sort_unstable();
         let uses = uses.join(", ");
-        let _ = writeln!(s, "use super::{{{uses}}};");
+        let line = format!("use super::{{{uses}}};");
+        if line.len() <= 100 {
+            let _ = writeln!(s, "{line}");
+        } else {
+            // rustfmt breaks a long import one item a line
+            s.push_str("use super::{\n");
+            let _ = writeln!(s, "    {uses},");
+            s.push_str("};\n");
+        }
         s.push('\n');
         s.push_str(&wrap("/// ", &format!("{}.", capitalise(&self.law()))));
         s.push_str("///\n");
@@ -494,9 +551,15 @@ impl Scaffold {
         );
         s.push_str(&wrap("/// ", &origin));
         s.push_str("#[derive(Debug, Clone, Copy)]\n");
-        let _ = writeln!(s, "pub struct {ty};");
+        let _ = writeln!(s, "pub struct {};", self.type_name());
         s.push('\n');
-        let _ = writeln!(s, "static PARAMS: [ParamSpec; {n}] = [");
+        s
+    }
+
+    /// The `PARAMS` array, as rustfmt writes it.
+    fn params_static(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "static PARAMS: [ParamSpec; {}] = [", self.params.len());
         for p in &self.params {
             let _ = writeln!(s, "    // {} [{}]", p.doc, p.unit);
             if p.log {
@@ -538,20 +601,22 @@ impl Scaffold {
             }
         }
         s.push_str("];\n\n");
-        let _ = writeln!(s, "impl Effect for {ty} {{");
+        s
+    }
+
+    /// `impl Effect`: what every effect has, its role and its hints.
+    fn impl_effect(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "impl Effect for {} {{", self.type_name());
         let _ = writeln!(
             s,
-            "    fn name(&self) -> &'static str {{\n        \"{name}\"\n    }}"
+            "    fn name(&self) -> &'static str {{\n        \"{}\"\n    }}",
+            self.name
         );
         let sc = self.scenario.handle_name();
         let _ = writeln!(
             s,
             "    fn scenario(&self) -> Scenario {{\n        Scenario::{sc}\n    }}"
-        );
-        let _ = writeln!(
-            s,
-            "    fn kind(&self) -> EffectKind {{\n        EffectKind::{}\n    }}",
-            self.effect_kind()
         );
         let summary = format!("\"{} (from {})\"", self.law(), self.kind);
         if summary.len() + 8 <= 100 {
@@ -568,7 +633,20 @@ impl Scaffold {
             );
         }
         s.push_str("    fn params(&self) -> &'static [ParamSpec] {\n        &PARAMS\n    }\n");
-        s.push_str(&self.body());
+        let _ = writeln!(
+            s,
+            "    fn role(&self) -> Role<'_> {{\n        Role::{}(self)\n    }}",
+            self.role()
+        );
+        s.push_str("    fn hints(&self) -> &dyn FitHints {\n        self\n    }\n");
+        s.push_str("}\n");
+        s
+    }
+
+    /// `impl FitHints`: where the effect vanishes, and the fitted term's values as the start.
+    fn impl_hints(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(s, "impl FitHints for {} {{", self.type_name());
         let null = match self.kind.as_str() {
             "position" | "velocity" => {
                 let mut v = vec!["PARAMS[0].lower".to_string()];
@@ -599,7 +677,7 @@ impl Scaffold {
         match self.kind.as_str() {
             "position" => force.position_code.into(),
             "velocity" => force.velocity_code.into(),
-            "delay" => "    fn time_shift(&self, p: &[f64]) -> Option<f64> {\n        Some(p[0])\n    }\n".into(),
+            "delay" => "    fn time_shift(&self, p: &[f64]) -> f64 {\n        p[0]\n    }\n".into(),
             "creep" => "    fn distortion(&self, p: &[f64], t: f64, _x: f64) -> f64 {\n        if t > 0.0 {\n            p[0] * (t / p[1]).ln_1p()\n        } else {\n            0.0\n        }\n    }\n".into(),
             "slip" => "    fn distortion(&self, p: &[f64], t: f64, _x: f64) -> f64 {\n        if t >= p[1] { p[0] } else { 0.0 }\n    }\n".into(),
             "impulse" => "    fn distortion(&self, p: &[f64], t: f64, _x: f64) -> f64 {\n        p[0] * (t - p[1]).max(0.0)\n    }\n".into(),

@@ -90,41 +90,53 @@ fn every_kind_generates_rust_that_parses_and_is_formatted() {
             let src = s.effect_source();
             let file =
                 syn::parse_file(&src).unwrap_or_else(|e| panic!("{kind} {scenario:?}: {e}\n{src}"));
-            // one struct, one impl of Effect with the methods of the trait only
-            let mut methods = Vec::new();
+            // one struct; one impl of Effect, of its capability and of FitHints, each with
+            // the methods of its trait
+            let mut impls: Vec<(String, Vec<String>)> = Vec::new();
             for item in &file.items {
                 if let syn::Item::Impl(i) = item {
-                    let tr = i.trait_.as_ref().expect("impl Effect");
-                    assert!(tr.1.is_ident("Effect"));
-                    for it in &i.items {
-                        if let syn::ImplItem::Fn(f) = it {
-                            methods.push(f.sig.ident.to_string());
-                        }
-                    }
+                    let tr = i.trait_.as_ref().expect("an impl of a trait");
+                    let name = tr.1.get_ident().expect("a trait name").to_string();
+                    let methods = i
+                        .items
+                        .iter()
+                        .filter_map(|it| match it {
+                            syn::ImplItem::Fn(f) => Some(f.sig.ident.to_string()),
+                            _ => None,
+                        })
+                        .collect();
+                    impls.push((name, methods));
                 }
             }
             let tm = scenario == Scenario::TmmfRelease;
-            let law = match kind {
-                "position" | "velocity" if tm => "force",
-                "position" | "velocity" => "configure_rt",
-                "delay" => "time_shift",
-                _ => "distortion",
+            let (role, law) = match kind {
+                "position" | "velocity" if tm => ("Force", "force"),
+                "position" | "velocity" => ("Mechanism", "configure_rt"),
+                "delay" => ("TimeShift", "time_shift"),
+                _ => ("Distortion", "distortion"),
             };
-            for m in [
-                "name",
-                "scenario",
-                "kind",
-                "summary",
-                "params",
-                law,
-                "null_params",
-                "starts",
-            ] {
-                assert!(
-                    methods.iter().any(|x| x == m),
-                    "{kind}: no {m} in {methods:?}"
-                );
+            let capability = format!("{role}Effect");
+            let expected: [(&str, &[&str]); 3] = [
+                (
+                    "Effect",
+                    &["name", "scenario", "summary", "params", "role", "hints"],
+                ),
+                (&capability, &[law]),
+                ("FitHints", &["null_params", "starts"]),
+            ];
+            assert_eq!(
+                impls.len(),
+                expected.len(),
+                "{kind} {scenario:?}: {impls:?}"
+            );
+            for ((name, methods), (want, want_methods)) in impls.iter().zip(expected) {
+                assert_eq!(name, want, "{kind} {scenario:?}: {impls:?}");
+                assert_eq!(methods, want_methods, "{kind} {scenario:?}: {name}");
             }
+            assert!(
+                src.contains(&format!("Role::{role}(self)")),
+                "{kind}: not Role::{role}\n{src}"
+            );
             // the parameter count declared is the number written
             let n = s.params.len();
             assert!(src.contains(&format!("[ParamSpec; {n}]")), "{src}");

@@ -319,12 +319,64 @@ fn undisposed(r: &Row) -> Option<String> {
     })
 }
 
+/// How row `r` moved from the baseline's row `o`: the regressions (the gate fails on any)
+/// and the notes (reviewed, not failing), in the order the report lists them.
 fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change {
     let mut reg = Vec::new();
     let mut notes = Vec::new();
     let now = r.status.as_str();
     let unit = if r.unit.is_empty() { &o.unit } else { &r.unit };
-    // the requirement itself: any edit of what it asks is reviewed, whichever direction
+    reg.extend(requirement_edits(r, o));
+    status_change(r, o, unit, &mut reg, &mut notes);
+    margin_change(r, o, unit, tolerance, &mut reg, &mut notes);
+    let now_basis = r.basis.map(|b| b.as_str());
+    if o.value.is_some()
+        && r.value.is_some()
+        && basis_rank(now_basis) > basis_rank(o.basis.as_deref())
+    {
+        reg.push(format!(
+            "its verdict now rests on a weaker basis: {} -> {}",
+            o.basis.as_deref().unwrap_or("none"),
+            now_basis.unwrap_or("none")
+        ));
+    }
+    if tests_compared {
+        tests_lost(r, o, &mut reg);
+    }
+    if r.status == Status::NonCompliant {
+        match (&r.disposition, &o.disposition) {
+            (Some(dn), _) if dn.expired => reg.push(format!(
+                "its {} {} expired on {}",
+                dn.kind.as_str(),
+                dn.reference,
+                dn.expires.as_deref().unwrap_or("?")
+            )),
+            (None, Some(od)) => reg.push(format!(
+                "its disposition {} was withdrawn while it is still non-compliant",
+                od.reference
+            )),
+            (None, None) => reg.extend(undisposed(r)),
+            _ => {}
+        }
+    }
+    if let Some(ov) = &o.verdict
+        && *ov != r.verdict
+    {
+        notes.push(format!("verdict `{ov}` -> `{}`", r.verdict));
+    }
+    Change {
+        id: r.id.clone(),
+        regression: !reg.is_empty(),
+        regressions: reg,
+        notes,
+        status: (o.status.clone(), now.to_string()),
+        margin: (o.margin, r.margin),
+    }
+}
+
+/// The requirement itself: any edit of what it asks (limit, probability, method, quantity,
+/// text) is reviewed, whichever direction (`None` when nothing was edited).
+fn requirement_edits(r: &Row, o: &OldRow) -> Option<String> {
     let q = |s: &str| format!("`{}`", geodesic_core::text::clip(s, 120));
     let edits: Vec<String> = [
         (
@@ -355,34 +407,48 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
         )
     })
     .collect();
-    if !edits.is_empty() {
+    (!edits.is_empty()).then(|| format!("requirement changed, needs review: {}", edits.join("; ")))
+}
+
+/// A change of status: becoming non-compliant or losing the evidence is a regression, an
+/// improvement or another move a note (`unit`: the values' unit).
+fn status_change(r: &Row, o: &OldRow, unit: &str, reg: &mut Vec<String>, notes: &mut Vec<String>) {
+    let now = r.status.as_str();
+    if now == o.status {
+        return;
+    }
+    let msg = format!("status {} -> {}", o.status, now);
+    if r.status == Status::NonCompliant {
         reg.push(format!(
-            "requirement changed, needs review: {}",
-            edits.join("; ")
+            "became non-compliant (was {}): value {} against {} {}",
+            o.status,
+            val(r.value, unit),
+            r.op,
+            val(r.limit, unit)
         ));
+    } else if o.value.is_some() && r.value.is_none() {
+        reg.push(format!(
+            "lost its evidence: now not verified ({})",
+            r.reason.as_deref().unwrap_or("no reason given")
+        ));
+    } else if rank(now) < rank(&o.status) {
+        notes.push(format!("improved: {msg}"));
+    } else {
+        notes.push(msg);
     }
-    if now != o.status {
-        let msg = format!("status {} -> {}", o.status, now);
-        if r.status == Status::NonCompliant {
-            reg.push(format!(
-                "became non-compliant (was {}): value {} against {} {}",
-                o.status,
-                val(r.value, unit),
-                r.op,
-                val(r.limit, unit)
-            ));
-        } else if o.value.is_some() && r.value.is_none() {
-            reg.push(format!(
-                "lost its evidence: now not verified ({})",
-                r.reason.as_deref().unwrap_or("no reason given")
-            ));
-        } else if rank(now) < rank(&o.status) {
-            notes.push(format!("improved: {msg}"));
-        } else {
-            notes.push(msg);
-        }
-    }
-    // a sampled value: compared with what its sampling resolves, never a fixed tolerance
+}
+
+/// The margin's move: a fall beyond the tolerance is a regression, a rise beyond it a note. A
+/// sampled value is compared with what its sampling resolves, never a fixed tolerance, and a
+/// smaller sample or a lower confidence than the baseline's is a regression.
+fn margin_change(
+    r: &Row,
+    o: &OldRow,
+    unit: &str,
+    tolerance: f64,
+    reg: &mut Vec<String>,
+    notes: &mut Vec<String>,
+) {
     let (tol, tol_why) = match (&o.sampling, &r.sampling, o.limit, r.limit) {
         (Some(os), Some(ns), Some(ol), Some(nl)) => {
             let t = sampling_tolerance(os, ol, ns, nl);
@@ -432,72 +498,35 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
             ));
         }
     }
-    let now_basis = r.basis.map(|b| b.as_str());
-    if o.value.is_some()
-        && r.value.is_some()
-        && basis_rank(now_basis) > basis_rank(o.basis.as_deref())
-    {
+}
+
+/// Traced tests that passed in the baseline and no longer pass: all vanished at once, or
+/// each one that now fails, is ignored or is absent.
+fn tests_lost(r: &Row, o: &OldRow, reg: &mut Vec<String>) {
+    let passed: Vec<&OldTest> = o
+        .tests
+        .iter()
+        .filter(|t| t.result.as_deref() == Some("passed"))
+        .collect();
+    let vanished = passed
+        .iter()
+        .filter(|t| !r.tests.iter().any(|n| n.test == t.test))
+        .count();
+    if vanished > 0 && vanished == passed.len() && r.tests.is_empty() {
         reg.push(format!(
-            "its verdict now rests on a weaker basis: {} -> {}",
-            o.basis.as_deref().unwrap_or("none"),
-            now_basis.unwrap_or("none")
+            "its {vanished} traced test(s) vanished (passed in the baseline, absent from this run)"
         ));
-    }
-    if tests_compared {
-        let passed: Vec<&OldTest> = o
-            .tests
-            .iter()
-            .filter(|t| t.result.as_deref() == Some("passed"))
-            .collect();
-        let vanished = passed
-            .iter()
-            .filter(|t| !r.tests.iter().any(|n| n.test == t.test))
-            .count();
-        if vanished > 0 && vanished == passed.len() && r.tests.is_empty() {
-            reg.push(format!(
-                "its {vanished} traced test(s) vanished (passed in the baseline, absent from this run)"
-            ));
-        } else {
-            for t in passed {
-                let res = r
-                    .tests
-                    .iter()
-                    .find(|n| n.test == t.test)
-                    .map_or("absent", |n| n.result.as_str());
-                if res != "passed" {
-                    reg.push(format!("test {} passed in the baseline, now {res}", t.test));
-                }
+    } else {
+        for t in passed {
+            let res = r
+                .tests
+                .iter()
+                .find(|n| n.test == t.test)
+                .map_or("absent", |n| n.result.as_str());
+            if res != "passed" {
+                reg.push(format!("test {} passed in the baseline, now {res}", t.test));
             }
         }
-    }
-    if r.status == Status::NonCompliant {
-        match (&r.disposition, &o.disposition) {
-            (Some(dn), _) if dn.expired => reg.push(format!(
-                "its {} {} expired on {}",
-                dn.kind.as_str(),
-                dn.reference,
-                dn.expires.as_deref().unwrap_or("?")
-            )),
-            (None, Some(od)) => reg.push(format!(
-                "its disposition {} was withdrawn while it is still non-compliant",
-                od.reference
-            )),
-            (None, None) => reg.extend(undisposed(r)),
-            _ => {}
-        }
-    }
-    if let Some(ov) = &o.verdict
-        && *ov != r.verdict
-    {
-        notes.push(format!("verdict `{ov}` -> `{}`", r.verdict));
-    }
-    Change {
-        id: r.id.clone(),
-        regression: !reg.is_empty(),
-        regressions: reg,
-        notes,
-        status: (o.status.clone(), now.to_string()),
-        margin: (o.margin, r.margin),
     }
 }
 

@@ -14,7 +14,7 @@
 
 use crate::junit::esc;
 use crate::{Report, fmt_limit, fmt_margin, fmt_value, vcd};
-use geodesic_core::matrix::Status;
+use geodesic_core::matrix::{EvidenceEntry, Row, Status};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -217,14 +217,40 @@ fn short(s: &str, n: usize) -> String {
 /// (the staging directory of this run); nothing else is inlined.
 pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
     let m = &rep.matrix;
-    let d = &rep.run.document;
-    let find = |rel: &str| {
-        artifact_dirs
-            .iter()
-            .map(|d| d.join(rel))
-            .find(|p| p.exists())
-    };
     let mut o = String::new();
+    head_and_contents(&mut o, rep);
+    page_header(&mut o, rep);
+    let fid = !rep.run.fidelity.is_empty();
+    let (n_req, n_trace) = if fid { (5, 6) } else { (4, 5) };
+    let _ = write!(
+        o,
+        "<h2 id=\"identification\">1 Document identification{UP}</h2>{}",
+        meta_table(rep)
+    );
+    matrix_table(&mut o, rep);
+    let _ = write!(
+        o,
+        "<h2 id=\"vcd\">3 Verification Control Document{UP}</h2>\
+         <p class=\"muted\">ECSS-E-ST-10-02C Annex B. Compliance: yes / yes (basis or finding) / no / partial (partly met) / not verified. \
+         Each line links to the section holding its evidence; the full evidence is one click away. \
+         Also as <a href=\"vcd.html\">vcd.html</a>, <a href=\"vcd.xlsx\">vcd.xlsx</a>, <a href=\"vcd.csv\">vcd.csv</a>, <a href=\"vcd.md\">vcd.md</a>.</p>{}",
+        vcd_table(rep, "")
+    );
+    fidelity_table(&mut o, rep);
+    let _ = write!(o, "<h2 id=\"requirements\">{n_req} Requirements{UP}</h2>");
+    let run = m.test_run.is_some();
+    for r in &m.requirements {
+        requirement_section(&mut o, r, run, artifact_dirs);
+    }
+    trace_views(&mut o, rep, n_trace);
+    let _ = writeln!(o, "</main></div><script>{SCRIPT}</script></body></html>");
+    o
+}
+
+/// The document's head (title and style) and the table of contents, one entry per
+/// requirement with its status colour.
+fn head_and_contents(o: &mut String, rep: &Report) {
+    let d = &rep.run.document;
     let _ = write!(
         o,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{id} issue {issue}: {title}</title>\
@@ -233,7 +259,6 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         issue = esc(&d.issue),
         title = esc(&d.title)
     );
-    // table of contents
     let _ = write!(
         o,
         "<nav class=\"toc\" id=\"contents\"><b>Contents</b><ol>\
@@ -249,7 +274,7 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         );
     }
     let _ = write!(o, "<li><a href=\"#requirements\">Requirements</a><ol>");
-    for r in &m.requirements {
+    for r in &rep.matrix.requirements {
         let st = r.status.as_str();
         let _ = write!(
             o,
@@ -261,6 +286,13 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         o,
         "</ol></li><li><a href=\"#trace\">Trace views</a></li></ol></nav><div class=\"page\">"
     );
+}
+
+/// The banner: the document's title and identification, the summary, the run's date and
+/// whether the test results are stale.
+fn page_header(o: &mut String, rep: &Report) {
+    let m = &rep.matrix;
+    let d = &rep.run.document;
     let _ = write!(
         o,
         "<header><h1>{title}</h1><div class=\"doc\">{id} issue {issue} · {project}</div>\
@@ -279,14 +311,11 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         project = esc(&d.project),
         date = esc(&rep.run.date),
     );
-    let fid = !rep.run.fidelity.is_empty();
-    let (n_req, n_trace) = if fid { (5, 6) } else { (4, 5) };
-    let _ = write!(
-        o,
-        "<h2 id=\"identification\">1 Document identification{UP}</h2>{}",
-        meta_table(rep)
-    );
-    // matrix
+}
+
+/// Section 2: the status filters and the compliance matrix, one row per requirement.
+fn matrix_table(o: &mut String, rep: &Report) {
+    let m = &rep.matrix;
     let _ = write!(
         o,
         "<h2 id=\"matrix\">2 Compliance matrix{UP}</h2><div class=\"filters\">\
@@ -326,205 +355,229 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         );
     }
     let _ = write!(o, "</tbody></table>");
-    // VCD
+}
+
+/// Section 4 when the run has one: the mission's figures against its reference.
+fn fidelity_table(o: &mut String, rep: &Report) {
+    if rep.run.fidelity.is_empty() {
+        return;
+    }
     let _ = write!(
         o,
-        "<h2 id=\"vcd\">3 Verification Control Document{UP}</h2>\
-         <p class=\"muted\">ECSS-E-ST-10-02C Annex B. Compliance: yes / yes (basis or finding) / no / partial (partly met) / not verified. \
-         Each line links to the section holding its evidence; the full evidence is one click away. \
-         Also as <a href=\"vcd.html\">vcd.html</a>, <a href=\"vcd.xlsx\">vcd.xlsx</a>, <a href=\"vcd.csv\">vcd.csv</a>, <a href=\"vcd.md\">vcd.md</a>.</p>{}",
-        vcd_table(rep, "")
+        "<h2 id=\"fidelity\">4 {}{UP}</h2><table><thead><tr><th>Figure</th><th>geodesic</th>\
+         <th>{}</th><th>Difference</th><th>Assumptions</th></tr></thead><tbody>",
+        esc(&rep.run.reference.title),
+        esc(&rep.run.reference.column)
     );
-    if !rep.run.fidelity.is_empty() {
+    for f in &rep.run.fidelity {
         let _ = write!(
             o,
-            "<h2 id=\"fidelity\">4 {}{UP}</h2><table><thead><tr><th>Figure</th><th>geodesic</th>\
-             <th>{}</th><th>Difference</th><th>Assumptions</th></tr></thead><tbody>",
-            esc(&rep.run.reference.title),
-            esc(&rep.run.reference.column)
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"small\">{}</td></tr>",
+            esc(&f.figure),
+            esc(&f.value),
+            esc(&f.reference),
+            esc(&f.difference),
+            esc(&f.note)
         );
-        for f in &rep.run.fidelity {
-            let _ = write!(
-                o,
-                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"small\">{}</td></tr>",
-                esc(&f.figure),
-                esc(&f.value),
-                esc(&f.reference),
-                esc(&f.difference),
-                esc(&f.note)
-            );
-        }
-        let _ = write!(o, "</tbody></table>");
     }
-    // sections
-    let _ = write!(o, "<h2 id=\"requirements\">{n_req} Requirements{UP}</h2>");
-    for r in &m.requirements {
-        let st = r.status.as_str();
-        let _ = write!(
-            o,
-            "<section class=\"req\" id=\"{id}\"><h3>{id} — {t} <span class=\"badge {st}\">{verdict}</span>\
-             <a class=\"up\" href=\"#matrix-{id}\">matrix row</a><a class=\"up\" href=\"#vcd-{id}\">VCD line</a>{UP}</h3>\
-             <blockquote>{text}</blockquote><ul><li>Source: {src}</li><li>Quantity: {q}</li>\
-             <li>Limit: {lim}{prob}</li><li>Method: {meth}; level {level}, stage {stage}; activity: {act}</li>",
-            id = esc(&r.id),
-            t = esc(&r.title),
-            verdict = esc(&crate::verdict(r)),
-            text = esc(&r.text),
-            src = esc(&r.source),
-            q = esc(&r.quantity),
-            lim = esc(&fmt_limit(r)),
-            prob = r
-                .probability
-                .as_ref()
-                .map_or(String::new(), |p| format!(" at {}", esc(p))),
-            meth = esc(&r.method),
-            level = esc(&r.level),
-            stage = esc(&r.stage),
-            act = esc(&r.activity)
-        );
-        if let Some(p) = &r.parent {
-            let _ = write!(
-                o,
-                "<li>Parent: <a href=\"#{p}\">{p}</a> (margin factor {})</li>",
-                r.parent_margin.unwrap_or(1.0),
-                p = esc(p)
-            );
-        }
-        if !r.children.is_empty() {
-            let c: Vec<String> = r
-                .children
-                .iter()
-                .map(|c| format!("<a href=\"#{0}\">{0}</a>", esc(c)))
-                .collect();
-            let _ = write!(o, "<li>Children: {}</li>", c.join(", "));
-        }
-        if let Some(n) = &r.note {
-            let _ = write!(o, "<li>Remark: {}</li>", esc(n));
-        }
-        if let Some(d) = &r.disposition {
-            let _ = write!(
-                o,
-                "<li>Disposition: <b>{} {}</b>{} (owner {}, raised {}{}): {}</li>",
-                d.kind.as_str(),
-                esc(&d.reference),
-                if d.expired { " EXPIRED" } else { "" },
-                esc(&d.owner),
-                esc(&d.date),
-                d.expires
-                    .as_ref()
-                    .map_or(String::new(), |e| format!(", expires {}", esc(e))),
-                esc(&d.reason)
-            );
-        }
-        match r.status {
-            Status::NotVerified => {
-                let _ = write!(
-                    o,
-                    "<li>Not verified: {}</li>",
-                    esc(r.reason.as_deref().unwrap_or("no evidence"))
-                );
-            }
-            _ => {
-                let _ = write!(
-                    o,
-                    "<li>Value <b>{}</b> against {} — margin {}</li>",
-                    esc(&fmt_value(r)),
-                    esc(&fmt_limit(r)),
-                    fmt_margin(r.margin)
-                );
-            }
-        }
-        if let Some(sm) = crate::sampling_text(r) {
-            let _ = write!(
-                o,
-                "<li>Sample: {} ({})</li>",
-                esc(&sm),
-                esc(r.sampling.as_ref().map_or("", |s| s.method.as_str()))
-            );
-        }
-        for f in &r.findings {
-            let _ = write!(o, "<li>Finding: {}</li>", esc(f));
-        }
-        let _ = write!(o, "</ul>");
-        for e in &r.evidence {
-            let inputs: String = e
-                .inputs
-                .iter()
-                .map(|(k, v)| format!("<li>{} = {}</li>", esc(k), esc(&vcd::fmt_input(v))))
-                .collect();
-            let _ = write!(
-                o,
-                "<p><b>Evidence</b> <code>{}</code>{}: {} {}</p>{}",
-                esc(&e.check),
-                e.basis
-                    .map_or(String::new(), |b| format!(" [{}]", b.as_str())),
-                esc(&e.activity),
-                e.value.map_or_else(
-                    || e.reason
-                        .as_ref()
-                        .map_or(String::new(), |w| format!("— not verified: {}", esc(w))),
-                    |v| format!(
-                        "— <b>{} {}</b>{}",
-                        crate::units_near(v, r.limit.unwrap_or(f64::NAN)),
-                        esc(&r.unit),
-                        e.sampling.as_ref().map_or(String::new(), |sm| format!(
-                            " ({})",
-                            esc(&sm.describe(&|x| format!(
-                                "{} {}",
-                                crate::units_near(x, r.limit.unwrap_or(f64::NAN)),
-                                r.unit
-                            )))
-                        ))
-                    )
-                ),
-                if inputs.is_empty() {
-                    String::new()
-                } else {
-                    format!(
-                        "<details><summary>inputs</summary><ul class=\"small\">{inputs}</ul></details>"
-                    )
-                }
-            );
-            for a in &e.artifacts {
-                if let Some(p) = find(a)
-                    && a.ends_with(".svg")
-                    && let Some(svg) = inline_svg(&p)
-                {
-                    let _ = write!(
-                        o,
-                        "<div class=\"plot\"><p class=\"muted small\">{}</p>{svg}</div>",
-                        esc(a)
-                    );
-                }
-            }
-        }
-        if !r.tests.is_empty() {
-            let _ = write!(
-                o,
-                "<p><b>Traced tests</b> ({})</p><ul>",
-                esc(&crate::tests_word(r, run))
-            );
-            for t in &r.tests {
-                let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
-                let _ = write!(
-                    o,
-                    "<li><code title=\"{full}\">{short}</code> ({kind}, {loc}): <b>{res}</b>, asserts {asserted}</li>",
-                    full = esc(&t.test),
-                    short = esc(&vcd::short_test(t)),
-                    kind = esc(&t.kind),
-                    loc = esc(&t.location),
-                    res = t.result.as_str(),
-                    asserted = esc(&asserted.join(", "))
-                );
-            }
-            let _ = write!(o, "</ul>");
-        }
-        let _ = write!(o, "</section>");
-    }
-    // trace views
+    let _ = write!(o, "</tbody></table>");
+}
+
+/// One requirement's section: its statement and attributes, its verdict, its evidence (with
+/// the plots found in `artifact_dirs`) and its traced tests (`run`: a test run is recorded).
+fn requirement_section(o: &mut String, r: &Row, run: bool, artifact_dirs: &[&Path]) {
+    let st = r.status.as_str();
     let _ = write!(
         o,
-        "<h2 id=\"trace\">{n_trace} Trace views{UP}</h2><h3>Checks to requirements</h3><table><thead><tr><th>Check</th><th>Verifies</th></tr></thead><tbody>"
+        "<section class=\"req\" id=\"{id}\"><h3>{id} — {t} <span class=\"badge {st}\">{verdict}</span>\
+         <a class=\"up\" href=\"#matrix-{id}\">matrix row</a><a class=\"up\" href=\"#vcd-{id}\">VCD line</a>{UP}</h3>\
+         <blockquote>{text}</blockquote><ul><li>Source: {src}</li><li>Quantity: {q}</li>\
+         <li>Limit: {lim}{prob}</li><li>Method: {meth}; level {level}, stage {stage}; activity: {act}</li>",
+        id = esc(&r.id),
+        t = esc(&r.title),
+        verdict = esc(&crate::verdict(r)),
+        text = esc(&r.text),
+        src = esc(&r.source),
+        q = esc(&r.quantity),
+        lim = esc(&fmt_limit(r)),
+        prob = r
+            .probability
+            .as_ref()
+            .map_or(String::new(), |p| format!(" at {}", esc(p))),
+        meth = esc(&r.method),
+        level = esc(&r.level),
+        stage = esc(&r.stage),
+        act = esc(&r.activity)
+    );
+    if let Some(p) = &r.parent {
+        let _ = write!(
+            o,
+            "<li>Parent: <a href=\"#{p}\">{p}</a> (margin factor {})</li>",
+            r.parent_margin.unwrap_or(1.0),
+            p = esc(p)
+        );
+    }
+    if !r.children.is_empty() {
+        let c: Vec<String> = r
+            .children
+            .iter()
+            .map(|c| format!("<a href=\"#{0}\">{0}</a>", esc(c)))
+            .collect();
+        let _ = write!(o, "<li>Children: {}</li>", c.join(", "));
+    }
+    if let Some(n) = &r.note {
+        let _ = write!(o, "<li>Remark: {}</li>", esc(n));
+    }
+    verdict_items(o, r);
+    let _ = write!(o, "</ul>");
+    for e in &r.evidence {
+        evidence(o, r, e, artifact_dirs);
+    }
+    traced_tests(o, r, run);
+    let _ = write!(o, "</section>");
+}
+
+/// A requirement's disposition, value or reason not verified, sample and findings, as items
+/// of its list.
+fn verdict_items(o: &mut String, r: &Row) {
+    if let Some(d) = &r.disposition {
+        let _ = write!(
+            o,
+            "<li>Disposition: <b>{} {}</b>{} (owner {}, raised {}{}): {}</li>",
+            d.kind.as_str(),
+            esc(&d.reference),
+            if d.expired { " EXPIRED" } else { "" },
+            esc(&d.owner),
+            esc(&d.date),
+            d.expires
+                .as_ref()
+                .map_or(String::new(), |e| format!(", expires {}", esc(e))),
+            esc(&d.reason)
+        );
+    }
+    match r.status {
+        Status::NotVerified => {
+            let _ = write!(
+                o,
+                "<li>Not verified: {}</li>",
+                esc(r.reason.as_deref().unwrap_or("no evidence"))
+            );
+        }
+        _ => {
+            let _ = write!(
+                o,
+                "<li>Value <b>{}</b> against {} — margin {}</li>",
+                esc(&fmt_value(r)),
+                esc(&fmt_limit(r)),
+                fmt_margin(r.margin)
+            );
+        }
+    }
+    if let Some(sm) = crate::sampling_text(r) {
+        let _ = write!(
+            o,
+            "<li>Sample: {} ({})</li>",
+            esc(&sm),
+            esc(r.sampling.as_ref().map_or("", |s| s.method.as_str()))
+        );
+    }
+    for f in &r.findings {
+        let _ = write!(o, "<li>Finding: {}</li>", esc(f));
+    }
+}
+
+/// One evidence entry of requirement `r`: its check, value or reason, inputs, and the SVG
+/// plots it names that are found in `artifact_dirs` (inlined).
+fn evidence(o: &mut String, r: &Row, e: &EvidenceEntry, artifact_dirs: &[&Path]) {
+    let find = |rel: &str| {
+        artifact_dirs
+            .iter()
+            .map(|d| d.join(rel))
+            .find(|p| p.exists())
+    };
+    let inputs: String = e
+        .inputs
+        .iter()
+        .map(|(k, v)| format!("<li>{} = {}</li>", esc(k), esc(&vcd::fmt_input(v))))
+        .collect();
+    let _ = write!(
+        o,
+        "<p><b>Evidence</b> <code>{}</code>{}: {} {}</p>{}",
+        esc(&e.check),
+        e.basis
+            .map_or(String::new(), |b| format!(" [{}]", b.as_str())),
+        esc(&e.activity),
+        e.value.map_or_else(
+            || e.reason
+                .as_ref()
+                .map_or(String::new(), |w| format!("— not verified: {}", esc(w))),
+            |v| format!(
+                "— <b>{} {}</b>{}",
+                crate::units_near(v, r.limit.unwrap_or(f64::NAN)),
+                esc(&r.unit),
+                e.sampling.as_ref().map_or(String::new(), |sm| format!(
+                    " ({})",
+                    esc(&sm.describe(&|x| format!(
+                        "{} {}",
+                        crate::units_near(x, r.limit.unwrap_or(f64::NAN)),
+                        r.unit
+                    )))
+                ))
+            )
+        ),
+        if inputs.is_empty() {
+            String::new()
+        } else {
+            format!("<details><summary>inputs</summary><ul class=\"small\">{inputs}</ul></details>")
+        }
+    );
+    for a in &e.artifacts {
+        if let Some(p) = find(a)
+            && a.ends_with(".svg")
+            && let Some(svg) = inline_svg(&p)
+        {
+            let _ = write!(
+                o,
+                "<div class=\"plot\"><p class=\"muted small\">{}</p>{svg}</div>",
+                esc(a)
+            );
+        }
+    }
+}
+
+/// A requirement's traced tests with their recorded results (nothing without one).
+fn traced_tests(o: &mut String, r: &Row, run: bool) {
+    if r.tests.is_empty() {
+        return;
+    }
+    let _ = write!(
+        o,
+        "<p><b>Traced tests</b> ({})</p><ul>",
+        esc(&crate::tests_word(r, run))
+    );
+    for t in &r.tests {
+        let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
+        let _ = write!(
+            o,
+            "<li><code title=\"{full}\">{short}</code> ({kind}, {loc}): <b>{res}</b>, asserts {asserted}</li>",
+            full = esc(&t.test),
+            short = esc(&vcd::short_test(t)),
+            kind = esc(&t.kind),
+            loc = esc(&t.location),
+            res = t.result.as_str(),
+            asserted = esc(&asserted.join(", "))
+        );
+    }
+    let _ = write!(o, "</ul>");
+}
+
+/// The last section, numbered `n`: checks to requirements, orphan checks, and the
+/// requirements without a value or without a traced test.
+fn trace_views(o: &mut String, rep: &Report, n: usize) {
+    let m = &rep.matrix;
+    let _ = write!(
+        o,
+        "<h2 id=\"trace\">{n} Trace views{UP}</h2><h3>Checks to requirements</h3><table><thead><tr><th>Check</th><th>Verifies</th></tr></thead><tbody>"
     );
     for c in &rep.run.checks {
         let ids: Vec<String> = c
@@ -560,8 +613,6 @@ pub fn render(rep: &Report, artifact_dirs: &[&Path]) -> String {
         esc(&crate::id_list(&m.without_value())),
         esc(&crate::id_list(&m.without_tests()))
     );
-    let _ = writeln!(o, "</main></div><script>{SCRIPT}</script></body></html>");
-    o
 }
 
 /// The Verification Control Document alone, as a self-contained HTML page (links to the

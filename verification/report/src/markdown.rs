@@ -3,7 +3,7 @@
 //! evidence).
 
 use crate::{Report, fmt_limit, fmt_margin, fmt_value};
-use geodesic_core::matrix::Status;
+use geodesic_core::matrix::{Row, Status};
 use geodesic_core::units::fmt_num;
 use std::fmt::Write as _;
 
@@ -21,8 +21,21 @@ fn badge(s: Status) -> &'static str {
 
 /// Renders the whole Markdown report.
 pub fn render(rep: &Report) -> String {
-    let m = &rep.matrix;
     let mut o = String::new();
+    summary_table(&mut o, rep);
+    fidelity_table(&mut o, rep);
+    let _ = writeln!(o, "\n## Requirements\n");
+    for r in &rep.matrix.requirements {
+        requirement_section(&mut o, r);
+    }
+    trace_views(&mut o, rep);
+    o
+}
+
+/// The heading, the run's lines, the summary with how to read it, and the matrix: one line
+/// per requirement.
+fn summary_table(o: &mut String, rep: &Report) {
+    let m = &rep.matrix;
     let _ = writeln!(o, "# geodesic compliance matrix\n");
     for (k, v) in crate::run_lines(rep) {
         let _ = writeln!(o, "- {k}: {}", cell(&v));
@@ -74,173 +87,204 @@ pub fn render(rep: &Report) -> String {
             nt = crate::tests_word(r, run)
         );
     }
-    if !rep.run.fidelity.is_empty() {
-        let _ = writeln!(o, "\n## {}\n", rep.run.reference.title);
-        let _ = writeln!(
-            o,
-            "| Figure | geodesic | {} | Difference | Assumptions |",
-            rep.run.reference.column
-        );
-        let _ = writeln!(o, "|---|---|---|---|---|");
-        for f in &rep.run.fidelity {
-            let _ = writeln!(
-                o,
-                "| {} | {} | {} | {} | {} |",
-                cell(&f.figure),
-                cell(&f.value),
-                cell(&f.reference),
-                f.difference,
-                cell(&f.note)
-            );
-        }
+}
+
+/// The mission's figures against its reference (nothing when the run has none).
+fn fidelity_table(o: &mut String, rep: &Report) {
+    if rep.run.fidelity.is_empty() {
+        return;
     }
-    let _ = writeln!(o, "\n## Requirements\n");
-    for r in &m.requirements {
-        let _ = writeln!(o, "### {}\n", r.id);
-        let _ = writeln!(o, "**{}** — {}\n", cell(&r.title), badge(r.status));
-        let _ = writeln!(o, "> {}\n", r.text);
-        let _ = writeln!(o, "- Source: {}", r.source);
-        let unit = if r.unit.is_empty() { "-" } else { &r.unit };
-        let _ = writeln!(o, "- Quantity: {} [{unit}]", r.quantity);
+    let _ = writeln!(o, "\n## {}\n", rep.run.reference.title);
+    let _ = writeln!(
+        o,
+        "| Figure | geodesic | {} | Difference | Assumptions |",
+        rep.run.reference.column
+    );
+    let _ = writeln!(o, "|---|---|---|---|---|");
+    for f in &rep.run.fidelity {
         let _ = writeln!(
             o,
-            "- Limit: {}{}",
-            fmt_limit(r),
-            r.probability
+            "| {} | {} | {} | {} | {} |",
+            cell(&f.figure),
+            cell(&f.value),
+            cell(&f.reference),
+            f.difference,
+            cell(&f.note)
+        );
+    }
+}
+
+/// One requirement's section: its statement and attributes, its verdict, its evidence and its
+/// traced tests.
+fn requirement_section(o: &mut String, r: &Row) {
+    let _ = writeln!(o, "### {}\n", r.id);
+    let _ = writeln!(o, "**{}** — {}\n", cell(&r.title), badge(r.status));
+    let _ = writeln!(o, "> {}\n", r.text);
+    let _ = writeln!(o, "- Source: {}", r.source);
+    let unit = if r.unit.is_empty() { "-" } else { &r.unit };
+    let _ = writeln!(o, "- Quantity: {} [{unit}]", r.quantity);
+    let _ = writeln!(
+        o,
+        "- Limit: {}{}",
+        fmt_limit(r),
+        r.probability
+            .as_ref()
+            .map_or(String::new(), |p| format!(" at {p}"))
+    );
+    let _ = writeln!(
+        o,
+        "- Method: {} — level {}, stage {} — activity: {}",
+        r.method, r.level, r.stage, r.activity
+    );
+    if let Some(n) = &r.note {
+        let _ = writeln!(o, "- Remark: {}", cell(n));
+    }
+    if let Some(p) = &r.parent {
+        let _ = writeln!(
+            o,
+            "- Parent: [{p}](#{}) (margin factor {})",
+            p.to_lowercase(),
+            r.parent_margin.unwrap_or(1.0)
+        );
+    }
+    if !r.children.is_empty() {
+        let c: Vec<String> = r
+            .children
+            .iter()
+            .map(|c| format!("[{c}](#{})", c.to_lowercase()))
+            .collect();
+        let _ = writeln!(o, "- Children: {}", c.join(", "));
+    }
+    let _ = writeln!(o, "- Defined at: `{}`", r.defined_at);
+    verdict_lines(o, r);
+    evidence_list(o, r);
+    traced_tests(o, r);
+    let _ = writeln!(o);
+}
+
+/// A requirement's basis, findings, sample, disposition and status lines.
+fn verdict_lines(o: &mut String, r: &Row) {
+    let _ = writeln!(o, "- Basis of the verdict: {}", crate::basis_word(r));
+    for f in &r.findings {
+        let _ = writeln!(o, "- Finding: {}", cell(f));
+    }
+    if let Some(sm) = crate::sampling_text(r) {
+        let _ = writeln!(
+            o,
+            "- Sample: {} ({})",
+            cell(&sm),
+            r.sampling.as_ref().map_or("", |s| s.method.as_str())
+        );
+    }
+    if let Some(d) = &r.disposition {
+        let _ = writeln!(
+            o,
+            "- Disposition: {} {} ({}; owner {}, raised {}{}{}) — {}",
+            d.kind.as_str(),
+            d.reference,
+            d.defined_at,
+            d.owner,
+            d.date,
+            d.expires
                 .as_ref()
-                .map_or(String::new(), |p| format!(" at {p}"))
+                .map_or(String::new(), |e| format!(", expires {e}")),
+            if d.expired { ", EXPIRED" } else { "" },
+            d.reason
         );
+    }
+    match r.status {
+        Status::NotVerified => {
+            let _ = writeln!(
+                o,
+                "- Status: not verified — {}",
+                r.reason.as_deref().unwrap_or("no evidence")
+            );
+        }
+        _ => {
+            let _ = writeln!(
+                o,
+                "- Status: {} — value {} against {}, margin {}",
+                r.verdict,
+                fmt_value(r),
+                fmt_limit(r),
+                fmt_margin(r.margin)
+            );
+        }
+    }
+}
+
+/// A requirement's evidence, one item per check with its sample, assumptions, model inputs,
+/// inputs and artifacts (nothing without evidence).
+fn evidence_list(o: &mut String, r: &Row) {
+    if r.evidence.is_empty() {
+        return;
+    }
+    let _ = writeln!(o, "\nEvidence:\n");
+    for e in &r.evidence {
+        let what = match (e.value, &e.reason) {
+            (Some(v), _) => format!("{} {}", fmt_num(v), r.unit),
+            (None, Some(why)) => format!("not verified: {why}"),
+            (None, None) => "—".into(),
+        };
+        let inputs: Vec<String> = e
+            .inputs
+            .iter()
+            .map(|(k, v)| format!("{k} = {}", crate::vcd::fmt_input(v)))
+            .collect();
+        let basis = e.basis.map_or(String::new(), |b| format!(" [{b}]"));
+        let _ = writeln!(o, "- `{}`{basis}: {} — {}", e.check, e.activity, what);
+        if let Some(sm) = &e.sampling {
+            let lim = r.limit.unwrap_or(f64::NAN);
+            let _ = writeln!(
+                o,
+                "  - sample: {}",
+                sm.describe(&|v| format!("{} {}", crate::units_near(v, lim), r.unit))
+            );
+        }
+        if !e.assumes.is_empty() {
+            let _ = writeln!(o, "  - takes as met: {}", e.assumes.join(", "));
+        }
+        if !e.model_inputs.is_empty() {
+            let _ = writeln!(o, "  - model inputs: {}", e.model_inputs.join(", "));
+        }
+        if !inputs.is_empty() {
+            let _ = writeln!(o, "  - inputs: {}", inputs.join(", "));
+        }
+        for a in &e.artifacts {
+            let _ = writeln!(o, "  - artifact: [{a}]({a})");
+        }
+    }
+}
+
+/// A requirement's traced tests with their recorded results (nothing without one).
+fn traced_tests(o: &mut String, r: &Row) {
+    if r.tests.is_empty() {
+        return;
+    }
+    let _ = writeln!(o, "\nTraced tests (recorded results):\n");
+    for t in &r.tests {
+        let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
         let _ = writeln!(
             o,
-            "- Method: {} — level {}, stage {} — activity: {}",
-            r.method, r.level, r.stage, r.activity
+            "- `{}` ({}, `{}`): **{}**, {} case(s), asserts {}",
+            t.test,
+            t.kind,
+            t.location,
+            t.result.as_str(),
+            t.cases,
+            if asserted.is_empty() {
+                "nothing recorded".to_string()
+            } else {
+                asserted.join(", ")
+            }
         );
-        if let Some(n) = &r.note {
-            let _ = writeln!(o, "- Remark: {}", cell(n));
-        }
-        if let Some(p) = &r.parent {
-            let _ = writeln!(
-                o,
-                "- Parent: [{p}](#{}) (margin factor {})",
-                p.to_lowercase(),
-                r.parent_margin.unwrap_or(1.0)
-            );
-        }
-        if !r.children.is_empty() {
-            let c: Vec<String> = r
-                .children
-                .iter()
-                .map(|c| format!("[{c}](#{})", c.to_lowercase()))
-                .collect();
-            let _ = writeln!(o, "- Children: {}", c.join(", "));
-        }
-        let _ = writeln!(o, "- Defined at: `{}`", r.defined_at);
-        let _ = writeln!(o, "- Basis of the verdict: {}", crate::basis_word(r));
-        for f in &r.findings {
-            let _ = writeln!(o, "- Finding: {}", cell(f));
-        }
-        if let Some(sm) = crate::sampling_text(r) {
-            let _ = writeln!(
-                o,
-                "- Sample: {} ({})",
-                cell(&sm),
-                r.sampling.as_ref().map_or("", |s| s.method.as_str())
-            );
-        }
-        if let Some(d) = &r.disposition {
-            let _ = writeln!(
-                o,
-                "- Disposition: {} {} ({}; owner {}, raised {}{}{}) — {}",
-                d.kind.as_str(),
-                d.reference,
-                d.defined_at,
-                d.owner,
-                d.date,
-                d.expires
-                    .as_ref()
-                    .map_or(String::new(), |e| format!(", expires {e}")),
-                if d.expired { ", EXPIRED" } else { "" },
-                d.reason
-            );
-        }
-        match r.status {
-            Status::NotVerified => {
-                let _ = writeln!(
-                    o,
-                    "- Status: not verified — {}",
-                    r.reason.as_deref().unwrap_or("no evidence")
-                );
-            }
-            _ => {
-                let _ = writeln!(
-                    o,
-                    "- Status: {} — value {} against {}, margin {}",
-                    r.verdict,
-                    fmt_value(r),
-                    fmt_limit(r),
-                    fmt_margin(r.margin)
-                );
-            }
-        }
-        if !r.evidence.is_empty() {
-            let _ = writeln!(o, "\nEvidence:\n");
-            for e in &r.evidence {
-                let what = match (e.value, &e.reason) {
-                    (Some(v), _) => format!("{} {}", fmt_num(v), r.unit),
-                    (None, Some(why)) => format!("not verified: {why}"),
-                    (None, None) => "—".into(),
-                };
-                let inputs: Vec<String> = e
-                    .inputs
-                    .iter()
-                    .map(|(k, v)| format!("{k} = {}", crate::vcd::fmt_input(v)))
-                    .collect();
-                let basis = e.basis.map_or(String::new(), |b| format!(" [{b}]"));
-                let _ = writeln!(o, "- `{}`{basis}: {} — {}", e.check, e.activity, what);
-                if let Some(sm) = &e.sampling {
-                    let lim = r.limit.unwrap_or(f64::NAN);
-                    let _ = writeln!(
-                        o,
-                        "  - sample: {}",
-                        sm.describe(&|v| format!("{} {}", crate::units_near(v, lim), r.unit))
-                    );
-                }
-                if !e.assumes.is_empty() {
-                    let _ = writeln!(o, "  - takes as met: {}", e.assumes.join(", "));
-                }
-                if !e.model_inputs.is_empty() {
-                    let _ = writeln!(o, "  - model inputs: {}", e.model_inputs.join(", "));
-                }
-                if !inputs.is_empty() {
-                    let _ = writeln!(o, "  - inputs: {}", inputs.join(", "));
-                }
-                for a in &e.artifacts {
-                    let _ = writeln!(o, "  - artifact: [{a}]({a})");
-                }
-            }
-        }
-        if !r.tests.is_empty() {
-            let _ = writeln!(o, "\nTraced tests (recorded results):\n");
-            for t in &r.tests {
-                let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
-                let _ = writeln!(
-                    o,
-                    "- `{}` ({}, `{}`): **{}**, {} case(s), asserts {}",
-                    t.test,
-                    t.kind,
-                    t.location,
-                    t.result.as_str(),
-                    t.cases,
-                    if asserted.is_empty() {
-                        "nothing recorded".to_string()
-                    } else {
-                        asserted.join(", ")
-                    }
-                );
-            }
-        }
-        let _ = writeln!(o);
     }
+}
+
+/// The trace views: checks to requirements, orphan checks, and the requirements without a
+/// value, without a passing traced test, or with test problems.
+fn trace_views(o: &mut String, rep: &Report) {
+    let m = &rep.matrix;
     let _ = writeln!(o, "## Trace views\n");
     let _ = writeln!(o, "### Checks to requirements\n");
     let _ = writeln!(o, "| Check | Verifies |");
@@ -272,5 +316,4 @@ pub fn render(rep: &Report) -> String {
         "\n### Requirements whose traced tests failed, were ignored, did not run or are stale\n"
     );
     let _ = writeln!(o, "{}", crate::id_list(&m.with_test_problems()));
-    o
 }

@@ -268,191 +268,211 @@ pub fn reverify_from(d: &crate::baseline::Diff) -> std::collections::BTreeMap<St
 
 /// Builds the VCD lines from a report.
 pub fn lines(rep: &Report) -> Vec<VcdLine> {
-    let doc = &rep.run.document;
-    let date = rep.run.date.get(..10).unwrap_or(&rep.run.date).to_string();
-    let run = rep.matrix.test_run.is_some();
+    let date = rep.run.date.get(..10).unwrap_or(&rep.run.date);
     rep.matrix
         .requirements
         .iter()
-        .map(|r| {
-            let mut evidence: Vec<String> =
-                r.evidence.iter().map(|e| short_evidence(r, e)).collect();
-            let tests = crate::tests_word(r, run);
-            if !r.tests.is_empty() || run {
-                evidence.push(format!("tests: {tests}"));
-            }
-            let mut detail = Vec::new();
-            for e in &r.evidence {
-                let inputs: Vec<String> = e
-                    .inputs
-                    .iter()
-                    .map(|(k, v)| format!("{k} = {}", fmt_input(v)))
-                    .collect();
-                let what = match (e.value, &e.reason) {
-                    (Some(v), _) => format!("{} {}", fmt_num(v), r.unit).trim_end().to_string(),
-                    (None, Some(w)) => format!("no value: {w}"),
-                    (None, None) => "—".into(),
-                };
-                let sample = e.sampling.as_ref().map_or(String::new(), |s| {
-                    let lim = r.limit.unwrap_or(f64::NAN);
-                    format!(
-                        " Sample: {} ({}).",
-                        s.describe(&|v| format!(
-                            "{} {}",
-                            geodesic_core::units::fmt_num_near(v, lim),
-                            r.unit
-                        )),
-                        s.method
-                    )
-                });
-                detail.push(format!(
-                    "check {} [{}]: {what}.{sample} {}{}{}",
-                    e.check,
-                    e.basis.map_or("no basis", |b| b.as_str()),
-                    e.activity,
-                    if inputs.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" Inputs: {}.", inputs.join(", "))
-                    },
-                    if e.artifacts.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" Plots: {}.", e.artifacts.join(", "))
-                    }
-                ));
-            }
-            for t in &r.tests {
-                let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
-                detail.push(format!(
-                    "test {} ({}, {}): {}, {} case(s), asserts {}",
-                    t.test,
-                    t.kind,
-                    t.location,
-                    t.result.as_str(),
-                    t.cases,
-                    if asserted.is_empty() {
-                        "nothing recorded".into()
-                    } else {
-                        asserted.join(", ")
-                    }
-                ));
-            }
-            let mut references = vec![format!("{} issue {} §{}", doc.id, doc.issue, r.id)];
-            references.extend(r.tests.iter().map(|t| format!("test {}", short_test(t))));
-            if let Some(d) = &r.disposition {
-                references.push(format!("{} {}", d.kind.as_str(), d.reference));
-            }
-            let accepted_by_waiver = r.disposition.as_ref().filter(|d| {
-                r.status == Status::NonCompliant && d.kind == DispositionKind::Waiver && !d.expired
-            });
-            let (close_out, close_out_reason) = match (r.status, accepted_by_waiver) {
-                (Status::Compliant, _) => (
-                    "closed",
-                    format!(
-                        "{} {} meets {} ({}); traced tests: {tests}",
-                        if r.basis == Some(geodesic_core::Basis::Accepted) {
-                            "accepted value"
-                        } else {
-                            "value"
-                        },
-                        fmt_value(r),
-                        fmt_limit(r),
-                        r.verdict
-                    ),
-                ),
-                (Status::NonCompliant, Some(d)) => (
-                    "closed",
-                    format!(
-                        "value {} does not meet {}; non-compliance accepted by waiver {}",
-                        fmt_value(r),
-                        fmt_limit(r),
-                        d.reference
-                    ),
-                ),
-                (Status::NonCompliant, None) => (
-                    "open",
-                    format!(
-                        "value {} does not meet {}{}",
-                        fmt_value(r),
-                        fmt_limit(r),
-                        r.disposition
-                            .as_ref()
-                            .map_or("; no disposition".to_string(), |d| format!(
-                                "; {} {}{}",
-                                d.kind.as_str(),
-                                d.reference,
-                                if d.expired { " (EXPIRED)" } else { " open" }
-                            ))
-                    ),
-                ),
-                (Status::NotVerified, _) => (
-                    "open",
-                    format!(
-                        "not verified: {}",
-                        r.reason.as_deref().unwrap_or("no evidence")
-                    ),
-                ),
-            };
-            let close_out_reference = if close_out == "closed" {
-                format!("{} issue {} §{}, {date}", doc.id, doc.issue, r.id)
-            } else {
-                String::new()
-            };
-            let mut remarks = Vec::new();
-            if let Some(n) = &r.note {
-                remarks.push(n.trim().to_string());
-            }
-            if let Some(d) = &r.disposition {
-                remarks.push(format!(
-                    "{} {} (owner {}, raised {}{}): {}",
-                    d.kind.as_str(),
-                    d.reference,
-                    d.owner,
-                    d.date,
-                    d.expires
-                        .as_ref()
-                        .map_or(String::new(), |e| format!(", expires {e}")),
-                    d.reason
-                ));
-            }
-            if r.status == Status::Compliant && r.basis == Some(geodesic_core::Basis::Accepted) {
-                remarks.push("value taken from the cited source, not computed".into());
-            }
-            for f in &r.findings {
-                remarks.push(format!("Finding: {f}."));
-            }
-            let reverify_reason = rep.reverify.get(&r.id).cloned().unwrap_or_default();
-            VcdLine {
-                id: r.id.clone(),
-                title: r.title.clone(),
-                text: r.text.clone(),
-                source: r.source.clone(),
-                parent: r.parent.clone().unwrap_or_default(),
-                children: r.children.clone(),
-                level: r.level.clone(),
-                stage: r.stage.clone(),
-                method: r.method.clone(),
-                activity: r.activity.clone(),
-                section: section_of(&r.id),
-                evidence: evidence.join("; "),
-                detail,
-                references,
-                value: fmt_value(r),
-                limit: fmt_limit(r),
-                margin: fmt_margin(r.margin),
-                basis: r.basis.map_or("", |b| b.as_str()),
-                sampling: crate::sampling_text(r).unwrap_or_default(),
-                compliance: compliance(r),
-                close_out,
-                close_out_reason,
-                close_out_reference,
-                remarks: remarks.join(" "),
-                reverify: rep.reverify.contains_key(&r.id),
-                reverify_reason,
-            }
-        })
+        .map(|r| line(rep, r, date))
         .collect()
+}
+
+/// The VCD line of requirement `r` (`date`: the run's day, which closes a closed line).
+fn line(rep: &Report, r: &Row, date: &str) -> VcdLine {
+    let doc = &rep.run.document;
+    let run = rep.matrix.test_run.is_some();
+    let mut evidence: Vec<String> = r.evidence.iter().map(|e| short_evidence(r, e)).collect();
+    let tests = crate::tests_word(r, run);
+    if !r.tests.is_empty() || run {
+        evidence.push(format!("tests: {tests}"));
+    }
+    let mut references = vec![format!("{} issue {} §{}", doc.id, doc.issue, r.id)];
+    references.extend(r.tests.iter().map(|t| format!("test {}", short_test(t))));
+    if let Some(d) = &r.disposition {
+        references.push(format!("{} {}", d.kind.as_str(), d.reference));
+    }
+    let (close_out, close_out_reason) = close_out(r, &tests);
+    let close_out_reference = if close_out == "closed" {
+        format!("{} issue {} §{}, {date}", doc.id, doc.issue, r.id)
+    } else {
+        String::new()
+    };
+    let reverify_reason = rep.reverify.get(&r.id).cloned().unwrap_or_default();
+    VcdLine {
+        id: r.id.clone(),
+        title: r.title.clone(),
+        text: r.text.clone(),
+        source: r.source.clone(),
+        parent: r.parent.clone().unwrap_or_default(),
+        children: r.children.clone(),
+        level: r.level.clone(),
+        stage: r.stage.clone(),
+        method: r.method.clone(),
+        activity: r.activity.clone(),
+        section: section_of(&r.id),
+        evidence: evidence.join("; "),
+        detail: detail(r),
+        references,
+        value: fmt_value(r),
+        limit: fmt_limit(r),
+        margin: fmt_margin(r.margin),
+        basis: r.basis.map_or("", |b| b.as_str()),
+        sampling: crate::sampling_text(r).unwrap_or_default(),
+        compliance: compliance(r),
+        close_out,
+        close_out_reason,
+        close_out_reference,
+        remarks: remarks(r),
+        reverify: rep.reverify.contains_key(&r.id),
+        reverify_reason,
+    }
+}
+
+/// The full evidence of a line ([`VcdLine::detail`]): each check with every input, then each
+/// traced test with its full name, kind, location, result and assertions.
+fn detail(r: &Row) -> Vec<String> {
+    let mut detail = Vec::new();
+    for e in &r.evidence {
+        let inputs: Vec<String> = e
+            .inputs
+            .iter()
+            .map(|(k, v)| format!("{k} = {}", fmt_input(v)))
+            .collect();
+        let what = match (e.value, &e.reason) {
+            (Some(v), _) => format!("{} {}", fmt_num(v), r.unit).trim_end().to_string(),
+            (None, Some(w)) => format!("no value: {w}"),
+            (None, None) => "—".into(),
+        };
+        let sample = e.sampling.as_ref().map_or(String::new(), |s| {
+            let lim = r.limit.unwrap_or(f64::NAN);
+            format!(
+                " Sample: {} ({}).",
+                s.describe(&|v| format!(
+                    "{} {}",
+                    geodesic_core::units::fmt_num_near(v, lim),
+                    r.unit
+                )),
+                s.method
+            )
+        });
+        detail.push(format!(
+            "check {} [{}]: {what}.{sample} {}{}{}",
+            e.check,
+            e.basis.map_or("no basis", |b| b.as_str()),
+            e.activity,
+            if inputs.is_empty() {
+                String::new()
+            } else {
+                format!(" Inputs: {}.", inputs.join(", "))
+            },
+            if e.artifacts.is_empty() {
+                String::new()
+            } else {
+                format!(" Plots: {}.", e.artifacts.join(", "))
+            }
+        ));
+    }
+    for t in &r.tests {
+        let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
+        detail.push(format!(
+            "test {} ({}, {}): {}, {} case(s), asserts {}",
+            t.test,
+            t.kind,
+            t.location,
+            t.result.as_str(),
+            t.cases,
+            if asserted.is_empty() {
+                "nothing recorded".into()
+            } else {
+                asserted.join(", ")
+            }
+        ));
+    }
+    detail
+}
+
+/// Close-out (`open` or `closed`) and why: a compliant line and a non-compliance accepted by
+/// a waiver in force are closed; `tests` is the traced tests' word.
+fn close_out(r: &Row, tests: &str) -> (&'static str, String) {
+    let accepted_by_waiver = r.disposition.as_ref().filter(|d| {
+        r.status == Status::NonCompliant && d.kind == DispositionKind::Waiver && !d.expired
+    });
+    match (r.status, accepted_by_waiver) {
+        (Status::Compliant, _) => (
+            "closed",
+            format!(
+                "{} {} meets {} ({}); traced tests: {tests}",
+                if r.basis == Some(geodesic_core::Basis::Accepted) {
+                    "accepted value"
+                } else {
+                    "value"
+                },
+                fmt_value(r),
+                fmt_limit(r),
+                r.verdict
+            ),
+        ),
+        (Status::NonCompliant, Some(d)) => (
+            "closed",
+            format!(
+                "value {} does not meet {}; non-compliance accepted by waiver {}",
+                fmt_value(r),
+                fmt_limit(r),
+                d.reference
+            ),
+        ),
+        (Status::NonCompliant, None) => (
+            "open",
+            format!(
+                "value {} does not meet {}{}",
+                fmt_value(r),
+                fmt_limit(r),
+                r.disposition
+                    .as_ref()
+                    .map_or("; no disposition".to_string(), |d| format!(
+                        "; {} {}{}",
+                        d.kind.as_str(),
+                        d.reference,
+                        if d.expired { " (EXPIRED)" } else { " open" }
+                    ))
+            ),
+        ),
+        (Status::NotVerified, _) => (
+            "open",
+            format!(
+                "not verified: {}",
+                r.reason.as_deref().unwrap_or("no evidence")
+            ),
+        ),
+    }
+}
+
+/// The remarks of a line: the requirement's note, the disposition, an accepted value's
+/// origin, the findings.
+fn remarks(r: &Row) -> String {
+    let mut remarks = Vec::new();
+    if let Some(n) = &r.note {
+        remarks.push(n.trim().to_string());
+    }
+    if let Some(d) = &r.disposition {
+        remarks.push(format!(
+            "{} {} (owner {}, raised {}{}): {}",
+            d.kind.as_str(),
+            d.reference,
+            d.owner,
+            d.date,
+            d.expires
+                .as_ref()
+                .map_or(String::new(), |e| format!(", expires {e}")),
+            d.reason
+        ));
+    }
+    if r.status == Status::Compliant && r.basis == Some(geodesic_core::Basis::Accepted) {
+        remarks.push("value taken from the cited source, not computed".into());
+    }
+    for f in &r.findings {
+        remarks.push(format!("Finding: {f}."));
+    }
+    remarks.join(" ")
 }
 
 fn csv_field(s: &str) -> String {

@@ -1,6 +1,6 @@
 //! `interferometer_cyclic`: cyclic non-linearity of the interferometer (physics.md section 4).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario};
+use super::{DistortionEffect, Effect, FitHints, GuessContext, ParamSpec, Role, Scenario};
 
 /// Laser wavelength of the TMMF interferometer [m].
 pub const LASER_WAVELENGTH_M: f64 = 632.8e-9;
@@ -26,18 +26,21 @@ impl Effect for InterferometerCyclic {
     fn scenario(&self) -> Scenario {
         Scenario::TmmfRelease
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Distortion
-    }
     fn summary(&self) -> &'static str {
         "cyclic error sum b_n cos(2 pi n x/L) + c_n sin(2 pi n x/L), n = 1, 2 (thesis app.)"
-    }
-    fn null_params(&self) -> Option<Vec<f64>> {
-        Some(vec![PARAMS[0].nominal, 0.0, 0.0, 0.0, 0.0])
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Distortion(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl DistortionEffect for InterferometerCyclic {
     fn distortion(&self, p: &[f64], _t: f64, x: f64) -> f64 {
         let ph = std::f64::consts::TAU * x / p[0];
         p[1] * ph.cos() + p[2] * ph.sin() + p[3] * (2.0 * ph).cos() + p[4] * (2.0 * ph).sin()
@@ -54,6 +57,12 @@ impl Effect for InterferometerCyclic {
         let d_ph = -p[1] * s1 + p[2] * c1 - 2.0 * p[3] * s2 + 2.0 * p[4] * c2;
         d_p.copy_from_slice(&[-d_ph * ph / p[0], c1, s1, c2, s2]);
         Some(d_ph * k)
+    }
+}
+
+impl FitHints for InterferometerCyclic {
+    fn null_params(&self) -> Option<Vec<f64>> {
+        Some(vec![PARAMS[0].nominal, 0.0, 0.0, 0.0, 0.0])
     }
     fn alternatives(&self, p: &[f64]) -> Vec<Vec<f64>> {
         let a1 = p[1].hypot(p[2]);

@@ -96,8 +96,8 @@ impl ParamSpec {
     }
 }
 
-/// A force law of closed form, which the TMMF integration evaluates inline ([`Effect::law`]):
-/// the same value and own-state derivatives, bit for bit, as the effect's [`Effect::force`]
+/// A force law of closed form, which the TMMF integration evaluates inline ([`ForceEffect::law`]):
+/// the same value and own-state derivatives, bit for bit, as the effect's [`ForceEffect::force`]
 /// (tested for every effect that offers one).
 ///
 /// Why by hand: an RK4 step of a TMMF release is a chain of four dependent force evaluations;
@@ -255,7 +255,7 @@ pub struct TmState<'a> {
 }
 
 /// What a force effect may assume when the TMMF model asks whether it has let go of the TM for
-/// good ([`Effect::released`]).
+/// good ([`ForceEffect::released`]).
 #[derive(Debug, Clone, Copy)]
 pub struct ReleaseCheck {
     /// Tip speed `y'(t)` now [m/s]; after the trigger the profile's speed never decreases.
@@ -277,7 +277,7 @@ impl ReleaseCheck {
     }
 }
 
-/// Tail steps [`Effect::smooth`] asks of an adhesion law per `lambda` of its argument's growth.
+/// Tail steps [`ForceEffect::smooth`] asks of an adhesion law per `lambda` of its argument's growth.
 pub const SMOOTH_STEPS_PER_LAMBDA: f64 = 8.0;
 
 /// Whether the adhesion law `A1 s exp(-s/lambda)` (`a1` [N/m], `lambda` [m]) of an argument `e`
@@ -325,14 +325,41 @@ pub struct GuessContext {
     pub k_needle_n_m: f64,
 }
 
-/// A named effect: a force on the TM, a distortion of the measurement or a mechanism component.
+/// What an effect does to the model: the capability it implements, returned by
+/// [`Effect::role`]. A model's code asks the role, never the kind, so that an effect's kind and
+/// the methods it implements cannot disagree.
+#[derive(Clone, Copy)]
+pub enum Role<'a> {
+    /// A force on the TM mock-up (`tmmf-release`).
+    Force(&'a dyn ForceEffect),
+    /// A distortion of the measurement, added to the predicted channel.
+    Distortion(&'a dyn DistortionEffect),
+    /// A delay of the record's time axis (a distortion of the measurement's time, of kind
+    /// [`EffectKind::Distortion`]).
+    TimeShift(&'a dyn TimeShiftEffect),
+    /// A component of the release-tip mechanism ODE (`rt-retraction`).
+    Mechanism(&'a dyn MechanismEffect),
+}
+
+impl Role<'_> {
+    /// The kind of the role (a time shift distorts the measurement: [`EffectKind::Distortion`]).
+    pub fn kind(&self) -> EffectKind {
+        match self {
+            Role::Force(_) => EffectKind::Force,
+            Role::Distortion(_) | Role::TimeShift(_) => EffectKind::Distortion,
+            Role::Mechanism(_) => EffectKind::Mechanism,
+        }
+    }
+}
+
+/// A named effect: what every effect has (name, scenario, description, parameters), what it
+/// does ([`Effect::role`]: a force on the TM, a distortion of the measurement, a time shift or a
+/// mechanism component) and its hints for the fit ([`Effect::hints`]).
 pub trait Effect: Send + Sync {
     /// Name in datasets, CLI and JSON (`tip_adhesion`).
     fn name(&self) -> &'static str;
     /// The scenario the effect belongs to.
     fn scenario(&self) -> Scenario;
-    /// What the effect does.
-    fn kind(&self) -> EffectKind;
     /// One-line description with its law and source.
     fn summary(&self) -> &'static str;
     /// The parameters, in the order of the parameter slices handed to the other methods.
@@ -341,33 +368,47 @@ pub trait Effect: Send + Sync {
     fn supersedes(&self) -> &'static [&'static str] {
         &[]
     }
+    /// What the effect does: the one capability it implements (`Role::Force(self)`, ...).
+    fn role(&self) -> Role<'_>;
+    /// The effect's hints for the fit (`self`: every effect implements [`FitHints`], whose
+    /// methods all have defaults).
+    fn hints(&self) -> &dyn FitHints;
+}
+
+impl dyn Effect + '_ {
+    /// What the effect does, derived from its [`Effect::role`].
+    pub fn kind(&self) -> EffectKind {
+        self.role().kind()
+    }
+}
+
+/// A force on the TM mock-up (`tmmf-release`, [`Role::Force`]).
+pub trait ForceEffect: Send + Sync {
     /// Number of internal ODE states (a force effect with its own dynamics).
     fn n_states(&self) -> usize {
         0
     }
-    /// Force on the TM along +x [N] (`EffectKind::Force`); writes the time derivatives of the
-    /// effect's own states into `ds` (length [`Effect::n_states`]).
-    fn force(&self, _p: &[f64], _s: &TmState, _ds: &mut [f64]) -> f64 {
-        0.0
-    }
+    /// Force on the TM along +x [N]; writes the time derivatives of the effect's own states
+    /// into `ds` (length [`ForceEffect::n_states`]).
+    fn force(&self, p: &[f64], s: &TmState, ds: &mut [f64]) -> f64;
     /// The force as a closed-form law the integration evaluates inline (at most two own
-    /// states); `None` (the default) keeps the call to [`Effect::force`].
+    /// states); `None` (the default) keeps the call to [`ForceEffect::force`].
     fn law(&self, _p: &[f64]) -> Option<ForceLaw> {
         None
     }
-    /// Whether the force has let go of the TM for good (`EffectKind::Force`, `tmmf-release`):
-    /// `true` only if, from state `s` on, with the TM in free flight at its present velocity
-    /// `s.v` and the tip retracting at a speed that never falls below `r.tip_speed_m_s`, the
-    /// force stays zero, or its remaining impulse moves the TM by less than `r.tol_m` by the end
-    /// of the record, whatever the effect's own states do. When every force effect of a model
-    /// says so, the model propagates the TM exactly in free flight (no integration) for the rest
-    /// of the record. The default, `false`, is always correct (the model then integrates to the
-    /// end of the record).
+    /// Whether the force has let go of the TM for good (`tmmf-release`): `true` only if, from
+    /// state `s` on, with the TM in free flight at its present velocity `s.v` and the tip
+    /// retracting at a speed that never falls below `r.tip_speed_m_s`, the force stays zero, or
+    /// its remaining impulse moves the TM by less than `r.tol_m` by the end of the record,
+    /// whatever the effect's own states do. When every force effect of a model says so, the
+    /// model propagates the TM exactly in free flight (no integration) for the rest of the
+    /// record. The default, `false`, is always correct (the model then integrates to the end of
+    /// the record).
     fn released(&self, _p: &[f64], _s: &TmState, _r: &ReleaseCheck) -> bool {
         false
     }
-    /// Whether a force that has not let go ([`Effect::released`] false) varies, from state `s`
-    /// on and as long as it stays true, slowly enough for the tail step `h_tail` [s]
+    /// Whether a force that has not let go ([`ForceEffect::released`] false) varies, from state
+    /// `s` on and as long as it stays true, slowly enough for the tail step `h_tail` [s]
     /// (`tmmf-release`: when every force effect is released or smooth, the model integrates with
     /// that step instead of the contact step; it asks again at every sample). The default,
     /// `false`, keeps the contact step: a force that may still act abruptly, or an effect that
@@ -375,10 +416,12 @@ pub trait Effect: Send + Sync {
     fn smooth(&self, _p: &[f64], _s: &TmState, _r: &ReleaseCheck, _h_tail: f64) -> bool {
         false
     }
+}
+
+/// A distortion of the measurement, added to the predicted channel ([`Role::Distortion`]).
+pub trait DistortionEffect: Send + Sync {
     /// Additive distortion of the measured channel [m] at time `t` [s] and true value `x` [m].
-    fn distortion(&self, _p: &[f64], _t: f64, _x: f64) -> f64 {
-        0.0
-    }
+    fn distortion(&self, p: &[f64], t: f64, x: f64) -> f64;
     /// The distortion's derivatives at time `t` [s] and true value `x` [m]: writes
     /// `d distortion / d p[i]` into `d_p` (one per parameter) and returns `d distortion / d x`
     /// (the fit's exact Jacobian, `tmmf::simulate_with_tangents`); `None` (the default) when
@@ -386,15 +429,25 @@ pub trait Effect: Send + Sync {
     fn distortion_gradient(&self, _p: &[f64], _t: f64, _x: f64, _d_p: &mut [f64]) -> Option<f64> {
         None
     }
-    /// A delay of the record's time axis [s]: the model is evaluated at `t - delay` (a trigger
-    /// that fires before the motion starts). `None` (the default) for an effect that does not
-    /// shift time; an effect that does returns `Some` for every parameter vector. The shifts of
-    /// a model's effects add up ([`Model::time_shift`](crate::model::Model::time_shift)).
-    fn time_shift(&self, _p: &[f64]) -> Option<f64> {
-        None
-    }
-    /// Writes the effect's parameters into the mechanism configuration (`rt-retraction`).
-    fn configure_rt(&self, _p: &[f64], _rt: &mut RtConfig) {}
+}
+
+/// A delay of the record's time axis ([`Role::TimeShift`]): the model is evaluated at
+/// `t - delay` (a trigger that fires before the motion starts).
+pub trait TimeShiftEffect: Send + Sync {
+    /// The delay [s] under the effect's parameters `p`. The shifts of a model's effects add up
+    /// ([`Model::time_shift`](crate::model::Model::time_shift)).
+    fn time_shift(&self, p: &[f64]) -> f64;
+}
+
+/// A component of the release-tip mechanism ODE (`rt-retraction`, [`Role::Mechanism`]).
+pub trait MechanismEffect: Send + Sync {
+    /// Writes the effect's parameters into the mechanism configuration.
+    fn configure_rt(&self, p: &[f64], rt: &mut RtConfig);
+}
+
+/// An effect's hints for the fit: where it vanishes, its canonical forms and its starting
+/// points ([`Effect::hints`]; every method has a default).
+pub trait FitHints: Effect {
     /// Parameters at which the effect (nearly) vanishes, if any: a candidate fit started there
     /// from the baseline's values can only improve on the baseline.
     fn null_params(&self) -> Option<Vec<f64>> {
@@ -406,7 +459,8 @@ pub trait Effect: Send + Sync {
     fn alternatives(&self, _p: &[f64]) -> Vec<Vec<f64>> {
         Vec::new()
     }
-    /// Starting points for the fit (each a full parameter vector of this effect), from the data.
+    /// Starting points for the fit (each a full parameter vector of this effect), from the data;
+    /// the default, the nominal values.
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         vec![self.params().iter().map(|p| p.nominal).collect()]
     }
@@ -476,11 +530,12 @@ mod tests {
                 );
             }
             assert!(
-                !e.starts(&GuessContext {
-                    m_kg: 0.089,
-                    ..Default::default()
-                })
-                .is_empty()
+                !e.hints()
+                    .starts(&GuessContext {
+                        m_kg: 0.089,
+                        ..Default::default()
+                    })
+                    .is_empty()
             );
         }
     }

@@ -2,8 +2,8 @@
 
 use super::tip_adhesion::adhesion_starts;
 use super::{
-    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
-    adhesion_force, adhesion_smooth, adhesion_tail_impulse,
+    Effect, FitHints, ForceEffect, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Role, Scenario,
+    TmState, adhesion_force, adhesion_smooth, adhesion_tail_impulse,
 };
 
 /// The adhesion law of thesis eq. (adh) at the needles: for `x > x_n0` it pulls the TM back
@@ -23,18 +23,21 @@ impl Effect for NeedleAdhesion {
     fn scenario(&self) -> Scenario {
         Scenario::TmmfRelease
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Force
-    }
     fn summary(&self) -> &'static str {
         "needle adhesion: F = -A1*e*exp(-e/lambda), e = x - x_n0 > 0 (physics.md s.4)"
-    }
-    fn null_params(&self) -> Option<Vec<f64>> {
-        Some(vec![PARAMS[0].lower, PARAMS[1].lower])
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Force(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl ForceEffect for NeedleAdhesion {
     fn law(&self, p: &[f64]) -> Option<ForceLaw> {
         Some(ForceLaw::NeedleAdhesion {
             a1: p[0],
@@ -51,6 +54,12 @@ impl Effect for NeedleAdhesion {
     }
     fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, h_tail: f64) -> bool {
         adhesion_smooth(p[0], p[1], s.needle_gap, s.v, h_tail, r.m_kg)
+    }
+}
+
+impl FitHints for NeedleAdhesion {
+    fn null_params(&self) -> Option<Vec<f64>> {
+        Some(vec![PARAMS[0].lower, PARAMS[1].lower])
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         adhesion_starts()

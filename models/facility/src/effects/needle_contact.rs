@@ -1,7 +1,8 @@
 //! `needle_contact`: the fixed blocking needles of the TMMF (physics.md section 4).
 
 use super::{
-    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
+    Effect, FitHints, ForceEffect, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Role, Scenario,
+    TmState,
 };
 
 /// Unilateral needle spring `F = k_nd*(x_n0 - x)` while `x < x_n0`, else 0, with
@@ -27,15 +28,21 @@ impl Effect for NeedleContact {
     fn scenario(&self) -> Scenario {
         Scenario::TmmfRelease
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Force
-    }
     fn summary(&self) -> &'static str {
         "fixed needles: F = k_nd*(F_pre/k_nd - x) while touching (physics.md s.4)"
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Force(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl ForceEffect for NeedleContact {
     fn law(&self, p: &[f64]) -> Option<ForceLaw> {
         Some(ForceLaw::NeedleSpring { k: p[0] })
     }
@@ -53,6 +60,9 @@ impl Effect for NeedleContact {
         // replaced by a needle body, or apart with the TM moving away
         s.needle_body || (s.needle_gap > 0.0 && s.v >= 0.0)
     }
+}
+
+impl FitHints for NeedleContact {
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
         let mut ks = vec![3e5, 6.5e5, 1.5e6, 4e6];
         if g.catapult_s > 0.0 && g.m_kg > 0.0 {

@@ -1,8 +1,8 @@
 //! `needle_mass`: the needles as a body with mass (physics.md section 4, examples README).
 
 use super::{
-    Effect, EffectKind, ForceLaw, GuessContext, LawState, ParamSpec, ReleaseCheck, Scenario,
-    TmState,
+    Effect, FitHints, ForceEffect, ForceLaw, GuessContext, LawState, ParamSpec, ReleaseCheck, Role,
+    Scenario, TmState,
 };
 
 /// The needles are a body of mass `m_nd` on a spring `k_nd` and damper `c_nd` to ground,
@@ -32,9 +32,6 @@ impl Effect for NeedleMass {
     fn scenario(&self) -> Scenario {
         Scenario::TmmfRelease
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Force
-    }
     fn summary(&self) -> &'static str {
         "needle body m_nd on k_nd,c_nd, touching the TM through k_tm,c_tm (physics.md s.4)"
     }
@@ -44,6 +41,15 @@ impl Effect for NeedleMass {
     fn supersedes(&self) -> &'static [&'static str] {
         &["needle_contact.k_nd"]
     }
+    fn role(&self) -> Role<'_> {
+        Role::Force(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl ForceEffect for NeedleMass {
     fn n_states(&self) -> usize {
         2
     }
@@ -64,8 +70,6 @@ impl Effect for NeedleMass {
         ds.copy_from_slice(&d);
         fc
     }
-    /// Body masses from 0.1 to 3 times the TM's, with spring pairs whose series stiffness is
-    /// the rigid-needle stiffness fitted by the baseline (when known), and the thesis pair.
     fn released(&self, p: &[f64], s: &TmState, _r: &ReleaseCheck) -> bool {
         // Out of contact, the body oscillates about u_eq = F_pre/k_nd with an energy that damping
         // only lowers: u never exceeds u_eq + A, A = sqrt((u - u_eq)^2 + m_nd du^2/k_nd). With
@@ -77,6 +81,11 @@ impl Effect for NeedleMass {
         let amp = ((u - u_eq).powi(2) + m_nd * du * du / k_nd).sqrt();
         s.v >= 0.0 && s.f_pre / k_tm + u_eq + amp - s.x < 0.0
     }
+}
+
+impl FitHints for NeedleMass {
+    /// Body masses from 0.1 to 3 times the TM's, with spring pairs whose series stiffness is
+    /// the rigid-needle stiffness fitted by the baseline (when known), and the thesis pair.
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
         let m = if g.m_kg > 0.0 { g.m_kg } else { 0.089 };
         let mut pairs = vec![(1.12e6, 2.03e6)];

@@ -1,6 +1,6 @@
 //! `piezo`: the release tip on a rigid plunger driven by an ideal voltage step (physics.md s.1).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario};
+use super::{Effect, FitHints, GuessContext, MechanismEffect, ParamSpec, Role, Scenario};
 use crate::retraction::RtConfig;
 
 /// Piezo stack (charge `q`) and tip (position `y`) of physics.md section 1 with `l = 0`:
@@ -25,15 +25,21 @@ impl Effect for Piezo {
     fn scenario(&self) -> Scenario {
         Scenario::RtRetraction
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Mechanism
-    }
     fn summary(&self) -> &'static str {
         "piezo stack and tip on a rigid plunger, ideal voltage step (physics.md s.1, l = 0)"
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Mechanism(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl MechanismEffect for Piezo {
     fn configure_rt(&self, p: &[f64], rt: &mut RtConfig) {
         rt.r_ohm = p[0];
         rt.m_kg = p[1];
@@ -42,6 +48,9 @@ impl Effect for Piezo {
         rt.b_ns_m = p[4];
         rt.t_c_m = p[5];
     }
+}
+
+impl FitHints for Piezo {
     /// The thesis table, and the same scaled so that the static stroke `T*E0/k` and the
     /// electrical time `R*(Ca + T^2/k)` stay fixed while the mechanical ones move.
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {

@@ -1,6 +1,6 @@
 //! `plunger_compliance`: the compliant plunger of the release mechanism (physics.md section 1).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario};
+use super::{Effect, FitHints, GuessContext, MechanismEffect, ParamSpec, Role, Scenario};
 use crate::retraction::RtConfig;
 
 /// Plunger of mass `Mg` on the stiffness `Kg` (physics.md fixes the thesis's `Kg*l'` typo):
@@ -21,21 +21,30 @@ impl Effect for PlungerCompliance {
     fn scenario(&self) -> Scenario {
         Scenario::RtRetraction
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Mechanism
-    }
     fn summary(&self) -> &'static str {
         "plunger mass Mg on stiffness Kg under the piezo stack (physics.md s.1)"
-    }
-    fn null_params(&self) -> Option<Vec<f64>> {
-        // a light, stiff plunger: l = 0
-        Some(vec![PARAMS[0].lower, PARAMS[1].upper])
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Mechanism(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl MechanismEffect for PlungerCompliance {
     fn configure_rt(&self, p: &[f64], rt: &mut RtConfig) {
         rt.plunger = Some((p[0], p[1]));
+    }
+}
+
+impl FitHints for PlungerCompliance {
+    fn null_params(&self) -> Option<Vec<f64>> {
+        // a light, stiff plunger: l = 0
+        Some(vec![PARAMS[0].lower, PARAMS[1].upper])
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         let mut v = Vec::new();

@@ -1,8 +1,8 @@
 //! `tip_adhesion`: adhesion between the release tip and the TM (thesis eq. adh, physics.md s.2).
 
 use super::{
-    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
-    adhesion_force, adhesion_smooth, adhesion_tail_impulse,
+    Effect, FitHints, ForceEffect, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Role, Scenario,
+    TmState, adhesion_force, adhesion_smooth, adhesion_tail_impulse,
 };
 
 /// Adds `F = A1*e*exp(-e/lambda)` for `e > 0` at the tip (pulls the TM towards the retracting
@@ -34,18 +34,21 @@ impl Effect for TipAdhesion {
     fn scenario(&self) -> Scenario {
         Scenario::TmmfRelease
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Force
-    }
     fn summary(&self) -> &'static str {
         "tip adhesion: F = A1*e*exp(-e/lambda) for e > 0 (thesis eq. adh, physics.md s.2)"
-    }
-    fn null_params(&self) -> Option<Vec<f64>> {
-        Some(vec![PARAMS[0].lower, PARAMS[1].lower])
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Force(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl ForceEffect for TipAdhesion {
     fn law(&self, p: &[f64]) -> Option<ForceLaw> {
         Some(ForceLaw::TipAdhesion {
             a1: p[0],
@@ -62,6 +65,12 @@ impl Effect for TipAdhesion {
     }
     fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, h_tail: f64) -> bool {
         adhesion_smooth(p[0], p[1], s.e_tip, r.tip_speed_m_s - s.v, h_tail, r.m_kg)
+    }
+}
+
+impl FitHints for TipAdhesion {
+    fn null_params(&self) -> Option<Vec<f64>> {
+        Some(vec![PARAMS[0].lower, PARAMS[1].lower])
     }
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         adhesion_starts()

@@ -1,7 +1,8 @@
 //! `tip_contact`: the compressive branch of the release-tip contact (physics.md section 4).
 
 use super::{
-    Effect, EffectKind, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Scenario, TmState,
+    Effect, FitHints, ForceEffect, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Role, Scenario,
+    TmState,
 };
 
 /// Linear compressive contact `F = k_c*e` for `e <= 0`, 0 for `e > 0`, with
@@ -22,15 +23,21 @@ impl Effect for TipContact {
     fn scenario(&self) -> Scenario {
         Scenario::TmmfRelease
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Force
-    }
     fn summary(&self) -> &'static str {
         "tip contact: F = k_c*e for e <= 0, e = (y - x) - F_pre/k_c (physics.md s.4)"
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Force(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl ForceEffect for TipContact {
     fn law(&self, p: &[f64]) -> Option<ForceLaw> {
         Some(ForceLaw::TipSpring { k: p[0] })
     }
@@ -41,6 +48,9 @@ impl Effect for TipContact {
         // out of contact and the tip moving away at least as fast as the TM
         s.e_tip > 0.0 && r.tip_speed_m_s >= s.v
     }
+}
+
+impl FitHints for TipContact {
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         vec![vec![4e5], vec![1e6], vec![3e6]]
     }

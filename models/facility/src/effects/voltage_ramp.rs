@@ -1,6 +1,6 @@
 //! `voltage_ramp`: the finite slope of the command-voltage drop (physics.md section 1).
 
-use super::{Effect, EffectKind, GuessContext, ParamSpec, Scenario};
+use super::{Effect, FitHints, GuessContext, MechanismEffect, ParamSpec, Role, Scenario};
 use crate::retraction::RtConfig;
 
 /// Replaces the ideal step by `E(t) = max(0, E0 - em*t)` for `t >= 0` (thesis:
@@ -17,21 +17,30 @@ impl Effect for VoltageRamp {
     fn scenario(&self) -> Scenario {
         Scenario::RtRetraction
     }
-    fn kind(&self) -> EffectKind {
-        EffectKind::Mechanism
-    }
     fn summary(&self) -> &'static str {
         "command voltage E(t) = max(0, E0 - em*t) instead of the ideal step (physics.md s.1)"
-    }
-    fn null_params(&self) -> Option<Vec<f64>> {
-        // a ramp of 1.2 ns from 120 V: the ideal step
-        Some(vec![PARAMS[0].upper])
     }
     fn params(&self) -> &'static [ParamSpec] {
         &PARAMS
     }
+    fn role(&self) -> Role<'_> {
+        Role::Mechanism(self)
+    }
+    fn hints(&self) -> &dyn FitHints {
+        self
+    }
+}
+
+impl MechanismEffect for VoltageRamp {
     fn configure_rt(&self, p: &[f64], rt: &mut RtConfig) {
         rt.em_v_s = Some(p[0]);
+    }
+}
+
+impl FitHints for VoltageRamp {
+    fn null_params(&self) -> Option<Vec<f64>> {
+        // a ramp of 1.2 ns from 120 V: the ideal step
+        Some(vec![PARAMS[0].upper])
     }
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
         let _ = g;

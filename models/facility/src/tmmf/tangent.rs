@@ -21,13 +21,13 @@
 //!
 //! Covered: models whose forces are all inline laws on the TM's two states (needle and tip
 //! springs, tip and needle adhesion) and whose distortions offer their gradient
-//! ([`crate::Effect::distortion_gradient`]: the reading `x + d(t, x)` has the tangent
+//! ([`crate::effects::DistortionEffect::distortion_gradient`]: the reading `x + d(t, x)` has the tangent
 //! `X (1 + dd/dx) + dd/dp`). Not covered (`None`, the fit takes finite differences): a needle
 //! body (own states) and a TM trapped in the needle well on a record long enough for
 //! [`super::simulate`]'s periodic continuation.
 
 use super::{Run, step_for_mass};
-use crate::effects::{EffectKind, ForceLaw};
+use crate::effects::{ForceLaw, Role};
 use crate::model::{Inputs, Model};
 use rayon::prelude::*;
 
@@ -57,11 +57,11 @@ pub fn covers(model: &Model, n_dirs: usize) -> bool {
     }
     model.effects.iter().all(|e| {
         let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
-        match e.kind() {
-            EffectKind::Force => {
-                e.n_states() == 0
+        match e.role() {
+            Role::Force(f) => {
+                f.n_states() == 0
                     && matches!(
-                        e.law(&nominal),
+                        f.law(&nominal),
                         Some(
                             ForceLaw::NeedleSpring { .. }
                                 | ForceLaw::TipSpring { .. }
@@ -70,12 +70,12 @@ pub fn covers(model: &Model, n_dirs: usize) -> bool {
                         )
                     )
             }
-            EffectKind::Distortion => {
+            Role::Distortion(d) => {
                 let mut d_p = vec![0.0; nominal.len()];
-                e.distortion_gradient(&nominal, 0.0, 0.0, &mut d_p)
+                d.distortion_gradient(&nominal, 0.0, 0.0, &mut d_p)
                     .is_some()
             }
-            EffectKind::Mechanism => false,
+            Role::TimeShift(_) | Role::Mechanism(_) => false,
         }
     })
 }
@@ -150,7 +150,7 @@ impl Aug {
         let names = model.param_names();
         // the distortions' parameter ranges, in the order of `Run::distortions`
         let ranges: Vec<std::ops::Range<usize>> = (0..model.effects.len())
-            .filter(|&i| model.effects[i].kind() == EffectKind::Distortion)
+            .filter(|&i| matches!(model.effects[i].role(), Role::Distortion(_)))
             .map(|i| model.range(i))
             .collect();
         let mut dist_dir = [None; MAX_TANGENTS];

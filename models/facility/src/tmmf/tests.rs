@@ -52,18 +52,19 @@ proptest! {
     ) {
         let mut offered = 0;
         for e in crate::effects::catalogue() {
-            if e.scenario() != Scenario::TmmfRelease || e.kind() != EffectKind::Force {
+            if e.scenario() != Scenario::TmmfRelease {
                 continue;
             }
+            let Role::Force(f) = e.role() else { continue };
             let p: Vec<f64> = e
                 .params()
                 .iter()
                 .zip(scale)
                 .map(|(s, f)| s.nominal * f)
                 .collect();
-            let Some(law) = e.law(&p) else { continue };
+            let Some(law) = f.law(&p) else { continue };
             offered += 1;
-            let k = e.n_states();
+            let k = f.n_states();
             prop_assert!(k == 0 || k == 2, "{} has {k} states", e.name());
             let st = TmState {
                 t: 1e-3,
@@ -78,7 +79,7 @@ proptest! {
                 own: &own[..k],
             };
             let mut ds = [f64::NAN; 2];
-            let a = e.force(&p, &st, &mut ds[..k]);
+            let a = f.force(&p, &st, &mut ds[..k]);
             let ls = LawState {
                 x,
                 v,

@@ -3,8 +3,8 @@
 //! population with the measurement errors deconvolved (issue 14; interface.md). Thin: the work
 //! is in `geodesic_fit::campaign`.
 
-use crate::cmd::fit::{effect_list, options};
 use crate::error::{CliError, CmdResult};
+use crate::fitting::{effect_list, options};
 use std::path::PathBuf;
 
 /// Flags of `geodesic campaign`.

@@ -3,11 +3,13 @@
 
 use geodesic_fit::fit::FitReport;
 
-use crate::cmd::fit::{effect_list, fits_dir, load, options, outputs, summary, warn};
+use geodesic_fit::summary::summary;
+
 use crate::error::{CliError, CmdResult};
+use crate::fitting::{effect_list, fits_dir, load, options, outputs, warn};
 
 /// Flags of `geodesic diagnose`: the same as `geodesic fit` (the model to start from).
-pub use crate::cmd::fit::Args;
+pub use crate::fitting::FitArgs as Args;
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {

@@ -30,7 +30,7 @@ pub fn run(args: Args) -> CmdResult {
         .dataset
         .file_stem()
         .map_or("dataset".into(), |s| s.to_string_lossy().to_string());
-    let fits = crate::cmd::fit::fits_under(&args.reports, args.out.as_ref())?;
+    let fits = crate::fitting::fits_under(&args.reports, args.out.as_ref())?;
     let path = history::path_for(&fits, &stem);
     let entries = history::read(&path).map_err(|e| CliError::bad(e.to_string()))?;
     if entries.is_empty() {

@@ -537,8 +537,22 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
     let status = opts.status;
     let chapters = chapters(reqs);
     let mut b = Writer::fragment(3);
+    write_datatypes(&mut b, status.is_some());
+    write_spec_types(&mut b, status.is_some());
+    write_spec_objects(&mut b, reqs, &chapters, status);
+    write_relations(&mut b, reqs);
+    write_specification(&mut b, &chapters);
+    let body = b.finish();
 
-    // datatypes
+    let mut out = header(reqs, &chapters, opts, &body);
+    out.push_str(&body);
+    out.push_str("    </REQ-IF-CONTENT>\n  </CORE-CONTENT>\n</REQ-IF>\n");
+    out
+}
+
+/// The datatypes: string, XHTML, real, the method's enumeration, and with a status the
+/// enumerations of status, basis and close-out.
+fn write_datatypes(b: &mut Writer, with_status: bool) {
     b.open("DATATYPES", &[]);
     b.empty(
         "DATATYPE-DEFINITION-STRING",
@@ -568,15 +582,18 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
             ("MIN", "-1.7976931348623157e308"),
         ],
     );
-    write_enum(&mut b, DT_METHOD, "Verification method", METHODS);
-    if status.is_some() {
-        write_enum(&mut b, DT_STATUS, "Compliance status", STATUSES);
-        write_enum(&mut b, DT_BASIS, "Basis of the verdict", BASES);
-        write_enum(&mut b, DT_CLOSE_OUT, "Close-out", CLOSE_OUTS);
+    write_enum(b, DT_METHOD, "Verification method", METHODS);
+    if with_status {
+        write_enum(b, DT_STATUS, "Compliance status", STATUSES);
+        write_enum(b, DT_BASIS, "Basis of the verdict", BASES);
+        write_enum(b, DT_CLOSE_OUT, "Close-out", CLOSE_OUTS);
     }
     b.close("DATATYPES");
+}
 
-    // types
+/// The types: heading, requirement (with the status attributes when there is a status), the
+/// derivation relation and the specification.
+fn write_spec_types(b: &mut Writer, with_status: bool) {
     b.open("SPEC-TYPES", &[]);
     for (tag, id, name, attrs) in [
         ("SPEC-OBJECT-TYPE", TYPE_HEADING, "Heading", HEADING_ATTRS),
@@ -601,11 +618,11 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
                 ("LONG-NAME", name),
             ],
         );
-        if id == TYPE_REQUIREMENT && status.is_some() {
+        if id == TYPE_REQUIREMENT && with_status {
             let all: Vec<Attr> = REQ_ATTRS.iter().chain(STATUS_ATTRS).copied().collect();
-            write_attr_defs(&mut b, &all);
+            write_attr_defs(b, &all);
         } else {
-            write_attr_defs(&mut b, attrs);
+            write_attr_defs(b, attrs);
         }
         b.close(tag);
     }
@@ -618,10 +635,17 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
         ],
     );
     b.close("SPEC-TYPES");
+}
 
-    // objects: the family headings, then the requirements
+/// The objects: the family headings, then the requirements.
+fn write_spec_objects(
+    b: &mut Writer,
+    reqs: &Requirements,
+    chapters: &[Chapter],
+    status: Option<&StatusSet>,
+) {
     b.open("SPEC-OBJECTS", &[]);
-    for c in &chapters {
+    for c in chapters {
         b.open(
             "SPEC-OBJECT",
             &[("IDENTIFIER", &c.id), ("LAST-CHANGE", LAST_CHANGE)],
@@ -633,7 +657,7 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
         if let Some(d) = reqs.families.get(c.family).filter(|d| !d.trim().is_empty()) {
             vals.push(("geodesic-ad-heading-text", Val::Xhtml(d.clone())));
         }
-        write_values(&mut b, HEADING_ATTRS, &vals);
+        write_values(b, HEADING_ATTRS, &vals);
         b.open("TYPE", &[]);
         b.text("SPEC-OBJECT-TYPE-REF", TYPE_HEADING);
         b.close("TYPE");
@@ -650,50 +674,56 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
             ],
         );
         let st = status.and_then(|s| s.rows.get(r.id.as_str()));
-        write_values(&mut b, &all_req_attrs, &requirement_values(r, st));
+        write_values(b, &all_req_attrs, &requirement_values(r, st));
         b.open("TYPE", &[]);
         b.text("SPEC-OBJECT-TYPE-REF", TYPE_REQUIREMENT);
         b.close("TYPE");
         b.close("SPEC-OBJECT");
     }
     b.close("SPEC-OBJECTS");
+}
 
-    // relations: child derived from parent
+/// The relations: each child derived from its parent, with the margin (none without a
+/// derivation).
+fn write_relations(b: &mut Writer, reqs: &Requirements) {
     let derived: Vec<&Requirement> = reqs.items.iter().filter(|r| r.parent.is_some()).collect();
-    if !derived.is_empty() {
-        b.open("SPEC-RELATIONS", &[]);
-        for r in derived {
-            let (pid, margin) = r.parent.as_ref().expect("filtered");
-            b.open(
-                "SPEC-RELATION",
-                &[
-                    (
-                        "IDENTIFIER",
-                        &format!("geodesic-rel-{}-derived-from-{pid}", r.id),
-                    ),
-                    ("LAST-CHANGE", LAST_CHANGE),
-                ],
-            );
-            write_values(
-                &mut b,
-                REL_ATTRS,
-                &[("geodesic-ad-rel-margin", Val::Real(*margin))],
-            );
-            b.open("SOURCE", &[]);
-            b.text("SPEC-OBJECT-REF", &object_id(r));
-            b.close("SOURCE");
-            b.open("TARGET", &[]);
-            b.text("SPEC-OBJECT-REF", &format!("geodesic-req-{pid}"));
-            b.close("TARGET");
-            b.open("TYPE", &[]);
-            b.text("SPEC-RELATION-TYPE-REF", TYPE_DERIVED);
-            b.close("TYPE");
-            b.close("SPEC-RELATION");
-        }
-        b.close("SPEC-RELATIONS");
+    if derived.is_empty() {
+        return;
     }
+    b.open("SPEC-RELATIONS", &[]);
+    for r in derived {
+        let (pid, margin) = r.parent.as_ref().expect("filtered");
+        b.open(
+            "SPEC-RELATION",
+            &[
+                (
+                    "IDENTIFIER",
+                    &format!("geodesic-rel-{}-derived-from-{pid}", r.id),
+                ),
+                ("LAST-CHANGE", LAST_CHANGE),
+            ],
+        );
+        write_values(
+            b,
+            REL_ATTRS,
+            &[("geodesic-ad-rel-margin", Val::Real(*margin))],
+        );
+        b.open("SOURCE", &[]);
+        b.text("SPEC-OBJECT-REF", &object_id(r));
+        b.close("SOURCE");
+        b.open("TARGET", &[]);
+        b.text("SPEC-OBJECT-REF", &format!("geodesic-req-{pid}"));
+        b.close("TARGET");
+        b.open("TYPE", &[]);
+        b.text("SPEC-RELATION-TYPE-REF", TYPE_DERIVED);
+        b.close("TYPE");
+        b.close("SPEC-RELATION");
+    }
+    b.close("SPEC-RELATIONS");
+}
 
-    // the document: one chapter per family
+/// The document: one chapter per family, its requirements below its heading.
+fn write_specification(b: &mut Writer, chapters: &[Chapter]) {
     b.open("SPECIFICATIONS", &[]);
     b.open(
         "SPECIFICATION",
@@ -707,7 +737,7 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
     b.text("SPECIFICATION-TYPE-REF", TYPE_SPEC);
     b.close("TYPE");
     b.open("CHILDREN", &[]);
-    for c in &chapters {
+    for c in chapters {
         b.open(
             "SPEC-HIERARCHY",
             &[
@@ -738,8 +768,11 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
     b.close("CHILDREN");
     b.close("SPECIFICATION");
     b.close("SPECIFICATIONS");
-    let body = b.finish();
+}
 
+/// The document's start up to `REQ-IF-CONTENT`: the header, identified by the SHA-256 of
+/// `body` (the content).
+fn header(reqs: &Requirements, chapters: &[Chapter], opts: &ExportOptions, body: &str) -> String {
     let content_hash = geodesic_core::hash::sha256_hex(body.as_bytes());
     let mut w = Writer::new();
     w.open(
@@ -756,7 +789,7 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
         reqs.items.len(),
         chapters.len()
     );
-    if let Some(s) = status {
+    if let Some(s) = opts.status {
         comment.push_str("; ");
         comment.push_str(&s.provenance);
     }
@@ -767,7 +800,7 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
     w.text("SOURCE-TOOL-ID", "geodesic");
     w.text(
         "TITLE",
-        if status.is_some() {
+        if opts.status.is_some() {
             "geodesic requirements with their verification status"
         } else {
             "geodesic requirements"
@@ -777,8 +810,5 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
     w.close("THE-HEADER");
     w.open("CORE-CONTENT", &[]);
     w.open("REQ-IF-CONTENT", &[]);
-    let mut out = w.finish();
-    out.push_str(&body);
-    out.push_str("    </REQ-IF-CONTENT>\n  </CORE-CONTENT>\n</REQ-IF>\n");
-    out
+    w.finish()
 }

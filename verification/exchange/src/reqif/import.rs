@@ -436,7 +436,46 @@ fn read(
     (result, problems.finish())
 }
 
-#[allow(clippy::too_many_lines)]
+/// What does not change from one requirement to the next: the file (`fname` as messages name
+/// it), its header's `SOURCE-TOOL-ID`, the document's stem (the family of objects outside any
+/// specification) and the options.
+struct Context<'c> {
+    file: &'c Path,
+    fname: &'c str,
+    source_tool: &'c str,
+    stem: &'c str,
+    opts: &'c ImportOptions,
+}
+
+impl Context<'_> {
+    fn fail(&self, line: u32, cause: String) -> ImportError {
+        ImportError {
+            file: self.fname.to_string(),
+            line,
+            cause,
+        }
+    }
+}
+
+/// The SPEC-OBJECTs in document order (a second definition of an identifier is ignored, said),
+/// indexed by identifier.
+struct Objects {
+    list: Vec<Object>,
+    by_ident: HashMap<String, usize>,
+    /// SPEC-OBJECT elements read, duplicates included.
+    spec_objects: usize,
+    /// Second definitions ignored.
+    duplicates: usize,
+}
+
+/// What the objects are: the number of headings (families), the requirements (with their
+/// text), and the number of objects without any text.
+struct Sorted {
+    headings: usize,
+    cands: Vec<Cand>,
+    other_objects: usize,
+}
+
 fn read_content<'a, 'i>(
     file: &Path,
     fname: &str,
@@ -445,48 +484,98 @@ fn read_content<'a, 'i>(
     model: &mut Model<'a, 'i>,
     opts: &ImportOptions,
 ) -> Result<Imported, ImportError> {
-    let fail = |line: u32, cause: String| ImportError {
-        file: fname.to_string(),
-        line,
-        cause,
+    let source_tool = source_tool(root);
+    let stem = document_stem(file);
+    let ctx = Context {
+        file,
+        fname,
+        source_tool: &source_tool,
+        stem: &stem,
+        opts,
     };
-    let source_tool = child(root, "THE-HEADER")
+    schema_attributes(content, model);
+    let objects = read_objects(content, model);
+    named_attributes_exist(content, &objects.list, opts).map_err(|cause| ctx.fail(1, cause))?;
+    let order = document_order(content, model, &objects, opts);
+    let sorted = sort_objects(&order, &objects.list, model, opts);
+    let mut pending: Vec<Pending> = Vec::new();
+    for c in sorted.cands {
+        let o = &objects.list[c.index];
+        pending.push(ctx.pending(c, o, model));
+    }
+    assign_ids(&mut pending, model);
+    let relations = read_relations(content, model, &mut pending);
+    check_derivations(&mut pending, model);
+    let (kept, skipped) = leave_out_incomplete(pending, model, opts);
+    let counts = Counts {
+        spec_objects: objects.spec_objects,
+        headings: sorted.headings,
+        other_objects: sorted.other_objects,
+        duplicates: objects.duplicates,
+        relations,
+    };
+    write_loading(&ctx, kept, skipped, &objects, &counts, model)
+}
+
+/// The header's `SOURCE-TOOL-ID` (empty when none).
+fn source_tool(root: Node) -> String {
+    child(root, "THE-HEADER")
         .and_then(|h| child(h, "REQ-IF-HEADER"))
         .and_then(|h| child(h, "SOURCE-TOOL-ID"))
         .and_then(|s| s.text())
         .unwrap_or("")
         .trim()
-        .to_string();
+        .to_string()
+}
 
-    schema_attributes(content, model);
+/// The document's own name: in an archive (`a.reqifz!dir/doc.reqif`), the document's.
+fn document_stem(file: &Path) -> String {
+    let name = file.to_string_lossy();
+    let inner = name.rsplit(['!', '/']).next().unwrap_or("");
+    Path::new(inner)
+        .file_stem()
+        .map_or("imported".to_string(), |s| s.to_string_lossy().into_owned())
+}
 
-    // objects, in document order; a second definition of an identifier is ignored
-    let mut objects: Vec<Object> = Vec::new();
-    let mut by_ident: HashMap<String, usize> = HashMap::new();
-    let mut spec_objects = 0;
-    let mut duplicates = 0;
-    if let Some(so) = child(content, "SPEC-OBJECTS") {
-        for n in elements(so).filter(|n| n.tag_name().name() == "SPEC-OBJECT") {
-            spec_objects += 1;
-            let o = model.object(n);
-            if let Some(&first) = by_ident.get(&o.ident) {
-                duplicates += 1;
-                model.problems.warn(
-                    o.line,
-                    format!(
-                        "SPEC-OBJECT `{}` is defined twice (first at line {}): this definition is ignored",
-                        clip(&o.ident, 100),
-                        objects[first].line
-                    ),
-                );
-                continue;
-            }
-            by_ident.insert(o.ident.clone(), objects.len());
-            objects.push(o);
+/// The SPEC-OBJECTs, in document order; a second definition of an identifier is ignored.
+fn read_objects<'a, 'i>(content: Node<'a, 'i>, model: &mut Model<'a, 'i>) -> Objects {
+    let mut objects = Objects {
+        list: Vec::new(),
+        by_ident: HashMap::new(),
+        spec_objects: 0,
+        duplicates: 0,
+    };
+    let Some(so) = child(content, "SPEC-OBJECTS") else {
+        return objects;
+    };
+    for n in elements(so).filter(|n| n.tag_name().name() == "SPEC-OBJECT") {
+        objects.spec_objects += 1;
+        let o = model.object(n);
+        if let Some(&first) = objects.by_ident.get(&o.ident) {
+            objects.duplicates += 1;
+            model.problems.warn(
+                o.line,
+                format!(
+                    "SPEC-OBJECT `{}` is defined twice (first at line {}): this definition is ignored",
+                    clip(&o.ident, 100),
+                    objects.list[first].line
+                ),
+            );
+            continue;
         }
+        objects.by_ident.insert(o.ident.clone(), objects.list.len());
+        objects.list.push(o);
     }
+    objects
+}
 
-    // the attributes the user named must exist
+/// The attributes the user named (`--attribute`) must exist: the cause when one does not,
+/// with the file's attributes.
+fn named_attributes_exist(
+    content: Node,
+    objects: &[Object],
+    opts: &ImportOptions,
+) -> Result<(), String> {
     for (field, name) in &opts.attribute {
         let key = norm(name);
         let mut known: BTreeSet<String> = BTreeSet::new();
@@ -505,25 +594,31 @@ fn read_content<'a, 'i>(
         );
         if !known.iter().any(|k| norm(k) == key) {
             let list: Vec<String> = known.iter().take(30).map(|k| clip(k, 60)).collect();
-            return Err(fail(
-                1,
-                format!(
-                    "--attribute {}={}: no attribute `{}` in this file (its attributes: {}{})",
-                    field.name(),
-                    clip(name, 80),
-                    clip(name, 80),
-                    if list.is_empty() {
-                        "none".to_string()
-                    } else {
-                        list.join(", ")
-                    },
-                    if known.len() > 30 { ", ..." } else { "" }
-                ),
+            return Err(format!(
+                "--attribute {}={}: no attribute `{}` in this file (its attributes: {}{})",
+                field.name(),
+                clip(name, 80),
+                clip(name, 80),
+                if list.is_empty() {
+                    "none".to_string()
+                } else {
+                    list.join(", ")
+                },
+                if known.len() > 30 { ", ..." } else { "" }
             ));
         }
     }
+    Ok(())
+}
 
-    // hierarchy: document order and the heading above each object
+/// The hierarchy: every object in document order with the heading above it (objects no
+/// specification names last, in the order they are defined).
+fn document_order<'a, 'i>(
+    content: Node<'a, 'i>,
+    model: &mut Model<'a, 'i>,
+    objects: &Objects,
+    opts: &ImportOptions,
+) -> Vec<(usize, Place)> {
     let mut order: Vec<(usize, Place)> = Vec::new();
     let mut placed: HashSet<usize> = HashSet::new();
     if let Some(specs) = child(content, "SPECIFICATIONS") {
@@ -548,8 +643,8 @@ fn read_content<'a, 'i>(
                     model,
                     ch,
                     &place,
-                    &objects,
-                    &by_ident,
+                    &objects.list,
+                    &objects.by_ident,
                     opts,
                     &mut order,
                     &mut placed,
@@ -557,100 +652,36 @@ fn read_content<'a, 'i>(
             }
         }
     }
-    for i in 0..objects.len() {
+    for i in 0..objects.list.len() {
         if !placed.contains(&i) {
             order.push((i, Place::default()));
         }
     }
+    order
+}
 
-    // what each object is: a heading, a requirement (with its text and where it came from), or
-    // an object without text
-    // the document's own name: in an archive (`a.reqifz!dir/doc.reqif`), the document's
-    let name = file.to_string_lossy();
-    let inner = name.rsplit(['!', '/']).next().unwrap_or("");
-    let stem = Path::new(inner)
-        .file_stem()
-        .map_or("imported".to_string(), |s| s.to_string_lossy().into_owned());
+/// What each object is: a heading, a requirement (with its text and where it came from), or
+/// an object without text (said). A document of headings only: its headings are what it
+/// says.
+fn sort_objects(
+    order: &[(usize, Place)],
+    objects: &[Object],
+    model: &mut Model,
+    opts: &ImportOptions,
+) -> Sorted {
     let mut heading_objects: Vec<(usize, Place)> = Vec::new();
     let mut cands: Vec<Cand> = Vec::new();
     let mut other_objects = 0;
     let mut auto_used: BTreeMap<String, (u32, usize)> = BTreeMap::new();
-    for (i, place) in &order {
+    for (i, place) in order {
         let o = &objects[*i];
         if is_heading(o, opts) {
             heading_objects.push((*i, place.clone()));
             continue;
         }
-        if let Some(v) = get(o, Field::Text, opts) {
-            cands.push(Cand::of(*i, place, v, format!("attribute `{}`", v.name)));
-            continue;
-        }
-        if !opts.attribute.contains_key(&Field::Text)
-            && let Some(v) = auto_text(o)
-        {
-            let e = auto_used.entry(v.name.clone()).or_insert((o.line, 0));
-            e.1 += 1;
-            cands.push(Cand::of(
-                *i,
-                place,
-                v,
-                format!(
-                    "attribute `{}` (the object's longest text; no text attribute)",
-                    v.name
-                ),
-            ));
-            continue;
-        }
-        let title = get(o, Field::Title, opts)
-            .map(|v| {
-                (
-                    v.text.trim().to_string(),
-                    format!("attribute `{}` (the title; no text)", v.name),
-                )
-            })
-            .or_else(|| {
-                o.long_name
-                    .clone()
-                    .map(|l| (l, "SPEC-OBJECT LONG-NAME (no text)".to_string()))
-            });
-        match title {
-            Some((t, src)) => {
-                model.problems.warn(
-                    o.line,
-                    format!(
-                        "SPEC-OBJECT `{}` has no text ({}): its title is its text",
-                        clip(&o.ident, 100),
-                        text_attribute_names(opts)
-                    ),
-                );
-                cands.push(Cand {
-                    index: *i,
-                    place: place.clone(),
-                    text: t,
-                    source: src,
-                    key: None,
-                    embedded: Vec::new(),
-                });
-            }
-            None => {
-                other_objects += 1;
-                model.problems.warn(
-                    o.line,
-                    format!(
-                        "SPEC-OBJECT `{}` has no text, title nor name (attributes with a value: {}): not a requirement",
-                        clip(&o.ident, 100),
-                        {
-                            let names: Vec<String> = o
-                                .values
-                                .iter()
-                                .filter(|v| !v.text.trim().is_empty())
-                                .map(|v| clip(&v.name, 60))
-                                .collect();
-                            if names.is_empty() { "none".to_string() } else { names.join(", ") }
-                        }
-                    ),
-                );
-            }
+        match candidate(*i, place, o, opts, &mut auto_used, model) {
+            Some(c) => cands.push(c),
+            None => other_objects += 1,
         }
     }
     for (name, (line, n)) in &auto_used {
@@ -670,278 +701,463 @@ fn read_content<'a, 'i>(
     }
     let mut headings = heading_objects.len();
     if cands.is_empty() && !heading_objects.is_empty() {
-        // a document of headings only: its headings are what it says
-        model.problems.warn(
-            objects[heading_objects[0].0].line,
-            format!(
-                "no object has a requirement text: the {} headings are imported as requirements, their heading as text",
-                heading_objects.len()
-            ),
-        );
-        for (i, place) in heading_objects.drain(..) {
-            let o = &objects[i];
-            let (name, desc) = heading_of(o, opts);
-            let text = match desc {
-                Some(d) if d != name => format!("{name}\n{d}"),
-                _ => name,
-            };
-            let key = o.get_any(HEADING_ATTRIBUTES).map(|v| v.key.clone());
-            cands.push(Cand {
-                index: i,
-                place,
-                text,
-                source: "heading (no object has a requirement text)".into(),
-                key,
-                embedded: Vec::new(),
-            });
-        }
+        cands = headings_as_requirements(heading_objects, objects, model, opts);
         headings = 0;
     }
+    Sorted {
+        headings,
+        cands,
+        other_objects,
+    }
+}
 
-    // the fields of each requirement
-    let mut pending: Vec<Pending> = Vec::new();
-    for c in cands {
-        let o = &objects[c.index];
-        let (place, text) = (c.place, c.text);
-        for data in &c.embedded {
-            model.problems.warn(
-                o.line,
-                format!(
-                    "SPEC-OBJECT `{}` embeds the object `{}` in its text: kept as [object: {}]; the object's file is not imported",
-                    clip(&o.ident, 100),
-                    clip(data, 200),
-                    clip(data, 200)
-                ),
-            );
-        }
-        let mut sources: Vec<(Field, String)> = vec![(Field::Text, c.source)];
-        let mut used: HashSet<String> = c.key.into_iter().collect();
-        let mut used_later: Vec<String> = Vec::new();
-        let take = |f: Field, sources: &mut Vec<(Field, String)>| -> Option<String> {
-            get(o, f, opts).map(|v| {
-                sources.push((f, format!("attribute `{}`", v.name)));
-                v.text.trim().to_string()
-            })
-        };
-        for f in Field::ALL {
-            if f != Field::Text
-                && let Some(v) = get(o, f, opts)
-            {
-                used_later.push(v.key.clone());
-            }
-        }
-        used.extend(used_later);
-        let mut notes: Vec<String> = Vec::new();
-        let raw_id = get(o, Field::Id, opts).map(|v| {
-            let fid = v.text.trim();
-            let id = match o.get_any(&[super::PREFIX]) {
-                Some(p) if !fid.starts_with(p.text.trim()) => format!("{}{fid}", p.text.trim()),
-                _ => fid.to_string(),
-            };
-            (id, v.name.clone())
+/// Object `o` (index `i`, at `place`) as a requirement: its text attribute, else its longest
+/// text (counted in `auto_used` by attribute: first line, objects), else its title (said);
+/// `None` for an object without text, title nor name (said).
+fn candidate(
+    i: usize,
+    place: &Place,
+    o: &Object,
+    opts: &ImportOptions,
+    auto_used: &mut BTreeMap<String, (u32, usize)>,
+    model: &mut Model,
+) -> Option<Cand> {
+    if let Some(v) = get(o, Field::Text, opts) {
+        return Some(Cand::of(i, place, v, format!("attribute `{}`", v.name)));
+    }
+    if !opts.attribute.contains_key(&Field::Text)
+        && let Some(v) = auto_text(o)
+    {
+        let e = auto_used.entry(v.name.clone()).or_insert((o.line, 0));
+        e.1 += 1;
+        return Some(Cand::of(
+            i,
+            place,
+            v,
+            format!(
+                "attribute `{}` (the object's longest text; no text attribute)",
+                v.name
+            ),
+        ));
+    }
+    let title = get(o, Field::Title, opts)
+        .map(|v| {
+            (
+                v.text.trim().to_string(),
+                format!("attribute `{}` (the title; no text)", v.name),
+            )
+        })
+        .or_else(|| {
+            o.long_name
+                .clone()
+                .map(|l| (l, "SPEC-OBJECT LONG-NAME (no text)".to_string()))
         });
-        if let Some((_, name)) = &raw_id {
-            used.insert(norm(name));
-        } else if let Some(v) = o.has_any(match opts.attribute.get(&Field::Id) {
-            Some(_) => &[],
-            None => Field::Id.candidates(),
-        }) {
-            model.problems.warn(
-                o.line,
-                format!(
-                    "SPEC-OBJECT `{}`: its ID attribute `{}` is empty: its SPEC-OBJECT identifier gives its ID",
-                    clip(&o.ident, 100),
-                    v.name
-                ),
-            );
+    let Some((t, src)) = title else {
+        model.problems.warn(
+            o.line,
+            format!(
+                "SPEC-OBJECT `{}` has no text, title nor name (attributes with a value: {}): not a requirement",
+                clip(&o.ident, 100),
+                {
+                    let names: Vec<String> = o
+                        .values
+                        .iter()
+                        .filter(|v| !v.text.trim().is_empty())
+                        .map(|v| clip(&v.name, 60))
+                        .collect();
+                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                }
+            ),
+        );
+        return None;
+    };
+    model.problems.warn(
+        o.line,
+        format!(
+            "SPEC-OBJECT `{}` has no text ({}): its title is its text",
+            clip(&o.ident, 100),
+            text_attribute_names(opts)
+        ),
+    );
+    Some(Cand {
+        index: i,
+        place: place.clone(),
+        text: t,
+        source: src,
+        key: None,
+        embedded: Vec::new(),
+    })
+}
+
+/// A document of headings only (no object has a requirement text): its headings are
+/// imported as requirements, their heading as text (said once).
+fn headings_as_requirements(
+    heading_objects: Vec<(usize, Place)>,
+    objects: &[Object],
+    model: &mut Model,
+    opts: &ImportOptions,
+) -> Vec<Cand> {
+    model.problems.warn(
+        objects[heading_objects[0].0].line,
+        format!(
+            "no object has a requirement text: the {} headings are imported as requirements, their heading as text",
+            heading_objects.len()
+        ),
+    );
+    let mut cands = Vec::new();
+    for (i, place) in heading_objects {
+        let o = &objects[i];
+        let (name, desc) = heading_of(o, opts);
+        let text = match desc {
+            Some(d) if d != name => format!("{name}\n{d}"),
+            _ => name,
+        };
+        let key = o.get_any(HEADING_ATTRIBUTES).map(|v| v.key.clone());
+        cands.push(Cand {
+            index: i,
+            place,
+            text,
+            source: "heading (no object has a requirement text)".into(),
+            key,
+            embedded: Vec::new(),
+        });
+    }
+    cands
+}
+
+/// The fields of one requirement object as they are read: where each value came from, the
+/// notes to add, and what is missing for geodesic to judge it.
+struct Fields<'o> {
+    o: &'o Object,
+    opts: &'o ImportOptions,
+    /// Field -> where its value came from.
+    sources: Vec<(Field, String)>,
+    notes: Vec<String>,
+    missing: Vec<String>,
+}
+
+/// The limit of a requirement as read.
+struct ReadLimit {
+    /// As written (a decimal comma read as a point); empty when none.
+    text: String,
+    /// In SI, when it could be read.
+    si: Option<Quantity>,
+    /// The dimension the limit's unit gives.
+    dim: Option<String>,
+    /// No limit: why the requirement is qualitative.
+    qualitative: Option<String>,
+}
+
+impl Fields<'_> {
+    /// The value of field `f`, recording its attribute as its source.
+    fn take(&mut self, f: Field) -> Option<String> {
+        get(self.o, f, self.opts).map(|v| {
+            self.sources.push((f, format!("attribute `{}`", v.name)));
+            v.text.trim().to_string()
+        })
+    }
+
+    /// The title: the title attribute, the chapter name, the LONG-NAME, else the text's first
+    /// line (at most 80 characters).
+    fn title(&mut self, text: &str) -> String {
+        if let Some(t) = self.take(Field::Title) {
+            return t;
         }
-        let title = match take(Field::Title, &mut sources) {
-            Some(t) => t,
-            None => match o.get_any(&[CHAPTER_NAME]) {
-                Some(v) => {
-                    sources.push((Field::Title, format!("attribute `{}`", v.name)));
-                    v.text.trim().to_string()
-                }
-                None => match &o.long_name {
-                    Some(l) => {
-                        sources.push((Field::Title, "SPEC-OBJECT LONG-NAME".into()));
-                        l.clone()
-                    }
-                    None => {
-                        sources
-                            .push((Field::Title, "the text's first line (80 characters)".into()));
-                        let first = text.lines().next().unwrap_or(&text);
-                        if first.chars().count() > 80 {
-                            let cut: String = first.chars().take(80).collect();
-                            format!("{}...", cut.trim_end())
-                        } else {
-                            first.to_string()
-                        }
-                    }
-                },
-            },
-        };
-        let spec_part = place
-            .spec
-            .as_ref()
-            .map_or(String::new(), |s| format!(", specification '{s}'"));
-        let tool_part = if source_tool.is_empty() {
-            String::new()
+        if let Some(v) = self.o.get_any(&[CHAPTER_NAME]) {
+            self.sources
+                .push((Field::Title, format!("attribute `{}`", v.name)));
+            return v.text.trim().to_string();
+        }
+        if let Some(l) = &self.o.long_name {
+            self.sources
+                .push((Field::Title, "SPEC-OBJECT LONG-NAME".into()));
+            return l.clone();
+        }
+        self.sources
+            .push((Field::Title, "the text's first line (80 characters)".into()));
+        let first = text.lines().next().unwrap_or(text);
+        if first.chars().count() > 80 {
+            let cut: String = first.chars().take(80).collect();
+            format!("{}...", cut.trim_end())
         } else {
-            format!(" ({source_tool})")
-        };
-        let source = match take(Field::Source, &mut sources) {
-            Some(s) => s,
-            None => {
-                sources.push((Field::Source, "the file, specification and object".into()));
-                format!(
-                    "ReqIF file {}{tool_part}{spec_part}, object {}",
-                    file.file_name()
-                        .map_or(fname.to_string(), |n| n.to_string_lossy().into_owned()),
-                    raw_id
-                        .as_ref()
-                        .map_or(o.ident.as_str(), |(r, _)| r.as_str())
-                )
-            }
-        };
-        let mut missing = Vec::new();
-        let mut qualitative = None;
-        let (limit, limit_si, dim_from_limit) = match take(Field::Limit, &mut sources) {
-            Some(l) => match parse_limit(&l) {
-                Ok((q, d, fixed)) => match fixed {
-                    Some(f) => {
-                        model.problems.warn(
-                            o.line,
-                            format!("limit `{}` read as `{f}` (a decimal comma)", clip(&l, 80)),
-                        );
-                        notes.push(format!("limit written `{l}` in the ReqIF file"));
-                        (f, Some(q), Some(d))
-                    }
-                    None => (l, Some(q), Some(d)),
-                },
-                Err(e) => {
-                    missing.push(e);
-                    (l, None, None)
-                }
-            },
-            None => {
-                qualitative = Some(format!(
+            first.to_string()
+        }
+    }
+
+    /// The limit: read with its unit (a decimal comma is read, said and noted), missing when
+    /// it cannot be read, qualitative when there is none.
+    fn limit(&mut self, model: &mut Model) -> ReadLimit {
+        let Some(l) = self.take(Field::Limit) else {
+            return ReadLimit {
+                text: String::new(),
+                si: None,
+                dim: None,
+                qualitative: Some(format!(
                     "no limit (attribute {}): qualitative",
-                    attr_names(Field::Limit, opts)
-                ));
-                (String::new(), None, None)
+                    attr_names(Field::Limit, self.opts)
+                )),
+            };
+        };
+        let (text, si, dim) = match parse_limit(&l) {
+            Ok((q, d, Some(f))) => {
+                model.problems.warn(
+                    self.o.line,
+                    format!("limit `{}` read as `{f}` (a decimal comma)", clip(&l, 80)),
+                );
+                self.notes
+                    .push(format!("limit written `{l}` in the ReqIF file"));
+                (f, Some(q), Some(d))
+            }
+            Ok((q, d, None)) => (l, Some(q), Some(d)),
+            Err(e) => {
+                self.missing.push(e);
+                (l, None, None)
             }
         };
-        let method_attr = get(o, Field::Method, opts).map_or(String::new(), |v| v.name.clone());
-        let method = match take(Field::Method, &mut sources) {
+        ReadLimit {
+            text,
+            si,
+            dim,
+            qualitative: None,
+        }
+    }
+
+    /// The verification method. A qualitative requirement is closed by review of design
+    /// unless the file says otherwise: a method that cannot be read is said, and kept in the
+    /// note.
+    fn method(&mut self, qualitative: bool, model: &mut Model) -> String {
+        let method_attr =
+            get(self.o, Field::Method, self.opts).map_or(String::new(), |v| v.name.clone());
+        match self.take(Field::Method) {
             Some(m) => match method_of(&m).map_err(|e| format!("attribute `{method_attr}`: {e}")) {
                 Ok(m) => m.to_string(),
-                // a qualitative requirement is closed by review of design unless the file says
-                // otherwise: a method that cannot be read is said, and kept in the note
-                Err(e) if qualitative.is_some() => {
+                Err(e) if qualitative => {
                     model.problems.warn(
-                        o.line,
+                        self.o.line,
                         format!(
                             "SPEC-OBJECT `{}`: {e}: review-of-design, as for a requirement without a limit that states no method",
-                            clip(&o.ident, 100)
+                            clip(&self.o.ident, 100)
                         ),
                     );
-                    notes.push(format!("verification method '{m}' in the ReqIF file"));
+                    self.notes
+                        .push(format!("verification method '{m}' in the ReqIF file"));
                     "review-of-design".to_string()
                 }
                 Err(e) => {
-                    missing.push(e);
+                    self.missing.push(e);
                     String::new()
                 }
             },
-            None if qualitative.is_some() => {
-                sources.push((
+            None if qualitative => {
+                self.sources.push((
                     Field::Method,
                     "default for a qualitative requirement: review-of-design".into(),
                 ));
                 "review-of-design".to_string()
             }
             None => {
-                missing.push(format!(
+                self.missing.push(format!(
                     "no verification method (attribute {})",
-                    attr_names(Field::Method, opts)
+                    attr_names(Field::Method, self.opts)
                 ));
                 String::new()
             }
-        };
-        let mut dimension = match take(Field::Dimension, &mut sources) {
-            Some(d) => d,
-            None => dim_from_limit.unwrap_or_default(),
-        };
-        let mut probability = take(Field::Probability, &mut sources);
-        let mut check = take(Field::Check, &mut sources);
-        let band = take(Field::SpectrumBand, &mut sources);
-        let shape = take(Field::SpectrumShape, &mut sources);
-        let mut spectrum = match (band, shape) {
+        }
+    }
+
+    /// The band and shape of a spectral limit: both or neither.
+    fn spectrum(&mut self) -> Option<(String, String)> {
+        let band = self.take(Field::SpectrumBand);
+        let shape = self.take(Field::SpectrumShape);
+        match (band, shape) {
             (Some(b), Some(sh)) => Some((b, sh)),
             (None, None) => None,
             _ => {
-                missing.push(format!(
+                self.missing.push(format!(
                     "a spectral limit needs both {} and {}",
-                    attr_names(Field::SpectrumBand, opts),
-                    attr_names(Field::SpectrumShape, opts)
+                    attr_names(Field::SpectrumBand, self.opts),
+                    attr_names(Field::SpectrumShape, self.opts)
                 ));
                 None
             }
-        };
-        if qualitative.is_some() {
-            if let Some((b, sh)) = spectrum.take() {
-                notes.push(format!("spectrum '{b}', '{sh}' stated without a limit"));
-            }
-            // what is tied to a limit cannot be kept without one: said in the note
-            if !dimension.is_empty() {
-                notes.push(format!("dimension '{dimension}' stated without a limit"));
-                dimension.clear();
-            }
-            if let Some(p) = probability.take() {
-                notes.push(format!("probability '{p}' stated without a limit"));
-            }
-            if let Some(c) = &check {
-                missing.push(format!(
-                    "check `{c}` named but no limit (attribute {}) to judge its value against",
-                    attr_names(Field::Limit, opts)
-                ));
-            }
         }
-        if let (Some(c), Some(known)) = (&check, &opts.checks)
-            && !known.contains(c)
-            && qualitative.is_none()
-        {
-            model.problems.warn(
-                o.line,
-                format!(
-                    "SPEC-OBJECT `{}`: check `{}` is not one geodesic runs: left out (verify reports the requirement not verified, no check)",
-                    clip(&o.ident, 100),
-                    clip(c, 80)
-                ),
-            );
-            notes.push(format!(
-                "check '{c}' named in the ReqIF file is not registered"
+    }
+
+    /// A requirement without a limit: what is tied to a limit cannot be kept without one
+    /// (spectrum, dimension, probability: said in the note; a check: the requirement is
+    /// missing its limit).
+    fn without_limit(
+        &mut self,
+        spectrum: &mut Option<(String, String)>,
+        dimension: &mut String,
+        probability: &mut Option<String>,
+        check: Option<&String>,
+    ) {
+        if let Some((b, sh)) = spectrum.take() {
+            self.notes
+                .push(format!("spectrum '{b}', '{sh}' stated without a limit"));
+        }
+        if !dimension.is_empty() {
+            self.notes
+                .push(format!("dimension '{dimension}' stated without a limit"));
+            dimension.clear();
+        }
+        if let Some(p) = probability.take() {
+            self.notes
+                .push(format!("probability '{p}' stated without a limit"));
+        }
+        if let Some(c) = check {
+            self.missing.push(format!(
+                "check `{c}` named but no limit (attribute {}) to judge its value against",
+                attr_names(Field::Limit, self.opts)
             ));
-            check = None;
         }
-        let family = place
-            .family
-            .clone()
-            .or_else(|| place.spec.clone().map(|s| (s, None)))
-            .unwrap_or_else(|| (stem.clone(), None));
-        let note = take(Field::Note, &mut sources);
-        let quantity = take(Field::Quantity, &mut sources).unwrap_or_default();
-        let level = take(Field::Level, &mut sources);
-        let stage = take(Field::Stage, &mut sources);
-        let activity = take(Field::Activity, &mut sources).unwrap_or_else(|| {
-            sources.push((
+    }
+
+    /// A check that `verify` does not run (of a quantitative requirement) is left out, said
+    /// and noted.
+    fn registered_check(
+        &mut self,
+        check: &mut Option<String>,
+        qualitative: bool,
+        model: &mut Model,
+    ) {
+        let (Some(c), Some(known)) = (check.as_deref(), &self.opts.checks) else {
+            return;
+        };
+        if known.contains(c) || qualitative {
+            return;
+        }
+        model.problems.warn(
+            self.o.line,
+            format!(
+                "SPEC-OBJECT `{}`: check `{}` is not one geodesic runs: left out (verify reports the requirement not verified, no check)",
+                clip(&self.o.ident, 100),
+                clip(c, 80)
+            ),
+        );
+        self.notes.push(format!(
+            "check '{c}' named in the ReqIF file is not registered"
+        ));
+        *check = None;
+    }
+}
+
+/// Each object embedded in the text of object `o` (`embedded`: their `data`) is kept as a
+/// mention, said.
+fn warn_embedded(o: &Object, embedded: &[String], model: &mut Model) {
+    for data in embedded {
+        model.problems.warn(
+            o.line,
+            format!(
+                "SPEC-OBJECT `{}` embeds the object `{}` in its text: kept as [object: {}]; the object's file is not imported",
+                clip(&o.ident, 100),
+                clip(data, 200),
+                clip(data, 200)
+            ),
+        );
+    }
+}
+
+/// The attributes (as [`norm`]ed) a field takes on object `o`: the text's (`text_key`) and
+/// those of the other fields.
+fn used_keys(o: &Object, text_key: Option<String>, opts: &ImportOptions) -> HashSet<String> {
+    let mut used: HashSet<String> = text_key.into_iter().collect();
+    let mut used_later: Vec<String> = Vec::new();
+    for field in Field::ALL {
+        if field != Field::Text
+            && let Some(v) = get(o, field, opts)
+        {
+            used_later.push(v.key.clone());
+        }
+    }
+    used.extend(used_later);
+    used
+}
+
+/// The value of the ID attribute with the prefix attribute's value before it, and the
+/// attribute's name (added to `used`); an ID attribute that is there but empty is said.
+fn raw_id(
+    o: &Object,
+    opts: &ImportOptions,
+    model: &mut Model,
+    used: &mut HashSet<String>,
+) -> Option<(String, String)> {
+    let raw_id = get(o, Field::Id, opts).map(|v| {
+        let fid = v.text.trim();
+        let id = match o.get_any(&[super::PREFIX]) {
+            Some(p) if !fid.starts_with(p.text.trim()) => format!("{}{fid}", p.text.trim()),
+            _ => fid.to_string(),
+        };
+        (id, v.name.clone())
+    });
+    if let Some((_, name)) = &raw_id {
+        used.insert(norm(name));
+    } else if let Some(v) = o.has_any(match opts.attribute.get(&Field::Id) {
+        Some(_) => &[],
+        None => Field::Id.candidates(),
+    }) {
+        model.problems.warn(
+            o.line,
+            format!(
+                "SPEC-OBJECT `{}`: its ID attribute `{}` is empty: its SPEC-OBJECT identifier gives its ID",
+                clip(&o.ident, 100),
+                v.name
+            ),
+        );
+    }
+    raw_id
+}
+
+impl Context<'_> {
+    /// The fields of requirement `c` (object `o`): a requirement waiting for its ID.
+    fn pending(&self, c: Cand, o: &Object, model: &mut Model) -> Pending {
+        let opts = self.opts;
+        warn_embedded(o, &c.embedded, model);
+        let (place, text) = (c.place, c.text);
+        let mut f = Fields {
+            o,
+            opts,
+            sources: vec![(Field::Text, c.source)],
+            notes: Vec::new(),
+            missing: Vec::new(),
+        };
+        let mut used = used_keys(o, c.key, opts);
+        let raw_id = raw_id(o, opts, model, &mut used);
+        let title = f.title(&text);
+        let source = self.source(&mut f, &place, raw_id.as_ref(), o);
+        let limit = f.limit(model);
+        let qualitative = limit.qualitative.is_some();
+        let method = f.method(qualitative, model);
+        let mut dimension = match f.take(Field::Dimension) {
+            Some(d) => d,
+            None => limit.dim.unwrap_or_default(),
+        };
+        let mut probability = f.take(Field::Probability);
+        let mut check = f.take(Field::Check);
+        let mut spectrum = f.spectrum();
+        if qualitative {
+            f.without_limit(
+                &mut spectrum,
+                &mut dimension,
+                &mut probability,
+                check.as_ref(),
+            );
+        }
+        f.registered_check(&mut check, qualitative, model);
+        let family = self.family(&place);
+        let note = f.take(Field::Note);
+        let quantity = f.take(Field::Quantity).unwrap_or_default();
+        let level = f.take(Field::Level);
+        let stage = f.take(Field::Stage);
+        let activity = f.take(Field::Activity).unwrap_or_else(|| {
+            f.sources.push((
                 Field::Activity,
                 "default: not stated in the ReqIF file".into(),
             ));
             "not stated in the ReqIF file".to_string()
         });
-        pending.push(Pending {
+        Pending {
             req: ImportedRequirement {
                 id: String::new(),
                 title,
@@ -949,7 +1165,7 @@ fn read_content<'a, 'i>(
                 source,
                 quantity,
                 dimension,
-                limit,
+                limit: limit.text,
                 probability,
                 spectrum,
                 level,
@@ -964,110 +1180,177 @@ fn read_content<'a, 'i>(
             ident: o.ident.clone(),
             raw_id,
             family,
-            missing,
-            qualitative,
-            limit_si,
-            extra_notes: notes,
-            sources,
+            missing: f.missing,
+            qualitative: limit.qualitative,
+            limit_si: limit.si,
+            extra_notes: f.notes,
+            sources: f.sources,
             used,
-        });
+        }
     }
 
-    assign_ids(&mut pending, model);
+    /// The family of an object at `place`: the heading above it, else its specification, else
+    /// the document's stem.
+    fn family(&self, place: &Place) -> (String, Option<String>) {
+        place
+            .family
+            .clone()
+            .or_else(|| place.spec.clone().map(|s| (s, None)))
+            .unwrap_or_else(|| (self.stem.to_string(), None))
+    }
 
-    // relations
+    /// The source: the source attribute, else the file, its tool, the specification and the
+    /// object (its ID attribute's value, else its identifier).
+    fn source(
+        &self,
+        f: &mut Fields,
+        place: &Place,
+        raw_id: Option<&(String, String)>,
+        o: &Object,
+    ) -> String {
+        let spec_part = place
+            .spec
+            .as_ref()
+            .map_or(String::new(), |s| format!(", specification '{s}'"));
+        let tool_part = if self.source_tool.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", self.source_tool)
+        };
+        if let Some(s) = f.take(Field::Source) {
+            return s;
+        }
+        f.sources
+            .push((Field::Source, "the file, specification and object".into()));
+        format!(
+            "ReqIF file {}{tool_part}{spec_part}, object {}",
+            self.file
+                .file_name()
+                .map_or(self.fname.to_string(), |n| n.to_string_lossy().into_owned()),
+            raw_id.map_or(o.ident.as_str(), |(r, _)| r.as_str())
+        )
+    }
+}
+
+/// The SPEC-RELATIONs between requirements: a derivation becomes the child's parent, any
+/// other link is kept in the source's note. Returns the number of relations read.
+fn read_relations<'a, 'i>(
+    content: Node<'a, 'i>,
+    model: &mut Model<'a, 'i>,
+    pending: &mut [Pending],
+) -> usize {
     let req_of_ident: HashMap<String, usize> = pending
         .iter()
         .enumerate()
         .map(|(k, p)| (p.ident.clone(), k))
         .collect();
     let mut relations = 0;
-    if let Some(rels) = child(content, "SPEC-RELATIONS") {
-        for rel in elements(rels).filter(|n| n.tag_name().name() == "SPEC-RELATION") {
-            relations += 1;
-            let line = model.line(rel);
-            let type_name = match ref_in(rel, "TYPE") {
-                Some(tr) => match model.resolve(
-                    &tr,
-                    "SPEC-RELATION-TYPE",
-                    "the relation's type is named by the reference",
-                ) {
-                    Some(ty) => ty.attribute("LONG-NAME").unwrap_or("relation").to_string(),
-                    None => tr.0.clone(),
-                },
+    let Some(rels) = child(content, "SPEC-RELATIONS") else {
+        return relations;
+    };
+    for rel in elements(rels).filter(|n| n.tag_name().name() == "SPEC-RELATION") {
+        relations += 1;
+        let line = model.line(rel);
+        let type_name = match ref_in(rel, "TYPE") {
+            Some(tr) => match model.resolve(
+                &tr,
+                "SPEC-RELATION-TYPE",
+                "the relation's type is named by the reference",
+            ) {
+                Some(ty) => ty.attribute("LONG-NAME").unwrap_or("relation").to_string(),
+                None => tr.0.clone(),
+            },
+            None => {
+                model
+                    .problems
+                    .warn(line, "SPEC-RELATION without TYPE: read as a plain link");
+                "relation".to_string()
+            }
+        };
+        let mut end = |w: &str| -> Option<String> {
+            let Some(r) = ref_in(rel, w) else {
+                model
+                    .problems
+                    .warn(line, format!("SPEC-RELATION without {w}: left out"));
+                return None;
+            };
+            let n = model.resolve(&r, "SPEC-OBJECT", "the relation is left out")?;
+            Some(n.attribute("IDENTIFIER").unwrap_or("").to_string())
+        };
+        let (Some(src), Some(dst)) = (end("SOURCE"), end("TARGET")) else {
+            continue;
+        };
+        let (Some(&si), Some(&ti)) = (req_of_ident.get(&src), req_of_ident.get(&dst)) else {
+            continue; // a link to or from a heading or an object without text
+        };
+        let values = model.values(rel);
+        let margin_attr = values
+            .iter()
+            .find(|v| v.key == norm("geodesic.DerivationMargin") || v.key == norm("Margin"))
+            .map(|v| v.text.trim().to_string());
+        link(pending, (si, ti), &type_name, margin_attr, line, model);
+    }
+    relations
+}
+
+/// Relation `type_name` (at `line`) from requirement `si` to `ti`: a derivation between two
+/// limits makes `ti` the parent of `si`, with the relation's margin (`margin_attr`) or else
+/// the ratio of the limits; anything else is kept in the note of `si`.
+fn link(
+    pending: &mut [Pending],
+    (si, ti): (usize, usize),
+    type_name: &str,
+    margin_attr: Option<String>,
+    line: u32,
+    model: &mut Model,
+) {
+    let is_parent = PARENT_RELATIONS.iter().any(|p| norm(p) == norm(type_name));
+    let target_id = pending[ti].req.id.clone();
+    // a margin links two limits: a qualitative end keeps the link in its note
+    let both_limits = pending[si].qualitative.is_none() && pending[ti].qualitative.is_none();
+    let mut as_note = !is_parent || !both_limits || pending[si].req.parent.is_some();
+    if !as_note {
+        let margin = match margin_attr {
+            Some(m) => match lenient_number(&m) {
+                Some(v) => Some(v),
                 None => {
-                    model
-                        .problems
-                        .warn(line, "SPEC-RELATION without TYPE: read as a plain link");
-                    "relation".to_string()
+                    model.problems.warn(
+                        line,
+                        format!(
+                            "derivation margin `{}` is not a number: the link is kept in the note",
+                            clip(&m, 80)
+                        ),
+                    );
+                    None
                 }
-            };
-            let mut end = |w: &str| -> Option<String> {
-                let Some(r) = ref_in(rel, w) else {
-                    model
-                        .problems
-                        .warn(line, format!("SPEC-RELATION without {w}: left out"));
-                    return None;
-                };
-                let n = model.resolve(&r, "SPEC-OBJECT", "the relation is left out")?;
-                Some(n.attribute("IDENTIFIER").unwrap_or("").to_string())
-            };
-            let (Some(src), Some(dst)) = (end("SOURCE"), end("TARGET")) else {
-                continue;
-            };
-            let (Some(&si), Some(&ti)) = (req_of_ident.get(&src), req_of_ident.get(&dst)) else {
-                continue; // a link to or from a heading or an object without text
-            };
-            let values = model.values(rel);
-            let margin_attr = values
-                .iter()
-                .find(|v| v.key == norm("geodesic.DerivationMargin") || v.key == norm("Margin"))
-                .map(|v| v.text.trim().to_string());
-            let is_parent = PARENT_RELATIONS.iter().any(|p| norm(p) == norm(&type_name));
-            let target_id = pending[ti].req.id.clone();
-            // a margin links two limits: a qualitative end keeps the link in its note
-            let both_limits =
-                pending[si].qualitative.is_none() && pending[ti].qualitative.is_none();
-            let mut as_note = !is_parent || !both_limits || pending[si].req.parent.is_some();
-            if !as_note {
-                let margin = match margin_attr {
-                    Some(m) => match lenient_number(&m) {
-                        Some(v) => Some(v),
-                        None => {
-                            model.problems.warn(
-                                line,
-                                format!(
-                                    "derivation margin `{}` is not a number: the link is kept in the note",
-                                    clip(&m, 80)
-                                ),
-                            );
-                            None
-                        }
-                    },
-                    None => match (pending[si].limit_si, pending[ti].limit_si) {
-                        (Some(c), Some(p)) if c.dim == p.dim && p.value != 0.0 => {
-                            Some(c.value / p.value).filter(|m| m.is_finite())
-                        }
-                        _ => None,
-                    },
-                };
-                match margin {
-                    Some(m) => pending[si].req.parent = Some((target_id.clone(), m)),
-                    None => as_note = true,
+            },
+            None => match (pending[si].limit_si, pending[ti].limit_si) {
+                (Some(c), Some(p)) if c.dim == p.dim && p.value != 0.0 => {
+                    Some(c.value / p.value).filter(|m| m.is_finite())
                 }
-            }
-            if as_note {
-                pending[si]
-                    .extra_notes
-                    .push(format!("ReqIF relation '{type_name}' to {target_id}"));
-            }
+                _ => None,
+            },
+        };
+        match margin {
+            Some(m) => pending[si].req.parent = Some((target_id.clone(), m)),
+            None => as_note = true,
         }
     }
+    if as_note {
+        pending[si]
+            .extra_notes
+            .push(format!("ReqIF relation '{type_name}' to {target_id}"));
+    }
+}
 
-    check_derivations(&mut pending, model);
-
-    // incomplete requirements are left out, each with a warning; with skip_incomplete the
-    // qualitative ones too (the user's choice, not a problem of the file)
+/// Incomplete requirements are left out, each with a warning; with `skip_incomplete` the
+/// qualitative ones too (the user's choice, not a problem of the file). Returns those kept
+/// and those left out.
+fn leave_out_incomplete(
+    pending: Vec<Pending>,
+    model: &mut Model,
+    opts: &ImportOptions,
+) -> (Vec<Pending>, Vec<Skipped>) {
     for p in pending.iter().filter(|p| !p.missing.is_empty()) {
         model.problems.warn(
             p.req.line,
@@ -1081,7 +1364,7 @@ fn read_content<'a, 'i>(
     }
     let left_out =
         |p: &Pending| !p.missing.is_empty() || (opts.skip_incomplete && p.qualitative.is_some());
-    let mut skipped: Vec<Skipped> = pending
+    let skipped: Vec<Skipped> = pending
         .iter()
         .filter(|p| left_out(p))
         .map(|p| Skipped {
@@ -1090,134 +1373,187 @@ fn read_content<'a, 'i>(
             missing: p.qualitative.iter().chain(&p.missing).cloned().collect(),
         })
         .collect();
-    let mut kept: Vec<Pending> = pending.into_iter().filter(|p| !left_out(p)).collect();
+    let kept: Vec<Pending> = pending.into_iter().filter(|p| !left_out(p)).collect();
+    (kept, skipped)
+}
 
-    // what is written must load: a requirement the loader refuses is left out, said at its
-    // line in the ReqIF file
+/// What the import counted: for [`Imported`], and for the message of a file with no
+/// requirement.
+struct Counts {
+    spec_objects: usize,
+    headings: usize,
+    other_objects: usize,
+    duplicates: usize,
+    relations: usize,
+}
+
+/// The kept requirements written as YAML files that load. What is written must load: a
+/// requirement the loader refuses is left out, said at its line in the ReqIF file (first
+/// every one it refuses on its own, then one at a time by the loader's message). The file is
+/// refused when none is left.
+fn write_loading(
+    ctx: &Context,
+    mut kept: Vec<Pending>,
+    mut skipped: Vec<Skipped>,
+    objects: &Objects,
+    counts: &Counts,
+    model: &mut Model,
+) -> Result<Imported, ImportError> {
     let mut checked_alone = false;
     loop {
         if kept.is_empty() {
             let line = skipped.first().map_or(1, |s| s.line);
-            let cause = if skipped.is_empty() {
-                let mut names: Vec<&str> = Vec::new();
-                for o in &objects {
-                    for v in o.values.iter().filter(|v| !v.text.trim().is_empty()) {
-                        if !names.contains(&v.name.as_str()) {
-                            names.push(&v.name);
-                        }
-                    }
-                }
-                let hint = if names.is_empty() {
-                    String::new()
-                } else {
-                    format!(
-                        "; their attributes with a value: {}{}; if one holds the requirement text, name it with --attribute text=NAME",
-                        names
-                            .iter()
-                            .take(20)
-                            .map(|n| clip(n, 60))
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                        if names.len() > 20 { ", ..." } else { "" }
-                    )
-                };
-                format!(
-                    "no requirement in this file ({spec_objects} SPEC-OBJECTs: {headings} headings, {other_objects} without any text, {duplicates} duplicates){hint}"
-                )
-            } else if opts.skip_incomplete {
-                format!(
-                    "none of its {} requirements has both a limit and a verification method: nothing to import",
-                    skipped.len()
-                )
-            } else {
-                format!(
-                    "none of its {} requirements can be imported (the first: {}): nothing to import",
-                    skipped.len(),
-                    skipped[0].missing.join("; ")
-                )
-            };
-            return Err(fail(line, cause));
+            return Err(ctx.fail(
+                line,
+                nothing_to_import(&skipped, &objects.list, counts, ctx.opts),
+            ));
         }
-        let (fams, sources, spans) = families(&kept, &skipped, file, fname, &source_tool);
-        match Requirements::from_sources(&sources) {
+        let (fams, sources, spans) =
+            families(&kept, &skipped, ctx.file, ctx.fname, ctx.source_tool);
+        let e = match Requirements::from_sources(&sources) {
             Ok(_) => {
                 let qualitative = kept.iter().filter(|p| p.qualitative.is_some()).count();
-                let (mapping, unmapped) = mapping(&kept, &objects, &by_ident);
+                let (mapping, unmapped) = mapping(&kept, &objects.list, &objects.by_ident);
                 return Ok(Imported {
-                    document: fname.to_string(),
+                    document: ctx.fname.to_string(),
                     families: fams,
                     skipped,
                     qualitative,
-                    source_tool,
-                    spec_objects,
-                    headings,
-                    other_objects,
-                    duplicates,
-                    relations,
+                    source_tool: ctx.source_tool.to_string(),
+                    spec_objects: counts.spec_objects,
+                    headings: counts.headings,
+                    other_objects: counts.other_objects,
+                    duplicates: counts.duplicates,
+                    relations: counts.relations,
                     warnings: Vec::new(),
                     mapping,
                     unmapped,
                 });
             }
-            Err(e) => {
-                // first every requirement the loader refuses on its own, all at once (one
-                // load per requirement, not one load of the whole set per refusal)
-                if !checked_alone {
-                    checked_alone = true;
-                    let mut k = 0;
-                    let mut removed = false;
-                    while k < kept.len() {
-                        match loads_alone(&kept[k].req) {
-                            Ok(()) => k += 1,
-                            Err(cause) => {
-                                let p = kept.remove(k);
-                                model.problems.warn(
-                                    p.req.line,
-                                    format!("requirement {}: {cause}: left out", p.req.id),
-                                );
-                                skipped.push(Skipped {
-                                    id: p.req.id,
-                                    line: p.req.line,
-                                    missing: vec![cause],
-                                });
-                                removed = true;
-                            }
-                        }
-                    }
-                    if removed {
-                        continue;
-                    }
-                }
-                let fi = sources.iter().position(|(p, _)| *p == e.origin.file);
-                let hit = fi.and_then(|fi| {
-                    spans[fi]
-                        .iter()
-                        .position(|(a, b)| (*a..=*b).contains(&e.origin.line))
-                        .map(|k| fams[fi].requirements[k].line)
-                });
-                let Some(line) = hit else {
-                    return Err(fail(
-                        1,
-                        format!("the imported requirements do not load: {}", e.cause),
-                    ));
-                };
-                let k = kept
-                    .iter()
-                    .position(|p| p.req.line == line)
-                    .expect("each written requirement is a kept one");
+            Err(e) => e,
+        };
+        // first every requirement the loader refuses on its own, all at once (one load per
+        // requirement, not one load of the whole set per refusal)
+        if !checked_alone {
+            checked_alone = true;
+            if leave_out_refused_alone(&mut kept, &mut skipped, model) {
+                continue;
+            }
+        }
+        let fi = sources.iter().position(|(p, _)| *p == e.origin.file);
+        let hit = fi.and_then(|fi| {
+            spans[fi]
+                .iter()
+                .position(|(a, b)| (*a..=*b).contains(&e.origin.line))
+                .map(|k| fams[fi].requirements[k].line)
+        });
+        let Some(line) = hit else {
+            return Err(ctx.fail(
+                1,
+                format!("the imported requirements do not load: {}", e.cause),
+            ));
+        };
+        let k = kept
+            .iter()
+            .position(|p| p.req.line == line)
+            .expect("each written requirement is a kept one");
+        let p = kept.remove(k);
+        model.problems.warn(
+            line,
+            format!("requirement {}: {}: left out", p.req.id, e.cause),
+        );
+        skipped.push(Skipped {
+            id: p.req.id,
+            line,
+            missing: vec![e.cause.clone()],
+        });
+    }
+}
+
+/// Leaves out every kept requirement that does not load on its own, each said: whether any
+/// was.
+fn leave_out_refused_alone(
+    kept: &mut Vec<Pending>,
+    skipped: &mut Vec<Skipped>,
+    model: &mut Model,
+) -> bool {
+    let mut k = 0;
+    let mut removed = false;
+    while k < kept.len() {
+        match loads_alone(&kept[k].req) {
+            Ok(()) => k += 1,
+            Err(cause) => {
                 let p = kept.remove(k);
                 model.problems.warn(
-                    line,
-                    format!("requirement {}: {}: left out", p.req.id, e.cause),
+                    p.req.line,
+                    format!("requirement {}: {cause}: left out", p.req.id),
                 );
                 skipped.push(Skipped {
                     id: p.req.id,
-                    line,
-                    missing: vec![e.cause.clone()],
+                    line: p.req.line,
+                    missing: vec![cause],
                 });
+                removed = true;
             }
         }
     }
+    removed
+}
+
+/// Why nothing is imported: no requirement in the file (its counts, and the attributes with
+/// a value, one of which may hold the text), or none of those read can be imported.
+fn nothing_to_import(
+    skipped: &[Skipped],
+    objects: &[Object],
+    counts: &Counts,
+    opts: &ImportOptions,
+) -> String {
+    if !skipped.is_empty() {
+        return if opts.skip_incomplete {
+            format!(
+                "none of its {} requirements has both a limit and a verification method: nothing to import",
+                skipped.len()
+            )
+        } else {
+            format!(
+                "none of its {} requirements can be imported (the first: {}): nothing to import",
+                skipped.len(),
+                skipped[0].missing.join("; ")
+            )
+        };
+    }
+    let mut names: Vec<&str> = Vec::new();
+    for o in objects {
+        for v in o.values.iter().filter(|v| !v.text.trim().is_empty()) {
+            if !names.contains(&v.name.as_str()) {
+                names.push(&v.name);
+            }
+        }
+    }
+    let hint = if names.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; their attributes with a value: {}{}; if one holds the requirement text, name it with --attribute text=NAME",
+            names
+                .iter()
+                .take(20)
+                .map(|n| clip(n, 60))
+                .collect::<Vec<_>>()
+                .join(", "),
+            if names.len() > 20 { ", ..." } else { "" }
+        )
+    };
+    let Counts {
+        spec_objects,
+        headings,
+        other_objects,
+        duplicates,
+        ..
+    } = counts;
+    format!(
+        "no requirement in this file ({spec_objects} SPEC-OBJECTs: {headings} headings, {other_objects} without any text, {duplicates} duplicates){hint}"
+    )
 }
 
 /// The attributes the ReqIF schema requires and tools leave out: `LAST-CHANGE` on every

@@ -162,7 +162,7 @@ impl FitOutcome {
 
 /// Every combination of the effects' own starting points (at most `cap`, evenly strided).
 pub fn default_starts(model: &Model, g: &GuessContext, cap: usize) -> Vec<Vec<f64>> {
-    let lists: Vec<Vec<Vec<f64>>> = model.effects.iter().map(|e| e.starts(g)).collect();
+    let lists: Vec<Vec<Vec<f64>>> = model.effects.iter().map(|e| e.hints().starts(g)).collect();
     let total: usize = lists.iter().map(|l| l.len()).product();
     let cap = cap.clamp(1, total.max(1));
     let mut out = Vec::with_capacity(cap);

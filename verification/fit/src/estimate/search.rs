@@ -383,7 +383,7 @@ pub(super) fn canonical_forms(
         let p = full(&u, start);
         let mut changed = false;
         for (ei, e) in model.effects.iter().enumerate() {
-            for alt in e.alternatives(&p[model.range(ei)]) {
+            for alt in e.hints().alternatives(&p[model.range(ei)]) {
                 let mut pa = p.clone();
                 pa[model.range(ei)].copy_from_slice(&alt);
                 let ua: Vec<f64> = fidx

@@ -1,15 +1,17 @@
-//! Parsing the command line: negative numbers as values, and every usage error as one line that
-//! names the argument or value at fault.
+//! Parsing a command line: negative numbers as values, and every usage error as one line that
+//! names the argument or value at fault (the `geodesic` binary's, and any program built on
+//! geodesic's commands).
 //!
 //! clap renders an error over several lines (the cause, the missing arguments one per line, a
-//! tip, the usage); the rule of the house is one line on standard error. The line keeps every
-//! line of the cause (so `montecarlo --shard 1/2` says `--out <PART.json>` is missing, `merge`
-//! says `<PART.json>...` is), the tip (`a similar argument exists: '--bound'`), and names the
-//! subcommand whose `--help` to read.
+//! tip, the usage); the rule of the house is one line on standard error, `PROGRAM: usage: ...`.
+//! The line keeps every line of the cause (so `geodesic montecarlo --shard 1/2` says `--out
+//! <PART.json>` is missing, `merge` says `<PART.json>...` is), the tip (`a similar argument
+//! exists: '--bound'`), and names the subcommand whose `--help` to read.
 //!
-//! `geodesic` alone, or `geodesic import` without a format, is a usage error too: the short
-//! help of that command (its commands and options) goes to standard error and the exit status
-//! is 2, as for any usage error; `geodesic --help` prints it on standard output with status 0.
+//! The program alone, or a command given without its subcommand (`geodesic import` without a
+//! format), is a usage error too: the short help of that command (its commands and options)
+//! goes to standard error and the exit status is 2, as for any usage error; `--help` prints it
+//! on standard output with status 0.
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{ArgMatches, Command};
@@ -30,14 +32,16 @@ pub fn accept_negative_numbers(cmd: Command) -> Command {
 }
 
 /// Parses the process's arguments into matches with [`accept_negative_numbers`] (for a
-/// command built at run time: the missions' own commands); a usage error (or `--help`, `--version`) prints what
-/// [`report`] prints and returns the exit status.
+/// command built at run time: the missions' own commands); a usage error (or `--help`,
+/// `--version`) prints what [`report`] prints, with the command's name as the program's, and
+/// returns the exit status.
 pub fn parse_matches(cmd: Command) -> Result<ArgMatches, u8> {
     let cmd = accept_negative_numbers(cmd);
+    let program = cmd.get_name().to_string();
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
     let path = command_path(&cmd, &args);
     cmd.try_get_matches_from(&args)
-        .map_err(|e| report(&e, &path))
+        .map_err(|e| report(&e, &program, &path))
 }
 
 /// The (sub)command the arguments name, `geodesic montecarlo`: its `--help` is the one to read.
@@ -56,28 +60,29 @@ pub fn command_path(cmd: &Command, args: &[std::ffi::OsString]) -> String {
 /// Prints a clap error as the house prints it and returns the exit status: help and version
 /// on standard output (0); a command given without its subcommand prints its short help on
 /// standard error after a line saying so (2); every other error one line on standard error
-/// (2). `path` is the command the arguments name ([`command_path`]).
-pub fn report(e: &clap::Error, path: &str) -> u8 {
+/// (2). `program` names the program (`geodesic`), `path` the command the arguments name
+/// ([`command_path`]).
+pub fn report(e: &clap::Error, program: &str, path: &str) -> u8 {
     match e.kind() {
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
             let _ = e.print();
             0
         }
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand | ErrorKind::MissingSubcommand => {
-            eprintln!("geodesic: usage: `{path}` needs one of the commands below\n");
+            eprintln!("{program}: usage: `{path}` needs one of the commands below\n");
             eprint!("{}", e.render());
             2
         }
         _ => {
-            eprintln!("{}", line(e, path));
+            eprintln!("{}", line(e, program, path));
             2
         }
     }
 }
 
-/// A usage error as one line: `geodesic: usage: <every line of the cause>; <tip> (see
-/// PATH --help)`.
-pub fn line(e: &clap::Error, path: &str) -> String {
+/// A usage error as one line: `PROGRAM: usage: <every line of the cause>; <tip> (see PATH
+/// --help)`.
+pub fn line(e: &clap::Error, program: &str, path: &str) -> String {
     let text = e.render().to_string();
     let mut parts: Vec<String> = Vec::new();
     for l in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
@@ -113,7 +118,7 @@ pub fn line(e: &clap::Error, path: &str) -> String {
         parts.join("; ")
     };
     format!(
-        "geodesic: usage: {} (see {path} --help)",
+        "{program}: usage: {} (see {path} --help)",
         geodesic_core::text::one_line(&cause)
     )
 }
@@ -202,7 +207,7 @@ mod tests {
 
     fn line_of(args: &[&str]) -> String {
         let os: Vec<std::ffi::OsString> = args.iter().map(|a| a.into()).collect();
-        line(&err(args), &command_path(&cmd(), &os))
+        line(&err(args), "geodesic", &command_path(&cmd(), &os))
     }
 
     #[test]

@@ -1,0 +1,166 @@
+//! What the fit commands (`fit`, `diagnose`, `discover`, `campaign`, `history`) share, so that
+//! no command imports another: the flags of `fit` and `diagnose`, the parsing of `--effects`,
+//! `--fix` and `--bound`, the dataset's loading, the fits folder (`--reports DIR` + `fits`),
+//! the outputs of a fit (its SVG and its history entry) and its warnings.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use geodesic_fit::{Dataset, FitOptions, FitReport, Prepared, history, plot};
+
+use crate::error::CliError;
+
+/// Flags of `geodesic fit` and `geodesic diagnose` (the model to start from).
+#[derive(clap::Args, Debug)]
+pub struct FitArgs {
+    /// Dataset YAML: `channels`, `known`, `scenario` and a CSV beside it (docs/spec/interface.md in the repository).
+    pub dataset: PathBuf,
+    /// Effects of the model, comma separated (e.g. needle_contact,tip_contact).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub effects: Vec<String>,
+    /// Hold a parameter fixed: effect.param=VALUE (SI), repeatable.
+    #[arg(long = "fix", value_name = "NAME=VALUE")]
+    pub fix: Vec<String>,
+    /// Bound a parameter: effect.param=LO:HI (SI), repeatable.
+    #[arg(long = "bound", value_name = "NAME=LO:HI")]
+    pub bound: Vec<String>,
+    /// Reports folder, as for `verify`: the SVG and the history go into DIR/fits/.
+    #[arg(long, value_name = "DIR", default_value = "reports")]
+    pub reports: PathBuf,
+    /// Not a flag of this command (`--out` names one output file everywhere in geodesic).
+    #[arg(long, hide = true)]
+    pub out: Option<PathBuf>,
+    /// Add each free parameter's marginal posterior (median, 68 % and 95 % intervals), flat
+    /// priors over the parameter's range: the Laplace approximation at the best fit (instant),
+    /// or with `--posterior-method ensemble` sampled by an affine-invariant ensemble (flags
+    /// `prior_limited` and `multimodal`, each chain's autocorrelation time and `converged` when
+    /// the kept steps are at least 50 of them, a corner plot in DIR/fits/).
+    #[arg(long)]
+    pub posterior: bool,
+    /// How to get the posterior: laplace (default) or ensemble.
+    #[arg(long, value_name = "METHOD", default_value = "laplace")]
+    pub posterior_method: String,
+    /// Walkers of the ensemble sampler (default max(8 x free parameters, 32)), 4-10000.
+    #[arg(long, value_name = "N")]
+    pub posterior_walkers: Option<usize>,
+    /// Steps per walker of the ensemble sampler (a third discarded as burn-in), 100-100000.
+    #[arg(long, value_name = "N", default_value_t = 1500)]
+    pub posterior_steps: usize,
+    /// Seed of the ensemble sampler.
+    #[arg(long, value_name = "SEED", default_value_t = 1)]
+    pub posterior_seed: u64,
+    /// Refuse a record with a missing value (an empty cell) or a wild sample instead of
+    /// skipping that row with a warning.
+    #[arg(long)]
+    pub strict: bool,
+    /// Print exactly one JSON document on standard output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The folder of the fit outputs: `--reports DIR` + `fits`. Refuses the old `--out DIR`.
+pub fn fits_dir(args: &FitArgs) -> Result<PathBuf, CliError> {
+    fits_under(&args.reports, args.out.as_ref())
+}
+
+/// `reports/fits`, or the cause when `--out` was given to a command that writes a folder.
+pub fn fits_under(reports: &Path, out: Option<&PathBuf>) -> Result<PathBuf, CliError> {
+    if let Some(o) = out {
+        return Err(CliError::bad(format!(
+            "--out {}: in geodesic --out names one output file; fit plots and histories go \
+             under --reports DIR (into DIR/fits/)",
+            o.display()
+        )));
+    }
+    if reports.exists() && !reports.is_dir() {
+        return Err(CliError::bad(format!(
+            "--reports {}: is not a directory",
+            reports.display()
+        )));
+    }
+    // checked before the record is read or fitted: a folder that cannot be written is exit 2
+    // at once, not after the fit
+    crate::preflight::out_dir("--reports", &reports.join("fits"))?;
+    Ok(reports.join("fits"))
+}
+
+/// Parses `--fix` and `--bound` into fit options.
+pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError> {
+    use crate::quantity::{pair, param_dim, value_of};
+    let mut fixed = BTreeMap::new();
+    for f in fix {
+        let (k, v) = pair(f, "fix", param_dim)?;
+        fixed.insert(k, v);
+    }
+    let mut bounds = BTreeMap::new();
+    for b in bound {
+        let (k, r) = b
+            .split_once('=')
+            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected NAME=LO:HI")))?;
+        let k = k.trim();
+        let (lo, hi) = r
+            .split_once(':')
+            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected LO:HI")))?;
+        let dim = param_dim(k);
+        let lo = value_of(lo.trim(), dim)
+            .map_err(|e| CliError::bad(format!("--bound {k}: lower bound {e}")))?;
+        let hi = value_of(hi.trim(), dim)
+            .map_err(|e| CliError::bad(format!("--bound {k}: upper bound {e}")))?;
+        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+            return Err(CliError::bad(format!(
+                "--bound `{b}`: lower bound not below upper bound"
+            )));
+        }
+        bounds.insert(k.to_string(), (lo, hi));
+    }
+    Ok(FitOptions {
+        fixed,
+        bounds,
+        max_starts: None,
+        profile: false,
+        sigma: None,
+    })
+}
+
+/// Loads and prepares a dataset (`strict`: a missing value or a wild sample refused instead
+/// of skipped), mapping errors to exit 2.
+pub fn load(path: &Path, strict: bool) -> Result<Prepared, CliError> {
+    let ds = Dataset::load_with(path, geodesic_fit::dataset::LoadOptions { strict })
+        .map_err(|e| CliError::bad(e.to_string()))?;
+    Ok(Prepared::new(ds))
+}
+
+/// Prints a fit report's warnings on standard error, one line each.
+pub fn warn(r: &FitReport) {
+    for w in &r.warnings {
+        eprintln!("geodesic: warning: {w}");
+    }
+}
+
+/// Writes the SVG of a fit and appends it to the history; returns the SVG path.
+pub fn outputs(
+    prep: &Prepared,
+    pred: &[f64],
+    report: &mut FitReport,
+    out: &Path,
+) -> Result<(), CliError> {
+    let svg = plot::fit_svg(prep, pred, report).map_err(|e| CliError::Io(e.to_string()))?;
+    let path = out.join(format!(
+        "{}.{}.svg",
+        prep.dataset.stem(),
+        report.effects.join("+")
+    ));
+    plot::write_svg(&path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
+    report.svg = Some(path.display().to_string());
+    history::append(out, &prep.dataset.stem(), report).map_err(|e| CliError::Io(e.to_string()))?;
+    Ok(())
+}
+
+/// The effect names of `--effects`, trimmed, empty items dropped.
+pub fn effect_list(effects: &[String]) -> Vec<&str> {
+    effects
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty())
+        .collect()
+}
