@@ -82,16 +82,32 @@ impl Model {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
+        let effects = names
+            .iter()
+            .map(|n| {
+                by_name(n).ok_or_else(|| ModelError::UnknownEffect {
+                    name: n.to_string(),
+                    scenario: scenario.name().into(),
+                    known: known(),
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Model::with_effects(scenario, &effects)
+    }
+
+    /// Builds a model from effects themselves, catalogue ones or not (an effect a project or a
+    /// test defines, before it is registered); checks scenario and the scenario's base effects,
+    /// drops duplicate names. The catalogue's effects keep the catalogue's order, after the
+    /// others in the order given.
+    pub fn with_effects(
+        scenario: Scenario,
+        effects: &[&'static dyn Effect],
+    ) -> Result<Model, ModelError> {
         let mut chosen: Vec<&'static dyn Effect> = Vec::new();
-        for n in names {
-            let e = by_name(n).ok_or_else(|| ModelError::UnknownEffect {
-                name: n.to_string(),
-                scenario: scenario.name().into(),
-                known: known(),
-            })?;
+        for &e in effects {
             if e.scenario() != scenario {
                 return Err(ModelError::WrongScenario {
-                    name: n.to_string(),
+                    name: e.name().to_string(),
                     scenario: scenario.name().into(),
                     other: e.scenario().name().into(),
                 });

@@ -203,12 +203,7 @@ pub fn symmetries_confirmed(
     let sh = DMatrix::from_fn(n, n, |i, j| a_half[(i, j)] * a_half_scale / (d[i] * d[j]));
     let Some(eig0) = crate::numeric::linalg::sym_eigen(s.clone()) else {
         // a normal matrix that is not finite resolves nothing
-        return NullSpace {
-            symmetries: Vec::new(),
-            resolved: vec![false; n],
-            cov: DMatrix::from_element(n, n, f64::NAN),
-            null: Vec::new(),
-        };
+        return NullSpace::nothing_resolved(n, Vec::new());
     };
     let max = eig0.eigenvalues.iter().cloned().fold(0.0, f64::max);
     // unresolved directions found so far (scaled space), with their report
@@ -268,20 +263,7 @@ pub fn symmetries_confirmed(
             }
         }
     }
-    // an orthonormal basis of the exact directions
-    let mut basis: Vec<DVector<f64>> = Vec::new();
-    for (v, _) in &found {
-        let mut x = v.clone();
-        for _ in 0..2 {
-            for b in &basis {
-                let c = b.dot(&x);
-                x -= b * c;
-            }
-        }
-        if x.norm() > 1e-6 {
-            basis.push(x.normalize());
-        }
-    }
+    let basis = orthonormal_basis(found.iter().map(|(v, _)| v));
     let projector = |basis: &[DVector<f64>]| {
         let mut p = DMatrix::identity(n, n);
         for b in basis {
@@ -293,12 +275,7 @@ pub fn symmetries_confirmed(
     let p = projector(&basis);
     let psp = &p * &s * &p;
     let Some(eig) = crate::numeric::linalg::sym_eigen((&psp + psp.transpose()) * 0.5) else {
-        return NullSpace {
-            symmetries: found.into_iter().map(|(_, s)| s).collect(),
-            resolved: vec![false; n],
-            cov: DMatrix::from_element(n, n, f64::NAN),
-            null: Vec::new(),
-        };
+        return NullSpace::nothing_resolved(n, found.into_iter().map(|(_, s)| s).collect());
     };
     let mut cov = DMatrix::zeros(n, n);
     for k in 0..n {
@@ -344,6 +321,38 @@ pub fn symmetries_confirmed(
         cov,
         null,
     }
+}
+
+impl NullSpace {
+    /// Nothing resolved among `n` free parameters (a decomposition failed), with the
+    /// `symmetries` found so far.
+    fn nothing_resolved(n: usize, symmetries: Vec<Symmetry>) -> NullSpace {
+        NullSpace {
+            symmetries,
+            resolved: vec![false; n],
+            cov: DMatrix::from_element(n, n, f64::NAN),
+            null: Vec::new(),
+        }
+    }
+}
+
+/// An orthonormal basis of the span of `vectors` (Gram-Schmidt, twice per vector; a vector
+/// within 1e-6 of the span so far adds nothing).
+fn orthonormal_basis<'a>(vectors: impl Iterator<Item = &'a DVector<f64>>) -> Vec<DVector<f64>> {
+    let mut basis: Vec<DVector<f64>> = Vec::new();
+    for v in vectors {
+        let mut x = v.clone();
+        for _ in 0..2 {
+            for b in &basis {
+                let c = b.dot(&x);
+                x -= b * c;
+            }
+        }
+        if x.norm() > 1e-6 {
+            basis.push(x.normalize());
+        }
+    }
+    basis
 }
 
 /// A combination of parameters that the retraction's scaling leaves unchanged.

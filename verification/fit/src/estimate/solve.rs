@@ -174,7 +174,8 @@ fn flat_along<F: crate::numeric::lm::Residuals + ?Sized>(
     if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
         eprintln!("null-space: along the direction, chi-square rise at +-s {rise:?}");
     }
-    rise.iter().all(|r| !(*r >= FLAT_RISE))
+    // a rise that is not a number refutes nothing
+    rise.iter().all(|r| r.is_nan() || *r < FLAT_RISE)
 }
 
 /// Chi-square rise at a direction's predicted 1-sigma under which it is flat ([`flat_along`]):
