@@ -98,6 +98,9 @@ pub struct Scaffold {
     pub term: String,
     /// Kinds the record could not tell from it.
     pub indistinguishable: Vec<String>,
+    /// Why the leading term was passed over, when the effect is written from a term the record
+    /// could not tell from it (`discover::new_effect::scaffold`): `None` for the leader itself.
+    pub passed_over: Option<String>,
     /// The date (YYYY-MM-DD, UTC).
     pub date: String,
     /// Its parameters.
@@ -435,10 +438,47 @@ impl Scaffold {
                 .filter(|s| **s != k.kind)
                 .cloned()
                 .collect(),
+            passed_over: None,
             date: date.to_string(),
             params,
             conditions,
         })
+    }
+
+    /// The effect from the leading term of `terms` (a discover report's refined terms, the
+    /// leader first), or, when the leader is no physics of its kind (an anti-restoring force, a
+    /// negative damping) and the record could not tell it from another term (`twins`, the
+    /// report's `indistinguishable`: joint fits within 10 in BIC), from the first such term that
+    /// is, with the reason the leader was passed over (`passed_over`, in the doc comment it
+    /// writes). Otherwise the leader's error; `Err` too when `terms` is empty.
+    #[allow(clippy::too_many_arguments)]
+    pub fn from_terms(
+        name: &str,
+        scenario: Scenario,
+        terms: &[KindFit],
+        record: &str,
+        twins: &[String],
+        date: &str,
+        conditions: Conditions,
+    ) -> Result<Scaffold, String> {
+        let make = |k: &KindFit| {
+            Scaffold::from_term(name, scenario, k, record, twins, date, conditions.clone())
+        };
+        let Some(lead) = terms.first() else {
+            return Err("no term outside the catalogue: nothing to scaffold".to_string());
+        };
+        let refused = match make(lead) {
+            Ok(s) => return Ok(s),
+            Err(e) => e,
+        };
+        let others = terms.iter().skip(1);
+        for k in others.filter(|k| k.kind != lead.kind && twins.contains(&k.kind)) {
+            if let Ok(mut s) = make(k) {
+                s.passed_over = Some(format!("`{}`: {refused}", lead.kind));
+                return Ok(s);
+            }
+        }
+        Err(refused)
     }
 
     /// The effect's type name.
@@ -532,8 +572,15 @@ impl Scaffold {
         s.push('\n');
         s.push_str(&wrap("/// ", &format!("{}.", capitalise(&self.law()))));
         s.push_str("///\n");
+        let which = match &self.passed_over {
+            None => "the leading term outside the catalogue".to_string(),
+            Some(why) => format!(
+                "a term outside the catalogue that the record could not tell from the leading one, which was passed over ({})",
+                why.trim_end_matches('.')
+            ),
+        };
         let mut origin = format!(
-            "Written by `geodesic discover {} --scaffold {name}` on {} from the leading term outside the catalogue: kind `{}`, delta BIC {:.1}: {}.",
+            "Written by `geodesic discover {} --scaffold {name}` on {} from {which}: kind `{}`, delta BIC {:.1}: {}.",
             self.record.escape_debug(),
             self.date,
             self.kind,

@@ -182,3 +182,66 @@ fn registration_and_hiding_test_go_into_the_repository_files() {
     assert!(hide.contains("fn hidden_outside_vibration_is_named()"));
     assert!(hide.contains("(\"outside_vibration.f\", 729.94)"));
 }
+
+/// When the leading term is no physics of its kind (an anti-restoring force) and the record
+/// could not tell it from another term, the effect is written from that term, and says why the
+/// leader was passed over; without such a twin the leader's refusal stands (issue 36: a
+/// damping record whose joint fits put an anti-restoring force first by a few in BIC).
+#[test]
+fn an_unphysical_leader_passes_to_its_indistinguishable_twin() {
+    let scenario = Scenario::TmmfRelease;
+    let mut anti = term("position", scenario);
+    anti.coefs = vec![1.04e4, 0.0];
+    anti.coefficient = 1.04e4;
+    let damping = term("velocity", scenario);
+    let conditions = Conditions {
+        fs_hz: 1e5,
+        post_s: 0.02,
+        known: ("m", 0.089),
+        noise: 8e-10,
+        jerk_m_s3: 6000.0,
+        v_m_s: 3e-3,
+    };
+    let terms = vec![anti.clone(), damping.clone()];
+    let make = |twins: &[String]| {
+        Scaffold::from_terms(
+            "viscous",
+            scenario,
+            &terms,
+            "r.yaml",
+            twins,
+            "2026-11-28",
+            conditions.clone(),
+        )
+    };
+    let alone = make(&[]).expect_err("an anti-restoring leader alone is refused");
+    assert!(alone.contains("anti-restoring"), "{alone}");
+    let s = make(&["position".into(), "velocity".into()]).expect("the twin is scaffolded");
+    assert_eq!(s.kind, "velocity");
+    let why = s
+        .passed_over
+        .as_deref()
+        .expect("the leader was passed over");
+    assert!(
+        why.contains("`position`") && why.contains("anti-restoring"),
+        "{why}"
+    );
+    assert_eq!(s.indistinguishable, vec!["position".to_string()]);
+    let code = s.effect_source().replace("\n/// ", " ");
+    assert!(code.contains("which was passed over (`position`"), "{code}");
+    // a twin that is no physics either leaves the leader's refusal
+    let mut negative = damping;
+    negative.coefs = vec![50.0];
+    negative.parameter.as_mut().unwrap().value = -50.0;
+    let e = Scaffold::from_terms(
+        "viscous",
+        scenario,
+        &[anti, negative],
+        "r.yaml",
+        &["position".into(), "velocity".into()],
+        "2026-11-28",
+        conditions,
+    )
+    .expect_err("no twin that scaffolds");
+    assert!(e.contains("anti-restoring"), "{e}");
+}

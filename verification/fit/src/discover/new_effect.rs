@@ -42,17 +42,17 @@ pub fn scaffold(
             report.reason
         ));
     }
-    let Some(lead) = report.residual.terms.first() else {
+    if report.residual.terms.is_empty() {
         return Err(format!(
             "discover found no term outside the catalogue in {}: nothing to scaffold",
             dataset.display()
         ));
-    };
+    }
     let record = dataset.display().to_string();
-    let s = Scaffold::from_term(
+    let s = Scaffold::from_terms(
         name,
         prep.dataset.scenario,
-        lead,
+        &report.residual.terms,
         &record,
         &report.residual.indistinguishable,
         &scaffold::today(),
@@ -115,12 +115,23 @@ fn conditions(prep: &Prepared, report: &DiscoverReport) -> Conditions {
 /// What was written and what to run next, for the terminal.
 fn text(name: &str, s: &Scaffold, files: &[String], record: &str, baseline: &str) -> String {
     let mut text = format!(
-        "scaffold: wrote the effect `{name}` ({}: {}) from the leading term [{}] (delta BIC {:.1}):\n",
+        "scaffold: wrote the effect `{name}` ({}: {}) from the {} term [{}] (delta BIC {:.1}):\n",
         s.scenario.name(),
+        if s.passed_over.is_some() {
+            "runner-up"
+        } else {
+            "leading"
+        },
         s.law(),
         s.kind,
         s.delta_bic
     );
+    if let Some(why) = &s.passed_over {
+        text.push_str(&format!(
+            "  the leading term was passed over ({why}); `{}` is a term the record could not tell from it\n",
+            s.kind
+        ));
+    }
     for p in &s.params {
         text.push_str(&format!(
             "  {name}.{} = {} {} (range {} .. {})\n",
