@@ -11,10 +11,17 @@ use nalgebra::{DMatrix, Dyn, SVD, SymmetricEigen};
 const MAX_ITERATIONS: usize = 10_000;
 
 /// The eigen-decomposition of the symmetric matrix `m`; `None` when `m` is not finite or the
-/// iteration does not converge.
+/// iteration does not converge. An empty matrix (a fit whose every parameter is held) has the
+/// empty decomposition (nalgebra panics on it).
 pub fn sym_eigen(m: DMatrix<f64>) -> Option<SymmetricEigen<f64, Dyn>> {
     if m.iter().any(|v| !v.is_finite()) {
         return None;
+    }
+    if m.is_empty() {
+        return Some(SymmetricEigen {
+            eigenvectors: DMatrix::zeros(0, 0),
+            eigenvalues: nalgebra::DVector::zeros(0),
+        });
     }
     SymmetricEigen::try_new(m, f64::EPSILON, MAX_ITERATIONS)
 }
@@ -24,6 +31,9 @@ pub fn sym_eigen(m: DMatrix<f64>) -> Option<SymmetricEigen<f64, Dyn>> {
 pub fn pseudo_inverse(m: &DMatrix<f64>, eps: f64) -> Option<DMatrix<f64>> {
     if m.iter().any(|v| !v.is_finite()) || !eps.is_finite() {
         return None;
+    }
+    if m.is_empty() {
+        return Some(DMatrix::zeros(m.ncols(), m.nrows()));
     }
     SVD::try_new(m.clone(), true, true, f64::EPSILON, MAX_ITERATIONS)?
         .pseudo_inverse(eps)
@@ -41,6 +51,20 @@ mod tests {
             assert!(sym_eigen(m.clone()).is_none());
             assert!(pseudo_inverse(&m, 1e-12).is_none());
         }
+    }
+
+    /// A fit whose every parameter is held has empty normal matrices: empty answers, no panic
+    /// (nalgebra's decompositions panic on them).
+    #[test]
+    fn an_empty_matrix_has_the_empty_decomposition() {
+        let e = sym_eigen(DMatrix::zeros(0, 0)).expect("the empty decomposition");
+        assert!(e.eigenvalues.is_empty() && e.eigenvectors.is_empty());
+        assert_eq!(
+            pseudo_inverse(&DMatrix::zeros(0, 0), 1e-12)
+                .unwrap()
+                .shape(),
+            (0, 0)
+        );
     }
 
     #[test]
