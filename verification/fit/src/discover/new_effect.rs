@@ -117,12 +117,12 @@ fn text(name: &str, s: &Scaffold, files: &[String], record: &str, baseline: &str
     let mut text = format!(
         "scaffold: wrote the effect `{name}` ({}: {}) from the {} term [{}] (delta BIC {:.1}):\n",
         s.scenario.name(),
+        s.law(),
         if s.passed_over.is_some() {
             "runner-up"
         } else {
             "leading"
         },
-        s.law(),
         s.kind,
         s.delta_bic
     );
