@@ -29,21 +29,9 @@ use serde::{Deserialize, Serialize};
 
 /// Relative change of a direction's curvature, when the difference steps are halved, above
 /// which the curvature is the differences' truncation error (an exact symmetry): resolved
-/// directions of the examples move by under 1 %, exact ones by 75 % or more (the Jacobian of the
-/// uncertainty stage takes central differences, whose truncation error falls as the step
-/// squared and its curvature as the fourth power; where rounding dominates it grows instead).
-/// Forward differences, used before 2026-11-28, left a curvature term `h/2 d2r/du2` that along a
-/// weakly resolved direction moved with the step too: a 1.6 Hz pendulum on a 20 ms release
-/// record was called an exact symmetry of its frequency, offset and the contact parameters,
-/// where central differences resolve them (f0 1.566 +- 0.129 Hz against 1.6 Hz).
+/// directions of the examples move by under 1 %, exact ones by 75 % (the curvature of a
+/// truncation error falls as the step squared).
 pub const EXACT_TOLERANCE: f64 = 0.2;
-
-/// Ratio of a direction's curvature with the difference steps halved to the curvature with
-/// the full steps under which the curvature is a truncation error without further test
-/// ([`symmetries_confirmed`]): a truncation error's curvature falls by 4 (forward differences)
-/// or 16 (central) when the steps are halved; a ratio above it (including one above 1, a
-/// rounding error or a rotating pair of weak directions) is tried on the model.
-pub const TRUNCATION_MU: f64 = 0.3;
 
 /// Weight (component of the unit direction in the fit's coordinates) above which a parameter
 /// takes part in a symmetry.
@@ -176,26 +164,6 @@ pub fn symmetries(
     width: &[f64],
     names: &[String],
 ) -> NullSpace {
-    symmetries_confirmed(a, a_half, a_half_scale, width, names, &|_: &[f64]| true)
-}
-
-/// [`symmetries`], with each direction the step test flags (whose curvature is not zero and
-/// does not fall with the step as a truncation error does, [`TRUNCATION_MU`]) kept as exact
-/// only if `confirm(w)` says so, `w` its unit direction in the fit's coordinates. The fit passes a test made on the model itself (`estimate::solve`: the
-/// chi-square at the direction's predicted 1-sigma on either side): two weak directions of
-/// nearly equal curvature rotate into each other when the steps are halved, which gives a pair
-/// of generalised eigenvalues `mu` and about `1/mu` (2.82 and 0.354 on a 1.6 Hz pendulum
-/// record, 1.30 and 0.765 on a TMMF adhesion record) that the matrices alone cannot tell from a
-/// truncation error, while the chi-square rises by about 1 along either, as a resolved
-/// direction does.
-pub fn symmetries_confirmed(
-    a: &DMatrix<f64>,
-    a_half: &DMatrix<f64>,
-    a_half_scale: f64,
-    width: &[f64],
-    names: &[String],
-    confirm: &dyn Fn(&[f64]) -> bool,
-) -> NullSpace {
     let n = a.nrows();
     let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
     let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
@@ -203,7 +171,12 @@ pub fn symmetries_confirmed(
     let sh = DMatrix::from_fn(n, n, |i, j| a_half[(i, j)] * a_half_scale / (d[i] * d[j]));
     let Some(eig0) = crate::numeric::linalg::sym_eigen(s.clone()) else {
         // a normal matrix that is not finite resolves nothing
-        return NullSpace::nothing_resolved(n, Vec::new());
+        return NullSpace {
+            symmetries: Vec::new(),
+            resolved: vec![false; n],
+            cov: DMatrix::from_element(n, n, f64::NAN),
+            null: Vec::new(),
+        };
     };
     let max = eig0.eigenvalues.iter().cloned().fold(0.0, f64::max);
     // unresolved directions found so far (scaled space), with their report
@@ -251,19 +224,25 @@ pub fn symmetries_confirmed(
                 }
                 if flat || (mu - 1.0).abs() > EXACT_TOLERANCE {
                     let v = v.normalize();
-                    let (w, sym) = to_report(&v, "exact", mu, None);
-                    // a curvature that falls with the step is a truncation error (by 4 for
-                    // forward differences, 16 for central ones): exact without more ado
-                    if flat || mu < TRUNCATION_MU || confirm(&w) {
-                        found.push((v.clone(), sym));
-                    } else if debug {
-                        eprintln!("null-space: refuted: the chi-square rises along the direction");
-                    }
+                    found.push((v.clone(), to_report(&v, "exact", mu, None).1));
                 }
             }
         }
     }
-    let basis = orthonormal_basis(found.iter().map(|(v, _)| v));
+    // an orthonormal basis of the exact directions
+    let mut basis: Vec<DVector<f64>> = Vec::new();
+    for (v, _) in &found {
+        let mut x = v.clone();
+        for _ in 0..2 {
+            for b in &basis {
+                let c = b.dot(&x);
+                x -= b * c;
+            }
+        }
+        if x.norm() > 1e-6 {
+            basis.push(x.normalize());
+        }
+    }
     let projector = |basis: &[DVector<f64>]| {
         let mut p = DMatrix::identity(n, n);
         for b in basis {
@@ -275,7 +254,12 @@ pub fn symmetries_confirmed(
     let p = projector(&basis);
     let psp = &p * &s * &p;
     let Some(eig) = crate::numeric::linalg::sym_eigen((&psp + psp.transpose()) * 0.5) else {
-        return NullSpace::nothing_resolved(n, found.into_iter().map(|(_, s)| s).collect());
+        return NullSpace {
+            symmetries: found.into_iter().map(|(_, s)| s).collect(),
+            resolved: vec![false; n],
+            cov: DMatrix::from_element(n, n, f64::NAN),
+            null: Vec::new(),
+        };
     };
     let mut cov = DMatrix::zeros(n, n);
     for k in 0..n {
@@ -321,38 +305,6 @@ pub fn symmetries_confirmed(
         cov,
         null,
     }
-}
-
-impl NullSpace {
-    /// Nothing resolved among `n` free parameters (a decomposition failed), with the
-    /// `symmetries` found so far.
-    fn nothing_resolved(n: usize, symmetries: Vec<Symmetry>) -> NullSpace {
-        NullSpace {
-            symmetries,
-            resolved: vec![false; n],
-            cov: DMatrix::from_element(n, n, f64::NAN),
-            null: Vec::new(),
-        }
-    }
-}
-
-/// An orthonormal basis of the span of `vectors` (Gram-Schmidt, twice per vector; a vector
-/// within 1e-6 of the span so far adds nothing).
-fn orthonormal_basis<'a>(vectors: impl Iterator<Item = &'a DVector<f64>>) -> Vec<DVector<f64>> {
-    let mut basis: Vec<DVector<f64>> = Vec::new();
-    for v in vectors {
-        let mut x = v.clone();
-        for _ in 0..2 {
-            for b in &basis {
-                let c = b.dot(&x);
-                x -= b * c;
-            }
-        }
-        if x.norm() > 1e-6 {
-            basis.push(x.normalize());
-        }
-    }
-    basis
 }
 
 /// A combination of parameters that the retraction's scaling leaves unchanged.
@@ -481,49 +433,6 @@ mod tests {
         let ok = DMatrix::from_row_slice(2, 2, &[1.0, 0.5, 0.5, 1.0]);
         let ns = symmetries(&ok, &ok, 1.0, &[f64::INFINITY; 2], &names[..2]);
         assert!(ns.symmetries.is_empty() && ns.resolved == vec![true, true]);
-    }
-
-    /// Two weak directions of nearly equal curvature that rotate into each other when the
-    /// steps are halved give `mu` and about `1/mu`: flagged by the matrices, kept as exact only
-    /// when the model confirms it (the fit's test: the chi-square along the direction).
-    #[test]
-    fn a_rotating_pair_is_exact_only_if_the_model_confirms_it() {
-        let names = vec!["a".to_string(), "b".to_string(), "c".to_string()];
-        let (e1, e2) = (1e-6, 3e-6);
-        let (c, s) = (0.8f64.cos(), 0.8f64.sin());
-        // the weak pair's eigenvectors turn by 0.8 rad between the full and the half steps
-        let pair = |c: f64, s: f64| {
-            let r = DMatrix::from_row_slice(2, 2, &[c, -s, s, c]);
-            let d = DMatrix::from_row_slice(2, 2, &[e1, 0.0, 0.0, e2]);
-            &r * d * r.transpose()
-        };
-        let embed = |m: DMatrix<f64>| {
-            let mut a = DMatrix::zeros(3, 3);
-            a.view_mut((0, 0), (2, 2)).copy_from(&m);
-            a[(2, 2)] = 1.0;
-            a
-        };
-        let full = embed(pair(1.0, 0.0));
-        let half = embed(pair(c, s));
-        let wide = [f64::INFINITY; 3];
-        let flagged = symmetries(&full, &half, 1.0, &wide, &names);
-        assert!(
-            flagged.symmetries.iter().any(|s| s.kind == "exact"),
-            "the matrices alone flag the pair: {:?}",
-            flagged.symmetries
-        );
-        let refuted = symmetries_confirmed(&full, &half, 1.0, &wide, &names, &|_: &[f64]| false);
-        assert!(
-            refuted.symmetries.iter().all(|s| s.kind != "exact"),
-            "{:?}",
-            refuted.symmetries
-        );
-        assert_eq!(refuted.resolved, vec![true, true, true]);
-        assert!(
-            (refuted.cov[(0, 0)] * e1 - 1.0).abs() < 1e-6,
-            "{}",
-            refuted.cov
-        );
     }
 
     /// A direction resolved by the differences but whose 1-sigma reaches beyond the

@@ -24,12 +24,8 @@
 
 use std::path::PathBuf;
 
-use geodesic_facility::effects::{
-    Effect, FitHints, ForceEffect, GuessContext, ParamSpec, Role, TmState,
-};
-use geodesic_facility::{Model, Scenario};
 use geodesic_fit::discover::{DiscoverOptions, discover};
-use geodesic_fit::fit::{FitOptions, FitReport, MAX_STARTS, Prepared};
+use geodesic_fit::fit::{FitOptions, FitReport, Prepared};
 use serde_json::Value;
 
 fn dir() -> PathBuf {
@@ -338,117 +334,4 @@ fn every_record_has_a_test() {
         assert!(dir().join(format!("{name}.csv")).exists(), "{name}.csv");
     }
     assert!(dir().join("generate.py").exists());
-}
-
-/// A pendulum about an offset equilibrium in the form `discover --scaffold` writes from the
-/// leading `position` term (issue 36): `F = -m (2 pi f0)^2 (x - x_eq)` on the TM. Its starts are
-/// a grid over decades of both parameters, not the record's answer.
-struct Pendulum;
-
-static PENDULUM: Pendulum = Pendulum;
-
-static PENDULUM_PARAMS: [ParamSpec; 2] = [
-    ParamSpec::log("f0", "Hz", 1.0, 0.1, 10.0),
-    ParamSpec {
-        name: "x_eq",
-        unit: "m",
-        nominal: 0.0,
-        lower: -1e-3,
-        upper: 1e-3,
-        log: false,
-        scale: 1e-5,
-    },
-];
-
-impl Effect for Pendulum {
-    fn name(&self) -> &'static str {
-        "pendulum"
-    }
-    fn scenario(&self) -> Scenario {
-        Scenario::TmmfRelease
-    }
-    fn summary(&self) -> &'static str {
-        "restoring force F = -m (2 pi f0)^2 (x - x_eq) on the TM (test)"
-    }
-    fn params(&self) -> &'static [ParamSpec] {
-        &PENDULUM_PARAMS
-    }
-    fn role(&self) -> Role<'_> {
-        Role::Force(self)
-    }
-    fn hints(&self) -> &dyn FitHints {
-        self
-    }
-}
-
-impl ForceEffect for Pendulum {
-    fn force(&self, p: &[f64], s: &TmState, _ds: &mut [f64]) -> f64 {
-        let w0 = std::f64::consts::TAU * p[0];
-        -s.m_kg * w0 * w0 * (s.x - p[1])
-    }
-}
-
-impl FitHints for Pendulum {
-    fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
-        let mut out = Vec::new();
-        for f0 in [0.5, 1.0, 2.0, 5.0] {
-            for x_eq in [-1e-4, -1e-5, 1e-5, 1e-4] {
-                out.push(vec![f0, x_eq]);
-            }
-        }
-        out
-    }
-}
-
-/// The pendulum record (1.6 Hz about an equilibrium 30 um away, 20 ms after the trigger) fitted
-/// with that effect beside the contacts: the record explained, every parameter with a sigma
-/// (no direction taken for a symmetry: forward differences took two weak ones for exact and left
-/// every parameter without one), and `f0` and `x_eq` within 3 sigma of the generator's truth.
-#[test]
-#[ignore = "minutes in the test profile: CI runs it in release"]
-fn pendulum_offset_is_resolved_by_a_pendulum_effect() {
-    let exp = expected("pendulum-offset");
-    let prep = prepared("pendulum-offset");
-    let catalogue = |n: &str| geodesic_facility::effects::by_name(n).expect("catalogue effect");
-    let model = Model::with_effects(
-        Scenario::TmmfRelease,
-        &[
-            catalogue("needle_contact"),
-            catalogue("tip_contact"),
-            &PENDULUM,
-        ],
-    )
-    .expect("model");
-    let opts = FitOptions::default();
-    let starts = geodesic_fit::fit::default_starts(&model, &prep.guess, MAX_STARTS);
-    let o = geodesic_fit::fit::fit_model(&prep, &model, &opts, &starts).expect("fit");
-    let v = serde_json::to_value(FitReport::new(&prep, &o)).expect("json");
-    eprintln!(
-        "pendulum-offset: chi2_red {}, params {}",
-        v["chi2_red"], v["params"]
-    );
-    let nu = (v["n_samples"].as_f64().unwrap() - v["n_free"].as_f64().unwrap()).max(1.0);
-    assert!(
-        v["chi2_red"].as_f64().unwrap() <= 1.0 + 5.0 * (2.0 / nu).sqrt(),
-        "chi2_red {}",
-        v["chi2_red"]
-    );
-    assert!(v["symmetries"].is_null(), "{}", v["symmetries"]);
-    for (name, p) in v["params"].as_object().unwrap() {
-        assert!(
-            p["sigma"]
-                .as_f64()
-                .is_some_and(|s| s.is_finite() && s > 0.0),
-            "{name}: {p}"
-        );
-    }
-    for (name, truth) in [("pendulum.f0", "f0"), ("pendulum.x_eq", "x_eq")] {
-        let p = &v["params"][name];
-        let (got, sigma) = (p["value"].as_f64().unwrap(), p["sigma"].as_f64().unwrap());
-        let want = exp["truth"][truth].as_f64().unwrap();
-        assert!(
-            (got - want).abs() <= 3.0 * sigma,
-            "{name}: {got} +- {sigma} against {want}"
-        );
-    }
 }

@@ -301,6 +301,17 @@ pub fn sampling_short(r: &geodesic_core::matrix::Row) -> String {
 }
 
 /// [`geodesic_core::units::fmt_num_near`], shorter to call from the writers.
+/// What a traced test asserts, for the reports' test lines: its recorded assertions joined by
+/// commas, or "nothing recorded".
+pub(crate) fn assertions_text(t: &geodesic_core::matrix::TestRef) -> String {
+    if t.assertions.is_empty() {
+        "nothing recorded".to_string()
+    } else {
+        let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
+        asserted.join(", ")
+    }
+}
+
 pub(crate) fn units_near(v: f64, limit: f64) -> String {
     geodesic_core::units::fmt_num_near(v, limit)
 }

@@ -263,7 +263,6 @@ fn traced_tests(o: &mut String, r: &Row) {
     }
     let _ = writeln!(o, "\nTraced tests (recorded results):\n");
     for t in &r.tests {
-        let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
         let _ = writeln!(
             o,
             "- `{}` ({}, `{}`): **{}**, {} case(s), asserts {}",
@@ -272,11 +271,7 @@ fn traced_tests(o: &mut String, r: &Row) {
             t.location,
             t.result.as_str(),
             t.cases,
-            if asserted.is_empty() {
-                "nothing recorded".to_string()
-            } else {
-                asserted.join(", ")
-            }
+            crate::assertions_text(t)
         );
     }
 }

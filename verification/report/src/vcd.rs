@@ -372,7 +372,6 @@ fn detail(r: &Row) -> Vec<String> {
         ));
     }
     for t in &r.tests {
-        let asserted: Vec<&str> = t.assertions.iter().map(|a| a.as_str()).collect();
         detail.push(format!(
             "test {} ({}, {}): {}, {} case(s), asserts {}",
             t.test,
@@ -380,11 +379,7 @@ fn detail(r: &Row) -> Vec<String> {
             t.location,
             t.result.as_str(),
             t.cases,
-            if asserted.is_empty() {
-                "nothing recorded".into()
-            } else {
-                asserted.join(", ")
-            }
+            crate::assertions_text(t)
         ));
     }
     detail

@@ -11,7 +11,7 @@ use super::{FitOptions, FitOutcome, STEP_RATIO_TOLERANCE, effective_sigma};
 use crate::coords::from_u;
 use crate::error::FitError;
 use crate::numeric::lm::{
-    LmOptions, fd_steps, jacobian_columns_central, minimize_with_steps, normal_equations,
+    LmOptions, fd_steps, jacobian_columns, minimize_with_steps, normal_equations,
 };
 use crate::prepare::Prepared;
 
@@ -120,68 +120,6 @@ struct Uncertainty {
     free_names: Vec<String>,
 }
 
-/// Whether the direction `w` (a unit vector in the fit's coordinates) that the step test
-/// flagged without the signature of a truncation error is flat, tried on the model itself
-/// (`crate::identify::symmetries_confirmed`). The normal matrix `a` (`J^T J` at the reported
-/// noise) predicts a chi-square rise of 1 at `s = 1 / sqrt(w^T a w)`; the residuals are
-/// evaluated at `u +- s w` (shortened to stay inside `[lo, hi]`), and the direction is flat when
-/// the rise on both sides stays under [`FLAT_RISE`]. A direction the data resolve rises by about
-/// 1 there, or more where the differences understate its curvature; two weak directions of
-/// nearly equal curvature that rotate into each other when the steps are halved are flagged by
-/// the matrices and resolved here. `r0` are the residuals at `u` (normalised by the
-/// preparation's noise; `ratio` rescales them to the reported one).
-#[allow(clippy::too_many_arguments)]
-fn flat_along<F: crate::numeric::lm::Residuals + ?Sized>(
-    f: &F,
-    u: &[f64],
-    lo: &[f64],
-    hi: &[f64],
-    r0: &[f64],
-    ratio: f64,
-    a: &DMatrix<f64>,
-    w: &[f64],
-) -> bool {
-    let n = u.len();
-    let curvature: f64 = (0..n)
-        .map(|i| (0..n).map(|j| w[i] * a[(i, j)] * w[j]).sum::<f64>())
-        .sum();
-    if !(curvature > 0.0 && curvature.is_finite()) {
-        return true;
-    }
-    let reach = |sign: f64| -> f64 {
-        let mut s = 1.0 / curvature.sqrt();
-        for k in 0..n {
-            let d = sign * w[k];
-            if d > 0.0 {
-                s = s.min((hi[k] - u[k]) / d);
-            } else if d < 0.0 {
-                s = s.min((lo[k] - u[k]) / d);
-            }
-        }
-        sign * s.max(0.0)
-    };
-    let points: Vec<Vec<f64>> = [reach(1.0), reach(-1.0)]
-        .iter()
-        .map(|s| u.iter().zip(w).map(|(x, d)| x + s * d).collect())
-        .collect();
-    let chi2 = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>() * ratio * ratio;
-    let base = chi2(r0);
-    let rise: Vec<f64> = f
-        .eval_many(&points)
-        .iter()
-        .map(|r| chi2(r) - base)
-        .collect();
-    if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-        eprintln!("null-space: along the direction, chi-square rise at +-s {rise:?}");
-    }
-    // a rise that is not a number refutes nothing
-    rise.iter().all(|r| r.is_nan() || *r < FLAT_RISE)
-}
-
-/// Chi-square rise at a direction's predicted 1-sigma under which it is flat ([`flat_along`]):
-/// a quarter of the rise of 1 that a resolved direction shows.
-const FLAT_RISE: f64 = 0.25;
-
 /// Stage "uncertainty": the noise figure, the covariance from the Jacobian (and from half the
 /// steps, the step test), the null space, the Laplace evidence's ingredients, the sigmas and
 /// correlations at the best fit `u` over `start`.
@@ -204,13 +142,13 @@ fn uncertainty(
     let r0 = pb.resid(u, start);
     let f = pb.window(start, t.len());
     let steps = fd_steps(&f, u, &r0, lo, hi, LmOptions::default().fd_step);
-    let cols = jacobian_columns_central(&f, u, &r0, lo, hi, &steps);
+    let cols = jacobian_columns(&f, u, &r0, lo, hi, &steps);
     let (jtj, _) = normal_equations(&cols, &r0);
     drop(cols);
     // the same from differences over half the steps: in a direction the data do not constrain
     // the curvature is the differences' own truncation error, and the sigma grows like 1/step
     let half: Vec<f64> = steps.iter().map(|h| h / 2.0).collect();
-    let (jtj_half, _) = normal_equations(&jacobian_columns_central(&f, u, &r0, lo, hi, &half), &r0);
+    let (jtj_half, _) = normal_equations(&jacobian_columns(&f, u, &r0, lo, hi, &half), &r0);
     let raw: Vec<f64> = data.iter().zip(&pred).map(|(d, m)| d - m).collect();
     let (sig, sigma_source) = match opts.sigma {
         Some(s) => match &prep.ar {
@@ -238,15 +176,7 @@ fn uncertainty(
     // (crate::identify); the covariance then lives on the resolved directions only
     let widths: Vec<f64> = lo.iter().zip(hi).map(|(l, h)| h - l).collect();
     let free_names: Vec<String> = fidx.iter().map(|&i| pb.names[i].clone()).collect();
-    let confirm = |w: &[f64]| flat_along(&f, u, lo, hi, &r0, ratio, &a, w);
-    let ns = crate::identify::symmetries_confirmed(
-        &a,
-        &jtj_half,
-        ratio * ratio,
-        &widths,
-        &free_names,
-        &confirm,
-    );
+    let ns = crate::identify::symmetries(&a, &jtj_half, ratio * ratio, &widths, &free_names);
     let exact_symmetry = ns.symmetries.iter().any(|s| s.kind == "exact");
     let cov = if ns.symmetries.is_empty() {
         cov

@@ -113,59 +113,6 @@ pub fn jacobian_columns<F: Residuals + ?Sized>(
     cols
 }
 
-/// Central-difference Jacobian columns of `f` at `u` (`r0 = f(u)`), with the step `h[k]` for
-/// entry `k`: `(f(u + h e_k) - f(u - h e_k)) / 2h`, one-sided (as [`jacobian_columns`]) where
-/// `u - h` or `u + h` would leave `[lo, hi]`.
-///
-/// The uncertainty stage uses it: a forward difference carries the curvature term
-/// `h/2 d2f/du2`, which along a direction the data resolve only weakly can rival the
-/// direction's own slope and move with the step, so that a weak direction looks like a symmetry
-/// (the step test of `crate::identify::symmetries` halves the steps). The central difference's
-/// error is of order `h^2 d3f/du3`: the slope of a resolved direction stays put when the step is
-/// halved, while the slope along an exact symmetry still falls with it.
-pub fn jacobian_columns_central<F: Residuals + ?Sized>(
-    f: &F,
-    u: &[f64],
-    r0: &[f64],
-    lo: &[f64],
-    hi: &[f64],
-    h: &[f64],
-) -> Vec<Vec<f64>> {
-    let n = u.len();
-    let central: Vec<bool> = (0..n)
-        .map(|k| u[k] - h[k] >= lo[k] && u[k] + h[k] <= hi[k])
-        .collect();
-    let mut points: Vec<Vec<f64>> = Vec::with_capacity(2 * n);
-    for k in 0..n {
-        let mut up = u.to_vec();
-        up[k] = u[k] + away_from_bound(u[k], h[k], lo[k], hi[k]);
-        points.push(up);
-    }
-    for k in (0..n).filter(|&k| central[k]) {
-        let mut down = u.to_vec();
-        down[k] = u[k] - h[k];
-        points.push(down);
-    }
-    let evals = f.eval_many(&points);
-    let (ups, downs) = evals.split_at(n);
-    let mut downs = downs.iter();
-    (0..n)
-        .map(|k| {
-            if central[k] {
-                let down = downs.next().expect("a backward point per central entry");
-                ups[k]
-                    .iter()
-                    .zip(down)
-                    .map(|(a, b)| (a - b) / (2.0 * h[k]))
-                    .collect()
-            } else {
-                let step = away_from_bound(u[k], h[k], lo[k], hi[k]);
-                ups[k].iter().zip(r0).map(|(a, r)| (a - r) / step).collect()
-            }
-        })
-        .collect()
-}
-
 /// `h`, or `-h` when `u + h` would cross an active upper bound.
 fn away_from_bound(u: f64, h: f64, lo: f64, hi: f64) -> f64 {
     if u + h > hi && u - h >= lo { -h } else { h }
