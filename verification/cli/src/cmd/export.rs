@@ -3,7 +3,7 @@
 
 use crate::error::{CliError, CmdResult};
 use crate::missions::load_requirements;
-use geodesic_exchange::reqif::{ExportOptions, export};
+use geodesic_exchange::reqif::{ExportDoc, ExportOptions, export};
 use geodesic_exchange::status::StatusSet;
 use std::path::{Path, PathBuf};
 
@@ -86,27 +86,20 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     };
     let time = geodesic_verify::harness::creation_time()?;
     let tool = format!("geodesic {}", env!("CARGO_PKG_VERSION"));
-    let doc = export(
-        &reqs,
-        &ExportOptions {
-            creation_time: &time,
-            tool_version: &tool,
-            status: status.as_ref(),
-        },
-    );
+    let opts = ExportOptions {
+        creation_time: &time,
+        tool_version: &tool,
+        status: status.as_ref(),
+    };
+    let doc = export(&reqs, &opts);
     write_whole(&a.out, doc.as_bytes())?;
     let relations = reqs.items.iter().filter(|r| r.parent.is_some()).count();
     if a.json {
-        let v = serde_json::json!({
-            "out": a.out.display().to_string(),
-            "requirements_source": source,
-            "requirements": reqs.items.len(),
-            "relations": relations,
-            "with_status": status.is_some(),
-            "creation_time": time,
-            "sha256": geodesic_core::hash::sha256_hex(doc.as_bytes()),
-        });
-        println!("{v}");
+        println!(
+            "{}",
+            serde_json::to_string(&ExportDoc::new(&reqs, &doc, &a.out, &source, &opts))
+                .map_err(|e| CliError::Io(e.to_string()))?
+        );
     } else {
         println!(
             "wrote {} ({} requirements from {source}, {relations} derivations{})",
