@@ -5,7 +5,7 @@ use crate::error::{CliError, CmdResult};
 use crate::missions::load_requirements;
 use geodesic_exchange::reqif::{ExportDoc, ExportOptions, export};
 use geodesic_exchange::status::StatusSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Flags of `geodesic export`.
 #[derive(clap::Args, Debug)]
@@ -50,19 +50,6 @@ pub struct ReqifArgs {
     pub json: bool,
 }
 
-/// Writes `bytes` to `path` whole or not at all ([`geodesic_util::output::write_atomic`]),
-/// creating its folder first.
-pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir)
-        .map_err(|e| CliError::Io(format!("{}: cannot create directory: {e}", dir.display())))?;
-    geodesic_util::output::write_atomic(path, bytes)?;
-    Ok(())
-}
-
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     match args.format {
@@ -92,7 +79,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         status: status.as_ref(),
     };
     let doc = export(&reqs, &opts);
-    write_whole(&a.out, doc.as_bytes())?;
+    geodesic_util::output::write_whole(&a.out, doc.as_bytes())?;
     let relations = reqs.items.iter().filter(|r| r.parent.is_some()).count();
     if a.json {
         println!(
