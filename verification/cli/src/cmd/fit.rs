@@ -8,7 +8,7 @@ use geodesic_fit::summary::summary;
 use geodesic_fit::{FitOptions, FitReport};
 
 use crate::error::{CliError, CmdResult};
-use crate::fitting::{effect_list, fits_dir, load, options, outputs, warn};
+use crate::fitting::{fits_dir, load, outputs, warn};
 
 /// Flags of `geodesic fit` (shared with `geodesic diagnose`).
 pub use crate::fitting::FitArgs as Args;
@@ -43,9 +43,9 @@ pub fn run(args: Args) -> CmdResult {
             args.posterior_steps
         )));
     }
-    let opts = options(&args.fix, &args.bound)?;
+    let opts = args.model.options()?;
     let prep = load(&args.dataset, args.strict)?;
-    let effects = effect_list(&args.effects);
+    let effects = args.model.effects();
     let opts = FitOptions {
         profile: true,
         ..opts
