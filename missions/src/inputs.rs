@@ -129,12 +129,6 @@ pub fn announce(json: bool, input: ModelInput, f: &InputFile) {
     }
 }
 
-/// The JSON of one resolved input: `{"label", "sha256", "origin"}` (the fields of verify's
-/// `run.inputs`).
-pub fn json(f: &InputFile) -> serde_json::Value {
-    serde_json::to_value(f).unwrap_or(serde_json::Value::Null)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

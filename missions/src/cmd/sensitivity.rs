@@ -6,8 +6,9 @@
 
 use crate::error::{CliError, CmdResult};
 use crate::threads::{check_threads, with_threads};
+use geodesic_core::check::{InputFile, InputOrigin};
 use geodesic_release::sensitivity::{release_groups, release_sensitivity};
-use serde_json::json;
+use serde::Serialize;
 use std::path::PathBuf;
 
 /// Flags of `geodesic sensitivity`.
@@ -61,23 +62,29 @@ pub fn run(args: Args) -> CmdResult {
     task.finish();
     let r = r?;
     if args.json {
-        let doc = json!({
-            "n": r.n,
-            "seed": r.seed,
-            "output": "|v_TM| [um/s]",
-            "inputs": {"budget": crate::inputs::json(&budget_file)},
-            "p9973_um_s": r.p9973_um_s,
-            "variance_um2_s2": r.variance_um2_s2,
-            "sum_first": r.groups.iter().map(|(g, _)| g.first).sum::<f64>(),
-            "groups": r.groups.iter().map(|(g, shift)| json!({
-                "group": g.group,
-                "first": g.first,
-                "first_ci": g.first_ci,
-                "total": g.total,
-                "total_ci": g.total_ci,
-                "p9973_shift_um_s": shift,
-            })).collect::<Vec<_>>(),
-        });
+        let doc = SensitivityDoc {
+            groups: r
+                .groups
+                .iter()
+                .map(|(g, shift)| GroupDoc {
+                    first: g.first,
+                    first_ci: g.first_ci,
+                    group: g.group.clone(),
+                    p9973_shift_um_s: *shift,
+                    total: g.total,
+                    total_ci: g.total_ci,
+                })
+                .collect(),
+            inputs: SensitivityInputs {
+                budget: InputDoc::of(&budget_file),
+            },
+            n: r.n,
+            output: "|v_TM| [um/s]".to_string(),
+            p9973_um_s: r.p9973_um_s,
+            seed: r.seed,
+            sum_first: r.groups.iter().map(|(g, _)| g.first).sum::<f64>(),
+            variance_um2_s2: r.variance_um2_s2,
+        };
         println!(
             "{}",
             serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?
@@ -113,4 +120,73 @@ pub fn run(args: Args) -> CmdResult {
         r.groups.iter().map(|(g, _)| g.first).sum::<f64>()
     );
     Ok(0)
+}
+
+/// The JSON document of `geodesic sensitivity --json` (interface.md). Fields are declared in
+/// byte order of their keys, the order the document has always printed.
+#[derive(Debug, Clone, Serialize)]
+pub struct SensitivityDoc {
+    /// Sobol indices per input group.
+    pub groups: Vec<GroupDoc>,
+    /// The model inputs read.
+    pub inputs: SensitivityInputs,
+    /// Base sample size of the Sobol design.
+    pub n: usize,
+    /// The output analysed and its unit (`|v_TM| [um/s]`).
+    pub output: String,
+    /// 99.73rd percentile of the output [um/s].
+    pub p9973_um_s: f64,
+    /// Seed of the design.
+    pub seed: u64,
+    /// Sum of the first-order indices (dimensionless).
+    pub sum_first: f64,
+    /// Variance of the output [um^2/s^2].
+    pub variance_um2_s2: f64,
+}
+
+/// One group of [`SensitivityDoc`], in byte order of its keys.
+#[derive(Debug, Clone, Serialize)]
+pub struct GroupDoc {
+    /// First-order Sobol index (dimensionless).
+    pub first: f64,
+    /// Its 95 % confidence interval: low, high.
+    pub first_ci: [f64; 2],
+    /// The group's name.
+    pub group: String,
+    /// Shift of the output's 99.73rd percentile when the group is frozen [um/s].
+    pub p9973_shift_um_s: f64,
+    /// Total Sobol index (dimensionless).
+    pub total: f64,
+    /// Its 95 % confidence interval: low, high.
+    pub total_ci: [f64; 2],
+}
+
+/// The inputs of [`SensitivityDoc`].
+#[derive(Debug, Clone, Serialize)]
+pub struct SensitivityInputs {
+    /// The release budget read.
+    pub budget: InputDoc,
+}
+
+/// A model input file as the JSON documents name it, in byte order of its keys.
+#[derive(Debug, Clone, Serialize)]
+pub struct InputDoc {
+    /// Path as given (or `<built-in>/...` for the copy embedded in the binary).
+    pub label: String,
+    /// Where it was resolved from; absent for a file read otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub origin: Option<InputOrigin>,
+    /// SHA-256 of the file's bytes, lower-case hex.
+    pub sha256: String,
+}
+
+impl InputDoc {
+    /// The document of input file `f`.
+    pub fn of(f: &InputFile) -> InputDoc {
+        InputDoc {
+            label: f.label.clone(),
+            origin: f.origin,
+            sha256: f.sha256.clone(),
+        }
+    }
 }

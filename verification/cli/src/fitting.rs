@@ -10,20 +10,42 @@ use geodesic_fit::{Dataset, FitOptions, FitReport, Prepared, history, plot};
 
 use crate::error::CliError;
 
+/// The model flags of `fit`, `diagnose`, `discover` and `campaign`: one declaration, one help
+/// text (flattened into each command's flags).
+#[derive(clap::Args, Debug)]
+pub struct ModelArgs {
+    /// Effects of the model, comma separated (e.g. needle_contact,tip_contact; `geodesic
+    /// effects` lists them).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub effects: Vec<String>,
+    /// Hold a parameter fixed: effect.param=VALUE (SI or with a unit), repeatable.
+    #[arg(long = "fix", value_name = "NAME=VALUE")]
+    pub fix: Vec<String>,
+    /// Bound a parameter: effect.param=LO:HI (SI or with a unit), repeatable.
+    #[arg(long = "bound", value_name = "NAME=LO:HI")]
+    pub bound: Vec<String>,
+}
+
+impl ModelArgs {
+    /// The effect names of `--effects` ([`effect_list`]).
+    pub fn effects(&self) -> Vec<&str> {
+        effect_list(&self.effects)
+    }
+
+    /// The fit options of `--fix` and `--bound` ([`options`]).
+    pub fn options(&self) -> Result<FitOptions, CliError> {
+        options(&self.fix, &self.bound)
+    }
+}
+
 /// Flags of `geodesic fit` and `geodesic diagnose` (the model to start from).
 #[derive(clap::Args, Debug)]
 pub struct FitArgs {
     /// Dataset YAML: `channels`, `known`, `scenario` and a CSV beside it (docs/spec/interface.md in the repository).
     pub dataset: PathBuf,
-    /// Effects of the model, comma separated (e.g. needle_contact,tip_contact).
-    #[arg(long, value_delimiter = ',', required = true)]
-    pub effects: Vec<String>,
-    /// Hold a parameter fixed: effect.param=VALUE (SI), repeatable.
-    #[arg(long = "fix", value_name = "NAME=VALUE")]
-    pub fix: Vec<String>,
-    /// Bound a parameter: effect.param=LO:HI (SI), repeatable.
-    #[arg(long = "bound", value_name = "NAME=LO:HI")]
-    pub bound: Vec<String>,
+    /// The model: --effects, --fix, --bound.
+    #[command(flatten)]
+    pub model: ModelArgs,
     /// Reports folder, as for `verify`: the SVG and the history go into DIR/fits/.
     #[arg(long, value_name = "DIR", default_value = "reports")]
     pub reports: PathBuf,

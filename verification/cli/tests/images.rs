@@ -37,6 +37,18 @@ fn tiptrack_recovers_the_example_trajectory() {
         String::from_utf8_lossy(&out.stderr)
     );
     let doc = json_of(&out);
+    // the document is geodesic_images::tiptrack::TiptrackDoc, its keys printed in byte order
+    let typed: geodesic_images::tiptrack::TiptrackDoc =
+        serde_json::from_slice(&out.stdout).unwrap();
+    let printed = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        printed.trim_end(),
+        serde_json::to_string_pretty(&typed).unwrap()
+    );
+    assert_eq!(
+        printed.trim_end(),
+        serde_json::to_string_pretty(&doc).unwrap()
+    );
     let truth: Value =
         serde_json::from_str(&std::fs::read_to_string(ws.join("data/camera/truth.json")).unwrap())
             .unwrap();

@@ -585,6 +585,39 @@ impl Default for TruePopulation {
     }
 }
 
+/// The truth of a synthetic campaign, `DIR/truth.json` of `geodesic synth --campaign N`: the
+/// population drawn from and each release's drawn values. Fields are declared in byte order of
+/// their keys, the order the file has always had.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct CampaignTruth {
+    /// The population the releases were drawn from.
+    pub population: TruePopulation,
+    /// Each release, in campaign order.
+    pub releases: Vec<ReleaseTruth>,
+    /// The campaign's seed (`--seed`).
+    pub seed: u64,
+}
+
+/// One release of [`CampaignTruth`] ([`draw_release`]), in byte order of its keys.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ReleaseTruth {
+    /// The release's YAML, in the campaign's folder (`release-001.yaml`).
+    pub file: String,
+    /// Needle preload [N].
+    #[serde(rename = "needle_contact.F_pre")]
+    pub f_pre_n: f64,
+    /// 1-sigma white noise of channel x [m].
+    pub noise_x_m: f64,
+    /// Adhesion strength A1 [N/m].
+    #[serde(rename = "tip_adhesion.A1")]
+    pub a1_n_m: f64,
+    /// Adhesion length lambda [m].
+    #[serde(rename = "tip_adhesion.lambda")]
+    pub lambda_m: f64,
+    /// Tip retraction speed [m/s].
+    pub tip_speed_m_s: f64,
+}
+
 /// Draws release `i` of a synthetic campaign: (A1, lambda, preload F_pre [N], tip speed [m/s],
 /// noise [m]).
 pub fn draw_release(pop: &TruePopulation, seed: u64, i: u64) -> (f64, f64, f64, f64, f64) {
@@ -609,6 +642,40 @@ pub fn draw_release(pop: &TruePopulation, seed: u64, i: u64) -> (f64, f64, f64, 
 mod tests {
     use super::*;
     use rand_distr::{Distribution, StandardNormal};
+
+    #[test]
+    fn campaign_truth_prints_its_keys_in_byte_order_and_reads_back() {
+        let pop = TruePopulation::default();
+        let (a1, lambda, f_pre, v, noise) = draw_release(&pop, 5, 0);
+        let truth = CampaignTruth {
+            population: pop,
+            releases: vec![ReleaseTruth {
+                file: "release-001.yaml".into(),
+                f_pre_n: f_pre,
+                noise_x_m: noise,
+                a1_n_m: a1,
+                lambda_m: lambda,
+                tip_speed_m_s: v,
+            }],
+            seed: 5,
+        };
+        let printed = serde_json::to_string_pretty(&truth).unwrap();
+        let sorted = serde_json::to_string_pretty(&serde_json::to_value(&truth).unwrap()).unwrap();
+        assert_eq!(printed, sorted);
+        for key in [
+            "needle_contact.F_pre",
+            "noise_x_m",
+            "tip_adhesion.A1",
+            "tip_adhesion.lambda",
+            "tip_speed_m_s",
+        ] {
+            assert!(printed.contains(&format!("\"{key}\"")), "{key}");
+        }
+        assert_eq!(
+            serde_json::from_str::<CampaignTruth>(&printed).unwrap(),
+            truth
+        );
+    }
 
     /// `k` campaigns of `n` releases whose (A1, lambda) come from a population with correlation
     /// `rho`, each estimate off by a measurement error as large as half the population spread

@@ -46,20 +46,14 @@ impl FitError {
     }
 }
 
-/// Writes `bytes` to `path` whole or not at all (a temporary file beside it, then a rename;
-/// the temporary file is removed on failure or interruption: `geodesic_core::output`). Creates
-/// the folder if needed.
+/// Writes `bytes` to `path` whole or not at all, creating the folder if needed
+/// ([`geodesic_core::output::write_whole`]: a temporary file beside it, then a rename; the
+/// temporary file is removed on failure or interruption).
 pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> Result<(), FitError> {
-    let werr = |e: String| FitError::Write {
-        path: path.display().to_string(),
-        cause: e,
-    };
-    if let Some(dir) = path.parent()
-        && !dir.as_os_str().is_empty()
-    {
-        std::fs::create_dir_all(dir).map_err(|e| werr(e.to_string()))?;
-    }
-    geodesic_core::output::write_atomic(path, bytes)
+    geodesic_core::output::write_whole(path, bytes)
         .map(|_| ())
-        .map_err(|e| werr(e.cause))
+        .map_err(|e| FitError::Write {
+            path: path.display().to_string(),
+            cause: e.cause,
+        })
 }

@@ -67,6 +67,58 @@ impl Entry {
     }
 }
 
+/// The JSON document of `geodesic history --json` (interface.md). Fields are declared in byte
+/// order of their keys, the order the document has always printed.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct HistoryDoc {
+    /// The dataset's stem.
+    pub dataset: String,
+    /// The history's entries, oldest first.
+    pub entries: Vec<EntryDoc>,
+    /// The history file (JSON lines).
+    pub history: String,
+    /// The history plot written.
+    pub svg: String,
+}
+
+/// An [`Entry`] as `geodesic history --json` prints it: the same fields, declared in byte
+/// order of their keys (the history file keeps [`Entry`]'s own order).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct EntryDoc {
+    /// BIC (dimensionless).
+    pub bic: f64,
+    /// Reduced chi-square (dimensionless).
+    pub chi2_red: f64,
+    /// Dataset YAML file name.
+    pub dataset: String,
+    /// The model's effects.
+    pub effects: Vec<String>,
+    /// Free parameters.
+    pub n_free: usize,
+    /// RMS of the measurement noise over the fitted channels [SI]; absent when not kept.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise_rms: Option<f64>,
+    /// Total RMS over the fitted channels [SI].
+    pub rms: f64,
+    /// 1-based version number (order of the fits).
+    pub version: usize,
+}
+
+impl From<Entry> for EntryDoc {
+    fn from(e: Entry) -> EntryDoc {
+        EntryDoc {
+            bic: e.bic,
+            chi2_red: e.chi2_red,
+            dataset: e.dataset,
+            effects: e.effects,
+            n_free: e.n_free,
+            noise_rms: e.noise_rms,
+            rms: e.rms,
+            version: e.version,
+        }
+    }
+}
+
 /// Path of the history file of a dataset stem.
 pub fn path_for(out_dir: &Path, stem: &str) -> PathBuf {
     out_dir.join(format!("{stem}.history.jsonl"))

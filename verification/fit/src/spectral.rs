@@ -344,6 +344,70 @@ pub struct Judgement {
     pub judged_hz: [f64; 2],
 }
 
+/// The JSON document of `geodesic asd` (interface.md): a series' amplitude spectral density
+/// judged against a spectral requirement. Fields are declared in byte order of their keys, the
+/// order the document has always printed. "the unit" below is `unit`, the requirement's
+/// limit unit (an ASD unit, per sqrt(Hz)).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct AsdDoc {
+    /// The ASD per frequency bin, in the unit.
+    pub asd: Vec<f64>,
+    /// The ASD at the worst bin, in the unit.
+    pub asd_at_worst: f64,
+    /// Upper bound of the 95 % interval of each bin's ASD, in the unit.
+    pub asd_hi95: Vec<f64>,
+    /// Lower bound of the 95 % interval of each bin's ASD, in the unit.
+    pub asd_lo95: Vec<f64>,
+    /// The requirement's band [Hz]: low, high.
+    pub band_hz: [f64; 2],
+    /// Frequency bins judged in the band.
+    pub bins_judged: usize,
+    /// Degrees of freedom per ASD bin (dimensionless).
+    pub dof_per_bin: f64,
+    /// Frequency of each bin [Hz].
+    pub f_hz: Vec<f64>,
+    /// The frequency range judged [Hz]: low, high.
+    pub judged_hz: [f64; 2],
+    /// The requirement's limit, as written.
+    pub limit: String,
+    /// The limit's shape at the worst bin, in the unit.
+    pub limit_at_worst: f64,
+    /// 1 - worst_ratio (dimensionless; negative when the limit is exceeded).
+    pub margin: f64,
+    /// Whether the requirement is met.
+    pub met: bool,
+    /// Samples per Welch segment.
+    pub nperseg: usize,
+    /// Overlap of the Welch segments (fraction, dimensionless).
+    pub overlap: f64,
+    /// The requirement's ID.
+    pub requirement: String,
+    /// Sample rate of the series [Hz].
+    pub sample_rate_hz: f64,
+    /// Samples in the series.
+    pub samples: usize,
+    /// Welch segments averaged.
+    pub segments: usize,
+    /// The series file, as given on the command line.
+    pub series: String,
+    /// The limit's spectral shape, as written.
+    pub shape: String,
+    /// Symbol of the unit.
+    pub unit: String,
+    /// The worst ratio referred to the limit's level, in the unit.
+    pub value_referred_to_level: f64,
+    /// The Welch window's name.
+    pub window: String,
+    /// Frequency of the worst bin [Hz].
+    pub worst_frequency_hz: f64,
+    /// Frequency of the worst bin of the upper 95 % bound [Hz].
+    pub worst_frequency_upper95_hz: f64,
+    /// Worst ratio of ASD to limit over the judged bins (dimensionless).
+    pub worst_ratio: f64,
+    /// Worst ratio of the upper 95 % ASD bound to the limit (dimensionless).
+    pub worst_ratio_upper95: f64,
+}
+
 /// Judges `asd` against `level x shape(f)` over the spectrum's band (bins from 1 up).
 pub fn judge(asd: &Asd, spectrum: &Spectrum, level_si: f64) -> Result<Judgement, String> {
     let nyq = asd.fs_hz / 2.0;

@@ -159,22 +159,11 @@ fn diagnostic_lines(r: &FitReport) -> String {
 fn posterior_lines(r: &FitReport) -> String {
     let mut s = String::new();
     if let Some(post) = &r.posterior {
-        let how = match r
-            .posterior_method
-            .as_ref()
-            .and_then(|m| m.get("method"))
-            .and_then(|m| m.as_str())
-        {
-            Some("ensemble") => {
-                let m = r.posterior_method.as_ref().expect("method");
-                format!(
-                    "sampled: {} walkers x {} steps, acceptance {:.2}; corner plot {}",
-                    m["walkers"],
-                    m["steps"],
-                    m["acceptance"].as_f64().unwrap_or(f64::NAN),
-                    m["corner_svg"].as_str().unwrap_or("-")
-                )
-            }
+        let how = match &r.posterior_method {
+            Some(crate::report::PosteriorMethod::Ensemble(m)) => format!(
+                "sampled: {} walkers x {} steps, acceptance {:.2}; corner plot {}",
+                m.walkers, m.steps, m.acceptance, m.corner_svg
+            ),
             _ => "Laplace at the best fit".to_string(),
         };
         s += &format!("  posterior ({how}; flat priors on the range): median [68 %] [95 %]\n");

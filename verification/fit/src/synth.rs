@@ -314,6 +314,63 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
     })
 }
 
+/// The JSON document of `geodesic synth --json` (docs/spec/interface.md). Fields are declared
+/// in byte order of their keys, the order the document has always printed.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct SynthDoc {
+    /// The CSV written (the record's samples).
+    pub csv: String,
+    /// Samples (rows) in the record.
+    pub rows: usize,
+    /// The spec synthesised (units as in [`SynthSpec`]). Printed with its keys in byte order,
+    /// as the document always has; the truth file holds the same spec in declaration order.
+    #[serde(serialize_with = "keys_in_byte_order")]
+    pub spec: SynthSpec,
+    /// The truth JSON written (the spec).
+    pub truth: String,
+    /// The record's YAML written.
+    pub yaml: String,
+}
+
+impl SynthDoc {
+    /// The document of `ds` synthesised from `spec` and written as `files` ([`write`]: YAML,
+    /// CSV, truth).
+    pub fn new(ds: &Dataset, spec: &SynthSpec, files: &[PathBuf]) -> SynthDoc {
+        let name = |i: usize| {
+            files
+                .get(i)
+                .map(|f| f.display().to_string())
+                .unwrap_or_default()
+        };
+        SynthDoc {
+            csv: name(1),
+            rows: ds.t.len(),
+            spec: spec.clone(),
+            truth: name(2),
+            yaml: name(0),
+        }
+    }
+}
+
+/// Serialises `v` with the keys of every object in byte order (through a `serde_json::Value`,
+/// whose maps are sorted): a struct's own order is its declaration order.
+fn keys_in_byte_order<T: Serialize, S: serde::Serializer>(v: &T, s: S) -> Result<S::Ok, S::Error> {
+    serde_json::to_value(v)
+        .map_err(serde::ser::Error::custom)?
+        .serialize(s)
+}
+
+/// The JSON document of `geodesic synth --campaign N --json`, in byte order of its keys.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Eq)]
+pub struct SynthCampaignDoc {
+    /// The campaign file written (`DIR/campaign.yaml`, the list of releases).
+    pub campaign: String,
+    /// Releases written.
+    pub releases: usize,
+    /// The campaign's truth written (`DIR/truth.json`, [`crate::campaign::CampaignTruth`]).
+    pub truth: String,
+}
+
 /// Writes `ds` as `yaml_path` + CSV beside it (+ `.truth.json` with the spec), each atomically.
 pub fn write(ds: &Dataset, spec: &SynthSpec, yaml_path: &Path) -> Result<Vec<PathBuf>, FitError> {
     let stem = yaml_path
@@ -376,6 +433,43 @@ pub fn write(ds: &Dataset, spec: &SynthSpec, yaml_path: &Path) -> Result<Vec<Pat
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn synth_doc_prints_its_keys_in_byte_order_and_reads_back() {
+        let mut spec = SynthSpec::defaults(Scenario::TmmfRelease, &["needle_contact"]);
+        spec.noise_ar.insert("x".into(), 0.5);
+        spec.params.insert("needle_contact.F_pre".into(), 6e-3);
+        let doc = SynthDoc {
+            csv: "s.csv".into(),
+            rows: 3,
+            spec: spec.clone(),
+            truth: "s.truth.json".into(),
+            yaml: "s.yaml".into(),
+        };
+        let printed = serde_json::to_string(&doc).unwrap();
+        // every object's keys sorted, the spec's included (noise_ar before noise_in_yaml)
+        assert_eq!(printed, serde_json::to_value(&doc).unwrap().to_string());
+        assert!(printed.contains(r#""spec":{"effects":["needle_contact"],"fs_hz""#));
+        assert!(printed.contains(r#""noise_ar":{"x":0.5},"noise_in_yaml":true"#));
+        // the truth file keeps the spec's declaration order
+        assert!(
+            serde_json::to_string(&spec)
+                .unwrap()
+                .starts_with(r#"{"scenario""#)
+        );
+        assert_eq!(serde_json::from_str::<SynthDoc>(&printed).unwrap(), doc);
+        let camp = SynthCampaignDoc {
+            campaign: "c/campaign.yaml".into(),
+            releases: 2,
+            truth: "c/truth.json".into(),
+        };
+        let printed = serde_json::to_string(&camp).unwrap();
+        assert_eq!(printed, serde_json::to_value(&camp).unwrap().to_string());
+        assert_eq!(
+            serde_json::from_str::<SynthCampaignDoc>(&printed).unwrap(),
+            camp
+        );
+    }
 
     #[test]
     fn refuses_specs_the_loader_would_refuse() {

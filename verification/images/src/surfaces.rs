@@ -33,7 +33,7 @@
 //!   reported as the thesis reports it, a statement about the two distributions' difference.
 
 use crate::{ImageError, positive, yaml_error};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// A height map and its user-picked points.
@@ -295,6 +295,72 @@ pub struct Registration {
     pub difference: Vec<f64>,
     /// Rows and columns of the difference map.
     pub shape: [usize; 2],
+}
+
+/// The JSON document of `geodesic surfaces` (interface.md): the registration of AFTER on BEFORE.
+/// Fields are declared in byte order of their keys, the order the document has always printed.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SurfacesDoc {
+    /// The AFTER map's YAML, as given on the command line.
+    pub after: String,
+    /// The BEFORE map's YAML, as given on the command line.
+    pub before: String,
+    /// Threshold of a changed point [m] (5 noise).
+    pub change_threshold_m: f64,
+    /// Changed area [m^2].
+    pub changed_area_m2: f64,
+    /// Points compared in the difference map.
+    pub compared_points: usize,
+    /// Asymptotic p-value of the two-sample Kolmogorov-Smirnov test (dimensionless).
+    pub ks_p: f64,
+    /// Two-sample Kolmogorov-Smirnov statistic (dimensionless).
+    pub ks_statistic: f64,
+    /// Robust noise of the difference map [m].
+    pub noise_m: f64,
+    /// Height offset AFTER - BEFORE removed [m].
+    pub offset_m: f64,
+    /// BEFORE's pixel size [m].
+    pub pixel_m: f64,
+    /// RMS of the valley differences about their mean at the optimum [m].
+    pub rms_m: f64,
+    /// Rotation of AFTER's content about BEFORE's centre [rad].
+    pub rotation_rad: f64,
+    /// Where AFTER's content lies relative to BEFORE [m]: along columns, along rows.
+    pub shift_m: [f64; 2],
+    /// Start rotation of the search [rad].
+    pub start_rotation_rad: f64,
+    /// Start shift of the search from the picked points [m]: along columns, along rows.
+    pub start_shift_m: [f64; 2],
+    /// The valley threshold used [m].
+    pub valley_below_m: f64,
+    /// Valley points in the cost at the optimum.
+    pub valley_points: usize,
+}
+
+impl SurfacesDoc {
+    /// The document of registration `r` of maps `before` -> `after` (their YAML paths as
+    /// given), BEFORE's pixel size `pixel_m` [m].
+    pub fn new(before: &Path, after: &Path, pixel_m: f64, r: &Registration) -> SurfacesDoc {
+        SurfacesDoc {
+            after: after.display().to_string(),
+            before: before.display().to_string(),
+            change_threshold_m: r.change_threshold_m,
+            changed_area_m2: r.changed_area_m2,
+            compared_points: r.compared_points,
+            ks_p: r.ks_p,
+            ks_statistic: r.ks_statistic,
+            noise_m: r.noise_m,
+            offset_m: r.offset_m,
+            pixel_m,
+            rms_m: r.rms_m,
+            rotation_rad: r.rotation_rad,
+            shift_m: r.shift_m,
+            start_rotation_rad: r.start_rotation_rad,
+            start_shift_m: r.start_shift_m,
+            valley_below_m: r.valley_below_m,
+            valley_points: r.valley_points,
+        }
+    }
 }
 
 struct Problem<'a> {

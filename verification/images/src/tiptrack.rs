@@ -297,6 +297,94 @@ pub fn run(file: &Path) -> Result<(Config, Trajectory), ImageError> {
     Ok((cfg, tr))
 }
 
+/// The JSON document of `geodesic tiptrack --json`, also written to
+/// `DIR/images/STEM.tiptrack.json` (docs/spec/interface.md). Fields are declared in byte order
+/// of their keys, the order the document has always printed; a frame where a coordinate was
+/// not found has `null` there.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, Deserialize)]
+pub struct TiptrackDoc {
+    /// Frame rate [Hz].
+    pub fps: f64,
+    /// The frame sequence's YAML, as given on the command line.
+    pub frames_yaml: String,
+    /// Offset of the vertical line from `x` [pixels] (the thesis's Delta).
+    pub offset_px: f64,
+    /// Pixel size [m].
+    pub pixel_m: f64,
+    /// Spread of x across thresholds, per frame [m].
+    pub sigma_x_m: Vec<Option<f64>>,
+    /// Spread of z across thresholds, per frame [m].
+    pub sigma_z_m: Vec<Option<f64>>,
+    /// Time of each frame [s].
+    pub t_s: Vec<f64>,
+    /// Gray levels of the threshold crossings.
+    pub thresholds: Vec<f64>,
+    /// The validity criterion's verdict; `null` when the YAML states no criterion.
+    pub validity: Option<ValidityDoc>,
+    /// Frames (index) without any crossing, and why.
+    pub warnings: Vec<String>,
+    /// Tip x from the left edge, per frame [m].
+    pub x_m: Vec<Option<f64>>,
+    /// Tip z (upper boundary) above the bottom edge, per frame [m].
+    pub z_m: Vec<Option<f64>>,
+}
+
+/// The verdict of [`TiptrackDoc::validity`], in byte order of its keys.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, Deserialize)]
+pub struct ValidityDoc {
+    /// Where the largest shear occurs [s].
+    pub at_s: f64,
+    /// Frames with a z inside the window.
+    pub frames: usize,
+    /// Largest accepted shear (z) excursion [m].
+    pub max_shear_m: f64,
+    /// Largest `|z(t) - z(0)|` within the window [m].
+    pub shear_m: f64,
+    /// Whether the test is valid (`shear_m <= max_shear_m`).
+    pub valid: bool,
+    /// Window from the first frame [s].
+    pub window_s: f64,
+}
+
+impl From<ValidityResult> for ValidityDoc {
+    fn from(r: ValidityResult) -> ValidityDoc {
+        ValidityDoc {
+            at_s: r.at_s,
+            frames: r.frames,
+            max_shear_m: r.criterion.max_shear_m,
+            shear_m: r.shear_m,
+            valid: r.valid,
+            window_s: r.criterion.window_s,
+        }
+    }
+}
+
+impl TiptrackDoc {
+    /// The document of trajectory `tr` tracked from `frames_yaml` with `cfg`, and the
+    /// validity `verdict` ([`judge`]) when the YAML states a criterion.
+    pub fn new(
+        frames_yaml: &Path,
+        cfg: &Config,
+        tr: &Trajectory,
+        verdict: Option<ValidityResult>,
+    ) -> TiptrackDoc {
+        TiptrackDoc {
+            fps: cfg.fps,
+            frames_yaml: frames_yaml.display().to_string(),
+            offset_px: cfg.offset_px,
+            pixel_m: cfg.pixel_m,
+            sigma_x_m: tr.sigma_x_m.clone(),
+            sigma_z_m: tr.sigma_z_m.clone(),
+            t_s: tr.t_s.clone(),
+            thresholds: cfg.thresholds.clone(),
+            validity: verdict.map(ValidityDoc::from),
+            warnings: tr.warnings.clone(),
+            x_m: tr.x_m.clone(),
+            z_m: tr.z_m.clone(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -150,8 +150,18 @@ impl Drop for PendingFile {
 }
 
 /// Writes `bytes` to `path` whole or not at all (a temporary file beside it, then a rename).
+/// The folder must exist ([`write_whole`] creates it).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<PathBuf, WriteError> {
     PendingFile::prepare(path, bytes)?.commit()
+}
+
+/// Writes `bytes` to `path` whole or not at all ([`write_atomic`]), creating its folder first
+/// if it is missing (an output whose folder a command creates: `--out a/b/FILE`).
+pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<PathBuf, WriteError> {
+    let dir = parent_of(path);
+    std::fs::create_dir_all(dir)
+        .map_err(|e| WriteError::new(dir, format!("cannot create directory: {e}")))?;
+    write_atomic(path, bytes)
 }
 
 #[cfg(test)]
@@ -175,6 +185,20 @@ mod tests {
         write_atomic(&p, b"new").unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"new");
         assert!(leftovers(d.path()).is_empty());
+    }
+
+    #[test]
+    fn write_whole_creates_the_folder_and_refuses_a_file_in_its_way() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("a/b/out.reqif");
+        write_whole(&p, b"new").unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"new");
+        assert!(leftovers(&d.path().join("a/b")).is_empty());
+        // a file where the folder should be: one line naming it, nothing written
+        std::fs::write(d.path().join("f"), b"x").unwrap();
+        let e = write_whole(&d.path().join("f/out.reqif"), b"x").unwrap_err();
+        assert!(e.path.ends_with("f"), "{e}");
+        assert!(e.cause.starts_with("cannot create directory: "), "{e}");
     }
 
     #[test]

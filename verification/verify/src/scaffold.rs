@@ -6,6 +6,26 @@
 use crate::error::Error;
 use std::path::{Path, PathBuf};
 
+/// The JSON document of `geodesic new mission --json`. Fields are declared in byte order of
+/// their keys, the order the document has always printed.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct NewMissionDoc {
+    /// The files written, in the order [`write`] returns them (paths under `path`).
+    pub files: Vec<String>,
+    /// The project's folder, as given (`--path`).
+    pub path: String,
+}
+
+impl NewMissionDoc {
+    /// The document of the project written into `path` as `files`.
+    pub fn new(path: &Path, files: &[PathBuf]) -> NewMissionDoc {
+        NewMissionDoc {
+            files: files.iter().map(|f| f.display().to_string()).collect(),
+            path: path.display().to_string(),
+        }
+    }
+}
+
 /// What to generate.
 #[derive(Clone, Debug)]
 pub struct NewMission {
@@ -364,6 +384,20 @@ again: the verdict moves.
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn new_mission_doc_prints_its_keys_in_byte_order_and_reads_back() {
+        let dir = std::path::Path::new("../widget");
+        let doc = super::NewMissionDoc::new(dir, &[dir.join("Cargo.toml"), dir.join("src/lib.rs")]);
+        let printed = serde_json::to_string_pretty(&doc).unwrap();
+        let sorted = serde_json::to_string_pretty(&serde_json::to_value(&doc).unwrap()).unwrap();
+        assert_eq!(printed, sorted);
+        assert_eq!(doc.files[1], "../widget/src/lib.rs");
+        assert_eq!(
+            serde_json::from_str::<super::NewMissionDoc>(&printed).unwrap(),
+            doc
+        );
+    }
+
     #[test]
     fn names_are_checked() {
         for bad in ["", "Widget", "9lives", "a b", "x-"] {

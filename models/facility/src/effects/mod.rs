@@ -43,6 +43,82 @@ pub enum EffectKind {
     Mechanism,
 }
 
+impl EffectKind {
+    /// The kind's name in `geodesic effects` (`force`, `distortion`, `mechanism`).
+    pub fn name(self) -> &'static str {
+        match self {
+            EffectKind::Force => "force",
+            EffectKind::Distortion => "distortion",
+            EffectKind::Mechanism => "mechanism",
+        }
+    }
+}
+
+/// The JSON document of `geodesic effects --json` (interface.md, docs/outputs.md).
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct EffectsDoc {
+    /// The effects listed, in catalogue order.
+    pub effects: Vec<EffectDoc>,
+}
+
+/// One effect of [`EffectsDoc`]. Fields are declared in byte order of their keys, the order
+/// the document has always printed.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct EffectDoc {
+    /// One-line summary.
+    pub description: String,
+    /// The effect's name.
+    pub effect: String,
+    /// What it does to the model: `force`, `distortion` or `mechanism`.
+    pub kind: String,
+    /// Its parameters.
+    pub parameters: Vec<ParamDoc>,
+    /// The scenario it belongs to (`tmmf-release`, `rt-retraction`).
+    pub scenario: String,
+}
+
+/// One parameter of [`EffectDoc`], in byte order of its keys. `min` and `max` are in `unit`
+/// and absent on an unbounded side.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub struct ParamDoc {
+    /// Physical upper bound [unit]; absent when unbounded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<f64>,
+    /// Physical lower bound [unit]; absent when unbounded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min: Option<f64>,
+    /// Full name, `effect.param`.
+    pub name: String,
+    /// Nominal value [unit].
+    pub nominal: f64,
+    /// SI unit of the value.
+    pub unit: String,
+}
+
+impl EffectDoc {
+    /// The document of effect `e`.
+    pub fn of(e: &dyn Effect) -> EffectDoc {
+        let finite = |v: f64| v.is_finite().then_some(v);
+        EffectDoc {
+            description: e.summary().to_string(),
+            effect: e.name().to_string(),
+            kind: e.kind().name().to_string(),
+            parameters: e
+                .params()
+                .iter()
+                .map(|p| ParamDoc {
+                    max: finite(p.upper),
+                    min: finite(p.lower),
+                    name: format!("{}.{}", e.name(), p.name),
+                    nominal: p.nominal,
+                    unit: p.unit.to_string(),
+                })
+                .collect(),
+            scenario: e.scenario().name().to_string(),
+        }
+    }
+}
+
 /// One parameter of an effect.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParamSpec {

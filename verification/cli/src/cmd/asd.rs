@@ -6,7 +6,6 @@
 use crate::error::{CliError, CmdResult};
 use geodesic_fit::spectral::{self, Series, WelchOptions};
 use geodesic_util::output::write_atomic;
-use serde_json::json;
 use std::path::PathBuf;
 
 /// Flags of `geodesic asd`.
@@ -94,36 +93,37 @@ pub fn run(args: Args) -> CmdResult {
     }
     let scale = lim.unit.scale;
     let met = lim.op.holds(j.worst_ratio, 1.0);
-    let doc = json!({
-        "requirement": req.id.as_str(),
-        "series": args.series.display().to_string(),
-        "limit": lim.text,
-        "shape": spec.shape_text,
-        "band_hz": spec.band_hz,
-        "unit": lim.unit.symbol,
-        "sample_rate_hz": fs,
-        "samples": series.values.len(),
-        "nperseg": asd.options.nperseg,
-        "overlap": asd.options.overlap,
-        "segments": asd.segments,
-        "dof_per_bin": asd.dof,
-        "window": asd.window,
-        "bins_judged": j.bins,
-        "judged_hz": j.judged_hz,
-        "worst_ratio": j.worst_ratio,
-        "worst_frequency_hz": j.worst_f_hz,
-        "asd_at_worst": j.worst_asd / scale,
-        "limit_at_worst": j.worst_limit / scale,
-        "value_referred_to_level": j.worst_ratio * lim.value.value / scale,
-        "margin": 1.0 - j.worst_ratio,
-        "worst_ratio_upper95": j.worst_ratio_hi95,
-        "worst_frequency_upper95_hz": j.worst_f_hi95_hz,
-        "met": met,
-        "f_hz": asd.f_hz,
-        "asd": asd.asd.iter().map(|v| v / scale).collect::<Vec<_>>(),
-        "asd_lo95": asd.lo95.iter().map(|v| v / scale).collect::<Vec<_>>(),
-        "asd_hi95": asd.hi95.iter().map(|v| v / scale).collect::<Vec<_>>(),
-    });
+    let per = |v: &[f64]| v.iter().map(|v| v / scale).collect::<Vec<_>>();
+    let doc = spectral::AsdDoc {
+        asd: per(&asd.asd),
+        asd_at_worst: j.worst_asd / scale,
+        asd_hi95: per(&asd.hi95),
+        asd_lo95: per(&asd.lo95),
+        band_hz: spec.band_hz,
+        bins_judged: j.bins,
+        dof_per_bin: asd.dof,
+        f_hz: asd.f_hz.clone(),
+        judged_hz: j.judged_hz,
+        limit: lim.text.to_string(),
+        limit_at_worst: j.worst_limit / scale,
+        margin: 1.0 - j.worst_ratio,
+        met,
+        nperseg: asd.options.nperseg,
+        overlap: asd.options.overlap,
+        requirement: req.id.as_str().to_string(),
+        sample_rate_hz: fs,
+        samples: series.values.len(),
+        segments: asd.segments,
+        series: args.series.display().to_string(),
+        shape: spec.shape_text.to_string(),
+        unit: lim.unit.symbol.to_string(),
+        value_referred_to_level: j.worst_ratio * lim.value.value / scale,
+        window: asd.window.to_string(),
+        worst_frequency_hz: j.worst_f_hz,
+        worst_frequency_upper95_hz: j.worst_f_hi95_hz,
+        worst_ratio: j.worst_ratio,
+        worst_ratio_upper95: j.worst_ratio_hi95,
+    };
     if let Some(p) = &args.plot {
         let svg = geodesic_checks::spectral::asd_svg(req, &asd).map_err(|e| CliError::Io(e.0))?;
         write_atomic(p, svg.as_bytes())?;

@@ -4,7 +4,6 @@
 //! is in `geodesic_fit::campaign`.
 
 use crate::error::{CliError, CmdResult};
-use crate::fitting::{effect_list, options};
 use std::path::PathBuf;
 
 /// Flags of `geodesic campaign`.
@@ -19,15 +18,9 @@ pub struct Args {
     /// `releases: [file, ...]`.
     #[arg(value_name = "DIR_OR_LIST")]
     pub campaign: PathBuf,
-    /// Effects of the model fitted to every release, comma separated.
-    #[arg(long, value_delimiter = ',', required = true)]
-    pub effects: Vec<String>,
-    /// Hold a parameter fixed: effect.param=VALUE, repeatable.
-    #[arg(long = "fix", value_name = "NAME=VALUE")]
-    pub fix: Vec<String>,
-    /// Bound a parameter: effect.param=LO:HI, repeatable.
-    #[arg(long = "bound", value_name = "NAME=LO:HI")]
-    pub bound: Vec<String>,
+    /// The model fitted to every release: --effects, --fix, --bound.
+    #[command(flatten)]
+    pub model: crate::fitting::ModelArgs,
     /// Seed of the bootstrap of the A1-lambda correlation's interval.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -45,7 +38,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let opts = options(&args.fix, &args.bound)?;
+    let opts = args.model.options()?;
     if let Some(o) = &args.out {
         return Err(CliError::bad(format!(
             "--out {}: in geodesic --out names one output file; the campaign's page goes under \
@@ -59,7 +52,7 @@ pub fn run(args: Args) -> CmdResult {
         .map_err(|e| CliError::bad(format!("--reports: {e}")))?;
     let files =
         geodesic_fit::campaign::list(&args.campaign).map_err(|e| CliError::bad(e.to_string()))?;
-    let effects = effect_list(&args.effects);
+    let effects = args.model.effects();
     let task =
         crate::progress::Task::counter(args.json, "campaign: releases fitted", files.len() as u64);
     let r = geodesic_fit::campaign::run(&files, &effects, &opts, args.seed, &|| task.inc(1));

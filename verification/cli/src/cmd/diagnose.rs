@@ -6,7 +6,7 @@ use geodesic_fit::fit::FitReport;
 use geodesic_fit::summary::summary;
 
 use crate::error::{CliError, CmdResult};
-use crate::fitting::{effect_list, fits_dir, load, options, outputs, warn};
+use crate::fitting::{fits_dir, load, outputs, warn};
 
 /// Flags of `geodesic diagnose`: the same as `geodesic fit` (the model to start from).
 pub use crate::fitting::FitArgs as Args;
@@ -14,9 +14,9 @@ pub use crate::fitting::FitArgs as Args;
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let fits = fits_dir(&args)?;
-    let opts = options(&args.fix, &args.bound)?;
+    let opts = args.model.options()?;
     let prep = load(&args.dataset, args.strict)?;
-    let effects = effect_list(&args.effects);
+    let effects = args.model.effects();
     let task = crate::progress::Task::spinner(
         args.json,
         &format!(

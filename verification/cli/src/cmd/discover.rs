@@ -6,7 +6,7 @@
 //! `geodesic_fit::discover::new_effect`.
 
 use crate::error::{CliError, CmdResult};
-use crate::fitting::{effect_list, fits_under, load, options, outputs, warn};
+use crate::fitting::{fits_under, load, outputs, warn};
 use geodesic_fit::discover::{DiscoverOptions, discover, new_effect};
 use std::path::{Path, PathBuf};
 
@@ -22,18 +22,12 @@ residual is described (windows, spectral peaks, correlations with the model's st
 pub struct Args {
     /// Dataset YAML.
     pub dataset: PathBuf,
-    /// The baseline model's effects, comma separated.
-    #[arg(long, value_delimiter = ',', required = true)]
-    pub effects: Vec<String>,
+    /// The baseline model: --effects, --fix, --bound.
+    #[command(flatten)]
+    pub model: crate::fitting::ModelArgs,
     /// Most rounds that add an effect.
     #[arg(long, default_value_t = 4)]
     pub max_rounds: usize,
-    /// Hold a parameter fixed: effect.param=VALUE (SI or with a unit), repeatable.
-    #[arg(long = "fix", value_name = "NAME=VALUE")]
-    pub fix: Vec<String>,
-    /// Bound a parameter: effect.param=LO:HI, repeatable.
-    #[arg(long = "bound", value_name = "NAME=LO:HI")]
-    pub bound: Vec<String>,
     /// Reports folder: plots and the history go into DIR/fits/.
     #[arg(long, value_name = "DIR", default_value = "reports")]
     pub reports: PathBuf,
@@ -60,9 +54,9 @@ pub fn run(args: Args) -> CmdResult {
         new_effect::preflight(name, root).map_err(CliError::bad)?;
     }
     let fits = fits_under(&args.reports, None)?;
-    let fit = options(&args.fix, &args.bound)?;
+    let fit = args.model.options()?;
     let prep = load(&args.dataset, args.strict)?;
-    let effects = effect_list(&args.effects);
+    let effects = args.model.effects();
     let mut task = crate::progress::Task::spinner(
         args.json,
         &format!(

@@ -3,8 +3,7 @@
 //! `diagnose` and `synth` use (`geodesic_facility::effects::catalogue`).
 
 use crate::error::{CliError, CmdResult};
-use geodesic_facility::effects::{EffectKind, Scenario, catalogue};
-use serde_json::json;
+use geodesic_facility::effects::{EffectDoc, EffectKind, EffectsDoc, Scenario, catalogue};
 
 /// Flags of `geodesic effects`.
 #[derive(clap::Args, Debug)]
@@ -21,11 +20,7 @@ pub struct Args {
 }
 
 fn kind(k: EffectKind) -> &'static str {
-    match k {
-        EffectKind::Force => "force",
-        EffectKind::Distortion => "distortion",
-        EffectKind::Mechanism => "mechanism",
-    }
+    k.name()
 }
 
 /// Runs the command.
@@ -43,33 +38,11 @@ pub fn run(args: Args) -> CmdResult {
         .filter(|e| only.is_none_or(|s| e.scenario() == s))
         .collect();
     if args.json {
-        let list: Vec<_> = effects
-            .iter()
-            .map(|e| {
-                json!({
-                    "effect": e.name(),
-                    "scenario": e.scenario().name(),
-                    "kind": kind(e.kind()),
-                    "description": e.summary(),
-                    "parameters": e.params().iter().map(|p| {
-                        let mut o = json!({
-                            "name": format!("{}.{}", e.name(), p.name),
-                            "unit": p.unit,
-                            "nominal": p.nominal,
-                        });
-                        // an unbounded side has no number: `min` or `max` is absent
-                        // (docs/outputs.md)
-                        for (k, v) in [("min", p.lower), ("max", p.upper)] {
-                            if v.is_finite() {
-                                o[k] = json!(v);
-                            }
-                        }
-                        o
-                    }).collect::<Vec<_>>(),
-                })
-            })
-            .collect();
-        println!("{}", json!({ "effects": list }));
+        let doc = EffectsDoc {
+            effects: effects.iter().map(|e| EffectDoc::of(**e)).collect(),
+        };
+        let text = serde_json::to_string(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+        println!("{text}");
         return Ok(0);
     }
     for e in effects {

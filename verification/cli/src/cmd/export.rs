@@ -3,9 +3,9 @@
 
 use crate::error::{CliError, CmdResult};
 use crate::missions::load_requirements;
-use geodesic_exchange::reqif::{ExportOptions, export};
+use geodesic_exchange::reqif::{ExportDoc, ExportOptions, export};
 use geodesic_exchange::status::StatusSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Flags of `geodesic export`.
 #[derive(clap::Args, Debug)]
@@ -50,19 +50,6 @@ pub struct ReqifArgs {
     pub json: bool,
 }
 
-/// Writes `bytes` to `path` whole or not at all ([`geodesic_util::output::write_atomic`]),
-/// creating its folder first.
-pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir)
-        .map_err(|e| CliError::Io(format!("{}: cannot create directory: {e}", dir.display())))?;
-    geodesic_util::output::write_atomic(path, bytes)?;
-    Ok(())
-}
-
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     match args.format {
@@ -86,27 +73,20 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     };
     let time = geodesic_verify::harness::creation_time()?;
     let tool = format!("geodesic {}", env!("CARGO_PKG_VERSION"));
-    let doc = export(
-        &reqs,
-        &ExportOptions {
-            creation_time: &time,
-            tool_version: &tool,
-            status: status.as_ref(),
-        },
-    );
-    write_whole(&a.out, doc.as_bytes())?;
+    let opts = ExportOptions {
+        creation_time: &time,
+        tool_version: &tool,
+        status: status.as_ref(),
+    };
+    let doc = export(&reqs, &opts);
+    geodesic_util::output::write_whole(&a.out, doc.as_bytes())?;
     let relations = reqs.items.iter().filter(|r| r.parent.is_some()).count();
     if a.json {
-        let v = serde_json::json!({
-            "out": a.out.display().to_string(),
-            "requirements_source": source,
-            "requirements": reqs.items.len(),
-            "relations": relations,
-            "with_status": status.is_some(),
-            "creation_time": time,
-            "sha256": geodesic_core::hash::sha256_hex(doc.as_bytes()),
-        });
-        println!("{v}");
+        println!(
+            "{}",
+            serde_json::to_string(&ExportDoc::new(&reqs, &doc, &a.out, &source, &opts))
+                .map_err(|e| CliError::Io(e.to_string()))?
+        );
     } else {
         println!(
             "wrote {} ({} requirements from {source}, {relations} derivations{})",

@@ -3,11 +3,12 @@
 //! Writes `<stem>.<effects>.svg` (data, model, residual, failure windows) and appends the fit to
 //! `<stem>.history.jsonl` under `--reports DIR` in `DIR/fits/` (default `reports/fits/`).
 
+use geodesic_fit::report::{EnsembleMethod, LaplaceMethod, MethodName, PosteriorMethod};
 use geodesic_fit::summary::summary;
 use geodesic_fit::{FitOptions, FitReport};
 
 use crate::error::{CliError, CmdResult};
-use crate::fitting::{effect_list, fits_dir, load, options, outputs, warn};
+use crate::fitting::{fits_dir, load, outputs, warn};
 
 /// Flags of `geodesic fit` (shared with `geodesic diagnose`).
 pub use crate::fitting::FitArgs as Args;
@@ -42,9 +43,9 @@ pub fn run(args: Args) -> CmdResult {
             args.posterior_steps
         )));
     }
-    let opts = options(&args.fix, &args.bound)?;
+    let opts = args.model.options()?;
     let prep = load(&args.dataset, args.strict)?;
-    let effects = effect_list(&args.effects);
+    let effects = args.model.effects();
     let opts = FitOptions {
         profile: true,
         ..opts
@@ -68,7 +69,9 @@ pub fn run(args: Args) -> CmdResult {
         match args.posterior_method.as_str() {
             "laplace" => {
                 report.posterior = Some(geodesic_fit::fit::posterior_of_fit(&o, &opts.bounds));
-                report.posterior_method = Some(serde_json::json!({"method": "laplace"}));
+                report.posterior_method = Some(PosteriorMethod::Laplace(LaplaceMethod {
+                    method: MethodName::Laplace,
+                }));
             }
             _ => {
                 let eo = geodesic_fit::ensemble::EnsembleOptions {
@@ -107,16 +110,16 @@ pub fn run(args: Args) -> CmdResult {
                 geodesic_fit::plot::write_svg(&path, &svg)
                     .map_err(|e| CliError::Io(e.to_string()))?;
                 report.posterior = Some(marg.into_iter().map(|(k, m)| (k, m.into())).collect());
-                report.posterior_method = Some(serde_json::json!({
-                    "method": "ensemble",
-                    "walkers": chain.walkers,
-                    "steps": eo.steps,
-                    "samples": chain.samples.len(),
-                    "acceptance": chain.acceptance,
-                    "kept_steps_per_walker": chain.samples.len() / chain.walkers.max(1),
-                    "converged": report_converged(&report),
-                    "seed": eo.seed,
-                    "corner_svg": path.display().to_string(),
+                report.posterior_method = Some(PosteriorMethod::Ensemble(EnsembleMethod {
+                    acceptance: chain.acceptance,
+                    converged: report_converged(&report),
+                    corner_svg: path.display().to_string(),
+                    kept_steps_per_walker: chain.samples.len() / chain.walkers.max(1),
+                    method: MethodName::Ensemble,
+                    samples: chain.samples.len(),
+                    seed: eo.seed,
+                    steps: eo.steps,
+                    walkers: chain.walkers,
                 }));
             }
         }

@@ -43,12 +43,13 @@ pub fn run(args: Args) -> CmdResult {
     let svg = plot::history_svg(&entries).map_err(|e| CliError::Io(e.to_string()))?;
     plot::write_svg(&svg_path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
     if args.json {
-        let doc = serde_json::json!({
-            "dataset": stem,
-            "history": path.display().to_string(),
-            "entries": entries,
-            "svg": svg_path.display().to_string(),
-        });
+        let doc = history::HistoryDoc {
+            dataset: stem,
+            history: path.display().to_string(),
+            entries: entries.into_iter().map(history::EntryDoc::from).collect(),
+            svg: svg_path.display().to_string(),
+        };
+        let doc = serde_json::to_string(&doc).map_err(|e| CliError::Io(e.to_string()))?;
         println!("{doc}");
     } else {
         print!("{}", history::table(&entries));

@@ -3,7 +3,7 @@
 
 use crate::error::{CliError, CmdResult};
 use geodesic_core::Requirements;
-use geodesic_exchange::reqif::{Field, ImportOptions, import_file};
+use geodesic_exchange::reqif::{Field, ImportDoc, ImportOptions, import_file};
 use std::path::PathBuf;
 
 /// Largest ReqIF file read [bytes] (256 MiB).
@@ -111,35 +111,8 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         .map(|f| f.file_name.clone())
         .collect();
     if a.json {
-        let v = serde_json::json!({
-            "file": a.file.display().to_string(),
-            "document": imported.document,
-            "out": a.out.display().to_string(),
-            "source_tool": imported.source_tool,
-            "requirements": imported.count(),
-            "spec_objects": imported.spec_objects,
-            "families": imported.families.iter().map(|f| serde_json::json!({
-                "family": f.family, "file": f.file_name, "requirements": f.requirements.len()
-            })).collect::<Vec<_>>(),
-            "skipped": imported.skipped.iter().map(|s| serde_json::json!({
-                "id": s.id, "line": s.line, "missing": s.missing
-            })).collect::<Vec<_>>(),
-            "headings": imported.headings,
-            "other_objects": imported.other_objects,
-            "duplicates": imported.duplicates,
-            "relations": imported.relations,
-            "qualitative": imported.qualitative,
-            "warnings": imported.warnings.iter().map(|w| serde_json::json!({
-                "line": w.line, "cause": w.cause
-            })).collect::<Vec<_>>(),
-            "mapping": imported.mapping.iter().map(|m| (
-                m.field.name().to_string(),
-                serde_json::Value::Array(m.sources.iter().map(|(s, n)| serde_json::json!({"source": s, "requirements": n})).collect()),
-            )).collect::<serde_json::Map<_, _>>(),
-            "unmapped": imported.unmapped.iter().map(|(n, k)| serde_json::json!({
-                "attribute": n, "requirements": k
-            })).collect::<Vec<_>>(),
-        });
+        let doc = ImportDoc::new(&imported, &a.file, &a.out);
+        let v = serde_json::to_string(&doc).map_err(|e| CliError::Io(e.to_string()))?;
         println!("{v}");
         return Ok(0);
     }

@@ -56,11 +56,10 @@ pub fn run(args: Args) -> CmdResult {
     if a.json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&serde_json::json!({
-                "path": a.path.display().to_string(),
-                "files": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>(),
-            }))
-            .unwrap_or_default()
+            serde_json::to_string_pretty(&geodesic_verify::scaffold::NewMissionDoc::new(
+                &a.path, &files
+            ))
+            .map_err(|e| crate::error::CliError::Io(e.to_string()))?
         );
     } else {
         for f in &files {

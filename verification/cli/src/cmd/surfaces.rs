@@ -4,9 +4,8 @@
 //! analysis is in `geodesic-images`.
 
 use crate::error::{CliError, CmdResult};
-use geodesic_images::surfaces::{HeightMap, register};
+use geodesic_images::surfaces::{HeightMap, SurfacesDoc, register};
 use geodesic_util::output::write_atomic;
-use serde_json::json;
 use std::path::PathBuf;
 
 /// Flags of `geodesic surfaces`.
@@ -38,25 +37,7 @@ pub fn run(args: Args) -> CmdResult {
     let b = HeightMap::load(&args.before).map_err(|e| CliError::bad(e.to_string()))?;
     let a = HeightMap::load(&args.after).map_err(|e| CliError::bad(e.to_string()))?;
     let r = register(&b, &a).map_err(|e| CliError::bad(e.to_string()))?;
-    let doc = json!({
-        "before": args.before.display().to_string(),
-        "after": args.after.display().to_string(),
-        "shift_m": r.shift_m,
-        "rotation_rad": r.rotation_rad,
-        "rms_m": r.rms_m,
-        "ks_statistic": r.ks_statistic,
-        "ks_p": r.ks_p,
-        "changed_area_m2": r.changed_area_m2,
-        "offset_m": r.offset_m,
-        "valley_below_m": r.valley_below_m,
-        "valley_points": r.valley_points,
-        "start_shift_m": r.start_shift_m,
-        "start_rotation_rad": r.start_rotation_rad,
-        "noise_m": r.noise_m,
-        "change_threshold_m": r.change_threshold_m,
-        "compared_points": r.compared_points,
-        "pixel_m": b.pixel_m,
-    });
+    let doc = SurfacesDoc::new(&args.before, &args.after, b.pixel_m, &r);
     let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
     let stem = args
         .after

@@ -144,13 +144,8 @@ pub fn run(args: Args) -> CmdResult {
     let ds = ds?;
     let files = write(&ds, &spec, &args.out).map_err(|e| CliError::Io(e.to_string()))?;
     if args.json {
-        let doc = serde_json::json!({
-            "yaml": files[0].display().to_string(),
-            "csv": files[1].display().to_string(),
-            "truth": files[2].display().to_string(),
-            "rows": ds.t.len(),
-            "spec": spec,
-        });
+        let doc = serde_json::to_string(&geodesic_fit::synth::SynthDoc::new(&ds, &spec, &files))
+            .map_err(|e| CliError::Io(e.to_string()))?;
         println!("{doc}");
     } else {
         println!(
@@ -186,7 +181,7 @@ fn mean_sd(flag: &str, v: &Option<String>, default: (f64, f64)) -> Result<(f64, 
 
 /// `synth --campaign N --out DIR`: N TMMF releases from a known adhesion population.
 fn campaign(args: &Args, n: usize) -> CmdResult {
-    use geodesic_fit::campaign::{TruePopulation, draw_release};
+    use geodesic_fit::campaign::{CampaignTruth, ReleaseTruth, TruePopulation, draw_release};
     if n == 0 || n > 10_000 {
         return Err(CliError::bad(format!(
             "--campaign {n}: between 1 and 10 000 releases"
@@ -247,10 +242,14 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
         let name = format!("release-{:03}.yaml", i + 1);
         let ds = generate(&spec, &name).map_err(|e| CliError::bad(e.to_string()))?;
         write(&ds, &spec, &dir.join(&name)).map_err(|e| CliError::Io(e.to_string()))?;
-        truth.push(serde_json::json!({
-            "file": name, "tip_adhesion.A1": a1, "tip_adhesion.lambda": lambda,
-            "needle_contact.F_pre": f_pre, "tip_speed_m_s": v, "noise_x_m": noise,
-        }));
+        truth.push(ReleaseTruth {
+            file: name.clone(),
+            f_pre_n: f_pre,
+            noise_x_m: noise,
+            a1_n_m: a1,
+            lambda_m: lambda,
+            tip_speed_m_s: v,
+        });
         names.push(name);
         task.inc(1);
     }
@@ -264,13 +263,22 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
             .collect::<String>()
     );
     geodesic_core::output::write_atomic(&dir.join("campaign.yaml"), list.as_bytes())?;
-    let doc = serde_json::json!({"population": pop, "seed": args.seed, "releases": truth});
+    let doc = CampaignTruth {
+        population: pop,
+        releases: truth,
+        seed: args.seed,
+    };
     let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
     geodesic_core::output::write_atomic(&dir.join("truth.json"), text.as_bytes())?;
     if args.json {
         println!(
             "{}",
-            serde_json::json!({"campaign": dir.join("campaign.yaml").display().to_string(), "releases": n, "truth": dir.join("truth.json").display().to_string()})
+            serde_json::to_string(&geodesic_fit::synth::SynthCampaignDoc {
+                campaign: dir.join("campaign.yaml").display().to_string(),
+                releases: n,
+                truth: dir.join("truth.json").display().to_string(),
+            })
+            .map_err(|e| CliError::Io(e.to_string()))?
         );
     } else {
         println!(

@@ -5,7 +5,6 @@
 use crate::error::{CliError, CmdResult};
 use geodesic_images::tiptrack;
 use geodesic_util::output::write_atomic;
-use serde_json::json;
 use std::path::PathBuf;
 
 /// Flags of `geodesic tiptrack`.
@@ -28,12 +27,6 @@ pub struct Args {
     pub json: bool,
 }
 
-fn opt(v: &[Option<f64>]) -> Vec<serde_json::Value> {
-    v.iter()
-        .map(|x| x.map_or(serde_json::Value::Null, |x| json!(x)))
-        .collect()
-}
-
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let dir = crate::preflight::images_dir(&args.reports)?;
@@ -45,30 +38,7 @@ pub fn run(args: Args) -> CmdResult {
             args.frames.display()
         )));
     }
-    let validity = verdict.map(|r| {
-        json!({
-            "window_s": r.criterion.window_s,
-            "max_shear_m": r.criterion.max_shear_m,
-            "shear_m": r.shear_m,
-            "at_s": r.at_s,
-            "frames": r.frames,
-            "valid": r.valid,
-        })
-    });
-    let doc = json!({
-        "frames_yaml": args.frames.display().to_string(),
-        "t_s": tr.t_s,
-        "x_m": opt(&tr.x_m),
-        "z_m": opt(&tr.z_m),
-        "sigma_x_m": opt(&tr.sigma_x_m),
-        "sigma_z_m": opt(&tr.sigma_z_m),
-        "fps": cfg.fps,
-        "pixel_m": cfg.pixel_m,
-        "thresholds": cfg.thresholds,
-        "offset_px": cfg.offset_px,
-        "warnings": tr.warnings,
-        "validity": validity,
-    });
+    let doc = tiptrack::TiptrackDoc::new(&args.frames, &cfg, &tr, verdict);
     let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
     let stem = args
         .frames

@@ -17,6 +17,7 @@
 //! | VCD status (with `--matrix`) | `geodesic.Status`, `geodesic.Basis`, `geodesic.CloseOut` (enumerations), `geodesic.Value`, `geodesic.Margin` (reals), `geodesic.Disposition`, `geodesic.Remarks` |
 
 mod archive;
+mod doc;
 mod export;
 mod fields;
 mod import;
@@ -26,6 +27,9 @@ mod xhtml;
 pub mod yaml;
 
 pub use archive::{MAX_DOCUMENT_BYTES, import_file, is_archive};
+pub use doc::{
+    ExportDoc, FamilyDoc, ImportDoc, MappingSourceDoc, SkippedDoc, UnmappedDoc, WarningDoc,
+};
 pub use export::{ExportOptions, export};
 pub use fields::Field;
 pub use import::{

@@ -166,7 +166,58 @@ pub struct FitReport {
     /// How the posterior was obtained (`ensemble`: sampled, with walkers, kept samples and
     /// acceptance; `laplace`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub posterior_method: Option<serde_json::Value>,
+    pub posterior_method: Option<PosteriorMethod>,
+}
+
+/// How `fit --posterior` obtained the posterior (`posterior_method` in the fit report).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum PosteriorMethod {
+    /// Sampled by the affine-invariant ensemble.
+    Ensemble(EnsembleMethod),
+    /// Laplace approximation at the best fit.
+    Laplace(LaplaceMethod),
+}
+
+/// The name of a posterior method, the `method` key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MethodName {
+    /// `ensemble`.
+    Ensemble,
+    /// `laplace`.
+    Laplace,
+}
+
+/// The Laplace approximation: `{"method": "laplace"}`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LaplaceMethod {
+    /// Always [`MethodName::Laplace`].
+    pub method: MethodName,
+}
+
+/// The ensemble sampler's run. Fields are declared in byte order of their keys, the order the
+/// report has always printed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EnsembleMethod {
+    /// Mean acceptance fraction of the moves (dimensionless).
+    pub acceptance: f64,
+    /// Whether every parameter's chain converged (none reports `converged: false`).
+    pub converged: bool,
+    /// The corner plot written.
+    pub corner_svg: String,
+    /// Steps kept per walker after burn-in.
+    pub kept_steps_per_walker: usize,
+    /// Always [`MethodName::Ensemble`].
+    pub method: MethodName,
+    /// Samples kept (all walkers).
+    pub samples: usize,
+    /// Seed of the sampler.
+    pub seed: u64,
+    /// Steps per walker.
+    pub steps: usize,
+    /// Walkers.
+    pub walkers: usize,
 }
 
 impl FitReport {
