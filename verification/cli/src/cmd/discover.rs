@@ -101,7 +101,8 @@ pub fn run(args: Args) -> CmdResult {
     if args.json {
         let mut v = serde_json::to_value(&report).map_err(|e| CliError::Io(e.to_string()))?;
         if let (Some(s), Some(obj)) = (&scaffolded, v.as_object_mut()) {
-            obj.insert("scaffold".into(), s.json.clone());
+            let doc = serde_json::to_value(&s.json).map_err(|e| CliError::Io(e.to_string()))?;
+            obj.insert("scaffold".into(), doc);
         }
         println!(
             "{}",

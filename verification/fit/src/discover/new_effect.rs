@@ -15,7 +15,39 @@ pub struct Scaffolded {
     /// The lines for the terminal (each ends with a newline).
     pub text: String,
     /// The `scaffold` object of the discover JSON.
-    pub json: serde_json::Value,
+    pub json: ScaffoldDoc,
+}
+
+/// The `scaffold` object of `discover --scaffold NAME --json` (docs/outputs.md). Fields in byte
+/// order: the document prints as the `json!` object it replaced did.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ScaffoldDoc {
+    /// The term's delta BIC (its joint fit against the model without it).
+    pub delta_bic: f64,
+    /// The files written or edited, relative to the repository's root.
+    pub files: Vec<String>,
+    /// The term's kind (`position`, `velocity`, `delay`, `creep`, `slip`, `impulse`,
+    /// `vibration`).
+    pub kind: String,
+    /// The new effect's name.
+    pub name: String,
+    /// Its parameters by `effect.param`.
+    pub params: std::collections::BTreeMap<String, ScaffoldParam>,
+    /// The scenario of the record (`tmmf-release`, `rt-retraction`).
+    pub scenario: String,
+}
+
+/// A parameter of [`ScaffoldDoc`], in SI units (`unit`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ScaffoldParam {
+    /// Lower end of its range [unit].
+    pub lower: f64,
+    /// Its unit.
+    pub unit: String,
+    /// Upper end of its range [unit].
+    pub upper: f64,
+    /// Its starting (nominal) value, the fitted term's [unit].
+    pub value: f64,
 }
 
 /// Before any computation: the name (snake_case, not in the catalogue, no file of that name)
@@ -153,23 +185,100 @@ fn text(name: &str, s: &Scaffold, files: &[String], record: &str, baseline: &str
 
 /// The `scaffold` object of the discover JSON (docs/outputs.md): the effect, its kind and
 /// scenario, the term's delta BIC, its parameters with units and ranges, the files written.
-fn json(name: &str, s: &Scaffold, files: &[String]) -> serde_json::Value {
-    let params: serde_json::Map<String, serde_json::Value> = s
+fn json(name: &str, s: &Scaffold, files: &[String]) -> ScaffoldDoc {
+    let params = s
         .params
         .iter()
         .map(|p| {
-            (
-                format!("{name}.{}", p.name),
-                serde_json::json!({"value": p.nominal, "unit": p.unit, "lower": p.lower, "upper": p.upper}),
-            )
+            let doc = ScaffoldParam {
+                lower: p.lower,
+                unit: p.unit.to_string(),
+                upper: p.upper,
+                value: p.nominal,
+            };
+            (format!("{name}.{}", p.name), doc)
         })
         .collect();
-    serde_json::json!({
-        "name": name,
-        "kind": s.kind,
-        "scenario": s.scenario.name(),
-        "delta_bic": s.delta_bic,
-        "params": params,
-        "files": files,
-    })
+    ScaffoldDoc {
+        delta_bic: s.delta_bic,
+        files: files.to_vec(),
+        kind: s.kind.clone(),
+        name: name.to_string(),
+        params,
+        scenario: s.scenario.name().to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinds::{KindFit, TermParameter};
+    use geodesic_facility::Scenario;
+
+    /// The typed `scaffold` object prints as the `json!` object it replaced (keys sorted).
+    #[test]
+    fn the_scaffold_document_prints_as_the_sorted_object() {
+        let k = KindFit {
+            kind: "velocity".into(),
+            state: String::new(),
+            term: "dx/dt".into(),
+            coefficient: -100.0,
+            sigma: 0.4,
+            coefficient_unit: "1/s".into(),
+            parameter: Some(TermParameter {
+                name: "gamma".into(),
+                value: 100.0,
+                unit: "1/s".into(),
+            }),
+            delta_chi2: 9e4,
+            delta_bic: -87068.8,
+            shape: Vec::new(),
+            coefs: vec![-100.0],
+            scan: 0.0,
+        };
+        let conditions = Conditions {
+            fs_hz: 1e5,
+            post_s: 0.02,
+            known: ("m", 0.089),
+            noise: 8e-10,
+            jerk_m_s3: 6000.0,
+            v_m_s: 3e-3,
+        };
+        let s = Scaffold::from_term(
+            "visc",
+            Scenario::TmmfRelease,
+            &k,
+            "r.yaml",
+            &[],
+            "2026-11-28",
+            conditions,
+        )
+        .expect("scaffold");
+        let files = vec!["a.rs".to_string(), "b.rs".to_string()];
+        let params: serde_json::Map<String, serde_json::Value> = s
+            .params
+            .iter()
+            .map(|p| {
+                (
+                    format!("visc.{}", p.name),
+                    serde_json::json!({"value": p.nominal, "unit": p.unit, "lower": p.lower, "upper": p.upper}),
+                )
+            })
+            .collect();
+        let old = serde_json::json!({
+            "name": "visc",
+            "kind": s.kind,
+            "scenario": s.scenario.name(),
+            "delta_bic": s.delta_bic,
+            "params": params,
+            "files": files,
+        });
+        let doc = json("visc", &s, &files);
+        assert_eq!(
+            serde_json::to_string(&doc).unwrap(),
+            serde_json::to_string(&old).unwrap()
+        );
+        let back: ScaffoldDoc = serde_json::from_value(old).expect("reads back");
+        assert_eq!(back, doc);
+    }
 }
