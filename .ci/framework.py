@@ -166,6 +166,16 @@ def main():
         if (ROOT / m / "src").is_dir():
             for c in cycles(m):
                 bad.append(f"{m}: module cycle {' -> '.join(c)}")
+    # every command's JSON is a typed struct of its library (issue 34): no json! document is
+    # built in the CLI or in the missions' commands
+    for crate in ["verification/cli", "missions"]:
+        for f in rust_files(crate):
+            for n, line in enumerate(f.read_text().splitlines(), 1):
+                if line.startswith("#[cfg(test)]"):
+                    break
+                if "json!" in line and not line.lstrip().startswith("//"):
+                    bad.append(f"{f.relative_to(ROOT)}:{n}: a JSON document built with json! "
+                               "(make it a typed struct in the command's library)")
     sizes = long_functions()
     cli = sum(non_test_lines(f) for f in rust_files("verification/cli"))
     if cli >= MAX_CLI_LINES:
