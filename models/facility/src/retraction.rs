@@ -127,7 +127,8 @@ fn uniform_tail(
     let mut e_max = 0.0f64;
     for (k, &ti) in times.iter().enumerate() {
         let e = (ti - (t0 + (k + 1) as f64 * h)).abs();
-        if !(e <= tol) {
+        // beyond `tol`, or not a number
+        if e.is_nan() || tol.is_nan() || e > tol {
             return false;
         }
         e_max = e_max.max(e);
