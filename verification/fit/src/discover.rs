@@ -672,7 +672,7 @@ impl<'a> Ledger<'a> {
         // fit (its Jacobian is most of their cost on a long record)
         let basis = crate::kinds::Basis::new(prep, &final_outcome);
         let (thresholds, residual) = rayon::join(
-            || thresholds_with(prep, &final_outcome, &kept, &self.fit_opts, &basis),
+            || thresholds_with(prep, &final_outcome, &kept, &basis),
             || describe_with(prep, &final_outcome, &final_fit, &self.fit_opts, &basis),
         );
         let (mut thresholds, residual) = (thresholds?, residual?);
@@ -818,18 +818,21 @@ pub fn raise_to_the_fit(thresholds: &mut [Threshold], candidates: &[crate::diagn
 /// `sigma_A`: when the effect vanishes at its null amplitude whatever its other parameters (the
 /// adhesions, a drift, a cyclic error), from the linear response of the final model's
 /// prediction to the amplitude, projected out of the final model's Jacobian (one prediction per
-/// point of the curve); otherwise (the plunger, whose stiffness alone changes the record) from
-/// a fit of the amplitude with the other parameters held. An effect whose main parameter
+/// point of the curve). Otherwise (the plunger, whose stiffness alone changes the record; a
+/// needle adhesion whose range holds it at the needles through the hold) there is no linear
+/// response at the null: the threshold is the smallest amplitude whose signature, projected
+/// the same way, reaches `sqrt(k ln N - DELTA_BIC_STRONG)` (a grid from the null to the far
+/// end of the range and a bisection, one prediction per point: `Detection::crossing`); the
+/// null itself when nothing in the range hides. An effect whose main parameter
 /// vanishes elsewhere (`voltage_ramp`: a step is an infinite slope) or that has no null
 /// (`needle_mass`) gets no threshold.
 pub fn thresholds(
     prep: &Prepared,
     final_outcome: &FitOutcome,
     kept: &[&str],
-    opts: &FitOptions,
 ) -> Result<Vec<Threshold>, FitError> {
     let basis = crate::kinds::Basis::new(prep, final_outcome);
-    thresholds_with(prep, final_outcome, kept, opts, &basis)
+    thresholds_with(prep, final_outcome, kept, &basis)
 }
 
 /// [`thresholds`] on the basis of `final_outcome` already made, the same bits.
@@ -837,7 +840,6 @@ pub fn thresholds_with(
     prep: &Prepared,
     final_outcome: &FitOutcome,
     kept: &[&str],
-    opts: &FitOptions,
     basis: &crate::kinds::Basis,
 ) -> Result<Vec<Threshold>, FitError> {
     // each candidate's threshold is independent of the others': side by side on the thread
@@ -847,10 +849,7 @@ pub fn thresholds_with(
         .filter(|c| !kept.contains(&c.name()))
         .collect();
     let one = |cand: &&'static dyn geodesic_facility::effects::Effect| -> Result<Option<Threshold>, FitError> {
-        match Detection::new(prep, final_outcome, kept, *cand)? {
-            Some(d) => d.threshold(opts, basis),
-            None => Ok(None),
-        }
+        Ok(Detection::new(prep, final_outcome, kept, *cand)?.and_then(|d| d.threshold(basis)))
     };
     let all: Vec<Result<Option<Threshold>, FitError>> = candidates.par_iter().map(one).collect();
     let mut out = Vec::new();
@@ -859,6 +858,14 @@ pub fn thresholds_with(
     }
     Ok(out)
 }
+
+/// Points of `Detection::crossing`'s grid from the null amplitude to the far end of its range
+/// (six decades for an adhesion's `A1`: one point every 0.375 decade).
+const CROSSING_GRID: usize = 17;
+
+/// Bisections of `Detection::crossing` between two grid points (a ratio of 2.37 narrowed to
+/// 0.02 %).
+const CROSSING_BISECTIONS: usize = 12;
 
 /// One candidate's detection threshold ([`thresholds_with`]): the final model with the
 /// candidate added, started where the final fit ended, and the candidate's main parameter.
@@ -956,23 +963,18 @@ impl<'a> Detection<'a> {
         v
     }
 
-    /// sigma_A at `others`: the linear response when the effect vanishes at its null
-    /// amplitude whatever `others` are, else a fit of the amplitude with `others` held.
-    fn sigma_at(
+    /// The threshold amplitude at `others` (the candidate's other parameters): `sigma_A` from
+    /// the linear response times `factor` when the effect vanishes at its null amplitude
+    /// whatever `others` are ([`Self::sigma_linear`]), else the smallest amplitude whose
+    /// signature the final model cannot absorb to first order ([`Self::crossing`]). `None`
+    /// when the prediction is not finite.
+    fn threshold_at(
         &self,
         others: &[f64],
-        opts: &FitOptions,
+        factor: f64,
         basis: &crate::kinds::Basis,
-    ) -> Result<Option<f64>, FitError> {
-        let (params, main) = (self.cand.params(), self.main);
-        let spec = params[main];
-        // the amplitude's step for the linear response: a hundredth of its nominal scale
-        let step = if spec.log {
-            1e-2 * spec.nominal
-        } else {
-            1e-2 * spec.scale
-        };
-        let at_null = self.normalised(&self.with(self.null[main], others));
+    ) -> Option<f64> {
+        let at_null = self.normalised(&self.with(self.null[self.main], others));
         let off: f64 = at_null
             .iter()
             .zip(&self.base)
@@ -980,41 +982,109 @@ impl<'a> Detection<'a> {
             .sum::<f64>()
             .sqrt();
         if off < 0.1 {
-            let at_step = self.normalised(&self.with(self.null[main] + step, others));
-            let col: Vec<f64> = at_step
-                .iter()
-                .zip(&at_null)
-                .map(|(a, b)| (a - b) / step)
-                .collect();
-            return Ok(basis.sigma_of_normalised(col));
+            return self
+                .sigma_linear(others, &at_null, basis)
+                .map(|s| s * factor);
         }
-        let mut fo = opts.clone();
-        fo.profile = false;
-        fo.sigma = Some(self.final_outcome.sigma);
-        let mut j = 0;
-        for (i, p) in params.iter().enumerate() {
-            if i != main {
-                fo.fixed
-                    .insert(format!("{}.{}", self.cand.name(), p.name), others[j]);
-                j += 1;
+        self.crossing(others, factor, basis)
+    }
+
+    /// sigma_A at `others` from the linear response of the prediction at the null amplitude
+    /// (`at_null`, normalised), projected out of the final model's Jacobian.
+    fn sigma_linear(
+        &self,
+        others: &[f64],
+        at_null: &[f64],
+        basis: &crate::kinds::Basis,
+    ) -> Option<f64> {
+        let spec = self.cand.params()[self.main];
+        // the amplitude's step for the linear response: a hundredth of its nominal scale
+        let step = if spec.log {
+            1e-2 * spec.nominal
+        } else {
+            1e-2 * spec.scale
+        };
+        let at_step = self.normalised(&self.with(self.null[self.main] + step, others));
+        let col: Vec<f64> = at_step
+            .iter()
+            .zip(at_null)
+            .map(|(a, b)| (a - b) / step)
+            .collect();
+        basis.sigma_of_normalised(col)
+    }
+
+    /// The first-order chi-square the candidate at amplitude `a` (and `others`) leaves once the
+    /// final model has absorbed what it can of it: the norm of its signature (prediction minus
+    /// the final fit's, whitened and normalised) projected out of the final model's Jacobian.
+    /// `None` when the prediction is not finite.
+    fn signature(&self, a: f64, others: &[f64], basis: &crate::kinds::Basis) -> Option<f64> {
+        let d: Vec<f64> = self
+            .normalised(&self.with(a, others))
+            .iter()
+            .zip(&self.base)
+            .map(|(m, b)| m - b)
+            .collect();
+        basis.projected_norm(d)
+    }
+
+    /// The threshold of an effect whose null amplitude does not make it vanish at `others`
+    /// (an adhesion whose range holds it at the needles through the hold, the plunger's spring
+    /// alone): the smallest amplitude `A` whose projected signature reaches `factor` (a
+    /// chi-square of `factor^2`, the BIC price), found on [`CROSSING_GRID`] points from the
+    /// null to the range's far end and refined by bisection. Each point is one prediction,
+    /// judged as the linear response is (first order in the final model's freedom), where a
+    /// fit of the amplitude with `others` held stopped where it started, on a bound, with a
+    /// sigma of the whole range or of zero (issue 33: a needle adhesion "detectable above 0"
+    /// or six times above its range on a 400 000-sample record). The null itself when its
+    /// signature already reaches `factor` (nothing in the range hides at `others`); beyond
+    /// the range, the linear extrapolation from its end.
+    fn crossing(&self, others: &[f64], factor: f64, basis: &crate::kinds::Basis) -> Option<f64> {
+        let spec = self.cand.params()[self.main];
+        let a0 = self.null[self.main];
+        let a1 = if a0 == spec.lower {
+            spec.upper
+        } else {
+            spec.lower
+        };
+        // the amplitude at fraction `f` of the way from the null to the far end (log space
+        // for a log parameter)
+        let at = |f: f64| -> f64 {
+            if spec.log && a0 > 0.0 && a1 > 0.0 {
+                a0 * (a1 / a0).powf(f)
+            } else {
+                a0 + (a1 - a0) * f
+            }
+        };
+        let n = CROSSING_GRID;
+        let g: Vec<Option<f64>> = (0..n)
+            .into_par_iter()
+            .map(|j| self.signature(at(j as f64 / (n - 1) as f64), others, basis))
+            .collect();
+        let g: Vec<f64> = g.into_iter().collect::<Option<Vec<f64>>>()?;
+        if g[0] >= factor {
+            return Some(a0);
+        }
+        let Some(j) = g.iter().position(|&v| v >= factor) else {
+            // not reached inside the range: extrapolate linearly from its end
+            let last = g[n - 1];
+            return (last > 0.0).then(|| a0 + (a1 - a0) * factor / last);
+        };
+        // bisection between grid points j - 1 (below) and j (at or above)
+        let (mut f_lo, mut f_hi) = ((j - 1) as f64 / (n - 1) as f64, j as f64 / (n - 1) as f64);
+        for _ in 0..CROSSING_BISECTIONS {
+            let f = 0.5 * (f_lo + f_hi);
+            match self.signature(at(f), others, basis) {
+                Some(v) if v >= factor => f_hi = f,
+                Some(_) => f_lo = f,
+                None => return None,
             }
         }
-        let o = fit_model(
-            self.prep,
-            &self.model,
-            &fo,
-            &[self.with(spec.nominal, others)],
-        )?;
-        Ok(Some(o.sigma_cov[self.range.start + main]))
+        Some(at(f_hi))
     }
 
     /// The threshold at the other parameters' nominal values, with its curve along one other
     /// parameter spanning decades; `None` when sigma_A is not finite and positive.
-    fn threshold(
-        &self,
-        opts: &FitOptions,
-        basis: &crate::kinds::Basis,
-    ) -> Result<Option<Threshold>, FitError> {
+    fn threshold(&self, basis: &crate::kinds::Basis) -> Option<Threshold> {
         let (params, main) = (self.cand.params(), self.main);
         let n = self.final_outcome.n as f64;
         let k = params.len() as f64;
@@ -1023,46 +1093,38 @@ impl<'a> Detection<'a> {
             .filter(|&i| i != main)
             .map(|i| params[i].nominal)
             .collect();
-        let Some(sigma_a) = self.sigma_at(&nominal_others, opts, basis)? else {
-            return Ok(None);
-        };
-        let a = sigma_a * factor;
+        let a = self.threshold_at(&nominal_others, factor, basis)?;
         if !(a.is_finite() && a > 0.0) {
-            return Ok(None);
+            return None;
         }
         let assumes: BTreeMap<String, f64> = (0..params.len())
             .filter(|&i| i != main)
             .map(|i| (self.full_name(i), params[i].nominal))
             .collect();
-        Ok(Some(Threshold {
+        Some(Threshold {
             effect: self.cand.name().to_string(),
             parameter: self.full_name(main),
             detectable_above: a,
             unit: params[main].unit.to_string(),
             assumes,
-            curve: self.curve(factor, opts, basis)?,
+            curve: self.curve(factor, basis),
             raised: None,
-        }))
+        })
     }
 
     /// For an effect with exactly one other parameter spanning decades (a log range), the
     /// threshold at nine values of it from a thirtieth to ten times its nominal value; empty
     /// otherwise.
-    fn curve(
-        &self,
-        factor: f64,
-        opts: &FitOptions,
-        basis: &crate::kinds::Basis,
-    ) -> Result<Vec<CurvePoint>, FitError> {
+    fn curve(&self, factor: f64, basis: &crate::kinds::Basis) -> Vec<CurvePoint> {
         let params = self.cand.params();
         let mut curve = Vec::new();
         if params.len() != 2 {
-            return Ok(curve);
+            return curve;
         }
         let o = 1 - self.main;
         let os = params[o];
         if !os.log {
-            return Ok(curve);
+            return curve;
         }
         let (lo, hi) = (
             (os.nominal / 30.0).max(os.lower),
@@ -1070,16 +1132,16 @@ impl<'a> Detection<'a> {
         );
         for j in 0..9 {
             let v = lo * (hi / lo).powf(j as f64 / 8.0);
-            if let Some(s) = self.sigma_at(&[v], opts, basis)?
-                && (s * factor).is_finite()
+            if let Some(a) = self.threshold_at(&[v], factor, basis)
+                && a.is_finite()
             {
                 curve.push(CurvePoint {
                     at: BTreeMap::from([(self.full_name(o), v)]),
-                    detectable_above: s * factor,
+                    detectable_above: a,
                 });
             }
         }
-        Ok(curve)
+        curve
     }
 }
 

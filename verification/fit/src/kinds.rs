@@ -214,7 +214,15 @@ impl<'a> Basis<'a> {
     /// sees it (`d normalised prediction / d coefficient`), after the fit's own freedom:
     /// `1 / |P s|`, `P` the projection out of the fit's Jacobian; `None` when the column lies
     /// in the fit's span (the fit absorbs it whole) or is not finite.
-    pub fn sigma_of_normalised(&self, mut s: Vec<f64>) -> Option<f64> {
+    pub fn sigma_of_normalised(&self, s: Vec<f64>) -> Option<f64> {
+        self.projected_norm(s)
+            .filter(|&norm| norm > 0.0)
+            .map(|norm| 1.0 / norm)
+    }
+
+    /// The norm of a column already whitened and normalised as the fit sees it, projected out
+    /// of the fit's Jacobian (0 when the fit absorbs it whole); `None` when it is not finite.
+    pub fn projected_norm(&self, mut s: Vec<f64>) -> Option<f64> {
         for _ in 0..2 {
             for e in &self.q {
                 let a = dot(e, &s);
@@ -224,7 +232,7 @@ impl<'a> Basis<'a> {
             }
         }
         let norm = dot(&s, &s).sqrt();
-        (norm > 0.0 && norm.is_finite()).then(|| 1.0 / norm)
+        norm.is_finite().then_some(norm)
     }
 
     /// Correlation of the residual with the projected raw shape `s` (0 when it vanishes).

@@ -13,6 +13,7 @@
 //!   is still found.
 
 use geodesic_facility::effects::Scenario;
+use geodesic_fit::diagnose::DELTA_BIC_STRONG;
 use geodesic_fit::discover::{DiscoverOptions, discover};
 use geodesic_fit::fit::{FitOptions, Prepared};
 use geodesic_fit::synth::{SynthSpec, generate};
@@ -238,4 +239,79 @@ fn fit_and_discover_report_the_same_sigmas() {
             (a, b) => assert_eq!(a.is_some(), b.is_some(), "{name}"),
         }
     }
+}
+
+/// A TMMF release like the `discover` benchmark's (tip adhesion 1.3e5 N/m at 0.6 um, jerk 6 000
+/// m/s^3 to 3 mm/s, 200 kHz, 2 000 samples), with a needle adhesion of strength `a1` at
+/// 0.4 um (its nominal range) when `a1` is given.
+fn needle_record(a1: Option<f64>) -> Prepared {
+    let mut truth = vec!["needle_contact", "tip_contact", "tip_adhesion"];
+    if a1.is_some() {
+        truth.push("needle_adhesion");
+    }
+    let mut spec = SynthSpec::defaults(Scenario::TmmfRelease, &truth);
+    spec.params.insert("tip_adhesion.A1".into(), 1.3e5);
+    spec.params.insert("tip_adhesion.lambda".into(), 6e-7);
+    if let Some(a1) = a1 {
+        spec.params.insert("needle_adhesion.A1".into(), a1);
+        spec.params.insert("needle_adhesion.lambda".into(), 4e-7);
+    }
+    spec.profile.jerk_m_s3 = 6000.0;
+    spec.profile.v_m_s = 3e-3;
+    spec.seed = 3;
+    spec.pre_s = 1e-3;
+    spec.post_s = 1999.0 / 2e5 - 1e-3;
+    Prepared::new(generate(&spec, "needle.yaml").expect("synth"))
+}
+
+#[test]
+fn a_threshold_without_a_linear_response_separates_what_hides_from_what_shows() {
+    // A needle adhesion at its null strength (the lower bound, 10 N/m) still pulls on the TM
+    // through the hold at the nominal range, so its threshold has no linear response at the
+    // null: it is the strength whose signature the final model cannot absorb (a crossing).
+    // Independent check: `diagnose` on records holding a third of it and three times it.
+    let base = ["needle_contact", "tip_contact", "tip_adhesion"];
+    let prep = needle_record(None);
+    let o = geodesic_fit::fit::fit(&prep, &base, &FitOptions::default()).expect("fit");
+    let ts = geodesic_fit::discover::thresholds(&prep, &o, &base).expect("thresholds");
+    let t = ts
+        .iter()
+        .find(|t| t.effect == "needle_adhesion")
+        .expect("a needle adhesion threshold");
+    assert_eq!(t.assumes["needle_adhesion.lambda"], 4e-7);
+    let thr = t.detectable_above;
+    // inside the range: above its null, below its upper bound (a fit of the strength at a
+    // bound gave 0 or six times the upper bound on a long record before)
+    assert!(thr > 10.0 && thr < 1e7, "threshold {thr} N/m");
+    for p in &t.curve {
+        assert!(
+            p.detectable_above >= 10.0 && p.detectable_above.is_finite(),
+            "{p:?}"
+        );
+    }
+    let delta = |a1: f64| -> f64 {
+        let (r, _) = geodesic_fit::diagnose::diagnose(
+            &needle_record(Some(a1)),
+            &base,
+            &FitOptions::default(),
+        )
+        .expect("diagnose");
+        r.candidates
+            .iter()
+            .find(|c| c.effect == "needle_adhesion")
+            .expect("the needle adhesion candidate")
+            .delta_bic
+    };
+    let (below, above) = (delta(thr / 3.0), delta(3.0 * thr));
+    eprintln!(
+        "needle_adhesion.A1 threshold {thr:.1} N/m: delta BIC {below:.1} at a third, {above:.1} at three times"
+    );
+    assert!(
+        below > DELTA_BIC_STRONG,
+        "a third of the threshold shows: {below}"
+    );
+    assert!(
+        above < DELTA_BIC_STRONG,
+        "three times the threshold hides: {above}"
+    );
 }
