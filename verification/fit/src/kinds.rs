@@ -247,6 +247,15 @@ impl<'a> Basis<'a> {
     }
 }
 
+/// The sine and cosine of frequency `f` [Hz] at times `t` [s]: a vibration's two columns.
+fn sincos(t: &[f64], f: f64) -> Vec<Vec<f64>> {
+    let w = std::f64::consts::TAU * f;
+    vec![
+        t.iter().map(|t| (w * t).sin()).collect(),
+        t.iter().map(|t| (w * t).cos()).collect(),
+    ]
+}
+
 /// Cumulative trapezoid integral of `v` over `t` from the trigger (zero before it).
 fn integ(t: &[f64], v: &[f64]) -> Vec<f64> {
     let mut out = vec![0.0; v.len()];
@@ -326,11 +335,23 @@ pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) 
         out: Vec::new(),
     };
     s.state_kinds();
-    let delay_d = s.delay();
-    if s.t_end > 4.0 * s.dt {
-        s.scanned_kinds();
-    }
-    s.vibration(peaks);
+    // the scans are independent and read-only: side by side on the thread pool (the kinds
+    // of a 400 000-sample record took 10 to 15 s on one core, issue 33 item 6), each kind
+    // then pushed in the order of the sequential scan, so the same bits whatever the thread
+    // count
+    let scanned = s.t_end > 4.0 * s.dt;
+    let (delay_best, (scanned_best, vibration_best)) = rayon::join(
+        || s.delay_scan(),
+        || {
+            rayon::join(
+                || if scanned { s.scanned_scan() } else { Vec::new() },
+                || s.vibration_scan(peaks),
+            )
+        },
+    );
+    let delay_d = s.delay(delay_best);
+    s.scanned_kinds(scanned_best);
+    s.vibration(vibration_best);
     s.finish(delay_d)
 }
 
@@ -414,29 +435,41 @@ impl KindScan<'_, '_> {
         }
     }
 
+    /// The scan of [`Self::delay`]: the best shift (signed) and its score over both signs.
+    fn delay_scan(&self) -> (f64, f64) {
+        let (t, x, dt, basis) = (self.t, self.x, self.dt, self.basis);
+        let per_sign: Vec<(f64, f64)> = [1.0, -1.0]
+            .into_par_iter()
+            .map(|sign| {
+                let b = scan(
+                    0.2 * dt,
+                    (0.05 * self.span).max(0.4 * dt),
+                    24,
+                    true,
+                    0.01,
+                    &|d| {
+                        let cols = state_shape(t, "delay", x, sign * d).expect("a state kind");
+                        basis.score(cols).map_or(f64::NEG_INFINITY, |s| s.2)
+                    },
+                );
+                (sign * b.0, b.1)
+            })
+            .collect();
+        let mut shift_best = (0.0, f64::NEG_INFINITY);
+        for b in per_sign {
+            if b.1 > shift_best.1 {
+                shift_best = b;
+            }
+        }
+        shift_best
+    }
+
     /// A shift of the time axis by d: x(t - d) - x(t), |d| scanned from a fifth of a sample to a
     /// twentieth of the record, both signs; the delay is the coefficient times d (a coefficient
     /// of 1 for a pure shift, and any product for a shift small enough to be linear). Returns
     /// the shift scanned, when the kind was scored.
-    fn delay(&mut self) -> Option<f64> {
-        let (t, x, dt, ch, basis) = (self.t, self.x, self.dt, self.ch, self.basis);
-        let mut shift_best = (0.0, f64::NEG_INFINITY);
-        for sign in [1.0, -1.0] {
-            let b = scan(
-                0.2 * dt,
-                (0.05 * self.span).max(0.4 * dt),
-                24,
-                true,
-                0.01,
-                &|d| {
-                    let cols = state_shape(t, "delay", x, sign * d).expect("a state kind");
-                    basis.score(cols).map_or(f64::NEG_INFINITY, |s| s.2)
-                },
-            );
-            if b.1 > shift_best.1 {
-                shift_best = (sign * b.0, b.1);
-            }
-        }
+    fn delay(&mut self, shift_best: (f64, f64)) -> Option<f64> {
+        let (t, x, ch) = (self.t, self.x, self.ch);
         if !shift_best.1.is_finite() {
             return None;
         }
@@ -453,10 +486,15 @@ impl KindScan<'_, '_> {
         Some(d)
     }
 
-    /// Creep over a log grid of tau; a step in position and in velocity over t0.
-    fn scanned_kinds(&mut self) {
-        let (t, dt, post, basis) = (self.t, self.dt, self.t_end, self.basis);
-        for (kind, state, unit, name, lo, hi, m, log, tol) in [
+    /// The scanned kinds: creep over a log grid of tau; a step in position and in velocity over
+    /// t0. Each: (kind, state, unit, parameter name, lo, hi, grid points, log, tolerance).
+    #[allow(clippy::type_complexity)]
+    fn scanned_specs(
+        &self,
+    ) -> [(&'static str, &'static str, &'static str, &'static str, f64, f64, usize, bool, f64); 3]
+    {
+        let (dt, post) = (self.dt, self.t_end);
+        [
             (
                 "creep",
                 "time since the trigger (logarithmic)",
@@ -490,12 +528,30 @@ impl KindScan<'_, '_> {
                 false,
                 0.5 * dt,
             ),
-        ] {
-            let cols = |v: f64| scanned_shape(t, kind, v).expect("a scanned kind");
-            let (v, _) = scan(lo, hi, m, log, tol, &|v| {
-                basis.score(cols(v)).map_or(f64::NEG_INFINITY, |s| s.2)
-            });
-            self.push(kind, state.into(), cols(v), true, unit, &|c| {
+        ]
+    }
+
+    /// The scans of [`Self::scanned_kinds`], side by side: each kind's best parameter.
+    fn scanned_scan(&self) -> Vec<f64> {
+        let (t, basis) = (self.t, self.basis);
+        self.scanned_specs()
+            .into_par_iter()
+            .map(|(kind, _, _, _, lo, hi, m, log, tol)| {
+                let cols = |v: f64| scanned_shape(t, kind, v).expect("a scanned kind");
+                scan(lo, hi, m, log, tol, &|v| {
+                    basis.score(cols(v)).map_or(f64::NEG_INFINITY, |s| s.2)
+                })
+                .0
+            })
+            .collect()
+    }
+
+    /// Creep, slip and impulse at their scanned parameters `best` (none when not scanned).
+    fn scanned_kinds(&mut self, best: Vec<f64>) {
+        let t = self.t;
+        for ((kind, state, unit, name, ..), v) in self.scanned_specs().into_iter().zip(best) {
+            let cols = scanned_shape(t, kind, v).expect("a scanned kind");
+            self.push(kind, state.into(), cols, true, unit, &|c| {
                 (
                     term_text(kind, c, v),
                     Some(TermParameter {
@@ -508,44 +564,49 @@ impl KindScan<'_, '_> {
         }
     }
 
-    /// A vibration over the whole record: the whole band for records up to 4 096 samples, else
-    /// the low band and around the periodogram's first three `peaks`.
-    fn vibration(&mut self, peaks: &[Peak]) {
+    /// The scan of [`Self::vibration`]: over the whole band for records up to 4 096 samples,
+    /// else the low band and around the periodogram's first three `peaks`, the bands side by
+    /// side; the best frequency and its score.
+    fn vibration_scan(&self, peaks: &[Peak]) -> (f64, f64) {
         let (t, dt, basis) = (self.t, self.dt, self.basis);
-        let sincos = |f: f64| -> Vec<Vec<f64>> {
-            let w = std::f64::consts::TAU * f;
-            vec![
-                t.iter().map(|t| (w * t).sin()).collect(),
-                t.iter().map(|t| (w * t).cos()).collect(),
-            ]
-        };
-        let score_f = |f: f64| basis.score(sincos(f)).map_or(f64::NEG_INFINITY, |s| s.2);
+        let score_f = |f: f64| basis.score(sincos(t, f)).map_or(f64::NEG_INFINITY, |s| s.2);
         let res = 1.0 / self.span;
         let nyq = 0.5 / dt;
-        let mut best = (0.0, f64::NEG_INFINITY);
-        let mut try_band = |lo: f64, hi: f64, m: usize| {
-            let hi = hi.min(0.98 * nyq);
-            if hi > lo {
-                let b = scan(lo, hi, m, false, 0.01 * res, &score_f);
-                if b.1 > best.1 {
-                    best = b;
-                }
-            }
-        };
+        let mut bands: Vec<(f64, f64, usize)> = Vec::new();
         if t.len() <= 4096 {
-            try_band(0.5 * res, nyq, (4.0 * (nyq - 0.5 * res) / res) as usize + 2);
+            bands.push((0.5 * res, nyq, (4.0 * (nyq - 0.5 * res) / res) as usize + 2));
         } else {
-            try_band(0.5 * res, 64.0 * res, 256);
+            bands.push((0.5 * res, 64.0 * res, 256));
             for p in peaks.iter().take(3) {
-                try_band(p.hz - 2.0 * res, p.hz + 2.0 * res, 17);
+                bands.push((p.hz - 2.0 * res, p.hz + 2.0 * res, 17));
             }
         }
+        let found: Vec<Option<(f64, f64)>> = bands
+            .into_par_iter()
+            .map(|(lo, hi, m)| {
+                let hi = hi.min(0.98 * nyq);
+                (hi > lo).then(|| scan(lo, hi, m, false, 0.01 * res, &score_f))
+            })
+            .collect();
+        let mut best = (0.0, f64::NEG_INFINITY);
+        for b in found.into_iter().flatten() {
+            if b.1 > best.1 {
+                best = b;
+            }
+        }
+        best
+    }
+
+    /// A vibration over the whole record at the frequency `best` scanned (none when its score
+    /// is not finite).
+    fn vibration(&mut self, best: (f64, f64)) {
+        let t = self.t;
         if best.1.is_finite() {
             let f = best.0;
             self.push(
                 "vibration",
                 "time (periodic)".into(),
-                sincos(f),
+                sincos(t, f),
                 true,
                 "m",
                 &|c| {
