@@ -344,7 +344,13 @@ pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) 
         || s.delay_scan(),
         || {
             rayon::join(
-                || if scanned { s.scanned_scan() } else { Vec::new() },
+                || {
+                    if scanned {
+                        s.scanned_scan()
+                    } else {
+                        Vec::new()
+                    }
+                },
                 || s.vibration_scan(peaks),
             )
         },
@@ -353,6 +359,21 @@ pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) 
     s.scanned_kinds(scanned_best);
     s.vibration(vibration_best);
     s.finish(delay_d)
+}
+
+/// A kind with a scanned parameter ([`KindScan::scanned_specs`]): its name, the state its
+/// words name, its coefficient's unit, the parameter scanned and its scan (from `lo` to `hi`
+/// [s] on `grid` points, in log space when `log`, zoomed until the spacing is below `tol`).
+struct ScannedSpec {
+    kind: &'static str,
+    state: &'static str,
+    unit: &'static str,
+    name: &'static str,
+    lo: f64,
+    hi: f64,
+    grid: usize,
+    log: bool,
+    tol: f64,
 }
 
 /// The scan of every kind over a residual ([`kinds_of`]): the basis of the fit, the record's
@@ -487,15 +508,22 @@ impl KindScan<'_, '_> {
     }
 
     /// The scanned kinds: creep over a log grid of tau; a step in position and in velocity over
-    /// t0. Each: (kind, state, unit, parameter name, lo, hi, grid points, log, tolerance).
-    #[allow(clippy::type_complexity)]
-    fn scanned_specs(
-        &self,
-    ) -> [(&'static str, &'static str, &'static str, &'static str, f64, f64, usize, bool, f64); 3]
-    {
+    /// t0.
+    fn scanned_specs(&self) -> [ScannedSpec; 3] {
         let (dt, post) = (self.dt, self.t_end);
+        let spec = |kind, state, unit, name, lo, hi, grid, log, tol| ScannedSpec {
+            kind,
+            state,
+            unit,
+            name,
+            lo,
+            hi,
+            grid,
+            log,
+            tol,
+        };
         [
-            (
+            spec(
                 "creep",
                 "time since the trigger (logarithmic)",
                 "m",
@@ -506,7 +534,7 @@ impl KindScan<'_, '_> {
                 true,
                 0.02,
             ),
-            (
+            spec(
                 "slip",
                 "time since the trigger (a jump)",
                 "m",
@@ -517,7 +545,7 @@ impl KindScan<'_, '_> {
                 false,
                 0.5 * dt,
             ),
-            (
+            spec(
                 "impulse",
                 "time since the trigger (a velocity jump)",
                 "m/s",
@@ -536,9 +564,9 @@ impl KindScan<'_, '_> {
         let (t, basis) = (self.t, self.basis);
         self.scanned_specs()
             .into_par_iter()
-            .map(|(kind, _, _, _, lo, hi, m, log, tol)| {
-                let cols = |v: f64| scanned_shape(t, kind, v).expect("a scanned kind");
-                scan(lo, hi, m, log, tol, &|v| {
+            .map(|k| {
+                let cols = |v: f64| scanned_shape(t, k.kind, v).expect("a scanned kind");
+                scan(k.lo, k.hi, k.grid, k.log, k.tol, &|v| {
                     basis.score(cols(v)).map_or(f64::NEG_INFINITY, |s| s.2)
                 })
                 .0
@@ -549,13 +577,13 @@ impl KindScan<'_, '_> {
     /// Creep, slip and impulse at their scanned parameters `best` (none when not scanned).
     fn scanned_kinds(&mut self, best: Vec<f64>) {
         let t = self.t;
-        for ((kind, state, unit, name, ..), v) in self.scanned_specs().into_iter().zip(best) {
-            let cols = scanned_shape(t, kind, v).expect("a scanned kind");
-            self.push(kind, state.into(), cols, true, unit, &|c| {
+        for (k, v) in self.scanned_specs().into_iter().zip(best) {
+            let cols = scanned_shape(t, k.kind, v).expect("a scanned kind");
+            self.push(k.kind, k.state.into(), cols, true, k.unit, &|c| {
                 (
-                    term_text(kind, c, v),
+                    term_text(k.kind, c, v),
                     Some(TermParameter {
-                        name: name.into(),
+                        name: k.name.into(),
                         value: v,
                         unit: "s".into(),
                     }),
