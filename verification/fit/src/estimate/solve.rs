@@ -27,6 +27,8 @@ pub(super) fn fit_model_on(
 ) -> Result<FitOutcome, FitError> {
     let clock = std::time::Instant::now();
     let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
+    // the model in every progress line: `discover` and `diagnose` fit many side by side
+    let label = model.effect_names().join("+");
     let lap = |what: &str| {
         if debug {
             eprintln!(
@@ -37,7 +39,7 @@ pub(super) fn fit_model_on(
         }
         crate::numeric::progress::note(true, || {
             format!(
-                "fit on {} samples: {what} done ({:.1} s)",
+                "fit of {label} on {} samples: {what} done ({:.1} s)",
                 prep.dataset.t.len(),
                 clock.elapsed().as_secs_f64()
             )
@@ -352,7 +354,8 @@ fn profiles(ctx: &ProfileContext) -> Profiles {
             let done = sides_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             crate::numeric::progress::note(true, || {
                 format!(
-                    "profiles: {done} of {} sides done ({:.1} s)",
+                    "profiles of {}: {done} of {} sides done ({:.1} s)",
+                    ctx.pb.model.effect_names().join("+"),
                     2 * n_free,
                     ctx.clock.elapsed().as_secs_f64()
                 )
