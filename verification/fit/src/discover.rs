@@ -1083,7 +1083,7 @@ impl<'a> Detection<'a> {
     }
 
     /// The threshold at the other parameters' nominal values, with its curve along one other
-    /// parameter spanning decades; `None` when sigma_A is not finite and positive.
+    /// parameter spanning decades; `None` when the threshold is not finite and positive.
     fn threshold(&self, basis: &crate::kinds::Basis) -> Option<Threshold> {
         let (params, main) = (self.cand.params(), self.main);
         let n = self.final_outcome.n as f64;

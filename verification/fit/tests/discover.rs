@@ -282,10 +282,13 @@ fn a_threshold_without_a_linear_response_separates_what_hides_from_what_shows() 
     let thr = t.detectable_above;
     // inside the range: above its null, below its upper bound (a fit of the strength at a
     // bound gave 0 or six times the upper bound on a long record before)
-    assert!(thr > 10.0 && thr < 1e7, "threshold {thr} N/m");
+    let a1 = geodesic_facility::by_name("needle_adhesion")
+        .expect("in the catalogue")
+        .params()[0];
+    assert!(thr > a1.lower && thr < a1.upper, "threshold {thr} N/m");
     for p in &t.curve {
         assert!(
-            p.detectable_above >= 10.0 && p.detectable_above.is_finite(),
+            p.detectable_above >= a1.lower && p.detectable_above.is_finite(),
             "{p:?}"
         );
     }
