@@ -337,55 +337,60 @@ enum Profiles {
 /// Moves each free parameter away from the best fit, refits the others and widens its 1-sigma
 /// to where chi-square has risen by max(1, chi2_red); only ever widens the covariance figure
 /// (banana-shaped valleys, examples README pitfall).
+///
+/// The sides advance in waves, one profile point each per wave, in parallel (sixteen tasks
+/// for eight parameters: two cores stay busy). A wave that meets a point below the best fit
+/// ends the stage there: the fit is refined from the lowest point the wave met and profiled
+/// again, so the farther points of this round, which would be measured from the old best,
+/// are not computed (on a million-sample retraction record that was a quarter of the
+/// profiles' time, issue 35). Which point is chosen depends on the waves alone, not on the
+/// threads' timing.
 fn profiles(ctx: &ProfileContext) -> Profiles {
     let n_free = ctx.c.n_free;
-    // one task per parameter and side (sixteen for eight parameters: two cores stay busy
-    // to the end); each returns its reach and the lowest point it met below the best fit
-    let sides_done = std::sync::atomic::AtomicUsize::new(0);
-    #[allow(clippy::type_complexity)]
-    let sides: Vec<(f64, Option<(f64, Vec<f64>)>)> = (0..2 * n_free)
-        .into_par_iter()
-        .map(|ks| {
-            let side = profile_side(ctx, ks / 2, ks % 2);
-            if !is_profiled(ctx.c, ctx.pb.fidx[ks / 2], ks / 2) {
-                // not profiled: not counted among the sides done
-                return side;
-            }
-            let done = sides_done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            crate::numeric::progress::note(true, || {
-                format!(
-                    "profiles of {}: {done} of {} sides done ({:.1} s)",
-                    ctx.pb.model.effect_names().join("+"),
-                    2 * n_free,
-                    ctx.clock.elapsed().as_secs_f64()
-                )
-            });
-            side
-        })
+    let mut sides: Vec<Side> = (0..2 * n_free)
+        .map(|ks| Side::new(ctx, ks / 2, ks % 2))
         .collect();
-    // the lowest point met below the best fit (the first in parameter and side order among
-    // equals)
-    let mut lowest: Option<&(f64, Vec<f64>)> = None;
-    for (_, l) in &sides {
-        if let Some(c) = l
-            && lowest.is_none_or(|b| c.0 < b.0)
+    let n_profiled = sides.iter().filter(|s| !s.done).count();
+    let mut n_done = 0;
+    loop {
+        let before = sides.iter().filter(|s| !s.done).count();
+        if before == 0 {
+            break;
+        }
+        sides
+            .par_iter_mut()
+            .filter(|s| !s.done)
+            .for_each(|s| s.advance(ctx));
+        n_done += before - sides.iter().filter(|s| !s.done).count();
+        crate::numeric::progress::note(true, || {
+            format!(
+                "profiles of {}: {n_done} of {n_profiled} sides done ({:.1} s)",
+                ctx.pb.model.effect_names().join("+"),
+                ctx.clock.elapsed().as_secs_f64()
+            )
+        });
+        // the lowest point met below the best fit (the first in parameter and side order
+        // among equals)
+        let mut lowest: Option<&(f64, Vec<f64>)> = None;
+        for c in sides.iter().filter_map(|s| s.lowest.as_ref()) {
+            if lowest.is_none_or(|b| c.0 < b.0) {
+                lowest = Some(c);
+            }
+        }
+        if let Some((c, w)) = lowest
+            && ctx.depth < PROFILE_RESTARTS
         {
-            lowest = Some(c);
+            if ctx.debug {
+                let r2 = ctx.c.ratio * ctx.c.ratio;
+                eprintln!(
+                    "a profile met chi-square {:.3} below the best fit: refining from there",
+                    (ctx.c.chi2 / r2 - c) * r2
+                );
+            }
+            return Profiles::Lower(w.clone());
         }
     }
-    if let Some((c, w)) = lowest
-        && ctx.depth < PROFILE_RESTARTS
-    {
-        if ctx.debug {
-            let r2 = ctx.c.ratio * ctx.c.ratio;
-            eprintln!(
-                "a profile met chi-square {:.3} below the best fit: refining from there",
-                (ctx.c.chi2 / r2 - c) * r2
-            );
-        }
-        return Profiles::Lower(w.clone());
-    }
-    Profiles::Widths(sides.chunks(2).map(|c| [c[0].0, c[1].0]).collect())
+    Profiles::Widths(sides.chunks(2).map(|c| [c[0].out, c[1].out]).collect())
 }
 
 /// Whether the `k`-th free parameter (parameter `i`) is profiled: not along a symmetry (the
@@ -395,71 +400,108 @@ fn is_profiled(c: &Uncertainty, i: usize, k: usize) -> bool {
     su.is_finite() && su > 0.0 && c.resolved[i]
 }
 
-/// One side (`side` 0 up, 1 down) of the profile of the `k`-th free parameter: its reach, and
-/// the lowest point met below the best fit (by more than 0.01 in chi-square), if any.
-#[allow(clippy::type_complexity)]
-fn profile_side(ctx: &ProfileContext, k: usize, side: usize) -> (f64, Option<(f64, Vec<f64>)>) {
-    let (pb, c, u, start) = (ctx.pb, ctx.c, ctx.u, ctx.start);
-    let (fidx, lo, hi, t) = (&pb.fidx, &pb.lo, &pb.hi, pb.t);
-    let (cov, inflate, n_free) = (&c.cov, c.inflate, c.n_free);
-    let target = inflate;
-    let r2 = c.ratio * c.ratio;
-    let cost_best = c.chi2 / r2;
-    let (debug, depth) = (ctx.debug, ctx.depth);
-    let sgn = if side == 0 { 1.0 } else { -1.0 };
-    let su = (cov[(k, k)].max(0.0) * inflate).sqrt();
-    let mut out = su;
-    // the lowest point met below the best fit (by more than 0.01 in chi-square)
-    let mut lowest: Option<(f64, Vec<f64>)> = None;
-    if !is_profiled(c, fidx[k], k) {
-        return (out, lowest);
-    }
-    let others: Vec<usize> = (0..n_free).filter(|&j| j != k).collect();
-    let lo2: Vec<f64> = others.iter().map(|&j| lo[j]).collect();
-    let hi2: Vec<f64> = others.iter().map(|&j| hi[j]).collect();
-    let steps2: Vec<f64> = others.iter().map(|&j| c.steps[j]).collect();
-    // where the others' optimum moves per unit of u_k, to first order: the
-    // regression slope of the covariance, cov(j, k) / cov(k, k). Each profile
-    // point starts from the previous one moved along it, next to its optimum, so
-    // the refit of the others takes a few iterations instead of a crawl along the
-    // valley.
-    let slope: Vec<f64> = others
-        .iter()
-        .map(|&j| {
-            let s = cov[(j, k)] / cov[(k, k)];
-            if s.is_finite() { s } else { 0.0 }
-        })
-        .collect();
-    let mut step = su;
-    let mut v0: Vec<f64> = others.iter().map(|&j| u[j]).collect();
-    let mut uk_prev = u[k];
-    for _ in 0..PROFILE_DOUBLINGS {
-        let uk = (u[k] + sgn * step).clamp(lo[k], hi[k]);
-        let at_bound = uk != u[k] + sgn * step;
-        for (i, v) in v0.iter_mut().enumerate() {
-            *v = (*v + slope[i] * (uk - uk_prev)).clamp(lo2[i], hi2[i]);
+/// Iterations of one profile point's refit of the other parameters. A model that describes
+/// the record takes one to five (measured on the public examples and a million-sample
+/// retraction record, 2026-11-28). A refit that has not converged in twenty is crawling along
+/// a wrong model's sloppy valley, where the finite-difference gradient is mostly truncation
+/// error (its Gauss-Newton step predicted a fall of 2e8 in chi-square where the cost fell by
+/// 1e3, issue 35): sixty iterations there moved no width and tripled the profiles' time.
+const PROFILE_ITERATIONS: usize = 20;
+
+/// One side (`side` 0 up, 1 down) of the profile of the `k`-th free parameter, advanced a
+/// point at a time ([`Side::advance`]).
+struct Side {
+    k: usize,
+    side: usize,
+    /// Its reach so far (fit coordinates): the covariance sigma, widened by the points.
+    out: f64,
+    /// The lowest point met below the best fit (by more than 0.01 in chi-square): cost and
+    /// free parameters.
+    lowest: Option<(f64, Vec<f64>)>,
+    /// Whether the side has ended (or is not profiled).
+    done: bool,
+    /// The other free parameters, their bounds and difference steps.
+    others: Vec<usize>,
+    /// Where the others' optimum moves per unit of `u_k`, to first order: the regression
+    /// slope of the covariance, `cov(j, k) / cov(k, k)`. Each point starts from the previous
+    /// one moved along it, next to its optimum, so the refit of the others takes a few
+    /// iterations instead of a crawl along the valley.
+    slope: Vec<f64>,
+    step: f64,
+    v0: Vec<f64>,
+    uk_prev: f64,
+    doublings: usize,
+}
+
+impl Side {
+    fn new(ctx: &ProfileContext, k: usize, side: usize) -> Side {
+        let (c, u) = (ctx.c, ctx.u);
+        let (cov, inflate, n_free) = (&c.cov, c.inflate, c.n_free);
+        let su = (cov[(k, k)].max(0.0) * inflate).sqrt();
+        let others: Vec<usize> = (0..n_free).filter(|&j| j != k).collect();
+        let slope: Vec<f64> = others
+            .iter()
+            .map(|&j| {
+                let s = cov[(j, k)] / cov[(k, k)];
+                if s.is_finite() { s } else { 0.0 }
+            })
+            .collect();
+        let v0: Vec<f64> = others.iter().map(|&j| u[j]).collect();
+        Side {
+            k,
+            side,
+            out: su,
+            lowest: None,
+            done: !is_profiled(c, ctx.pb.fidx[k], k),
+            others,
+            slope,
+            step: su,
+            v0,
+            uk_prev: u[k],
+            doublings: 0,
         }
-        uk_prev = uk;
+    }
+
+    /// The next point of the side: `u_k` moved by the step, the others refitted; ends the
+    /// side when chi-square has risen by the target, a bound is met, the doublings are used
+    /// or a point below the best fit is met.
+    fn advance(&mut self, ctx: &ProfileContext) {
+        let (pb, c, u, start) = (ctx.pb, ctx.c, ctx.u, ctx.start);
+        let (lo, hi, t) = (&pb.lo, &pb.hi, pb.t);
+        let k = self.k;
+        let target = c.inflate;
+        let r2 = c.ratio * c.ratio;
+        let cost_best = c.chi2 / r2;
+        let sgn = if self.side == 0 { 1.0 } else { -1.0 };
+        let lo2: Vec<f64> = self.others.iter().map(|&j| lo[j]).collect();
+        let hi2: Vec<f64> = self.others.iter().map(|&j| hi[j]).collect();
+        let steps2: Vec<f64> = self.others.iter().map(|&j| c.steps[j]).collect();
+        let uk = (u[k] + sgn * self.step).clamp(lo[k], hi[k]);
+        let at_bound = uk != u[k] + sgn * self.step;
+        for (i, v) in self.v0.iter_mut().enumerate() {
+            *v = (*v + self.slope[i] * (uk - self.uk_prev)).clamp(lo2[i], hi2[i]);
+        }
+        self.uk_prev = uk;
         let f = Profiled {
             window: pb.window(start, t.len()),
             k,
             uk,
         };
-        // chi-square to 1 % of `target`, the rise the profile compares it with: one
-        // unit for a model that fits (chi2_red <= 1: as before), chi2_red units for
-        // one that does not, whose sigmas are inflated by sqrt(chi2_red). Refining
-        // a wrong model's profile point to 1 % of a unit of a chi-square of 1e10
-        // made a million-sample record's profiles crawl for 60 iterations each
-        // (issue 35) without moving its width beyond that 1 %.
+        // chi-square to 1 % of `target`, the rise the profile compares it with: one unit for
+        // a model that fits (chi2_red <= 1: as before), chi2_red units for one that does not,
+        // whose sigmas are inflated by sqrt(chi2_red). Refining a wrong model's profile point
+        // to 1 % of a unit of a chi-square of 1e10 made a million-sample record's profiles
+        // crawl for 60 iterations each (issue 35) without moving its width beyond that 1 %.
         let opts_p = LmOptions {
-            max_iter: 60,
+            max_iter: PROFILE_ITERATIONS,
             atol: 0.01 * target / r2,
             ..LmOptions::default()
         };
-        let r = minimize_with_steps(&f, &v0, &lo2, &hi2, &opts_p, Some(&steps2));
-        if debug {
+        let r = minimize_with_steps(&f, &self.v0, &lo2, &hi2, &opts_p, Some(&steps2));
+        if ctx.debug {
             eprintln!(
-                "profile {k} side {side}: {} iterations, dchi2 {:.3}",
+                "profile {k} side {}: {} iterations, dchi2 {:.3}",
+                self.side,
                 r.iterations,
                 (r.cost - cost_best) * r2
             );
@@ -468,37 +510,38 @@ fn profile_side(ctx: &ProfileContext, k: usize, side: usize) -> (f64, Option<(f6
             format!(
                 "profile of {} ({}): {} iterations, delta chi2 {:.4e} (target {:.4e})",
                 c.free_names[k],
-                if side == 0 { "up" } else { "down" },
+                if self.side == 0 { "up" } else { "down" },
                 r.iterations,
                 (r.cost - cost_best) * r2,
                 target
             )
         });
-        if r.cost < cost_best - 0.01 / r2 && lowest.as_ref().is_none_or(|(c, _)| r.cost < *c) {
+        self.doublings += 1;
+        if r.cost < cost_best - 0.01 / r2 && self.lowest.as_ref().is_none_or(|(c, _)| r.cost < *c) {
             let mut w = r.u.clone();
             w.insert(k, uk);
-            lowest = Some((r.cost, w));
+            self.lowest = Some((r.cost, w));
             // the fit is refined from here and profiled again: this side stops
-            // (the others run to their end, so that the point chosen does not
-            // depend on the threads' timing)
-            if depth < PROFILE_RESTARTS {
-                break;
+            if ctx.depth < PROFILE_RESTARTS {
+                self.done = true;
+                return;
             }
         }
         let dchi = ((r.cost - cost_best) * r2).max(0.0);
         let reach = (uk - u[k]).abs();
         if dchi >= target {
-            out = out.max(reach * (target / dchi).sqrt());
-            break;
+            self.out = self.out.max(reach * (target / dchi).sqrt());
+            self.done = true;
+            return;
         }
-        out = out.max(reach);
-        if at_bound {
-            break;
+        self.out = self.out.max(reach);
+        if at_bound || self.doublings >= PROFILE_DOUBLINGS {
+            self.done = true;
+            return;
         }
-        v0 = r.u;
-        step *= 2.0;
+        self.v0 = r.u;
+        self.step *= 2.0;
     }
-    (out, lowest)
 }
 
 /// Widens each free parameter's sigma to its profile's reach (`widths`, up and down in the
