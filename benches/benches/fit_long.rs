@@ -38,5 +38,44 @@ fn long_retraction(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, long_retraction);
+/// Four parameter vectors of the retraction model (a Jacobian's columns) on the same
+/// million-sample record: one evaluation after the other, and side by side
+/// (`Model::predict_many`, the same bits: `RtConfig::retraction_many`).
+fn retraction_lanes(c: &mut Criterion) {
+    let n = 1_000_000;
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fit_long");
+    let path = geodesic_benches::resample_rt_plunger(n, &dir).expect("resampled record");
+    let prep = Prepared::new(Dataset::load_with(&path, LoadOptions::default()).expect("load"));
+    let model = geodesic_facility::Model::new(
+        geodesic_facility::Scenario::RtRetraction,
+        &["piezo", "plunger_compliance"],
+    )
+    .expect("model");
+    // the example's truth (data/examples/rt-plunger.truth.json), each of the first four
+    // parameters moved by 0.1 %
+    let truth = [371.2, 9e-4, 2.3e-7, 4.91e7, 9.77, 5.73, 0.019, 2.15e6];
+    let ps: Vec<Vec<f64>> = (0..4)
+        .map(|k| {
+            let mut p = truth.to_vec();
+            p[k] *= 1.001;
+            p
+        })
+        .collect();
+    let mut g = c.benchmark_group("retraction_4_vectors");
+    g.sample_size(20);
+    g.throughput(Throughput::Elements(4 * n as u64));
+    g.bench_function(BenchmarkId::new("one_by_one", n), |b| {
+        b.iter(|| {
+            ps.iter()
+                .map(|p| model.predict(black_box(p), &prep.dataset.t, &prep.inputs))
+                .collect::<Vec<_>>()
+        })
+    });
+    g.bench_function(BenchmarkId::new("side_by_side", n), |b| {
+        b.iter(|| model.predict_many(black_box(&ps), &prep.dataset.t, &prep.inputs))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, long_retraction, retraction_lanes);
 criterion_main!(benches);

@@ -38,6 +38,9 @@ impl Model {
             Dynamics::TmRelease if self.lanes() > 1 && !self.shifts_time() => {
                 tmmf::simulate_many(self, ps, times, inputs)
             }
+            Dynamics::TipMechanism if self.lanes() > 1 => {
+                retraction_many(self, ps, times, inputs.e0_v)
+            }
             _ => ps.iter().map(|p| self.predict(p, times, inputs)).collect(),
         }
     }
@@ -110,6 +113,8 @@ impl Model {
             });
         if laws && !self.shifts_time() {
             tmmf::LANES
+        } else if self.scenario.dynamics() == Dynamics::TipMechanism && !self.shifts_time() {
+            crate::retraction::LANES
         } else {
             1
         }
@@ -121,6 +126,24 @@ impl Model {
 /// reading added (an effect of kind `Distortion` of this scenario, e.g. one written by
 /// `discover --scaffold`, issue 36).
 pub fn retraction(model: &Model, p: &[f64], times: &[f64], e0_v: f64) -> Vec<f64> {
+    let mut y = rt_config(model, p, e0_v).retraction(times);
+    add_distortions(model, p, times, &mut y);
+    y
+}
+
+/// [`retraction`] at each parameter vector of `ps`: the same readings, bit for bit, with the
+/// mechanism's tails computed side by side ([`RtConfig::retraction_many`]).
+pub fn retraction_many(model: &Model, ps: &[Vec<f64>], times: &[f64], e0_v: f64) -> Vec<Vec<f64>> {
+    let cfgs: Vec<RtConfig> = ps.iter().map(|p| rt_config(model, p, e0_v)).collect();
+    let mut ys = RtConfig::retraction_many(&cfgs, times);
+    for (y, p) in ys.iter_mut().zip(ps) {
+        add_distortions(model, p, times, y);
+    }
+    ys
+}
+
+/// The mechanism configuration of `model` at `p` (each effect's `configure_rt`).
+fn rt_config(model: &Model, p: &[f64], e0_v: f64) -> RtConfig {
     let mut cfg = RtConfig {
         e0_v,
         ..RtConfig::default()
@@ -130,7 +153,11 @@ pub fn retraction(model: &Model, p: &[f64], times: &[f64], e0_v: f64) -> Vec<f64
             m.configure_rt(&p[model.range(i)], &mut cfg);
         }
     }
-    let mut y = cfg.retraction(times);
+    cfg
+}
+
+/// The distortions of the reading (effects of kind `Distortion`) added to `y` at `times`.
+fn add_distortions(model: &Model, p: &[f64], times: &[f64], y: &mut [f64]) {
     for (i, e) in model.effects.iter().enumerate() {
         if let Role::Distortion(d) = e.role() {
             let pe = &p[model.range(i)];
@@ -139,5 +166,4 @@ pub fn retraction(model: &Model, p: &[f64], times: &[f64], e0_v: f64) -> Vec<f64
             }
         }
     }
-    y
 }

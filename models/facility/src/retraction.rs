@@ -98,15 +98,294 @@ const N_HOM: usize = 5;
 /// relative; a record whose largest offset is smaller takes fewer, to the same bound).
 const GRID_OFFSET_NORM: f64 = 1e-3;
 
-/// The tip's output `y(t) - y(0)` [m] at `times` (increasing, after `t0`, every one of them
-/// after the voltage is off) from the scaled state `z` at `t0`, pushed onto `out`, when the
-/// samples lie on a uniform grid `t0 + k h` to within the rounding of their time stamps
+/// `r . v` with the additions in a fixed order, `-0.0 + r0 v0 + r1 v1 + ...` (the order of
+/// `Iterator::sum`, which it replaced): [`Tail::run`] and [`run_lanes`] share this arithmetic,
+/// so a lane gives the bits of a single evaluation.
+#[inline(always)]
+fn dot5(r: &[f64; N_HOM], v: &[f64; N_HOM]) -> f64 {
+    -0.0 + r[0] * v[0] + r[1] * v[1] + r[2] * v[2] + r[3] * v[3] + r[4] * v[4]
+}
+
+/// The uniform grid `t0 + k h` of the samples `times` after `t0` (`h` from the first and last)
+/// and their largest offset from it: what [`Tail::new`] checks, the same for every parameter
+/// vector (computed once for the lanes of [`RtConfig::retraction_many`]).
+#[derive(Debug, Clone, Copy)]
+struct Grid {
+    /// The sample the tail starts at, and `t0`.
+    idx: usize,
+    t0: f64,
+    h: f64,
+    /// The largest `|t_k - (t0 + (k + 1) h)|` [s].
+    e_max: f64,
+    /// Whether an offset is not a number.
+    nan: bool,
+}
+
+impl Grid {
+    /// The grid of `times` (the record's from sample `idx` on) after `t0`.
+    fn of(idx: usize, t0: f64, times: &[f64]) -> Grid {
+        let n = times.len();
+        let h = match times.last() {
+            Some(&last) => (last - t0) / n as f64,
+            None => f64::NAN,
+        };
+        // four partial maxima (the largest of a set of numbers does not depend on the order)
+        // and no branch per sample, so that the pass over a million time stamps is vectorised
+        let offset = |k: usize, ti: f64| (ti - (t0 + (k + 1) as f64 * h)).abs();
+        let mut e_max4 = [0.0f64; 4];
+        let mut nan4 = [false; 4];
+        let (quads, rest) = times.as_chunks::<4>();
+        for (q, quad) in quads.iter().enumerate() {
+            for (j, &ti) in quad.iter().enumerate() {
+                let e = offset(4 * q + j, ti);
+                nan4[j] |= e.is_nan();
+                e_max4[j] = e_max4[j].max(e);
+            }
+        }
+        let mut e_max = e_max4.iter().copied().fold(0.0f64, f64::max);
+        let mut nan = nan4.iter().any(|&o| o);
+        for (j, &ti) in rest.iter().enumerate() {
+            let e = offset(4 * quads.len() + j, ti);
+            nan |= e.is_nan();
+            e_max = e_max.max(e);
+        }
+        Grid {
+            idx,
+            t0,
+            h,
+            e_max,
+            nan,
+        }
+    }
+}
+
+/// The tip's output on a uniform grid, set up ([`Tail::new`]) and then run ([`Tail::run`], or
+/// several side by side: [`run_lanes`]).
+///
+/// The samples `times` (increasing, after `t0`, every one of them after the voltage is off)
+/// lie on a uniform grid `t0 + k h` to within the rounding of their time stamps
 /// (`|A e| <= GRID_OFFSET_NORM`). Then one `exp(A h)` of the homogeneous 5 x 5 block carries
 /// the state from grid point to grid point, and each sample's offset `e` from its grid point
 /// is applied to the output only, through the Taylor series of `exp(A e)` (rows of `A^m / m!`):
 /// the state never absorbs the rounding of the time stamps, and there is no propagator per
-/// sample. Returns `false`, pushing nothing, for a record that is not uniform (the caller
-/// propagates it interval by interval).
+/// sample.
+struct Tail {
+    /// `exp(A h)` of the homogeneous block.
+    m: [[f64; N_HOM]; N_HOM],
+    /// `rows[j] = e_y^T A^j / j!`: the output's Taylor coefficients in the offset.
+    rows: [[f64; N_HOM]; 5],
+    /// Terms of the series the record's offsets need.
+    n_terms: usize,
+    /// The scaled state at `t0`.
+    v: [f64; N_HOM],
+    t0: f64,
+    h: f64,
+    scale_y: f64,
+    d0: f64,
+}
+
+impl Tail {
+    /// The tail from the scaled state `z` at `grid.t0` over `times` (those of `grid`), or
+    /// `None` for a record that is not uniform (the caller propagates it interval by interval).
+    fn new(
+        a: &Mat,
+        z: &[f64; N_AUG],
+        times: &[f64],
+        grid: &Grid,
+        scale_y: f64,
+        d0: f64,
+    ) -> Option<Tail> {
+        let t0 = grid.t0;
+        if times.len() < 2 || z[N_HOM..].iter().any(|&v| v != 0.0) {
+            return None;
+        }
+        let Grid { h, e_max, nan, .. } = *grid;
+        let a_norm = norm_inf(a);
+        let tol = GRID_OFFSET_NORM / a_norm;
+        // every sample within `tol` of its grid point (none beyond it, none not a number)
+        let within = e_max <= tol;
+        if nan || !within || !(h > 0.0 && tol.is_finite()) {
+            return None;
+        }
+        let full = propagator(a, h);
+        let mut m = [[0.0; N_HOM]; N_HOM];
+        let mut a5 = [[0.0; N_HOM]; N_HOM];
+        for i in 0..N_HOM {
+            m[i].copy_from_slice(&full[i][..N_HOM]);
+            a5[i].copy_from_slice(&a[i][..N_HOM]);
+        }
+        let mut rows = [[0.0; N_HOM]; 5];
+        rows[0][1] = 1.0;
+        for j in 1..rows.len() {
+            for c in 0..N_HOM {
+                rows[j][c] = (0..N_HOM).map(|k| rows[j - 1][k] * a5[k][c]).sum::<f64>() / j as f64;
+            }
+        }
+        // terms of the series the record's offsets need: the first one left out, bounded by
+        // `(|A| e_max)^j / j!` relative to the state, below 8e-18 as the fifth is at
+        // `GRID_OFFSET_NORM` (the time stamps' rounding, e.g. 1e-16 s, needs two to four: the
+        // series was most of the cost of a long record's evaluation, issue 35)
+        let x = a_norm * e_max;
+        let mut n_terms = 1;
+        let mut bound = x;
+        while n_terms < rows.len() && bound > 8e-18 {
+            n_terms += 1;
+            bound *= x / n_terms as f64;
+        }
+        let mut v = [0.0; N_HOM];
+        v.copy_from_slice(&z[..N_HOM]);
+        Some(Tail {
+            m,
+            rows,
+            n_terms,
+            v,
+            t0,
+            h,
+            scale_y,
+            d0,
+        })
+    }
+
+    /// The output at `times` (those of [`Tail::new`]) pushed onto `out`.
+    fn run(&self, times: &[f64], out: &mut Vec<f64>) {
+        let n = times.len();
+        let (m, rows, n_terms) = (&self.m, &self.rows[..self.n_terms], self.n_terms);
+        let mut v = self.v;
+        for (k, &ti) in times.iter().enumerate() {
+            let mut w = [0.0; N_HOM];
+            for (wi, row) in w.iter_mut().zip(m) {
+                *wi = dot5(row, &v);
+            }
+            v = w;
+            if v.iter().all(|x| x.abs() < 1e-30) {
+                // at rest (see `retraction`): held at -d0 exactly
+                out.extend(std::iter::repeat_n(-self.d0, n - k));
+                return;
+            }
+            let e = ti - (self.t0 + (k + 1) as f64 * self.h);
+            let y = if e == 0.0 {
+                v[1]
+            } else {
+                let mut acc = dot5(&rows[n_terms - 1], &v);
+                for r in rows[..n_terms - 1].iter().rev() {
+                    acc = acc * e + dot5(r, &v);
+                }
+                acc
+            };
+            out.push(y * self.scale_y - self.d0);
+        }
+    }
+}
+
+/// [`Tail::run`] of `L` tails over the same `times` (the same `t0` and grid) and with the
+/// same number of series terms, side by side in one thread: each lane's arithmetic is
+/// [`Tail::run`]'s, in the same order, so its bits (tested), with the lanes innermost and no
+/// branch per lane in the loop, so that the compiler computes them in vector registers.
+fn run_lanes<const L: usize>(tails: [&Tail; L], times: &[f64], outs: &mut [Vec<f64>]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the processor has AVX (checked just above)
+        unsafe { run_lanes_avx(tails, times, outs) };
+        return;
+    }
+    run_lanes_body(tails, times, outs);
+}
+
+/// [`run_lanes_body`] compiled for AVX (four lanes in one register instead of two): the same
+/// operations in the same order, without fused multiply-adds, so the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn run_lanes_avx<const L: usize>(tails: [&Tail; L], times: &[f64], outs: &mut [Vec<f64>]) {
+    run_lanes_body(tails, times, outs);
+}
+
+/// The body of [`run_lanes`].
+#[inline(always)]
+fn run_lanes_body<const L: usize>(tails: [&Tail; L], times: &[f64], outs: &mut [Vec<f64>]) {
+    let n = times.len();
+    let n_terms = tails[0].n_terms;
+    debug_assert!(tails.iter().all(|t| t.n_terms == n_terms));
+    let mut m = [[[0.0; L]; N_HOM]; N_HOM];
+    let mut rows = [[[0.0; L]; N_HOM]; 5];
+    let mut v = [[0.0; L]; N_HOM];
+    let mut scale_y = [0.0; L];
+    let mut d0 = [0.0; L];
+    for (b, t) in tails.iter().enumerate() {
+        for (mi, (ti, (vi, tvi))) in m.iter_mut().zip(t.m.iter().zip(v.iter_mut().zip(&t.v))) {
+            for (mij, tij) in mi.iter_mut().zip(ti) {
+                mij[b] = *tij;
+            }
+            vi[b] = *tvi;
+        }
+        for (r, tr) in rows.iter_mut().zip(&t.rows) {
+            for (rj, trj) in r.iter_mut().zip(tr) {
+                rj[b] = *trj;
+            }
+        }
+        scale_y[b] = t.scale_y;
+        d0[b] = t.d0;
+    }
+    let rows = &rows[..n_terms];
+    let (t0, h) = (tails[0].t0, tails[0].h);
+    let dot = |r: &[[f64; L]; N_HOM], v: &[[f64; L]; N_HOM]| -> [f64; L] {
+        std::array::from_fn(|b| {
+            -0.0 + r[0][b] * v[0][b]
+                + r[1][b] * v[1][b]
+                + r[2][b] * v[2][b]
+                + r[3][b] * v[3][b]
+                + r[4][b] * v[4][b]
+        })
+    };
+    // lanes still running (a lane at rest is filled to the end and left)
+    let mut running = [true; L];
+    for (k, &ti) in times.iter().enumerate() {
+        let mut w = [[0.0; L]; N_HOM];
+        for (wi, mi) in w.iter_mut().zip(&m) {
+            *wi = dot(mi, &v);
+        }
+        v = w;
+        let rest: [bool; L] = std::array::from_fn(|b| {
+            (v[0][b].abs() < 1e-30)
+                & (v[1][b].abs() < 1e-30)
+                & (v[2][b].abs() < 1e-30)
+                & (v[3][b].abs() < 1e-30)
+                & (v[4][b].abs() < 1e-30)
+        });
+        if (0..L).any(|b| rest[b] && running[b]) {
+            for b in 0..L {
+                if rest[b] && running[b] {
+                    outs[b].extend(std::iter::repeat_n(-d0[b], n - k));
+                    running[b] = false;
+                }
+            }
+            if !running.iter().any(|&r| r) {
+                return;
+            }
+        }
+        let e = ti - (t0 + (k + 1) as f64 * h);
+        let y = if e == 0.0 {
+            v[1]
+        } else {
+            let mut acc = dot(&rows[n_terms - 1], &v);
+            for r in rows[..n_terms - 1].iter().rev() {
+                let d = dot(r, &v);
+                for b in 0..L {
+                    acc[b] = acc[b] * e + d[b];
+                }
+            }
+            acc
+        };
+        for b in 0..L {
+            if running[b] {
+                outs[b].push(y[b] * scale_y[b] - d0[b]);
+            }
+        }
+    }
+}
+
+/// [`Tail::new`] and [`Tail::run`] in one: `false`, pushing nothing, for a record that is not
+/// uniform.
+#[cfg(test)]
 fn uniform_tail(
     a: &Mat,
     z: &[f64; N_AUG],
@@ -116,81 +395,21 @@ fn uniform_tail(
     d0: f64,
     out: &mut Vec<f64>,
 ) -> bool {
-    let n = times.len();
-    if n < 2 || z[N_HOM..].iter().any(|&v| v != 0.0) {
-        return false;
-    }
-    let h = (times[n - 1] - t0) / n as f64;
-    let a_norm = norm_inf(a);
-    let tol = GRID_OFFSET_NORM / a_norm;
-    // the largest offset of a sample from its grid point, if every one is within `tol`
-    let mut e_max = 0.0f64;
-    for (k, &ti) in times.iter().enumerate() {
-        let e = (ti - (t0 + (k + 1) as f64 * h)).abs();
-        // beyond `tol`, or not a number
-        if e.is_nan() || tol.is_nan() || e > tol {
-            return false;
+    match Tail::new(a, z, times, &Grid::of(0, t0, times), scale_y, d0) {
+        Some(tail) => {
+            tail.run(times, out);
+            true
         }
-        e_max = e_max.max(e);
+        None => false,
     }
-    if !(h > 0.0 && tol.is_finite()) {
-        return false;
-    }
-    let full = propagator(a, h);
-    let mut m = [[0.0; N_HOM]; N_HOM];
-    let mut a5 = [[0.0; N_HOM]; N_HOM];
-    for i in 0..N_HOM {
-        m[i].copy_from_slice(&full[i][..N_HOM]);
-        a5[i].copy_from_slice(&a[i][..N_HOM]);
-    }
-    // rows[j] = e_y^T A^j / j!: the output's Taylor coefficients in the offset
-    let mut rows = [[0.0; N_HOM]; 5];
-    rows[0][1] = 1.0;
-    for j in 1..rows.len() {
-        for c in 0..N_HOM {
-            rows[j][c] = (0..N_HOM).map(|k| rows[j - 1][k] * a5[k][c]).sum::<f64>() / j as f64;
-        }
-    }
-    // terms of the series the record's offsets need: the first one left out, bounded by
-    // `(|A| e_max)^j / j!` relative to the state, below 8e-18 as the fifth is at
-    // `GRID_OFFSET_NORM` (the time stamps' rounding, e.g. 1e-16 s, needs two to four: the
-    // series was most of the cost of a long record's evaluation, issue 35)
-    let x = a_norm * e_max;
-    let mut n_terms = 1;
-    let mut bound = x;
-    while n_terms < rows.len() && bound > 8e-18 {
-        n_terms += 1;
-        bound *= x / n_terms as f64;
-    }
-    let rows = &rows[..n_terms];
-    let dot = |r: &[f64; N_HOM], v: &[f64; N_HOM]| r.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
-    let mut v = [0.0; N_HOM];
-    v.copy_from_slice(&z[..N_HOM]);
-    for (k, &ti) in times.iter().enumerate() {
-        let mut w = [0.0; N_HOM];
-        for (wi, row) in w.iter_mut().zip(&m) {
-            *wi = dot(row, &v);
-        }
-        v = w;
-        if v.iter().all(|x| x.abs() < 1e-30) {
-            // at rest (see `retraction`): held at -d0 exactly
-            out.extend(std::iter::repeat_n(-d0, n - k));
-            return true;
-        }
-        let e = ti - (t0 + (k + 1) as f64 * h);
-        let y = if e == 0.0 {
-            v[1]
-        } else {
-            let mut acc = dot(&rows[n_terms - 1], &v);
-            for r in rows[..n_terms - 1].iter().rev() {
-                acc = acc * e + dot(r, &v);
-            }
-            acc
-        };
-        out.push(y * scale_y - d0);
-    }
-    true
 }
+
+/// [`RtConfig::retraction_to_tail`]'s answer: the readings up to the uniform tail, and that
+/// tail with the sample it starts at (`None`: every reading is in the first).
+type ToTail = (Vec<f64>, Option<(Tail, usize)>);
+
+/// Lanes of [`RtConfig::retraction_many`]: tails run side by side in one thread.
+pub const LANES: usize = 4;
 
 /// Mechanism parameters (physics.md section 1), written by the effects' `configure_rt`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -273,6 +492,75 @@ impl RtConfig {
     /// Tip displacement from its position at `t = 0`, `y(t) - y(0)` [m], at `times` [s], by
     /// exact propagation of the linear ODE (matrix exponential, see [`propagator`]).
     pub fn retraction(&self, times: &[f64]) -> Vec<f64> {
+        let (mut out, tail) = self.retraction_to_tail(times, &mut Vec::new());
+        if let Some((tail, idx)) = tail {
+            tail.run(&times[idx..], &mut out);
+        }
+        out
+    }
+
+    /// [`RtConfig::retraction`] of each configuration of `cfgs` at the same `times`: the same
+    /// readings, bit for bit (tested). The uniform tails that start at the same sample and take
+    /// the same terms of the offset series (every configuration but those whose voltage ramp
+    /// ends at different samples, or whose stiffness moves the series' cut) run [`LANES`] at a
+    /// time side by side in one thread ([`run_lanes`]).
+    pub fn retraction_many(cfgs: &[RtConfig], times: &[f64]) -> Vec<Vec<f64>> {
+        let mut grids = Vec::new();
+        let mut parts: Vec<ToTail> = cfgs
+            .iter()
+            .map(|c| c.retraction_to_tail(times, &mut grids))
+            .collect();
+        // the configurations with a tail, grouped by the sample it starts at, in order
+        let mut pending: Vec<usize> = (0..parts.len()).filter(|&i| parts[i].1.is_some()).collect();
+        while let Some(&first) = pending.first() {
+            // the same first sample and the same series terms: lanes without a branch
+            let key = |i: usize| parts[i].1.as_ref().map(|(t, idx)| (*idx, t.n_terms));
+            let group: Vec<usize> = pending
+                .iter()
+                .copied()
+                .filter(|&i| key(i) == key(first))
+                .take(LANES)
+                .collect();
+            let idx = parts[first].1.as_ref().map_or(0, |t| t.1);
+            pending.retain(|i| !group.contains(i));
+            let mut outs: Vec<Vec<f64>> = group
+                .iter()
+                .map(|&i| std::mem::take(&mut parts[i].0))
+                .collect();
+            let tails: Vec<Tail> = group
+                .iter()
+                .map(|&i| parts[i].1.take().expect("a tail").0)
+                .collect();
+            let ts = &times[idx..];
+            match tails.as_slice() {
+                [a] => a.run(ts, &mut outs[0]),
+                [a, b] => run_lanes([a, b], ts, &mut outs),
+                [a, b, c] => run_lanes([a, b, c], ts, &mut outs),
+                [a, b, c, d] => run_lanes([a, b, c, d], ts, &mut outs),
+                _ => unreachable!("1 to {LANES} lanes"),
+            }
+            for (&i, o) in group.iter().zip(outs) {
+                parts[i].0 = o;
+            }
+        }
+        parts.into_iter().map(|(o, _)| o).collect()
+    }
+
+    /// The readings of [`RtConfig::retraction`] up to its uniform tail, and that tail with the
+    /// sample it starts at (`None`: every reading is in the first).
+    fn retraction_to_tail(&self, times: &[f64], grids: &mut Vec<Grid>) -> ToTail {
+        // the grid of the samples from `idx` on after `t0`, computed once per pair
+        let grid_at = |grids: &mut Vec<Grid>, idx: usize, t0: f64| -> Grid {
+            if let Some(g) = grids
+                .iter()
+                .find(|g| g.idx == idx && g.t0.to_bits() == t0.to_bits())
+            {
+                return *g;
+            }
+            let g = Grid::of(idx, t0, &times[idx..]);
+            grids.push(g);
+            g
+        };
         let d0 = self.d0_m();
         let (scale, a, mut z) = self.scaled_start();
         let t_off = match self.em_v_s {
@@ -330,9 +618,10 @@ impl RtConfig {
         for (idx, &ti) in times.iter().enumerate() {
             if Some(idx) == grid_from
                 && !at_rest
-                && uniform_tail(&a, &z, t, &times[idx..], scale[1], d0, &mut out)
+                && let Some(tail) =
+                    Tail::new(&a, &z, &times[idx..], &grid_at(grids, idx, t), scale[1], d0)
             {
-                break;
+                return (out, Some((tail, idx)));
             }
             if at_rest {
                 out.push(-d0);
@@ -357,7 +646,7 @@ impl RtConfig {
             }
             out.push(if ti < 0.0 { 0.0 } else { z[1] * scale[1] - d0 });
         }
-        out
+        (out, None)
     }
 
     /// The state scales (charge, length, velocity, length, velocity), the scaled augmented
@@ -617,6 +906,84 @@ mod tests {
             // term too few on the stiff model); the first term alone errs by 4e-5 d0 there
             assert!(worst < 1e-13 * d0.abs(), "{worst} of {d0}");
         }
+    }
+
+    /// `retraction_many` gives each configuration the bits of its own `retraction`, whatever
+    /// the lanes: tails of different lengths of series (a stiff and a soft model), voltage
+    /// ramps that end at different samples (tails that start apart), a rigid plunger that
+    /// comes to rest inside the record (a lane that leaves early), a record that is not
+    /// uniform (no tail: interval by interval) and groups of one to six configurations.
+    #[test]
+    fn many_configurations_side_by_side_have_the_bits_of_each_alone() {
+        let stiff = RtConfig {
+            m_kg: 1.0013e-6,
+            k_n_m: 1.0112e5,
+            b_ns_m: 43331.7,
+            t_c_m: 999.77,
+            ..RtConfig::default()
+        };
+        let plunger = RtConfig {
+            plunger: Some((0.019, 2.15e6)),
+            ..RtConfig::default()
+        };
+        let ramp = |em: f64| RtConfig {
+            em_v_s: Some(em),
+            ..plunger
+        };
+        // a fast rigid tip that is at rest (every scaled state under 1e-30) well before 30 ms
+        let settles = RtConfig {
+            b_ns_m: 200.0,
+            r_ohm: 10.0,
+            ..RtConfig::default()
+        };
+        let moved = |k: usize| {
+            let mut c = plunger;
+            match k {
+                0 => c.r_ohm *= 1.001,
+                1 => c.m_kg *= 1.001,
+                2 => c.ca_f *= 1.001,
+                3 => c.k_n_m *= 1.001,
+                _ => c.b_ns_m *= 1.001,
+            }
+            c
+        };
+        let uniform: Vec<f64> = (0..30_000)
+            .map(|i| {
+                format!("{:.12e}", -2e-5 + i as f64 * 1.02e-6)
+                    .parse()
+                    .unwrap()
+            })
+            .collect();
+        let jittered: Vec<f64> = (0..3_000)
+            .map(|i| i as f64 * 1e-6 + 0.02e-6 * (i as f64).sin())
+            .collect();
+        let sets: Vec<Vec<RtConfig>> = vec![
+            vec![plunger],
+            vec![plunger, stiff],
+            vec![moved(0), moved(1), moved(2)],
+            vec![moved(0), moved(1), moved(2), moved(3), moved(4), plunger],
+            vec![ramp(5e7), ramp(4e7), ramp(5.0001e7), plunger],
+            vec![settles, plunger, settles, stiff, RtConfig::default()],
+        ];
+        let mut lanes_left_early = false;
+        for times in [&uniform, &jittered] {
+            for cfgs in &sets {
+                let many = RtConfig::retraction_many(cfgs, times);
+                assert_eq!(many.len(), cfgs.len());
+                for (c, y) in cfgs.iter().zip(&many) {
+                    let alone = c.retraction(times);
+                    assert_eq!(y.len(), alone.len());
+                    assert!(
+                        y.iter()
+                            .zip(&alone)
+                            .all(|(a, b)| a.to_bits() == b.to_bits()),
+                        "{c:?}"
+                    );
+                    lanes_left_early |= *y.last().unwrap() == -c.d0_m() && c == &settles;
+                }
+            }
+        }
+        assert!(lanes_left_early, "the settling configuration came to rest");
     }
 
     #[test]
