@@ -229,6 +229,12 @@ fn fit_model_held(
     fit_model_on(prep, model, opts, starts, false, 0)
 }
 
+/// Above this reduced chi-square (a residual RMS 100 times the noise figure) the record
+/// rejects the model outright: its report says the model misses most of the record and never
+/// calls the residual white (`crate::report::outliers`), and its profile refits are cut
+/// shorter (`solve`).
+pub const CHI2_RED_ASTRONOMICAL: f64 = 1e4;
+
 /// Records longer than this many samples are searched on a reduced record of about this size
 /// ([`Prepared::reduced`]) before the refinement on the whole record: the search's cost then
 /// stops growing with the record, and the refinement, which starts next to the minimum, takes

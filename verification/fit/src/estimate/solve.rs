@@ -400,13 +400,22 @@ fn is_profiled(c: &Uncertainty, i: usize, k: usize) -> bool {
     su.is_finite() && su > 0.0 && c.resolved[i]
 }
 
-/// Iterations of one profile point's refit of the other parameters. A model that describes
-/// the record takes one to five (measured on the public examples and a million-sample
-/// retraction record, 2026-11-28). A refit that has not converged in twenty is crawling along
-/// a wrong model's sloppy valley, where the finite-difference gradient is mostly truncation
-/// error (its Gauss-Newton step predicted a fall of 2e8 in chi-square where the cost fell by
-/// 1e3, issue 35): sixty iterations there moved no width and tripled the profiles' time.
-const PROFILE_ITERATIONS: usize = 20;
+/// Iterations of one profile point's refit of the other parameters.
+const PROFILE_ITERATIONS: usize = 60;
+
+/// Iterations of one profile point's refit for a model the record rejects outright (chi2_red
+/// above [`CHI2_RED_ASTRONOMICAL`](super::CHI2_RED_ASTRONOMICAL): its report
+/// says the model misses most of the record, and its sigmas are inflated by at least 100).
+/// Such a refit crawls along the wrong model's valley on a finite-difference gradient that is
+/// mostly truncation error: on the million-sample `rt-plunger` fitted with `piezo` alone, the
+/// Gauss-Newton step predicted a fall of 2e8 in chi-square where the cost fell by 1e3, and
+/// every side that used more than 20 iterations ended above the target rise after 20 as after
+/// 60 (its width the covariance sigma either way), at three times the time (issue 35). A model
+/// that describes its record keeps [`PROFILE_ITERATIONS`]: its refits converge (1 to 5
+/// iterations on the million-sample record with `piezo,plunger_compliance`), or crawl for a
+/// reason a cut could hide (up to 60 on a light plunger's 1 021-sample record, whose
+/// widths then change).
+const PROFILE_ITERATIONS_REJECTED: usize = 20;
 
 /// One side (`side` 0 up, 1 down) of the profile of the `k`-th free parameter, advanced a
 /// point at a time ([`Side::advance`]).
@@ -493,7 +502,11 @@ impl Side {
         // to 1 % of a unit of a chi-square of 1e10 made a million-sample record's profiles
         // crawl for 60 iterations each (issue 35) without moving its width beyond that 1 %.
         let opts_p = LmOptions {
-            max_iter: PROFILE_ITERATIONS,
+            max_iter: if target > super::CHI2_RED_ASTRONOMICAL {
+                PROFILE_ITERATIONS_REJECTED
+            } else {
+                PROFILE_ITERATIONS
+            },
             atol: 0.01 * target / r2,
             ..LmOptions::default()
         };

@@ -39,8 +39,8 @@ pub const OUTLIER_ROBUST_SIGMA: f64 = 8.0;
 /// ...and this many times the spread of their residuals.
 pub const OUTLIER_SPREAD: f64 = 3.0;
 /// Above this reduced chi-square (a residual RMS 100 times the noise figure) the residual is
-/// never reported white.
-pub const CHI2_RED_ASTRONOMICAL: f64 = 1e4;
+/// never reported white (defined with the fitting engine, whose profiles also read it).
+pub use crate::estimate::CHI2_RED_ASTRONOMICAL;
 /// A parameter within this of a start or a bound in the fit's coordinates (relative, at least
 /// absolute for coordinates below 1) is at it.
 const AT_TOLERANCE: f64 = 1e-9;
