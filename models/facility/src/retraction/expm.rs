@@ -1,0 +1,80 @@
+//! The retraction's linear algebra: the scaled, augmented state's matrices and their
+//! exponential (shared by [`super::RtConfig`]'s propagation and the uniform tail, `super::tail`).
+
+/// Size of the augmented state: `q, y, y', l, l'`, `E/E0`, ramp switch.
+pub(super) const N_AUG: usize = 7;
+pub(super) type Mat = [[f64; N_AUG]; N_AUG];
+
+pub(super) fn matmul(a: &Mat, b: &Mat) -> Mat {
+    let mut c = [[0.0; N_AUG]; N_AUG];
+    for i in 0..N_AUG {
+        for k in 0..N_AUG {
+            let aik = a[i][k];
+            if aik != 0.0 {
+                for j in 0..N_AUG {
+                    c[i][j] += aik * b[k][j];
+                }
+            }
+        }
+    }
+    c
+}
+
+#[inline]
+pub(super) fn apply(m: &Mat, z: &[f64; N_AUG]) -> [f64; N_AUG] {
+    let mut o = [0.0; N_AUG];
+    for (oi, row) in o.iter_mut().zip(m) {
+        let mut s = 0.0;
+        for (mij, zj) in row.iter().zip(z) {
+            s += mij * zj;
+        }
+        *oi = s;
+    }
+    o
+}
+
+/// Largest absolute row sum of `a`.
+pub(super) fn norm_inf(a: &Mat) -> f64 {
+    a.iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+/// `exp(a*dt)` by scaling and squaring with a degree-16 Taylor series (the scaled matrix has
+/// norm below 1/8 before squaring, so the series error is far below rounding).
+pub(super) fn propagator(a: &Mat, dt: f64) -> Mat {
+    let norm = a
+        .iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+        * dt;
+    let mut s = 0;
+    while norm / f64::from(1u32 << s.min(30)) > 0.125 && s < 60 {
+        s += 1;
+    }
+    let h = dt / 2f64.powi(s);
+    let mut term = [[0.0; N_AUG]; N_AUG];
+    let mut sum = [[0.0; N_AUG]; N_AUG];
+    for i in 0..N_AUG {
+        term[i][i] = 1.0;
+        sum[i][i] = 1.0;
+    }
+    let mut ah = *a;
+    ah.iter_mut()
+        .for_each(|r| r.iter_mut().for_each(|v| *v *= h));
+    for k in 1..=16 {
+        term = matmul(&term, &ah);
+        let inv = 1.0 / k as f64;
+        term.iter_mut()
+            .for_each(|r| r.iter_mut().for_each(|v| *v *= inv));
+        for i in 0..N_AUG {
+            for j in 0..N_AUG {
+                sum[i][j] += term[i][j];
+            }
+        }
+    }
+    for _ in 0..s {
+        sum = matmul(&sum, &sum);
+    }
+    sum
+}
