@@ -81,6 +81,19 @@ impl Model {
         tmmf::simulate_with_tangents(self, p, dirs, times, inputs)
     }
 
+    /// The derivatives of [`Model::predict_with_tangents`] alone, the same bits, without the
+    /// free-flight tail's readings (a Jacobian needs none: [`tmmf::tangents_only`]); `None`
+    /// for the models [`Model::has_tangents`] does not cover.
+    pub fn tangents(
+        &self,
+        p: &[f64],
+        dirs: &[usize],
+        times: &[f64],
+        inputs: &Inputs,
+    ) -> Option<Vec<Vec<f64>>> {
+        tmmf::tangents_only(self, p, dirs, times, inputs)
+    }
+
     /// Whether [`Model::predict_with_tangents`] gives the derivatives with respect to
     /// `n_dirs` parameters: a `tmmf-release` model whose forces are the needles' and the tip's
     /// springs and the tip adhesion, without distortions (the others keep finite differences).

@@ -29,7 +29,7 @@
 //! ride along the same RK4 steps in [`tangent`] ([`simulate_with_tangents`]).
 
 mod tangent;
-pub use tangent::{MAX_TANGENTS, covers as tangents_cover, simulate_with_tangents};
+pub use tangent::{MAX_TANGENTS, covers as tangents_cover, simulate_with_tangents, tangents_only};
 
 use crate::effects::{
     DistortionEffect, ForceEffect, ForceLaw, LawState, ReleaseCheck, Role, TmState,
@@ -37,6 +37,7 @@ use crate::effects::{
 use crate::model::{Inputs, Model};
 use crate::trap::{NeedleWell, Orbit, TipNow};
 pub use crate::trap::{ORBIT_RECORD_PERIODS, ORBIT_REFINE, TRAP_MARGIN};
+use rayon::prelude::*;
 
 /// RK4 step for the lightest TM mock-up (0.0096 kg) [s]; the step grows as `sqrt(m)` (the
 /// contact periods do), between 0.5 and 5 us. The error against a 10 ns reference stays below
@@ -63,6 +64,11 @@ pub fn step_for_mass(m_kg: f64) -> f64 {
 /// 2.5 times the contact step's own error there, and under the 2e-11 m of [`H_MAX_S`]
 /// (tested).
 pub const TAIL_STEP_FACTOR: f64 = 3.0;
+
+/// Samples per parallel chunk of a free-flight tail with distortions (the readings' and, in
+/// [`tangent`], their derivatives'): a chunk is a few hundred microseconds of work, so that a
+/// long record's tail spreads over the threads and a short one stays in one.
+const TAIL_CHUNK: usize = 16_384;
 
 /// How the end of a record was computed (for the tests).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -589,11 +595,23 @@ impl<'a> Run<'a> {
                 self.out
                     .extend(times[i + 1..].iter().map(|&tj| xb + vb * (tj - tb)));
             } else {
-                let rest: Vec<f64> = times[i + 1..]
-                    .iter()
-                    .map(|&tj| self.reading(tj, xb + vb * (tj - tb)))
+                // each sample on its own (a distortion's trigonometry per sample is the cost of
+                // a long record's tail): in chunks over the threads, each sample's arithmetic
+                // the same whatever the chunks (as `tangent`'s tail)
+                let run: &Run = self;
+                let parts: Vec<Vec<f64>> = times[i + 1..]
+                    .par_chunks(TAIL_CHUNK)
+                    .map(|chunk| {
+                        chunk
+                            .iter()
+                            .map(|&tj| run.reading(tj, xb + vb * (tj - tb)))
+                            .collect()
+                    })
                     .collect();
-                self.out.extend(rest);
+                self.out.reserve(times.len() - i - 1);
+                for part in parts {
+                    self.out.extend(part);
+                }
             }
             return Some(Tail::FreeFlight(tb));
         }

@@ -31,8 +31,7 @@ use crate::effects::{ForceLaw, Role};
 use crate::model::{Inputs, Model};
 use rayon::prelude::*;
 
-/// Samples per parallel chunk of a free-flight tail with distortions.
-const TAIL_CHUNK: usize = 16_384;
+use super::TAIL_CHUNK;
 
 /// Most parameters whose derivatives one integration carries.
 pub const MAX_TANGENTS: usize = 12;
@@ -90,6 +89,33 @@ pub fn simulate_with_tangents(
     times: &[f64],
     inputs: &Inputs,
 ) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
+    carry(model, p, dirs, times, inputs, true)
+}
+
+/// The tangents of [`simulate_with_tangents`] alone (the same bits), without the readings of
+/// the free-flight tail: a fit's Jacobian needs no readings, and on a long record with
+/// distortions they were a third of the trigonometry of each iteration (the readings up to the
+/// release are still made: the integration decides on them). `None` when [`covers`] does not
+/// hold.
+pub fn tangents_only(
+    model: &Model,
+    p: &[f64],
+    dirs: &[usize],
+    times: &[f64],
+    inputs: &Inputs,
+) -> Option<Vec<Vec<f64>>> {
+    carry(model, p, dirs, times, inputs, false).map(|(_, tan)| tan)
+}
+
+/// [`simulate_with_tangents`]; without the tail's readings unless `readings`.
+fn carry(
+    model: &Model,
+    p: &[f64],
+    dirs: &[usize],
+    times: &[f64],
+    inputs: &Inputs,
+    readings: bool,
+) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
     if !covers(model, dirs.len()) {
         return None;
     }
@@ -104,16 +130,16 @@ pub fn simulate_with_tangents(
     // as many tangent lanes as directions up to eight (the arithmetic of unused lanes is not
     // free), twelve beyond
     let done = match dirs.len() {
-        0 => aug.integrate::<0>(&mut run, times, &mut tan),
-        1 => aug.integrate::<1>(&mut run, times, &mut tan),
-        2 => aug.integrate::<2>(&mut run, times, &mut tan),
-        3 => aug.integrate::<3>(&mut run, times, &mut tan),
-        4 => aug.integrate::<4>(&mut run, times, &mut tan),
-        5 => aug.integrate::<5>(&mut run, times, &mut tan),
-        6 => aug.integrate::<6>(&mut run, times, &mut tan),
-        7 => aug.integrate::<7>(&mut run, times, &mut tan),
-        8 => aug.integrate::<8>(&mut run, times, &mut tan),
-        _ => aug.integrate::<MAX_TANGENTS>(&mut run, times, &mut tan),
+        0 => aug.integrate::<0>(&mut run, times, &mut tan, readings),
+        1 => aug.integrate::<1>(&mut run, times, &mut tan, readings),
+        2 => aug.integrate::<2>(&mut run, times, &mut tan, readings),
+        3 => aug.integrate::<3>(&mut run, times, &mut tan, readings),
+        4 => aug.integrate::<4>(&mut run, times, &mut tan, readings),
+        5 => aug.integrate::<5>(&mut run, times, &mut tan, readings),
+        6 => aug.integrate::<6>(&mut run, times, &mut tan, readings),
+        7 => aug.integrate::<7>(&mut run, times, &mut tan, readings),
+        8 => aug.integrate::<8>(&mut run, times, &mut tan, readings),
+        _ => aug.integrate::<MAX_TANGENTS>(&mut run, times, &mut tan, readings),
     };
     if !done {
         return None;
@@ -203,6 +229,7 @@ impl Aug {
         run: &mut Run,
         times: &[f64],
         tan: &mut [Vec<f64>],
+        readings: bool,
     ) -> bool {
         let mut s = [0.0f64; 2];
         let mut ts = [[0.0f64; P]; 2];
@@ -225,8 +252,10 @@ impl Aug {
             if released {
                 let (tb, xb, vb) = (ti, s[0], s[1]);
                 if run.distortions.is_empty() {
-                    run.out
-                        .extend(times[i + 1..].iter().map(|&tk| xb + vb * (tk - tb)));
+                    if readings {
+                        run.out
+                            .extend(times[i + 1..].iter().map(|&tk| xb + vb * (tk - tb)));
+                    }
                     for (j, tj) in tan.iter_mut().enumerate() {
                         let (xj, vj) = (ts[0][j], ts[1][j]);
                         tj.extend(times[i + 1..].iter().map(|&tk| xj + vj * (tk - tb)));
@@ -244,7 +273,9 @@ impl Aug {
                             let mut tc = vec![Vec::with_capacity(chunk.len()); P];
                             for &tk in chunk {
                                 let x = xb + vb * (tk - tb);
-                                out.push(run_ref.reading(tk, x));
+                                if readings {
+                                    out.push(run_ref.reading(tk, x));
+                                }
                                 let xs: [f64; P] =
                                     std::array::from_fn(|j| ts[0][j] + ts[1][j] * (tk - tb));
                                 self.push_tangents(run_ref, &mut grad, tk, x, &xs, &mut tc);
@@ -468,7 +499,8 @@ mod tests {
 
     use super::super::tests::inputs;
 
-    /// Asserts that the readings carried with the tangents of `dirs` are the bits of
+    /// Asserts that the tangents alone are those carried with the readings, that the readings
+    /// carried with the tangents of `dirs` are the bits of
     /// `simulate` and that each tangent agrees with central differences of `simulate` to 1e-5
     /// of the column's largest value. The step is relative 1e-6 (the cyclic error's phase,
     /// 3 000 rad by the end of a 0.5 s record, stays linear over it), at least 1e-13 (a TM
@@ -483,6 +515,17 @@ mod tests {
         what: &str,
     ) {
         let (x, tan) = simulate_with_tangents(model, p, dirs, times, inp).unwrap();
+        // the fit's Jacobian, without the tail's readings: the same tangents
+        let alone = tangents_only(model, p, dirs, times, inp).unwrap();
+        assert!(
+            alone
+                .iter()
+                .flatten()
+                .zip(tan.iter().flatten())
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+                && alone.iter().map(Vec::len).eq(tan.iter().map(Vec::len)),
+            "{what}: the tangents alone are not the bits of those carried with the readings"
+        );
         let plain = super::super::simulate(model, p, times, inp);
         assert!(
             x.iter()

@@ -349,6 +349,58 @@ fn free_flight_after_release_agrees_with_integrating_throughout() {
     }
 }
 
+/// A free-flight tail with distortions longer than several chunks ([`TAIL_CHUNK`]) is split
+/// over the threads: the readings are the bits of one thread's, and each is the reading of the
+/// free flight at its own time (the chunks do not shift the arithmetic).
+#[test]
+fn a_long_distorted_tail_has_the_bits_of_one_thread() {
+    let times: Vec<f64> = (-200..3 * TAIL_CHUNK as i64 + 777)
+        .map(|i| i as f64 / 2e5)
+        .collect();
+    let model = tmmf(&[
+        "needle_contact",
+        "tip_contact",
+        "tip_adhesion",
+        "interferometer_cyclic",
+    ]);
+    let mut p = model.nominal();
+    p[model.index("interferometer_cyclic.b1").unwrap()] = 1e-9;
+    p[model.index("interferometer_cyclic.c2").unwrap()] = -4e-10;
+    let inp = inputs(0.089);
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let one = pool(1).install(|| simulate(&model, &p, &times, &inp));
+    let two = pool(2).install(|| simulate(&model, &p, &times, &inp));
+    let (released, tail) = integrate(&model, &p, &times, &inp, step_for_mass(0.089), true, true);
+    let Tail::FreeFlight(tb) = tail else {
+        panic!("{tail:?}: the record must end in free flight")
+    };
+    let ib = times.iter().position(|&t| t == tb).unwrap();
+    assert!(
+        times.len() - ib > 2 * TAIL_CHUNK,
+        "the tail spans several chunks"
+    );
+    for (a, b) in [(&one, &two), (&one, &released)] {
+        assert!(
+            a.iter()
+                .zip(b.iter())
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        );
+    }
+    // the reading at every tail sample from the state at the release, one sample at a time
+    let mut run = Run::new(&model, &p, &times, &inp, step_for_mass(0.089), true, true);
+    assert_eq!(integrate_run(&mut run, &times), tail);
+    let (xb, vb) = (run.s[0], run.s[1]);
+    for j in ib + 1..times.len() {
+        let r = run.reading(times[j], xb + vb * (times[j] - tb));
+        assert_eq!(r.to_bits(), one[j].to_bits(), "sample {j}");
+    }
+}
+
 /// A TM that the needle adhesion holds for good (parameters a `diagnose` search met on a
 /// 2 s record: stiff needles, a strong preload, the adhesion's escape energy above what the
 /// catapult gives) oscillates in the needle well: its periodic continuation departs from

@@ -140,7 +140,7 @@ impl<'a> Problem<'a> {
     }
 
     /// The exact Jacobian of [`Problem::resid_n`] at `u` (the model's forward sensitivities,
-    /// [`Model::predict_with_tangents`], through the parameters' coordinates and the noise
+    /// [`Model::tangents`], through the parameters' coordinates and the noise
     /// model's normalisation, both linear in the residuals), if the model has one.
     pub(super) fn jacobian_n(
         &self,
@@ -149,12 +149,9 @@ impl<'a> Problem<'a> {
         n_use: usize,
     ) -> Option<Vec<Vec<f64>>> {
         let p = self.full(u, start);
-        let (_, tangents) = self.model.predict_with_tangents(
-            &p,
-            &self.fidx,
-            &self.t[..n_use],
-            &self.prep.inputs,
-        )?;
+        let tangents = self
+            .model
+            .tangents(&p, &self.fidx, &self.t[..n_use], &self.prep.inputs)?;
         Some(
             tangents
                 .into_iter()

@@ -255,20 +255,41 @@ pub fn fd_steps<F: Residuals + ?Sized>(
 
 /// `J^T J` and `J^T r` from the columns of `J`: one pass of dot products, no `n x k` matrix
 /// (the record can hold a million samples).
+///
+/// On a long record the dot products (each on its own, so the same bits) are spread over the
+/// threads: with the model's evaluations spread too, they were the serial part of a long fit's
+/// iteration.
 pub fn normal_equations(cols: &[Vec<f64>], r: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
     let n = cols.len();
     let mut a = DMatrix::zeros(n, n);
     let mut g = DVector::zeros(n);
-    for k in 0..n {
-        for l in 0..=k {
-            let d = dot(&cols[k], &cols[l]);
+    // (k, l) with l <= k for `J^T J`, (k, n) for `J^T r`
+    let pairs: Vec<(usize, usize)> = (0..n)
+        .flat_map(|k| (0..=k).map(move |l| (k, l)).chain(std::iter::once((k, n))))
+        .collect();
+    let col = |l: usize| if l == n { r } else { &cols[l][..] };
+    let dots: Vec<f64> = if r.len() * pairs.len() >= PARALLEL_DOTS {
+        pairs
+            .par_iter()
+            .map(|&(k, l)| dot(&cols[k], col(l)))
+            .collect()
+    } else {
+        pairs.iter().map(|&(k, l)| dot(&cols[k], col(l))).collect()
+    };
+    for (&(k, l), d) in pairs.iter().zip(dots) {
+        if l == n {
+            g[k] = d;
+        } else {
             a[(k, l)] = d;
             a[(l, k)] = d;
         }
-        g[k] = dot(&cols[k], r);
     }
     (a, g)
 }
+
+/// Multiply-adds from which [`normal_equations`] spreads its dot products over the threads
+/// (a 2 000-sample fit's stay in one: there the fits themselves run side by side).
+const PARALLEL_DOTS: usize = 1 << 20;
 
 /// Dot product with four partial sums (vectorises; the summation order is fixed, so results do
 /// not depend on the thread count).
@@ -481,6 +502,35 @@ impl LmRun {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The normal equations of a long record (its dot products spread over the threads) hold,
+    /// entry by entry, the bits of each dot product taken on its own, whatever the threads.
+    #[test]
+    fn long_normal_equations_have_the_bits_of_each_dot_product() {
+        let n = 60_000;
+        let cols: Vec<Vec<f64>> = (0..6)
+            .map(|k| {
+                (0..n)
+                    .map(|i| ((i * (k + 3)) as f64 * 0.37).sin() * (1.0 + k as f64))
+                    .collect()
+            })
+            .collect();
+        let r: Vec<f64> = (0..n).map(|i| (i as f64 * 0.011).cos()).collect();
+        assert!(n * 27 >= PARALLEL_DOTS, "the parallel path is taken");
+        for threads in [1, 2, 3] {
+            let (a, g) = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| normal_equations(&cols, &r));
+            for k in 0..6 {
+                assert_eq!(g[k].to_bits(), dot(&cols[k], &r).to_bits());
+                for l in 0..6 {
+                    assert_eq!(a[(k, l)].to_bits(), dot(&cols[k], &cols[l]).to_bits());
+                }
+            }
+        }
+    }
 
     #[test]
     fn a_run_in_rounds_has_the_bits_of_one_call() {
