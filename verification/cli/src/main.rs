@@ -135,6 +135,23 @@ fn reset_sigpipe() {
     }
 }
 
+/// Keeps the memory of freed large blocks in the process for the next allocation instead of
+/// returning it to the system. A long record's fit allocates and frees vectors of a few
+/// megabytes (a residual, a Jacobian column) at every iteration; with glibc's default
+/// thresholds each came back as fresh pages, and the kernel's zeroing of those pages was 7 % of
+/// a 400 000-sample `discover`'s time (7.8 s of system time in 107 s of CPU; 0.6 s with these
+/// thresholds, peak memory unchanged, 2026-11-28). Blocks up to 64 MiB come from the heap, and
+/// the heap is trimmed only when 256 MiB lie free at its top. The arithmetic does not change.
+fn keep_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: called once at start-up, before any other thread exists; mallopt only sets
+    // glibc's allocation thresholds.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 64 << 20);
+        libc::mallopt(libc::M_TRIM_THRESHOLD, 256 << 20);
+    }
+}
+
 /// Handles SIGINT, SIGTERM and SIGHUP on a thread of their own: it removes the temporary files
 /// and staged report sets the run registered (`geodesic_core::output`), waiting for a commit in
 /// progress to finish, then exits with 128 + the signal number, as a shell reports it. The
@@ -169,6 +186,7 @@ fn handle_interrupts() {
 
 fn main() -> ExitCode {
     reset_sigpipe();
+    keep_freed_memory();
     handle_interrupts();
     // the missions this repository verifies (the root mission first): `verify` has a flag per
     // input they declare
