@@ -27,7 +27,7 @@
 //! [`super::simulate`]'s periodic continuation.
 
 use super::{Run, step_for_mass};
-use crate::effects::{ForceLaw, Role};
+use crate::effects::{ForceLaw, Role, exp_or_zero};
 use crate::model::{Inputs, Model};
 use rayon::prelude::*;
 
@@ -389,7 +389,7 @@ impl Aug {
                 }
                 ForceLaw::TipAdhesion { a1, lambda } => {
                     if e > 0.0 {
-                        let ex = (-e / lambda).exp();
+                        let ex = exp_or_zero(-e / lambda);
                         let force = a1 * e * ex;
                         f += force;
                         let r = e / lambda;
@@ -402,7 +402,7 @@ impl Aug {
                 }
                 ForceLaw::NeedleAdhesion { a1, lambda } => {
                     if g > 0.0 {
-                        let ex = (-g / lambda).exp();
+                        let ex = exp_or_zero(-g / lambda);
                         let force = a1 * g * ex;
                         f += -force;
                         let r = g / lambda;
