@@ -1093,7 +1093,13 @@ impl<'a> Detection<'a> {
             .filter(|&i| i != main)
             .map(|i| params[i].nominal)
             .collect();
-        let a = self.threshold_at(&nominal_others, factor, basis)?;
+        // the threshold at the nominal values and the curve are independent: side by side
+        // (each point's arithmetic its own, so the same values)
+        let (a, curve) = rayon::join(
+            || self.threshold_at(&nominal_others, factor, basis),
+            || self.curve(factor, basis),
+        );
+        let a = a?;
         if !(a.is_finite() && a > 0.0) {
             return None;
         }
@@ -1107,7 +1113,7 @@ impl<'a> Detection<'a> {
             detectable_above: a,
             unit: params[main].unit.to_string(),
             assumes,
-            curve: self.curve(factor, basis),
+            curve,
             raised: None,
         })
     }
@@ -1130,17 +1136,22 @@ impl<'a> Detection<'a> {
             (os.nominal / 30.0).max(os.lower),
             (os.nominal * 10.0).min(os.upper),
         );
-        for j in 0..9 {
-            let v = lo * (hi / lo).powf(j as f64 / 8.0);
-            if let Some(a) = self.threshold_at(&[v], factor, basis)
-                && a.is_finite()
-            {
-                curve.push(CurvePoint {
-                    at: BTreeMap::from([(self.full_name(o), v)]),
-                    detectable_above: a,
-                });
-            }
-        }
+        // the nine points side by side on the thread pool (each a grid and a bisection of its
+        // own: one after the other they were the end of a long record's `discover`, on one
+        // core), kept in order
+        let points: Vec<Option<CurvePoint>> = (0..9)
+            .into_par_iter()
+            .map(|j| {
+                let v = lo * (hi / lo).powf(j as f64 / 8.0);
+                self.threshold_at(&[v], factor, basis)
+                    .filter(|a| a.is_finite())
+                    .map(|a| CurvePoint {
+                        at: BTreeMap::from([(self.full_name(o), v)]),
+                        detectable_above: a,
+                    })
+            })
+            .collect();
+        curve.extend(points.into_iter().flatten());
         curve
     }
 }
