@@ -220,8 +220,9 @@ impl Aug {
         }
     }
 
-    /// The readings (into `run.out`) and their tangents (into `tan`, one per direction; `P` of
-    /// them) at `times`, integrated as [`super::simulate`] integrates them; false when the TM
+    /// The readings (into `run.out`; those of the free-flight tail only when `readings`) and
+    /// their tangents (into `tan`, one per direction; `P` of them) at `times`, integrated as
+    /// [`super::simulate`] integrates them; false when the TM
     /// ends trapped in the needle well and [`super::simulate`] would continue the record
     /// periodically (not covered: the caller takes differences).
     fn integrate<const P: usize>(
