@@ -149,6 +149,36 @@ pub fn diagnose(
     diagnose_with(prep, effects, opts, &mut |_| {})
 }
 
+/// The model of `effects` with the effect `cand` added, its parameters at `base_p` (the values
+/// of `base`, a model of `effects`) where `base` has them and at their nominal values elsewhere,
+/// and the range of `cand`'s parameters in it: where a candidate's fit starts (`diagnose`) and
+/// where its detection threshold is judged (`discover::thresholds`).
+#[allow(clippy::type_complexity)]
+pub(crate) fn with_candidate(
+    prep: &Prepared,
+    effects: &[&str],
+    base: &geodesic_facility::Model,
+    base_p: &[f64],
+    cand: &str,
+) -> Result<(geodesic_facility::Model, Vec<f64>, std::ops::Range<usize>), FitError> {
+    let mut list: Vec<&str> = effects.to_vec();
+    list.push(cand);
+    let model = model_for(prep, &list)?;
+    let mut start = model.nominal();
+    for (i, name) in model.param_names().iter().enumerate() {
+        if let Some(j) = base.index(name) {
+            start[i] = base_p[j];
+        }
+    }
+    let ci = model
+        .effects
+        .iter()
+        .position(|e| e.name() == cand)
+        .expect("candidate in model");
+    let range = model.range(ci);
+    Ok((model, start, range))
+}
+
 /// Every candidate of the scenario's catalogue that `model` lacks, with its model and its
 /// warm starts (the baseline fit `base`'s values and the candidate's own starts), in catalogue
 /// order.
@@ -164,9 +194,7 @@ fn candidate_jobs(
         if names.contains(&cand.name()) {
             continue;
         }
-        let mut list: Vec<&str> = names.clone();
-        list.push(cand.name());
-        let cm = model_for(prep, &list)?;
+        let (cm, at_base, range) = with_candidate(prep, &names, model, &base.p, cand.name())?;
         // warm starts: baseline values + the candidate's own starts
         let mut starts = Vec::new();
         let mut guess = prep.guess;
@@ -177,18 +205,8 @@ fn candidate_jobs(
             .into_iter()
             .chain(cand.hints().starts(&guess))
         {
-            let mut p = cm.nominal();
-            for (i, n) in cm.param_names().iter().enumerate() {
-                if let Some(j) = model.index(n) {
-                    p[i] = base.p[j];
-                }
-            }
-            let ci = cm
-                .effects
-                .iter()
-                .position(|e| e.name() == cand.name())
-                .expect("candidate in model");
-            p[cm.range(ci)].copy_from_slice(&cs);
+            let mut p = at_base.clone();
+            p[range.clone()].copy_from_slice(&cs);
             starts.push(p);
         }
         starts.extend(default_starts(&cm, &guess, crate::estimate::MAX_STARTS));

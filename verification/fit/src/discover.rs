@@ -42,7 +42,7 @@ pub use crate::report::is_explained;
 pub mod new_effect;
 pub mod text;
 mod thresholds;
-pub use thresholds::{thresholds, thresholds_with};
+pub use thresholds::{CurvePoint, Threshold, thresholds, thresholds_with};
 
 /// One round of the ledger (interface.md `rounds[]`).
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -114,43 +114,6 @@ pub struct Window {
     pub failure: Failure,
     /// `pre-trigger`, `early` or `late`.
     pub phase: String,
-}
-
-/// The smallest amplitude of an undetected candidate's main parameter this record would detect.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct Threshold {
-    /// The effect.
-    pub effect: String,
-    /// Its main parameter (`effect.param`).
-    pub parameter: String,
-    /// Detectable above this value [SI].
-    pub detectable_above: f64,
-    /// Unit.
-    pub unit: String,
-    /// The values of the effect's other parameters that `detectable_above` assumes (their
-    /// catalogue nominal values) [SI].
-    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub assumes: BTreeMap<String, f64>,
-    /// For an effect with one other parameter spanning decades, the threshold at values of it
-    /// (`{"effect.param": value, "detectable_above": a}`), so that the threshold for the
-    /// record's own value can be read (log-log interpolation).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub curve: Vec<CurvePoint>,
-    /// When the record's own fit of the candidate leaves it undetected with a 2-sigma upper
-    /// bound above the first-order threshold, the threshold is raised to that bound (where the
-    /// other parameter lies within its fitted 2-sigma interval) and this says so.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub raised: Option<String>,
-}
-
-/// One point of a threshold curve.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
-pub struct CurvePoint {
-    /// The other parameter's full name and value [SI].
-    #[serde(flatten)]
-    pub at: BTreeMap<String, f64>,
-    /// The main parameter's threshold there [SI].
-    pub detectable_above: f64,
 }
 
 /// The discover object of interface.md.

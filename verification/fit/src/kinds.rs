@@ -1326,20 +1326,15 @@ mod tests {
             let w = std::f64::consts::TAU * f;
             let s: Vec<f64> = t.iter().map(|t| (w * t).sin()).collect();
             let c: Vec<f64> = t.iter().map(|t| (w * t).cos()).collect();
-            assert!(
-                cols[0]
-                    .iter()
-                    .zip(&s)
-                    .all(|(a, b)| a.to_bits() == b.to_bits()),
-                "{f}"
-            );
-            assert!(
-                cols[1]
-                    .iter()
-                    .zip(&c)
-                    .all(|(a, b)| a.to_bits() == b.to_bits()),
-                "{f}"
-            );
+            for (col, want) in cols.iter().zip([&s, &c]) {
+                assert_eq!(col.len(), want.len());
+                assert!(
+                    col.iter()
+                        .zip(want)
+                        .all(|(a, b)| a.to_bits() == b.to_bits()),
+                    "{f}"
+                );
+            }
         }
     }
 

@@ -5,12 +5,49 @@
 use std::collections::BTreeMap;
 
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
-use super::{CurvePoint, Threshold};
-use crate::diagnose::DELTA_BIC_STRONG;
+use crate::diagnose::{DELTA_BIC_STRONG, with_candidate};
 use crate::error::FitError;
-use crate::estimate::{FitOutcome, model_for};
+use crate::estimate::FitOutcome;
 use crate::prepare::Prepared;
+
+/// The smallest amplitude of an undetected candidate's main parameter this record would detect.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Threshold {
+    /// The effect.
+    pub effect: String,
+    /// Its main parameter (`effect.param`).
+    pub parameter: String,
+    /// Detectable above this value [SI].
+    pub detectable_above: f64,
+    /// Unit.
+    pub unit: String,
+    /// The values of the effect's other parameters that `detectable_above` assumes (their
+    /// catalogue nominal values) [SI].
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub assumes: BTreeMap<String, f64>,
+    /// For an effect with one other parameter spanning decades, the threshold at values of it
+    /// (`{"effect.param": value, "detectable_above": a}`), so that the threshold for the
+    /// record's own value can be read (log-log interpolation).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub curve: Vec<CurvePoint>,
+    /// When the record's own fit of the candidate leaves it undetected with a 2-sigma upper
+    /// bound above the first-order threshold, the threshold is raised to that bound (where the
+    /// other parameter lies within its fitted 2-sigma interval) and this says so.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub raised: Option<String>,
+}
+
+/// One point of a threshold curve.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct CurvePoint {
+    /// The other parameter's full name and value [SI].
+    #[serde(flatten)]
+    pub at: BTreeMap<String, f64>,
+    /// The main parameter's threshold there [SI].
+    pub detectable_above: f64,
+}
 
 /// Detection thresholds of the candidates not in the final model.
 ///
@@ -122,21 +159,13 @@ impl<'a> Detection<'a> {
         else {
             return Ok(None);
         };
-        let mut list: Vec<&str> = kept.to_vec();
-        list.push(cand.name());
-        let model = model_for(prep, &list)?;
-        let mut start = model.nominal();
-        for (i, name) in model.param_names().iter().enumerate() {
-            if let Some(j) = final_outcome.model.index(name) {
-                start[i] = final_outcome.p[j];
-            }
-        }
-        let ci = model
-            .effects
-            .iter()
-            .position(|e| e.name() == cand.name())
-            .expect("candidate in model");
-        let range = model.range(ci);
+        let (model, start, range) = with_candidate(
+            prep,
+            kept,
+            &final_outcome.model,
+            &final_outcome.p,
+            cand.name(),
+        )?;
         let mut base = final_outcome.pred.clone();
         prep.normalise(&mut base, final_outcome.sigma);
         Ok(Some(Detection {
