@@ -245,13 +245,27 @@ fn run_stages(
         };
         let t0 = std::time::Instant::now();
         let nfirst = first.len();
-        first = first
-            .par_iter()
-            .map(|(si, _, u)| {
-                let r = minimize(&pb.window(&starts[*si], n_use), u, lo, hi, &opts_stage);
-                (*si, r.cost, r.u)
-            })
-            .collect();
+        first = if iters > STAGE_ROUND {
+            // in rounds, the runs that cannot reach the `keep` best stopped (the same survivors)
+            in_rounds(
+                pb,
+                starts,
+                &first,
+                &opts_stage,
+                n_use,
+                keep,
+                STAGE_ROUND,
+                debug,
+            )
+        } else {
+            first
+                .par_iter()
+                .map(|(si, _, u)| {
+                    let r = minimize(&pb.window(&starts[*si], n_use), u, lo, hi, &opts_stage);
+                    (*si, r.cost, r.u)
+                })
+                .collect()
+        };
         first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
         if debug {
             eprintln!(
@@ -277,22 +291,18 @@ fn run_stages(
 /// the best are stopped.
 const ROUND: usize = 20;
 
+/// Iterations of a round of a successive-halving stage longer than one round ([`run_stages`]):
+/// between rounds, the runs that cannot reach the stage's survivors are stopped.
+const STAGE_ROUND: usize = 10;
+
 /// How much faster than over its last round a run is assumed to keep descending when
-/// [`refine`] judges whether it can still catch up with the best.
+/// [`in_rounds`] judges whether it can still reach the runs kept.
 const CATCH_UP_FACTOR: f64 = 4.0;
 
 /// Stage "refine": a long Levenberg-Marquardt run (`long_iter` iterations, ftol 1e-9) from each
-/// searched point on the whole record; returns (start, cost, u) of each.
-///
-/// The runs advance side by side in rounds of [`ROUND`] iterations (the iterates of
-/// uninterrupted runs: [`LmRun`]). After each round a run above the lowest cost met so far
-/// stops when, descending [`CATCH_UP_FACTOR`] times faster than it did over that round for
-/// every iteration it has left, it would still end above it (by 1 % and one unit): it cannot be
-/// the one kept. The crawl of such runs along their valleys was a third of the refinement
-/// (FAC-FIT-QUAL's fits, 2026-11-26). The run kept, the lowest, is the same, with the same
-/// bits, as without the rounds, unless a stopped run would have overtaken it by descending
-/// faster than that (costs only fall, so the lowest at the end is at most the one judged
-/// against).
+/// searched point on the whole record; returns (start, cost, u) of each ([`in_rounds`], the
+/// lowest kept: a third of the refinement was the crawl of runs that could not win,
+/// FAC-FIT-QUAL's fits, 2026-11-26).
 pub(super) fn refine(
     pb: &Problem,
     starts: &[Vec<f64>],
@@ -300,47 +310,72 @@ pub(super) fn refine(
     long_iter: usize,
     debug: bool,
 ) -> Vec<(usize, f64, Vec<f64>)> {
-    let (lo, hi) = (&pb.lo, &pb.hi);
     let opts = LmOptions {
         max_iter: long_iter,
         ftol: 1e-9,
         ..LmOptions::default()
     };
-    let n = pb.t.len();
+    in_rounds(pb, starts, first, &opts, pb.t.len(), 1, ROUND, debug)
+}
+
+/// Levenberg-Marquardt runs (`opts`, on the first `n_use` samples) from each point of `first`
+/// ((start, cost, u)), of which the `keep` lowest are wanted; returns (start, cost, u) of each.
+///
+/// The runs advance side by side in rounds of `round` iterations (the iterates of
+/// uninterrupted runs: [`LmRun`]). After each round a run above the `keep`-th lowest cost met
+/// so far stops when, descending [`CATCH_UP_FACTOR`] times faster than it did over that round
+/// for every iteration it has left, it would still end above it (by 1 % and one unit): it
+/// cannot be among the runs kept. The runs kept, the `keep` lowest, are the same, with the
+/// same bits, as without the rounds, unless a stopped run would have overtaken one of them by
+/// descending faster than that (costs only fall, so the `keep`-th lowest at the end is at most
+/// the one judged against). A stopped run is returned at the cost where it stopped.
+#[allow(clippy::too_many_arguments)]
+fn in_rounds(
+    pb: &Problem,
+    starts: &[Vec<f64>],
+    first: &[(usize, f64, Vec<f64>)],
+    opts: &LmOptions,
+    n_use: usize,
+    keep: usize,
+    round: usize,
+    debug: bool,
+) -> Vec<(usize, f64, Vec<f64>)> {
+    let (lo, hi) = (&pb.lo, &pb.hi);
     // (start, run, cost at the start of the round, still advancing)
     let mut runs: Vec<(usize, LmRun, f64, bool)> = first
         .par_iter()
         .map(|(si, _, u)| {
-            let run = LmRun::new(&pb.window(&starts[*si], n), u, lo, hi, &opts, None);
+            let run = LmRun::new(&pb.window(&starts[*si], n_use), u, lo, hi, opts, None);
             let c = run.cost();
             (*si, run, c, true)
         })
         .collect();
     let mut done = 0;
     while done < opts.max_iter && runs.iter().any(|r| r.3) {
-        done = (done + ROUND).min(opts.max_iter);
+        done = (done + round).min(opts.max_iter);
         runs.par_iter_mut().filter(|r| r.3).for_each(|r| {
             r.2 = r.1.cost();
-            r.1.advance(&pb.window(&starts[r.0], n), lo, hi, &opts, done);
+            r.1.advance(&pb.window(&starts[r.0], n_use), lo, hi, opts, done);
         });
-        let best = runs
-            .iter()
-            .map(|r| r.1.cost())
-            .fold(f64::INFINITY, f64::min);
+        // the keep-th lowest cost met so far (infinite while fewer runs)
+        let mut costs: Vec<f64> = runs.iter().map(|r| r.1.cost()).collect();
+        costs.sort_by(f64::total_cmp);
+        let bar = costs.get(keep.max(1) - 1).copied().unwrap_or(f64::INFINITY);
         let left = (opts.max_iter - done) as f64;
         for r in runs.iter_mut().filter(|r| r.3) {
             if r.1.finished() {
                 r.3 = false;
                 continue;
             }
-            let rate = (r.2 - r.1.cost()).max(0.0) / ROUND as f64;
+            let rate = (r.2 - r.1.cost()).max(0.0) / round as f64;
             let reach = r.1.cost() - CATCH_UP_FACTOR * rate * left;
-            if reach > best * 1.01 + 1.0 {
+            if reach > bar * 1.01 + 1.0 {
                 r.3 = false;
                 if debug {
                     eprintln!(
-                        "long run from start {} stopped after {} iterations at cost {:.3} (best {best:.3})",
+                        "run from start {} ({} iterations at most) stopped after {} iterations at cost {:.3} (bar {bar:.3})",
                         r.0,
+                        opts.max_iter,
                         r.1.iterations(),
                         r.1.cost()
                     );
@@ -352,7 +387,8 @@ pub(super) fn refine(
         .map(|(si, run, _, _)| {
             if debug {
                 eprintln!(
-                    "long run from start {si}: {} iterations, cost {:.3}",
+                    "run from start {si} ({} iterations at most): {} iterations, cost {:.3}",
+                    opts.max_iter,
                     run.iterations(),
                     run.cost()
                 );
