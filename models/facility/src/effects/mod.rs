@@ -380,6 +380,34 @@ pub fn adhesion_tail_impulse(a1: f64, lambda: f64, e: f64, rate: f64) -> f64 {
     }
 }
 
+/// Whether the adhesion law's remaining impulse ([`adhesion_tail_impulse`] of `a1` [N/m],
+/// `lambda` [m], `e` [m], `rate` [m/s]) moves the TM by less than `r.tol_m` by the end of the
+/// record ([`ReleaseCheck::displacement_of`]): the adhesions' [`ForceEffect::released`].
+///
+/// The same answer, always, as `r.displacement_of(adhesion_tail_impulse(..)) < r.tol_m`, but
+/// without its `exp` and two of its divisions while the answer is clearly no (asked at every
+/// sample of a bond's tail, they were a tenth of a `discover`). The answer is first sought with
+/// `low = 2^k`, `k = trunc(z log2 e) - 3 <= floor(z log2 e) - 2` for `z = -e/lambda`: a power
+/// of two under half of `exp(z)` (the product `z log2 e` is off by less than 3e-13, and `exp`
+/// by an ulp). When `a1 lambda (e + lambda) low horizon >= 2 tol rate m` (products of
+/// positive factors, each off by at most a few ulps), the exact displacement, larger than that
+/// bound's, is at least `tol_m`, and the answer is no.
+pub fn adhesion_released(a1: f64, lambda: f64, e: f64, rate: f64, r: &ReleaseCheck) -> bool {
+    if e >= lambda && rate > 0.0 && lambda > 0.0 {
+        let c = -e / lambda * std::f64::consts::LOG2_E;
+        // c <= -log2(e) < 0 here, so truncation rounds up: `k` is at most floor(c) - 2
+        let k = c as i64 - 3;
+        if k >= -1022 {
+            // 2^k, k a normal exponent
+            let low = f64::from_bits(((k + 1023) as u64) << 52);
+            if a1 * lambda * (e + lambda) * low * r.horizon_s >= 2.0 * r.tol_m * rate * r.m_kg {
+                return false;
+            }
+        }
+    }
+    r.displacement_of(adhesion_tail_impulse(a1, lambda, e, rate)) < r.tol_m
+}
+
 /// Data-driven quantities an effect may use for its starting points.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct GuessContext {
@@ -621,6 +649,41 @@ mod tests {
                 "{z}: {a} {b}"
             );
         }
+    }
+
+    /// `adhesion_released` gives the answer of the impulse bound computed in full, on a grid
+    /// of elongations through the bond's whole tail (the answer turns from no to yes inside
+    /// it, where the shortcut's power of two no longer decides), four parameter pairs, three
+    /// rates, horizons and masses, and at the edges (below `lambda`, zero rate and horizon).
+    #[test]
+    fn adhesion_released_is_the_full_bound() {
+        let mut turns = 0;
+        for (a1, lambda) in [(1.3e5, 6e-7), (1e7, 1e-8), (1e1, 3e-6), (1e6, 1e-9)] {
+            for rate in [0.0, 1e-6, 3e-3, 0.5] {
+                for (horizon, m) in [(0.0, 0.089), (2e-3, 0.0096), (2.0, 1.96)] {
+                    let r = ReleaseCheck {
+                        tip_speed_m_s: 0.0,
+                        horizon_s: horizon,
+                        m_kg: m,
+                        tol_m: 1e-15, // the models' tolerance (tmmf::RELEASE_TOL_M)
+                    };
+                    let mut last = None;
+                    for i in 0..20_000 {
+                        let e = lambda * (0.5 + i as f64 * 0.0371);
+                        let full =
+                            r.displacement_of(adhesion_tail_impulse(a1, lambda, e, rate)) < r.tol_m;
+                        assert_eq!(
+                            adhesion_released(a1, lambda, e, rate, &r),
+                            full,
+                            "A1 {a1} lambda {lambda} e {e} rate {rate} horizon {horizon}"
+                        );
+                        turns += usize::from(last == Some(!full));
+                        last = Some(full);
+                    }
+                }
+            }
+        }
+        assert!(turns > 10, "{turns}");
     }
 
     #[test]

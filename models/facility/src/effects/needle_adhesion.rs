@@ -3,7 +3,7 @@
 use super::tip_adhesion::adhesion_starts;
 use super::{
     Effect, FitHints, ForceEffect, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Role, Scenario,
-    TmState, adhesion_force, adhesion_smooth, adhesion_tail_impulse,
+    TmState, adhesion_force, adhesion_released, adhesion_smooth,
 };
 
 /// The adhesion law of thesis eq. (adh) at the needles: for `x > x_n0` it pulls the TM back
@@ -49,8 +49,7 @@ impl ForceEffect for NeedleAdhesion {
     }
     fn released(&self, p: &[f64], s: &TmState, r: &ReleaseCheck) -> bool {
         // in free flight the gap grows at the TM's velocity
-        let imp = adhesion_tail_impulse(p[0], p[1], s.needle_gap, s.v);
-        r.displacement_of(imp) < r.tol_m
+        adhesion_released(p[0], p[1], s.needle_gap, s.v, r)
     }
     fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, h_tail: f64) -> bool {
         adhesion_smooth(p[0], p[1], s.needle_gap, s.v, h_tail, r.m_kg)

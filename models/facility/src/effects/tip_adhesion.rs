@@ -2,7 +2,7 @@
 
 use super::{
     Effect, FitHints, ForceEffect, ForceLaw, GuessContext, ParamSpec, ReleaseCheck, Role, Scenario,
-    TmState, adhesion_force, adhesion_smooth, adhesion_tail_impulse,
+    TmState, adhesion_force, adhesion_released, adhesion_smooth,
 };
 
 /// Adds `F = A1*e*exp(-e/lambda)` for `e > 0` at the tip (pulls the TM towards the retracting
@@ -60,8 +60,7 @@ impl ForceEffect for TipAdhesion {
     }
     fn released(&self, p: &[f64], s: &TmState, r: &ReleaseCheck) -> bool {
         // the elongation grows at least at the present rate (tip speed never decreases)
-        let imp = adhesion_tail_impulse(p[0], p[1], s.e_tip, r.tip_speed_m_s - s.v);
-        r.displacement_of(imp) < r.tol_m
+        adhesion_released(p[0], p[1], s.e_tip, r.tip_speed_m_s - s.v, r)
     }
     fn smooth(&self, p: &[f64], s: &TmState, r: &ReleaseCheck, h_tail: f64) -> bool {
         adhesion_smooth(p[0], p[1], s.e_tip, r.tip_speed_m_s - s.v, h_tail, r.m_kg)
