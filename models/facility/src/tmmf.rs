@@ -519,9 +519,10 @@ impl<'a> Run<'a> {
     }
 
     /// Whether every force has let go of the TM for good at `t` [s] in state `s`, and whether
-    /// the sample interval after `t` takes the tail step: the TM's two states alone (an
-    /// effect's own states, a needle body's, keep their contact-scale dynamics) and every force
-    /// released or smooth on the tail step ([`ForceEffect::smooth`]). Neither before the
+    /// the sample interval after `t` takes the tail step: every force released or smooth on
+    /// the tail step ([`ForceEffect::smooth`]), and an effect's own states (a needle body's,
+    /// whose contact has contact-scale dynamics) only once their force is released and they
+    /// are slow on the tail step ([`ForceEffect::own_states_slow`]). Neither before the
     /// trigger, for a state that is not finite, or in a run that may not release (the tests'
     /// integrate-throughout reference). One pass over the forces, asked at every sample.
     fn released_and_tail(&self, t: f64, s: &[f64]) -> (bool, bool) {
@@ -529,11 +530,14 @@ impl<'a> Run<'a> {
             return (false, false);
         }
         let mut released = true;
-        let mut tail = s.len() == 2;
+        let mut tail = true;
         self.every_force(t, s, |e, pe, st, rc| {
             let rel = e.released(pe, st, rc);
             released &= rel;
-            tail = tail && (rel || e.smooth(pe, st, rc, self.h_tail));
+            // an effect's own states (a needle body's) keep the contact step until the force
+            // has let go and they are slow on the tail step
+            let own_ok = st.own.is_empty() || (rel && e.own_states_slow(pe, self.h_tail));
+            tail = tail && own_ok && (rel || e.smooth(pe, st, rc, self.h_tail));
             released || tail
         });
         (released, tail)

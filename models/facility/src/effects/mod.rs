@@ -520,6 +520,14 @@ pub trait ForceEffect: Send + Sync {
     fn smooth(&self, _p: &[f64], _s: &TmState, _r: &ReleaseCheck, _h_tail: f64) -> bool {
         false
     }
+    /// Whether the effect's own states ([`ForceEffect::n_states`] of them), once the force has
+    /// let go ([`ForceEffect::released`]), evolve slowly enough for the tail step `h_tail` [s]
+    /// that the integration may take it (they no longer act on the TM, but the release is
+    /// judged on them at every sample). The default, `false`, keeps the contact step for a
+    /// model with own states.
+    fn own_states_slow(&self, _p: &[f64], _h_tail: f64) -> bool {
+        false
+    }
 }
 
 /// A distortion of the measurement, added to the predicted channel ([`Role::Distortion`]).

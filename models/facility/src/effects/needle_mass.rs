@@ -81,6 +81,13 @@ impl ForceEffect for NeedleMass {
         let amp = ((u - u_eq).powi(2) + m_nd * du * du / k_nd).sqrt();
         s.v >= 0.0 && s.f_pre / k_tm + u_eq + amp - s.x < 0.0
     }
+    fn own_states_slow(&self, p: &[f64], h_tail: f64) -> bool {
+        // out of contact the body is an oscillator of its own (k_nd, c_nd on m_nd): a quarter
+        // radian of it per tail step, and a quarter of its damping time, as the adhesions ask
+        // of their wells (`adhesion_smooth`)
+        let (m_nd, k_nd, c_nd) = (p[0], p[1], p[3]);
+        h_tail * h_tail * k_nd <= 0.0625 * m_nd && h_tail * c_nd <= 0.25 * m_nd
+    }
 }
 
 impl FitHints for NeedleMass {

@@ -22,9 +22,11 @@
 //! Covered: models whose forces are all inline laws on the TM's two states (needle and tip
 //! springs, tip and needle adhesion) and whose distortions offer their gradient
 //! ([`crate::effects::DistortionEffect::distortion_gradient`]: the reading `x + d(t, x)` has the tangent
-//! `X (1 + dd/dx) + dd/dp`). Not covered (`None`, the fit takes finite differences): a needle
-//! body (own states) and a TM trapped in the needle well on a record long enough for
-//! [`super::simulate`]'s periodic continuation.
+//! `X (1 + dd/dx) + dd/dp`), and a needle body (`needle_mass`: its displacement `u` and
+//! velocity `u'` join the state, their tangents `(U, U')` the augmented system, and the contact
+//! force `F_c = k_tm (F_pre/k_tm + u - x) + c_tm (u' - v)`, while it pushes, depends on `v` as
+//! well). Not covered (`None`, the fit takes finite differences): a TM trapped in the needle
+//! well on a record long enough for [`super::simulate`]'s periodic continuation.
 
 use super::{Run, step_for_mass};
 use crate::effects::{ForceLaw, Role, exp_or_zero};
@@ -48,8 +50,8 @@ const NEEDLE_LAMBDA: usize = 6;
 const ROLES: usize = 7;
 
 /// Whether [`simulate_with_tangents`] covers `model` (with `n_dirs` directions): a
-/// `tmmf-release` model whose forces are springs and adhesions on the TM's two states (no
-/// needle body) and whose distortions offer their gradient.
+/// `tmmf-release` model whose forces are springs and adhesions on the TM's two states, or a
+/// needle body with its own two, and whose distortions offer their gradient.
 pub fn covers(model: &Model, n_dirs: usize) -> bool {
     if n_dirs > MAX_TANGENTS || model.scenario.dynamics() != crate::scenario::Dynamics::TmRelease {
         return false;
@@ -57,18 +59,17 @@ pub fn covers(model: &Model, n_dirs: usize) -> bool {
     model.effects.iter().all(|e| {
         let nominal: Vec<f64> = e.params().iter().map(|s| s.nominal).collect();
         match e.role() {
-            Role::Force(f) => {
-                f.n_states() == 0
-                    && matches!(
-                        f.law(&nominal),
-                        Some(
-                            ForceLaw::NeedleSpring { .. }
-                                | ForceLaw::TipSpring { .. }
-                                | ForceLaw::TipAdhesion { .. }
-                                | ForceLaw::NeedleAdhesion { .. }
-                        )
-                    )
-            }
+            Role::Force(f) => match f.law(&nominal) {
+                Some(
+                    ForceLaw::NeedleSpring { .. }
+                    | ForceLaw::TipSpring { .. }
+                    | ForceLaw::TipAdhesion { .. }
+                    | ForceLaw::NeedleAdhesion { .. },
+                ) => f.n_states() == 0,
+                // its two own states beside the TM's (one needle body per model)
+                Some(ForceLaw::NeedleBody { .. }) => f.n_states() == 2,
+                _ => false,
+            },
             Role::Distortion(d) => {
                 let mut d_p = vec![0.0; nominal.len()];
                 d.distortion_gradient(&nominal, 0.0, 0.0, &mut d_p)
@@ -122,24 +123,12 @@ fn carry(
     let h_max = step_for_mass(inputs.m_kg);
     let mut run = Run::new(model, p, times, inputs, h_max, true, true);
     let laws = run.laws.clone()?;
-    if run.s.len() != 2 {
-        return None;
-    }
     let aug = Aug::new(model, p, dirs, &run, laws);
     let mut tan: Vec<Vec<f64>> = vec![Vec::with_capacity(times.len()); dirs.len()];
-    // as many tangent lanes as directions up to eight (the arithmetic of unused lanes is not
-    // free), twelve beyond
-    let done = match dirs.len() {
-        0 => aug.integrate::<0>(&mut run, times, &mut tan, readings),
-        1 => aug.integrate::<1>(&mut run, times, &mut tan, readings),
-        2 => aug.integrate::<2>(&mut run, times, &mut tan, readings),
-        3 => aug.integrate::<3>(&mut run, times, &mut tan, readings),
-        4 => aug.integrate::<4>(&mut run, times, &mut tan, readings),
-        5 => aug.integrate::<5>(&mut run, times, &mut tan, readings),
-        6 => aug.integrate::<6>(&mut run, times, &mut tan, readings),
-        7 => aug.integrate::<7>(&mut run, times, &mut tan, readings),
-        8 => aug.integrate::<8>(&mut run, times, &mut tan, readings),
-        _ => aug.integrate::<MAX_TANGENTS>(&mut run, times, &mut tan, readings),
+    let done = match run.s.len() {
+        2 => aug.dispatch::<2>(&mut run, times, &mut tan, readings, dirs.len()),
+        4 => aug.dispatch::<4>(&mut run, times, &mut tan, readings, dirs.len()),
+        _ => return None,
     };
     if !done {
         return None;
@@ -157,8 +146,34 @@ struct Aug {
     role: [usize; MAX_TANGENTS],
     de: [f64; MAX_TANGENTS],
     dg: [f64; MAX_TANGENTS],
+    /// Per direction, 1 when it is the preload `F_pre` (which the needle body's law reads
+    /// itself), else 0.
+    d_fpre: [f64; MAX_TANGENTS],
+    /// Per direction, which needle-body parameter it is ([`BODY_M`] ...), if any.
+    body_role: [usize; MAX_TANGENTS],
     inv_m: f64,
 }
+
+/// A needle body's contact with the TM over an integration, as [`Aug::steps`] follows it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Contact {
+    /// Pushing since the start (the preload), or no body.
+    Initial,
+    /// Apart since.
+    Apart,
+    /// Pushing again: a re-contact, where the contact force jumps by its damping
+    /// `c_tm (u' - v)` (a closing contact's is positive) and the RK4 map with it. The
+    /// tangents are the derivative between such jumps, not of where they fall: the
+    /// integration hands over to finite differences.
+    Again,
+}
+
+/// The needle body's parameters as directions ([`Aug::body_role`]).
+const BODY_M: usize = 1;
+const BODY_KND: usize = 2;
+const BODY_KTM: usize = 3;
+const BODY_CND: usize = 4;
+const BODY_CTM: usize = 5;
 
 impl Aug {
     fn new(model: &Model, p: &[f64], dirs: &[usize], run: &Run, laws: Vec<ForceLaw>) -> Aug {
@@ -167,12 +182,20 @@ impl Aug {
         let mut dg = [0.0; MAX_TANGENTS];
         let f_pre = run.sh.f_pre;
         let idx = |name: &str| model.index(name);
+        // the needle stiffness of the gap's rest point: the body's contact with it, else the
+        // fixed needles' (`Run::new`)
         let (i_fpre, i_knd, i_kc) = (
             idx("needle_contact.F_pre"),
-            idx("needle_contact.k_nd"),
+            if run.sh.body {
+                idx("needle_mass.k_tm")
+            } else {
+                idx("needle_contact.k_nd")
+            },
             idx("tip_contact.k_c"),
         );
         let k_nd = i_knd.map(|i| p[i]);
+        let mut d_fpre = [0.0; MAX_TANGENTS];
+        let mut body_role = [0; MAX_TANGENTS];
         let names = model.param_names();
         // the distortions' parameter ranges, in the order of `Run::distortions`
         let ranges: Vec<std::ops::Range<usize>> = (0..model.effects.len())
@@ -196,6 +219,17 @@ impl Aug {
                 "needle_adhesion.lambda" => NEEDLE_LAMBDA,
                 _ => NONE,
             };
+            body_role[j] = match names[q].as_str() {
+                "needle_mass.m_nd" => BODY_M,
+                "needle_mass.k_nd" => BODY_KND,
+                "needle_mass.k_tm" => BODY_KTM,
+                "needle_mass.c_nd" => BODY_CND,
+                "needle_mass.c_tm" => BODY_CTM,
+                _ => 0,
+            };
+            if Some(q) == i_fpre {
+                d_fpre[j] = 1.0;
+            }
             // e = (y - x) - F_pre / k_c, g = x - F_pre / k_nd
             if Some(q) == i_fpre {
                 de[j] = -run.sh.inv_kc;
@@ -216,7 +250,34 @@ impl Aug {
             role,
             de,
             dg,
+            d_fpre,
+            body_role,
             inv_m: 1.0 / run.inputs.m_kg,
+        }
+    }
+
+    /// [`Aug::integrate`] for a state of `N` components with as many tangent lanes as the
+    /// `n_dirs` directions up to eight (the arithmetic of unused lanes is not free), twelve
+    /// beyond.
+    fn dispatch<const N: usize>(
+        &self,
+        run: &mut Run,
+        times: &[f64],
+        tan: &mut [Vec<f64>],
+        readings: bool,
+        n_dirs: usize,
+    ) -> bool {
+        match n_dirs {
+            0 => self.integrate::<N, 0>(run, times, tan, readings),
+            1 => self.integrate::<N, 1>(run, times, tan, readings),
+            2 => self.integrate::<N, 2>(run, times, tan, readings),
+            3 => self.integrate::<N, 3>(run, times, tan, readings),
+            4 => self.integrate::<N, 4>(run, times, tan, readings),
+            5 => self.integrate::<N, 5>(run, times, tan, readings),
+            6 => self.integrate::<N, 6>(run, times, tan, readings),
+            7 => self.integrate::<N, 7>(run, times, tan, readings),
+            8 => self.integrate::<N, 8>(run, times, tan, readings),
+            _ => self.integrate::<N, MAX_TANGENTS>(run, times, tan, readings),
         }
     }
 
@@ -225,22 +286,30 @@ impl Aug {
     /// [`super::simulate`] integrates them; false when the TM
     /// ends trapped in the needle well and [`super::simulate`] would continue the record
     /// periodically (not covered: the caller takes differences).
-    fn integrate<const P: usize>(
+    fn integrate<const N: usize, const P: usize>(
         &self,
         run: &mut Run,
         times: &[f64],
         tan: &mut [Vec<f64>],
         readings: bool,
     ) -> bool {
-        let mut s = [0.0f64; 2];
-        let mut ts = [[0.0f64; P]; 2];
+        // the state starts where `simulate`'s does (at rest), the tangents at zero
+        let mut s = [0.0f64; N];
+        s.copy_from_slice(&run.s);
+        let mut ts = [[0.0f64; P]; N];
+        let mut contact = Contact::Initial;
         let mut t = 0.0;
         let mut grad = Grad::new(run);
         for (i, &ti) in times.iter().enumerate() {
             if ti > t {
                 let steps = ((ti - t) / run.h_next() - 1e-9).ceil().max(1.0) as usize;
                 let h = (ti - t) / steps as f64;
-                self.steps(run, t, h, steps, &mut s, &mut ts);
+                self.steps(run, t, h, steps, &mut s, &mut ts, &mut contact);
+                if contact == Contact::Again {
+                    // the body's contact force jumped (not covered: the caller takes
+                    // differences)
+                    return false;
+                }
                 t = ti;
             }
             let x_true = if ti < 0.0 { 0.0 } else { s[0] };
@@ -351,15 +420,15 @@ impl Aug {
     }
 
     /// The state's derivative (the bits of `Run::deriv_n`) and the tangents' derivatives at
-    /// `t`.
+    /// `t`, and whether a needle body's contact pushes the TM.
     #[inline(always)]
-    fn rhs<const P: usize>(
+    fn rhs<const N: usize, const P: usize>(
         &self,
         run: &Run,
         t: f64,
-        s: [f64; 2],
-        ts: &[[f64; P]; 2],
-    ) -> ([f64; 2], [[f64; P]; 2]) {
+        s: [f64; N],
+        ts: &[[f64; P]; N],
+    ) -> ([f64; N], [[f64; P]; N], bool) {
         let (x, v) = (s[0], s[1]);
         let e = (run.tip_y(t) - x) - run.tip_offset;
         let g = x - run.sh.x_n0;
@@ -368,6 +437,11 @@ impl Aug {
         // dF/de, dF/dg and the partials of the force by role
         let (mut fe, mut fg) = (0.0, 0.0);
         let mut part = [0.0f64; ROLES];
+        // the needle body (N == 4): its acceleration, and its contact force's partials by the
+        // states x, v, u, u' (while the contact pushes) and by k_tm, c_tm (`F_pre`'s is 1)
+        let mut a_body = 0.0;
+        let mut body_on = false;
+        let (mut k_tm_, mut c_tm_, mut k_nd_, mut c_nd_, mut m_nd_) = (0.0, 0.0, 0.0, 0.0, 1.0);
         for law in &self.laws {
             match *law {
                 ForceLaw::NeedleSpring { k } => {
@@ -414,58 +488,128 @@ impl Aug {
                         f += -0.0;
                     }
                 }
-                ForceLaw::NeedleBody { .. } => unreachable!("excluded by covers"),
+                ForceLaw::NeedleBody {
+                    m_nd,
+                    k_nd,
+                    k_tm,
+                    c_nd,
+                    c_tm,
+                } => {
+                    // `ForceLaw::force`'s arithmetic, in its order
+                    let (u, du) = if N == 4 { (s[2], s[3]) } else { (0.0, 0.0) };
+                    let f_pre = run.sh.f_pre;
+                    let delta = f_pre / k_tm + u - x;
+                    let fc = if delta > 0.0 {
+                        let push = k_tm * delta + c_tm * (du - v);
+                        body_on = push > 0.0;
+                        push.max(0.0)
+                    } else {
+                        0.0
+                    };
+                    f += fc;
+                    a_body = (f_pre - k_nd * u - c_nd * du - fc) / m_nd;
+                    (k_tm_, c_tm_, k_nd_, c_nd_, m_nd_) = (k_tm, c_tm, k_nd, c_nd, m_nd);
+                }
             }
         }
-        let ds = [v, f / run.inputs.m_kg];
-        let mut dts = [[0.0f64; P]; 2];
+        let mut ds = [0.0; N];
+        ds[0] = v;
+        ds[1] = f / run.inputs.m_kg;
+        if N == 4 {
+            ds[2] = s[3];
+            ds[3] = a_body;
+        }
+        let mut dts = [[0.0f64; P]; N];
         for j in 0..P {
             let xj = ts[0][j];
-            let df = fe * (self.de[j] - xj) + fg * (xj + self.dg[j]) + part[self.role[j]];
+            let mut df = fe * (self.de[j] - xj) + fg * (xj + self.dg[j]) + part[self.role[j]];
+            if N == 4 {
+                let (vj, uj, duj) = (ts[1][j], ts[2][j], ts[3][j]);
+                let (u, du) = (s[2], s[3]);
+                // the contact force's derivative: by the states, by F_pre (through F_pre/k_tm,
+                // times k_tm: 1), by k_tm (delta - F_pre/k_tm = u - x) and by c_tm
+                let dfc = if body_on {
+                    k_tm_ * (uj - xj)
+                        + c_tm_ * (duj - vj)
+                        + self.d_fpre[j]
+                        + match self.body_role[j] {
+                            BODY_KTM => u - x,
+                            BODY_CTM => du - v,
+                            _ => 0.0,
+                        }
+                } else {
+                    0.0
+                };
+                df += dfc;
+                // m_nd a = F_pre - k_nd u - c_nd u' - F_c
+                let own = match self.body_role[j] {
+                    BODY_M => -a_body,
+                    BODY_KND => -u,
+                    BODY_CND => -du,
+                    _ => 0.0,
+                };
+                let dn = self.d_fpre[j] - k_nd_ * uj - c_nd_ * duj - dfc + own;
+                dts[2][j] = duj;
+                dts[3][j] = dn / m_nd_;
+            }
             dts[0][j] = ts[1][j];
             dts[1][j] = df * self.inv_m;
         }
-        (ds, dts)
+        (ds, dts, body_on)
     }
 
     /// `steps` RK4 steps of `h` from `t` of the state `s` and its tangents `ts`: the state's
     /// arithmetic is that of `super::lockstep` (the same bits).
-    fn steps<const P: usize>(
+    fn steps<const N: usize, const P: usize>(
         &self,
         run: &Run,
         t: f64,
         h: f64,
         steps: usize,
-        s: &mut [f64; 2],
-        ts: &mut [[f64; P]; 2],
+        s: &mut [f64; N],
+        ts: &mut [[f64; P]; N],
+        contact: &mut Contact,
     ) {
         let mut t = t;
+        // a needle body's contact, at each stage: pushing since the start, apart, or pushing
+        // again
+        let mut follow = |on: bool| {
+            *contact = match (*contact, on) {
+                (Contact::Initial, false) => Contact::Apart,
+                (Contact::Apart, true) => Contact::Again,
+                (c, _) => c,
+            }
+        };
         for _ in 0..steps {
-            let (k1, l1) = self.rhs(run, t, *s, ts);
-            let mut tmp = [0.0; 2];
-            let mut tt = [[0.0; P]; 2];
-            for i in 0..2 {
+            let (k1, l1, on1) = self.rhs(run, t, *s, ts);
+            follow(on1);
+            let mut tmp = [0.0; N];
+            let mut tt = [[0.0; P]; N];
+            for i in 0..N {
                 tmp[i] = s[i] + 0.5 * h * k1[i];
                 for j in 0..P {
                     tt[i][j] = ts[i][j] + 0.5 * h * l1[i][j];
                 }
             }
-            let (k2, l2) = self.rhs(run, t + 0.5 * h, tmp, &tt);
-            for i in 0..2 {
+            let (k2, l2, on2) = self.rhs(run, t + 0.5 * h, tmp, &tt);
+            follow(on2);
+            for i in 0..N {
                 tmp[i] = s[i] + 0.5 * h * k2[i];
                 for j in 0..P {
                     tt[i][j] = ts[i][j] + 0.5 * h * l2[i][j];
                 }
             }
-            let (k3, l3) = self.rhs(run, t + 0.5 * h, tmp, &tt);
-            for i in 0..2 {
+            let (k3, l3, on3) = self.rhs(run, t + 0.5 * h, tmp, &tt);
+            follow(on3);
+            for i in 0..N {
                 tmp[i] = s[i] + h * k3[i];
                 for j in 0..P {
                     tt[i][j] = ts[i][j] + h * l3[i][j];
                 }
             }
-            let (k4, l4) = self.rhs(run, t + h, tmp, &tt);
-            for i in 0..2 {
+            let (k4, l4, on4) = self.rhs(run, t + h, tmp, &tt);
+            follow(on4);
+            for i in 0..N {
                 s[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
                 for j in 0..P {
                     ts[i][j] += h / 6.0 * (l1[i][j] + 2.0 * l2[i][j] + 2.0 * l3[i][j] + l4[i][j]);
@@ -515,6 +659,22 @@ mod tests {
         inp: &Inputs,
         what: &str,
     ) {
+        check_tangents_with(model, p, dirs, times, inp, what, &[1e-6], 1e-5);
+    }
+
+    /// [`check_tangents`] with the tolerance `tol` (of the column's largest value), each
+    /// tangent against the central differences of relative step `rels` that agree with it best.
+    #[allow(clippy::too_many_arguments)]
+    fn check_tangents_with(
+        model: &Model,
+        p: &[f64],
+        dirs: &[usize],
+        times: &[f64],
+        inp: &Inputs,
+        what: &str,
+        rels: &[f64],
+        tol: f64,
+    ) {
         let (x, tan) = simulate_with_tangents(model, p, dirs, times, inp).unwrap();
         // the fit's Jacobian, without the tail's readings: the same tangents
         let alone = tangents_only(model, p, dirs, times, inp).unwrap();
@@ -535,27 +695,33 @@ mod tests {
             "{what}: the readings are not simulate's bits"
         );
         for (&q, col) in dirs.iter().zip(&tan) {
-            let h = (p[q].abs() * 1e-6).max(1e-13);
-            let at = |d: f64| {
-                let mut pq = p.to_vec();
-                pq[q] += d;
-                super::super::simulate(model, &pq, times, inp)
-            };
-            let (up, down) = (at(h), at(-h));
-            let fd: Vec<f64> = up
-                .iter()
-                .zip(&down)
-                .map(|(a, b)| (a - b) / (2.0 * h))
-                .collect();
-            let scale = fd.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            assert!(scale > 0.0, "{what}: parameter {q} moves nothing");
-            let err = col
-                .iter()
-                .zip(&fd)
-                .fold(0.0f64, |a, (c, f)| a.max((c - f).abs()));
+            let (mut best, mut best_scale) = (f64::INFINITY, 0.0f64);
+            for rel in rels {
+                let h = (p[q].abs() * rel).max(1e-13);
+                let at = |d: f64| {
+                    let mut pq = p.to_vec();
+                    pq[q] += d;
+                    super::super::simulate(model, &pq, times, inp)
+                };
+                let (up, down) = (at(h), at(-h));
+                let fd: Vec<f64> = up
+                    .iter()
+                    .zip(&down)
+                    .map(|(a, b)| (a - b) / (2.0 * h))
+                    .collect();
+                let scale = fd.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                assert!(scale > 0.0, "{what}: parameter {q} moves nothing");
+                let err = col
+                    .iter()
+                    .zip(&fd)
+                    .fold(0.0f64, |a, (c, f)| a.max((c - f).abs()));
+                if err / scale < best / best_scale.max(f64::MIN_POSITIVE) {
+                    (best, best_scale) = (err, scale);
+                }
+            }
             assert!(
-                err < 1e-5 * scale,
-                "{what}: parameter {q}: {err:e} of {scale:e}"
+                best < tol * best_scale,
+                "{what}: parameter {q}: {best:e} of {best_scale:e}"
             );
         }
     }
@@ -634,22 +800,97 @@ mod tests {
         check_tangents(&model, &p, &dirs, &times, &inp, "a 0.5 s tail");
     }
 
-    /// Models outside the tangents' reach say so: a needle body (own states), more than
-    /// [`MAX_TANGENTS`] directions; and a TM trapped in the needle well, whose record
-    /// `simulate` continues periodically, gives no tangents (while the same model whose TM
-    /// escapes does).
+    /// A needle body's model (four states: the TM's and the body's): the readings carried
+    /// with the tangents are `simulate`'s bits and each tangent agrees with central
+    /// differences (the better of two steps) to 1e-4: every parameter of a light, much damped
+    /// body (0.03 kg; the fixed needles' stiffness, which the body replaces, moves nothing)
+    /// for a middle and a heavy TM, and, for a light, a middle and a heavy TM, those of the
+    /// thesis body (1.74 kg) whose effect the readings resolve (its `k_nd` and `c_nd` move
+    /// them by 1e-20 and 1e-15 m per unit, under their rounding).
+    ///
+    /// The steps are relative 1e-6 and 1e-4: once the body has let go, the integration takes
+    /// the tail step from a sample that the parameters decide, and a difference whose two
+    /// sides switch at different samples sees the jump of the integration error, which a
+    /// small step magnifies (3e-5 of the body mass's column at 1e-6); a large one has the
+    /// truncation error of the contacts' kinks instead (4e-2 of the tip stiffness's at 1e-4).
+    /// Left out: the light body with the lightest TM (0.0096 kg), whose TM, dragged by the
+    /// adhesion, comes back to graze the tip 2.7 ms after the trigger. At a grazing contact
+    /// the readings are continuous but not differentiable in the parameters (the time in
+    /// contact grows as the square root of the overlap), so differences of any step disagree
+    /// with the tangent (the derivative of the RK4 map between the steps where a stage
+    /// enters or leaves the contact) by 3 % there, as they do for the two-state model.
+    #[test]
+    fn a_needle_body_has_its_derivatives() {
+        let model = Model::new(
+            Scenario::TmmfRelease,
+            &[
+                "needle_contact",
+                "tip_contact",
+                "tip_adhesion",
+                "needle_mass",
+            ],
+        )
+        .unwrap();
+        assert!(model.has_tangents(9));
+        let times: Vec<f64> = (-50..800).map(|i| i as f64 * 1e-5).collect();
+        // needle_contact.k_nd (index 0) is superseded by the body
+        let light = (
+            [
+                6.5e5, 6e-3, 1.1e6, 1.3e5, 6e-7, 0.03, 1.12e6, 2.03e6, 5.0, 20.0,
+            ],
+            (1..10).collect::<Vec<usize>>(),
+            &[0.089, 0.844][..],
+        );
+        let thesis = (
+            [
+                6.5e5, 6e-3, 1.1e6, 1.3e5, 6e-7, 1.74, 1.12e6, 2.03e6, 1.0, 1.0,
+            ],
+            vec![1, 2, 3, 4, 5, 7, 9],
+            &[0.0096, 0.089, 0.844][..],
+        );
+        for (p, dirs, masses) in [light, thesis] {
+            for &m in masses {
+                check_tangents_with(
+                    &model,
+                    &p,
+                    &dirs,
+                    &times,
+                    &inputs(m),
+                    &format!("needle body m_nd {}, TM {m} kg", p[5]),
+                    &[1e-6, 1e-4],
+                    1e-4,
+                );
+            }
+        }
+    }
+
+    /// Models outside the tangents' reach say so: more than [`MAX_TANGENTS`] directions; a
+    /// TM trapped in the needle well, whose record `simulate` continues periodically, gives no
+    /// tangents (while the same model whose TM escapes does); nor does a needle body that the
+    /// TM, held by the needle adhesion, touches again (its contact force jumps: [`Contact`]),
+    /// while the same body whose TM escapes a weaker adhesion has them.
     #[test]
     fn other_models_keep_finite_differences() {
         let body = Model::new(
             Scenario::TmmfRelease,
-            &["needle_contact", "tip_contact", "needle_mass"],
+            &[
+                "needle_contact",
+                "tip_contact",
+                "needle_adhesion",
+                "needle_mass",
+            ],
         )
         .unwrap();
-        assert!(!body.has_tangents(1));
-        let p = body.nominal();
+        let times: Vec<f64> = (-50..800).map(|i| i as f64 * 1e-5).collect();
+        let with_a1 = |a1: f64| [6.5e5, 6e-3, 1.1e6, a1, 3e-7, 0.03, 1.12e6, 2.03e6, 5.0, 1.0];
+        let inp = inputs(0.089);
         assert!(
-            body.predict_with_tangents(&p, &[0], &[0.0, 1e-5], &inputs(0.089))
+            body.predict_with_tangents(&with_a1(1e5), &[1], &times, &inp)
                 .is_none()
+        );
+        assert!(
+            body.predict_with_tangents(&with_a1(1e4), &[1], &times, &inp)
+                .is_some()
         );
         let model = Model::new(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]).unwrap();
         assert!(model.has_tangents(MAX_TANGENTS) && !model.has_tangents(MAX_TANGENTS + 1));
