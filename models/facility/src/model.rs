@@ -201,7 +201,18 @@ impl Model {
 
     /// Index of a full parameter name.
     pub fn index(&self, full: &str) -> Option<usize> {
-        self.param_names().iter().position(|n| n == full)
+        // `effect.param` compared in its two parts, without forming every name: the models
+        // look their parameters up by name at each evaluation
+        let (effect, param) = full.split_once('.')?;
+        let mut i = 0;
+        for e in &self.effects {
+            let ps = e.params();
+            if e.name() == effect {
+                return ps.iter().position(|p| p.name == param).map(|k| i + k);
+            }
+            i += ps.len();
+        }
+        None
     }
 
     /// Range of effect `i`'s parameters in the flat vector.
@@ -236,6 +247,37 @@ impl Model {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `index` finds each parameter where `param_names` lists it, and nothing for a name that
+    /// is not the model's (another effect's, a misspelt or dotless one).
+    #[test]
+    fn index_is_the_position_in_the_names() {
+        let m = Model::new(
+            Scenario::TmmfRelease,
+            &[
+                "needle_contact",
+                "tip_contact",
+                "tip_adhesion",
+                "needle_mass",
+                "drift",
+            ],
+        )
+        .unwrap();
+        for (i, n) in m.param_names().iter().enumerate() {
+            assert_eq!(m.index(n), Some(i), "{n}");
+        }
+        for n in [
+            "needle_adhesion.A1",
+            "tip_adhesion.a1",
+            "tip_adhesion",
+            "A1",
+            "",
+            ".",
+            "tip_adhesion.A1.x",
+        ] {
+            assert_eq!(m.index(n), None, "{n}");
+        }
+    }
 
     #[test]
     fn builds_and_names_parameters() {
