@@ -560,6 +560,7 @@ impl Aug {
 
     /// `steps` RK4 steps of `h` from `t` of the state `s` and its tangents `ts`: the state's
     /// arithmetic is that of `super::lockstep` (the same bits).
+    #[allow(clippy::too_many_arguments)]
     fn steps<const N: usize, const P: usize>(
         &self,
         run: &Run,
