@@ -27,6 +27,15 @@
 //! force `F_c = k_tm (F_pre/k_tm + u - x) + c_tm (u' - v)`, while it pushes, depends on `v` as
 //! well). Not covered (`None`, the fit takes finite differences): a TM trapped in the needle
 //! well on a record long enough for [`super::simulate`]'s periodic continuation.
+//!
+//! Where the RK4 map is not differentiable the tangents are its derivative between the steps
+//! where it is not: a TM grazing a contact (the time in contact grows as the square root of
+//! the overlap) and a TM touching the needle body again (the damped contact force jumps by
+//! `c_tm (u' - v)`). A fit's Levenberg-Marquardt steps take them as they take differences
+//! there. Handing such evaluations over to differences instead was tried (2026-11-28): a
+//! Jacobian that changes kind between iterations left the `needle_mass` candidate of a
+//! 400 000-sample `diagnose` at chi2_red 1.092, against 1.0075 with the tangents throughout
+//! and 1.0072 with differences throughout.
 
 use super::{Run, step_for_mass};
 use crate::effects::{ForceLaw, Role, exp_or_zero};
@@ -152,20 +161,6 @@ struct Aug {
     /// Per direction, which needle-body parameter it is ([`BODY_M`] ...), if any.
     body_role: [usize; MAX_TANGENTS],
     inv_m: f64,
-}
-
-/// A needle body's contact with the TM over an integration, as [`Aug::steps`] follows it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Contact {
-    /// Pushing since the start (the preload), or no body.
-    Initial,
-    /// Apart since.
-    Apart,
-    /// Pushing again: a re-contact, where the contact force jumps by its damping
-    /// `c_tm (u' - v)` (a closing contact's is positive) and the RK4 map with it. The
-    /// tangents are the derivative between such jumps, not of where they fall: the
-    /// integration hands over to finite differences.
-    Again,
 }
 
 /// The needle body's parameters as directions ([`Aug::body_role`]).
@@ -297,19 +292,13 @@ impl Aug {
         let mut s = [0.0f64; N];
         s.copy_from_slice(&run.s);
         let mut ts = [[0.0f64; P]; N];
-        let mut contact = Contact::Initial;
         let mut t = 0.0;
         let mut grad = Grad::new(run);
         for (i, &ti) in times.iter().enumerate() {
             if ti > t {
                 let steps = ((ti - t) / run.h_next() - 1e-9).ceil().max(1.0) as usize;
                 let h = (ti - t) / steps as f64;
-                self.steps(run, t, h, steps, &mut s, &mut ts, &mut contact);
-                if contact == Contact::Again {
-                    // the body's contact force jumped (not covered: the caller takes
-                    // differences)
-                    return false;
-                }
+                self.steps(run, t, h, steps, &mut s, &mut ts);
                 t = ti;
             }
             let x_true = if ti < 0.0 { 0.0 } else { s[0] };
@@ -420,7 +409,7 @@ impl Aug {
     }
 
     /// The state's derivative (the bits of `Run::deriv_n`) and the tangents' derivatives at
-    /// `t`, and whether a needle body's contact pushes the TM.
+    /// `t`.
     #[inline(always)]
     fn rhs<const N: usize, const P: usize>(
         &self,
@@ -428,7 +417,7 @@ impl Aug {
         t: f64,
         s: [f64; N],
         ts: &[[f64; P]; N],
-    ) -> ([f64; N], [[f64; P]; N], bool) {
+    ) -> ([f64; N], [[f64; P]; N]) {
         let (x, v) = (s[0], s[1]);
         let e = (run.tip_y(t) - x) - run.tip_offset;
         let g = x - run.sh.x_n0;
@@ -555,12 +544,11 @@ impl Aug {
             dts[0][j] = ts[1][j];
             dts[1][j] = df * self.inv_m;
         }
-        (ds, dts, body_on)
+        (ds, dts)
     }
 
     /// `steps` RK4 steps of `h` from `t` of the state `s` and its tangents `ts`: the state's
     /// arithmetic is that of `super::lockstep` (the same bits).
-    #[allow(clippy::too_many_arguments)]
     fn steps<const N: usize, const P: usize>(
         &self,
         run: &Run,
@@ -569,21 +557,10 @@ impl Aug {
         steps: usize,
         s: &mut [f64; N],
         ts: &mut [[f64; P]; N],
-        contact: &mut Contact,
     ) {
         let mut t = t;
-        // a needle body's contact, at each stage: pushing since the start, apart, or pushing
-        // again
-        let mut follow = |on: bool| {
-            *contact = match (*contact, on) {
-                (Contact::Initial, false) => Contact::Apart,
-                (Contact::Apart, true) => Contact::Again,
-                (c, _) => c,
-            }
-        };
         for _ in 0..steps {
-            let (k1, l1, on1) = self.rhs(run, t, *s, ts);
-            follow(on1);
+            let (k1, l1) = self.rhs(run, t, *s, ts);
             let mut tmp = [0.0; N];
             let mut tt = [[0.0; P]; N];
             for i in 0..N {
@@ -592,24 +569,21 @@ impl Aug {
                     tt[i][j] = ts[i][j] + 0.5 * h * l1[i][j];
                 }
             }
-            let (k2, l2, on2) = self.rhs(run, t + 0.5 * h, tmp, &tt);
-            follow(on2);
+            let (k2, l2) = self.rhs(run, t + 0.5 * h, tmp, &tt);
             for i in 0..N {
                 tmp[i] = s[i] + 0.5 * h * k2[i];
                 for j in 0..P {
                     tt[i][j] = ts[i][j] + 0.5 * h * l2[i][j];
                 }
             }
-            let (k3, l3, on3) = self.rhs(run, t + 0.5 * h, tmp, &tt);
-            follow(on3);
+            let (k3, l3) = self.rhs(run, t + 0.5 * h, tmp, &tt);
             for i in 0..N {
                 tmp[i] = s[i] + h * k3[i];
                 for j in 0..P {
                     tt[i][j] = ts[i][j] + h * l3[i][j];
                 }
             }
-            let (k4, l4, on4) = self.rhs(run, t + h, tmp, &tt);
-            follow(on4);
+            let (k4, l4) = self.rhs(run, t + h, tmp, &tt);
             for i in 0..N {
                 s[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
                 for j in 0..P {
@@ -865,34 +839,11 @@ mod tests {
         }
     }
 
-    /// Models outside the tangents' reach say so: more than [`MAX_TANGENTS`] directions; a
+    /// Models outside the tangents' reach say so: more than [`MAX_TANGENTS`] directions; and a
     /// TM trapped in the needle well, whose record `simulate` continues periodically, gives no
-    /// tangents (while the same model whose TM escapes does); nor does a needle body that the
-    /// TM, held by the needle adhesion, touches again (its contact force jumps: [`Contact`]),
-    /// while the same body whose TM escapes a weaker adhesion has them.
+    /// tangents (while the same model whose TM escapes does).
     #[test]
     fn other_models_keep_finite_differences() {
-        let body = Model::new(
-            Scenario::TmmfRelease,
-            &[
-                "needle_contact",
-                "tip_contact",
-                "needle_adhesion",
-                "needle_mass",
-            ],
-        )
-        .unwrap();
-        let times: Vec<f64> = (-50..800).map(|i| i as f64 * 1e-5).collect();
-        let with_a1 = |a1: f64| [6.5e5, 6e-3, 1.1e6, a1, 3e-7, 0.03, 1.12e6, 2.03e6, 5.0, 1.0];
-        let inp = inputs(0.089);
-        assert!(
-            body.predict_with_tangents(&with_a1(1e5), &[1], &times, &inp)
-                .is_none()
-        );
-        assert!(
-            body.predict_with_tangents(&with_a1(1e4), &[1], &times, &inp)
-                .is_some()
-        );
         let model = Model::new(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]).unwrap();
         assert!(model.has_tangents(MAX_TANGENTS) && !model.has_tangents(MAX_TANGENTS + 1));
         // the trapped TM of `a_trapped_tm_continues_periodically` (1 s at 100 kHz)
