@@ -484,19 +484,22 @@ impl Aug {
                     c_nd,
                     c_tm,
                 } => {
-                    // `ForceLaw::force`'s arithmetic, in its order
-                    let (u, du) = if N == 4 { (s[2], s[3]) } else { (0.0, 0.0) };
-                    let f_pre = run.sh.f_pre;
-                    let delta = f_pre / k_tm + u - x;
-                    let fc = if delta > 0.0 {
-                        let push = k_tm * delta + c_tm * (du - v);
-                        body_on = push > 0.0;
-                        push.max(0.0)
-                    } else {
-                        0.0
+                    // the law itself, as `Run::deriv_n` calls it (so its bits); the contact
+                    // pushes exactly when its force is positive
+                    let st = crate::effects::LawState {
+                        x,
+                        v,
+                        e_tip: e,
+                        gap: g,
+                        f_pre: run.sh.f_pre,
+                        body,
+                        own: if N == 4 { [s[2], s[3]] } else { [0.0; 2] },
                     };
+                    let mut d_own = [0.0; 2];
+                    let fc = law.force(&st, &mut d_own);
+                    body_on = fc > 0.0;
                     f += fc;
-                    a_body = (f_pre - k_nd * u - c_nd * du - fc) / m_nd;
+                    a_body = d_own[1];
                     (k_tm_, c_tm_, k_nd_, c_nd_, m_nd_) = (k_tm, c_tm, k_nd, c_nd, m_nd);
                 }
             }
