@@ -9,7 +9,8 @@
 //! ([`null_is_documented`], `docs/outputs.md`): a field without a value whose object says why
 //! (`reason`, `status: not-verified`), or one of the optional fields listed there. Anything
 //! else, and any text that is not JSON (`NaN`, `inf` written by hand), fails the test with the
-//! command and the path.
+//! command and the path. So does a free parameter (an object with a `value`, not `fixed`)
+//! quoted with a `sigma` of exactly 0 (issue 48).
 
 mod common;
 use common::{scratch, workspace};
@@ -140,6 +141,14 @@ fn walk(v: &Value, path: &str, at: At, bad: &mut Vec<String>) {
             bad.push(format!("{path}: {n} is not finite"));
         }
         Value::Object(m) => {
+            // a free parameter quoted with a sigma of exactly 0 claims infinite precision
+            // (issue 48): it has a positive sigma or none (unresolved)
+            if m.contains_key("value")
+                && m.get("sigma").and_then(Value::as_f64) == Some(0.0)
+                && m.get("fixed") != Some(&Value::Bool(true))
+            {
+                bad.push(format!("{path}: a free parameter with sigma 0"));
+            }
             for (k, x) in m {
                 let inner = At {
                     key: k,

@@ -271,13 +271,34 @@ pub fn symmetries_confirmed(
         }
         p
     };
+    // the parameters an exact direction leaves unresolved: they have no sigma whatever the
+    // rest, so their share of a direction does not make it a symmetry of the others (issue
+    // 48: with a parameter on its bound and nearly no curvature, `1/d` is huge, and every
+    // resolved direction that kept a trace of it looked like a symmetry along it; nine such
+    // directions took the whole space, and every other parameter was reported with sigma 0)
+    let mut exact_heavy = vec![false; n];
+    for (v, _) in &found {
+        let (w, _) = to_report(v, "exact", 1.0, None);
+        for (i, wi) in w.iter().enumerate() {
+            exact_heavy[i] |= wi.abs() > WEIGHT;
+        }
+    }
+    // a direction left out of the covariance still moves the resolved parameters it touches:
+    // they get its spread within the allowed box (that of a uniform over the reach, `reach /
+    // sqrt(12)`), instead of the conditional sigma that would ignore it
+    let mut cov = DMatrix::zeros(n, n);
+    for (v, _) in &found {
+        let w: Vec<f64> = (0..n).map(|i| v[i] / d[i]).collect();
+        if let Some(s_box) = box_spread(&w, &exact_heavy, width, false) {
+            cov += v * v.transpose() * (s_box * s_box);
+        }
+    }
     // near symmetries among the rest: an eigen-direction of P S P whose 1-sigma leaves the box
     let p = projector(&basis);
     let psp = &p * &s * &p;
     let Some(eig) = crate::numeric::linalg::sym_eigen((&psp + psp.transpose()) * 0.5) else {
         return NullSpace::nothing_resolved(n, found.into_iter().map(|(_, s)| s).collect());
     };
-    let mut cov = DMatrix::zeros(n, n);
     for k in 0..n {
         let lam = eig.eigenvalues[k];
         let v = eig.eigenvectors.column(k).into_owned();
@@ -285,34 +306,82 @@ pub fn symmetries_confirmed(
             continue;
         }
         let sigma_scaled = 1.0 / lam.sqrt();
-        let (w, _) = to_report(&v, "near", 1.0, None);
-        let norm_u: f64 = (0..n).map(|i| (v[i] / d[i]).powi(2)).sum::<f64>().sqrt();
+        // the direction in the fit's coordinates without the parameters already unresolved
+        let wv: Vec<f64> = (0..n)
+            .map(|i| if exact_heavy[i] { 0.0 } else { v[i] / d[i] })
+            .collect();
+        let norm_u = wv.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(norm_u > 0.0) {
+            // it moves only parameters that are unresolved already
+            cov += &v * v.transpose() / lam;
+            continue;
+        }
+        let w: Vec<f64> = wv.iter().map(|x| x / norm_u).collect();
         let sigma_t = sigma_scaled * norm_u;
         let beyond = w
             .iter()
             .zip(width)
             .filter(|(wi, _)| wi.abs() > WEIGHT)
             .all(|(wi, wd)| (wi * sigma_t).abs() > *wd);
+        if debug {
+            eprintln!(
+                "null-space: near test sigma_t {sigma_t:.3e} beyond {beyond}: {:?}",
+                w.iter()
+                    .zip(width)
+                    .enumerate()
+                    .filter(|(_, (wi, _))| wi.abs() > 0.01)
+                    .map(|(i, (wi, wd))| format!("{} {wi:.3} (width {wd:.3e})", names[i]))
+                    .collect::<Vec<_>>()
+            );
+        }
         if beyond {
-            let mut sym = to_report(&v, "near", 1.0, None).1;
-            sym.sigma = Some(sigma_t);
+            let sym = Symmetry {
+                kind: "near".to_string(),
+                direction: w
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, x)| x.abs() > 0.01)
+                    .map(|(i, x)| (names[i].clone(), *x))
+                    .collect(),
+                step_ratio: 1.0,
+                sigma: Some(sigma_t),
+            };
+            let spread = box_spread(&wv, &exact_heavy, width, true)
+                .map_or(sigma_scaled, |s| s.min(sigma_scaled));
+            cov += &v * v.transpose() * (spread * spread);
             found.push((v.clone(), sym));
         } else {
             cov += &v * v.transpose() / lam;
         }
     }
-    let mut symmetries = Vec::new();
-    let mut null = Vec::new();
+    let mut symmetries: Vec<Symmetry> = Vec::new();
+    let mut null: Vec<Vec<f64>> = Vec::new();
     let mut resolved = vec![true; n];
     for (v, sym) in found {
-        let (w, _) = to_report(&v, &sym.kind, sym.step_ratio, None);
+        // the reported direction (for a near one, without the parameters already unresolved)
+        let w: Vec<f64> = if sym.kind == "exact" {
+            to_report(&v, &sym.kind, sym.step_ratio, None).0
+        } else {
+            let wv: Vec<f64> = (0..n)
+                .map(|i| if exact_heavy[i] { 0.0 } else { v[i] / d[i] })
+                .collect();
+            let norm = wv.iter().map(|x| x * x).sum::<f64>().sqrt().max(1e-300);
+            wv.iter().map(|x| x / norm).collect()
+        };
         for (i, wi) in w.iter().enumerate() {
             if wi.abs() > WEIGHT {
                 resolved[i] = false;
             }
         }
+        // one entry per direction: a direction within 0.01 rad of one already listed adds
+        // nothing to the report (its parameters are unresolved either way)
+        let duplicate = null.iter().any(|o: &Vec<f64>| {
+            o.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>().abs() > DUPLICATE_COS
+        });
         null.push(w);
-        symmetries.push(sym);
+        if !duplicate {
+            symmetries.push(sym);
+        }
     }
     let cov = DMatrix::from_fn(n, n, |i, j| cov[(i, j)] / (d[i] * d[j]));
     NullSpace {
@@ -334,6 +403,30 @@ impl NullSpace {
             null: Vec::new(),
         }
     }
+}
+
+/// Cosine above which two unresolved directions are one in the report.
+const DUPLICATE_COS: f64 = 0.99995;
+
+/// The spread (1-sigma, in `w`'s length units) of a uniform distribution over the reach of the
+/// direction `w` (fit coordinates, not normalised) inside the allowed box: the shortest range
+/// `width_i / |w_i|` among its parameters with a weight above [`WEIGHT`] (of the unit
+/// direction), over `sqrt(12)`; with `skip_heavy` false, `heavy` parameters count too. `None`
+/// when no such parameter has a finite range.
+fn box_spread(w: &[f64], heavy: &[bool], width: &[f64], skip_heavy: bool) -> Option<f64> {
+    let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return None;
+    }
+    let reach = w
+        .iter()
+        .zip(width)
+        .zip(heavy)
+        .filter(|((wi, _), h)| (wi.abs() / norm) > WEIGHT && !(skip_heavy && **h))
+        .map(|((wi, wd), _)| wd / wi.abs())
+        .filter(|r| r.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    reach.is_finite().then(|| reach / 12f64.sqrt())
 }
 
 /// An orthonormal basis of the span of `vectors` (Gram-Schmidt, twice per vector; a vector
