@@ -226,43 +226,7 @@ pub fn symmetries_confirmed(
         };
         (w, sym)
     };
-    // the generalised problem on a regularised S (a zero column would break its Cholesky)
-    let reg = max.max(1e-300) * 1e-13;
-    let sr = &s + DMatrix::identity(n, n) * reg;
-    let shr = &sh + DMatrix::identity(n, n) * reg;
-    if let Some(ch) = sr.clone().cholesky() {
-        let l = ch.l();
-        if let Some(li) = l.clone().try_inverse() {
-            let m = &li * &shr * li.transpose();
-            let m = (&m + m.transpose()) * 0.5;
-            let eig = crate::numeric::linalg::sym_eigen(m);
-            for k in 0..eig.as_ref().map_or(0, |e| e.eigenvalues.len()) {
-                let eig = eig.as_ref().expect("decomposed");
-                let mu = eig.eigenvalues[k];
-                let y = eig.eigenvectors.column(k).into_owned();
-                let v = li.transpose() * y;
-                let curv = (v.transpose() * &s * &v)[(0, 0)];
-                let flat = curv <= max * 1e-12 * v.norm_squared();
-                if debug {
-                    eprintln!(
-                        "null-space: half/full curvature {mu:.4}, relative curvature {:.3e}",
-                        curv / (max * v.norm_squared()).max(1e-300)
-                    );
-                }
-                if flat || (mu - 1.0).abs() > EXACT_TOLERANCE {
-                    let v = v.normalize();
-                    let (w, sym) = to_report(&v, "exact", mu, None);
-                    // a curvature that falls with the step is a truncation error (by 4 for
-                    // forward differences, 16 for central ones): exact without more ado
-                    if flat || mu < TRUNCATION_MU || confirm(&w) {
-                        found.push((v.clone(), sym));
-                    } else if debug {
-                        eprintln!("null-space: refuted: the chi-square rises along the direction");
-                    }
-                }
-            }
-        }
-    }
+    found.extend(exact_directions(&s, &sh, max, &to_report, confirm, debug));
     let basis = orthonormal_basis(found.iter().map(|(v, _)| v));
     let projector = |basis: &[DVector<f64>]| {
         let mut p = DMatrix::identity(n, n);
@@ -311,7 +275,7 @@ pub fn symmetries_confirmed(
             .map(|i| if exact_heavy[i] { 0.0 } else { v[i] / d[i] })
             .collect();
         let norm_u = wv.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if !(norm_u > 0.0) {
+        if norm_u.is_nan() || norm_u <= 0.0 {
             // it moves only parameters that are unresolved already
             cov += &v * v.transpose() / lam;
             continue;
@@ -354,6 +318,68 @@ pub fn symmetries_confirmed(
             cov += &v * v.transpose() / lam;
         }
     }
+    let (symmetries, null, resolved) = report_directions(found, &exact_heavy, &d, &to_report);
+    let cov = DMatrix::from_fn(n, n, |i, j| cov[(i, j)] / (d[i] * d[j]));
+    NullSpace {
+        symmetries,
+        resolved,
+        cov,
+        null,
+    }
+}
+
+impl NullSpace {
+    /// Nothing resolved among `n` free parameters (a decomposition failed), with the
+    /// `symmetries` found so far.
+    fn nothing_resolved(n: usize, symmetries: Vec<Symmetry>) -> NullSpace {
+        NullSpace {
+            symmetries,
+            resolved: vec![false; n],
+            cov: DMatrix::from_element(n, n, f64::NAN),
+            null: Vec::new(),
+        }
+    }
+}
+
+/// A direction of the scaled space to its unit vector in the fit's coordinates and its report
+/// (kind, curvature ratio, sigma).
+type ToReport<'a> = dyn Fn(&DVector<f64>, &str, f64, Option<f64>) -> (Vec<f64>, Symmetry) + 'a;
+
+/// Cosine above which two unresolved directions are one in the report.
+const DUPLICATE_COS: f64 = 0.99995;
+
+/// The spread (1-sigma, in `w`'s length units) of a uniform distribution over the reach of the
+/// direction `w` (fit coordinates, not normalised) inside the allowed box: the shortest range
+/// `width_i / |w_i|` among its parameters with a weight above [`WEIGHT`] (of the unit
+/// direction), over `sqrt(12)`; with `skip_heavy` false, `heavy` parameters count too. `None`
+/// when no such parameter has a finite range.
+fn box_spread(w: &[f64], heavy: &[bool], width: &[f64], skip_heavy: bool) -> Option<f64> {
+    let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return None;
+    }
+    let reach = w
+        .iter()
+        .zip(width)
+        .zip(heavy)
+        .filter(|((wi, _), h)| (wi.abs() / norm) > WEIGHT && !(skip_heavy && **h))
+        .map(|((wi, wd), _)| wd / wi.abs())
+        .filter(|r| r.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    reach.is_finite().then(|| reach / 12f64.sqrt())
+}
+
+/// The report of the unresolved directions `found` (scaled space; `d` the scaling): each
+/// direction once ([`DUPLICATE_COS`]), in the fit's coordinates (a near one without the
+/// parameters an exact one leaves unresolved, `exact_heavy`), the unit directions, and which
+/// free parameters stay resolved (no weight above [`WEIGHT`] in any).
+fn report_directions(
+    found: Vec<(DVector<f64>, Symmetry)>,
+    exact_heavy: &[bool],
+    d: &[f64],
+    to_report: &ToReport<'_>,
+) -> (Vec<Symmetry>, Vec<Vec<f64>>, Vec<bool>) {
+    let n = d.len();
     let mut symmetries: Vec<Symmetry> = Vec::new();
     let mut null: Vec<Vec<f64>> = Vec::new();
     let mut resolved = vec![true; n];
@@ -383,50 +409,61 @@ pub fn symmetries_confirmed(
             symmetries.push(sym);
         }
     }
-    let cov = DMatrix::from_fn(n, n, |i, j| cov[(i, j)] / (d[i] * d[j]));
-    NullSpace {
-        symmetries,
-        resolved,
-        cov,
-        null,
-    }
+    (symmetries, null, resolved)
 }
 
-impl NullSpace {
-    /// Nothing resolved among `n` free parameters (a decomposition failed), with the
-    /// `symmetries` found so far.
-    fn nothing_resolved(n: usize, symmetries: Vec<Symmetry>) -> NullSpace {
-        NullSpace {
-            symmetries,
-            resolved: vec![false; n],
-            cov: DMatrix::from_element(n, n, f64::NAN),
-            null: Vec::new(),
+/// The exact directions of the scaled normal matrix `s` (maximum eigenvalue `max`), with
+/// `sh` the same from differences over half the steps: those of the generalised problem
+/// `S_half w = mu S w` with `mu` off 1 by more than [`EXACT_TOLERANCE`] that `confirm` (or a
+/// curvature under [`TRUNCATION_MU`], or none) keeps, each with its report (`to_report`).
+fn exact_directions(
+    s: &DMatrix<f64>,
+    sh: &DMatrix<f64>,
+    max: f64,
+    to_report: &ToReport<'_>,
+    confirm: &dyn Fn(&[f64]) -> bool,
+    debug: bool,
+) -> Vec<(DVector<f64>, Symmetry)> {
+    let n = s.nrows();
+    let mut found = Vec::new();
+    // the generalised problem on a regularised S (a zero column would break its Cholesky)
+    let reg = max.max(1e-300) * 1e-13;
+    let sr = s + DMatrix::identity(n, n) * reg;
+    let shr = sh + DMatrix::identity(n, n) * reg;
+    if let Some(ch) = sr.clone().cholesky() {
+        let l = ch.l();
+        if let Some(li) = l.clone().try_inverse() {
+            let m = &li * &shr * li.transpose();
+            let m = (&m + m.transpose()) * 0.5;
+            let eig = crate::numeric::linalg::sym_eigen(m);
+            for k in 0..eig.as_ref().map_or(0, |e| e.eigenvalues.len()) {
+                let eig = eig.as_ref().expect("decomposed");
+                let mu = eig.eigenvalues[k];
+                let y = eig.eigenvectors.column(k).into_owned();
+                let v = li.transpose() * y;
+                let curv = (v.transpose() * s * &v)[(0, 0)];
+                let flat = curv <= max * 1e-12 * v.norm_squared();
+                if debug {
+                    eprintln!(
+                        "null-space: half/full curvature {mu:.4}, relative curvature {:.3e}",
+                        curv / (max * v.norm_squared()).max(1e-300)
+                    );
+                }
+                if flat || (mu - 1.0).abs() > EXACT_TOLERANCE {
+                    let v = v.normalize();
+                    let (w, sym) = to_report(&v, "exact", mu, None);
+                    // a curvature that falls with the step is a truncation error (by 4 for
+                    // forward differences, 16 for central ones): exact without more ado
+                    if flat || mu < TRUNCATION_MU || confirm(&w) {
+                        found.push((v.clone(), sym));
+                    } else if debug {
+                        eprintln!("null-space: refuted: the chi-square rises along the direction");
+                    }
+                }
+            }
         }
     }
-}
-
-/// Cosine above which two unresolved directions are one in the report.
-const DUPLICATE_COS: f64 = 0.99995;
-
-/// The spread (1-sigma, in `w`'s length units) of a uniform distribution over the reach of the
-/// direction `w` (fit coordinates, not normalised) inside the allowed box: the shortest range
-/// `width_i / |w_i|` among its parameters with a weight above [`WEIGHT`] (of the unit
-/// direction), over `sqrt(12)`; with `skip_heavy` false, `heavy` parameters count too. `None`
-/// when no such parameter has a finite range.
-fn box_spread(w: &[f64], heavy: &[bool], width: &[f64], skip_heavy: bool) -> Option<f64> {
-    let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if !(norm > 0.0 && norm.is_finite()) {
-        return None;
-    }
-    let reach = w
-        .iter()
-        .zip(width)
-        .zip(heavy)
-        .filter(|((wi, _), h)| (wi.abs() / norm) > WEIGHT && !(skip_heavy && **h))
-        .map(|((wi, wd), _)| wd / wi.abs())
-        .filter(|r| r.is_finite())
-        .fold(f64::INFINITY, f64::min);
-    reach.is_finite().then(|| reach / 12f64.sqrt())
+    found
 }
 
 /// An orthonormal basis of the span of `vectors` (Gram-Schmidt, twice per vector; a vector

@@ -790,7 +790,7 @@ fn outcome(pb: &Problem, c: Uncertainty, n_starts: usize) -> Result<FitOutcome, 
         // a sigma that fills the whole allowed range, or one that is not positive, is no
         // measurement of the parameter: it is reported unresolved, never as `+- range` or
         // `+- 0` (issue 48)
-        if (range.is_finite() && sigma_p[i] >= range) || !(sigma_p[i] > 0.0) {
+        if (range.is_finite() && sigma_p[i] >= range) || sigma_p[i].is_nan() || sigma_p[i] <= 0.0 {
             resolved[i] = false;
         }
     }
