@@ -392,8 +392,8 @@ fn code_and_strings(text: &str) -> (Vec<u8>, BTreeMap<usize, String>) {
                 }
                 i += 1;
             }
-            for k in i..(i + 2).min(b.len()) {
-                code[k] = b' ';
+            for c in code.iter_mut().take((i + 2).min(b.len())).skip(i) {
+                *c = b' ';
             }
             i += 2;
         } else if b[i] == b'"' {
