@@ -107,6 +107,9 @@ impl Ctx {
                 reference: Default::default(),
                 partial: None,
                 timings: Default::default(),
+                build_commit: None,
+                build_note: None,
+                unmatched_dispositions: Vec::new(),
             },
             reverify: Default::default(),
         })

@@ -98,6 +98,8 @@ pub fn join(
             assertions,
             kind: kind.to_string(),
             asserted,
+            rejected: BTreeMap::new(),
+            source_asserts_limit: BTreeSet::new(),
         });
     }
     for d in declared {
@@ -143,6 +145,8 @@ pub fn join(
             assertions: vec![Assertion::ChangeDetection],
             kind: kind.to_string(),
             asserted: BTreeMap::new(),
+            rejected: BTreeMap::new(),
+            source_asserts_limit: BTreeSet::new(),
         });
     }
     tests.sort_by(|a, b| (&a.krate, &a.test, &a.location).cmp(&(&b.krate, &b.test, &b.location)));

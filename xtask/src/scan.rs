@@ -468,6 +468,27 @@ pub fn scan(root: &Path) -> Vec<Declared> {
 mod tests {
     use super::*;
 
+    /// What `verify` checks a recorded test against (issue 49): every `verifies!` call of the
+    /// workspace, at the location a run records for it, reads back from the source as a call
+    /// naming the same requirements; so a record of a real traced test is never rejected.
+    #[test]
+    fn every_traced_call_of_the_workspace_reads_back_from_its_location() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let declared = scan(&root);
+        assert!(declared.len() > 20, "{}", declared.len());
+        for d in &declared {
+            let (file, line) = d.location.rsplit_once(':').unwrap();
+            let text = std::fs::read_to_string(root.join(file)).unwrap();
+            let read = geodesic_core::testrun::source_trace(&text, line.parse().unwrap());
+            assert_eq!(
+                read.map(|(ids, _)| ids),
+                Some(d.requirements.clone()),
+                "{}",
+                d.location
+            );
+        }
+    }
+
     const SOURCE: &str = r####"//! Tests. `verifies!("IN-DOC")` in a doc comment is no call.
 use proptest::prelude::*;
 

@@ -96,12 +96,24 @@ pub fn evidence(
             "series (an illustration, not a measurement)",
         ),
     };
-    Ok(Evidence::measured(
+    // evidence is judged by the ASD's 95 % bounds, never its estimate: met when the upper
+    // bound is within the limit in every bin, violated when the lower bound exceeds it in one,
+    // else inconclusive (an illustration shows its estimate)
+    let (ratio, bound) = if !basis.decides() {
+        (j.worst_ratio, "estimate")
+    } else if lim.op.holds(j.worst_ratio_hi95, 1.0) {
+        (j.worst_ratio_hi95, "upper 95 % bound")
+    } else if !lim.op.holds(j.worst_ratio_lo95, 1.0) {
+        (j.worst_ratio_lo95, "lower 95 % bound")
+    } else {
+        (f64::NAN, "")
+    };
+    let mut ev = Evidence::measured(
         req.id.as_str(),
-        Quantity::new(j.worst_ratio * lim.value.value, lim.dim),
+        Quantity::new(ratio * lim.value.value, lim.dim),
         basis,
         format!(
-            "Welch ASD of the supplied {what} (Hann, {:.0} % overlap, {} segments of {} samples, {:.1} dof per bin) judged against {} x ({}) over {}: worst ratio {:.3} at {:.4e} Hz",
+            "Welch ASD of the supplied {what} (Hann, {:.0} % overlap, {} segments of {} samples, {:.1} dof per bin) judged by its {bound} against {} x ({}) over {}: worst ratio {:.3} at {:.4e} Hz (estimate), {:.3} at {:.4e} Hz (upper 95 % bound)",
             OVERLAP * 100.0,
             asd.segments,
             asd.options.nperseg,
@@ -110,7 +122,9 @@ pub fn evidence(
             spec.shape_text,
             spec.band_text,
             j.worst_ratio,
-            j.worst_f_hz
+            j.worst_f_hz,
+            j.worst_ratio_hi95,
+            j.worst_f_hi95_hz
         ),
     )
     .with_input("series", series.path.display().to_string())
@@ -137,7 +151,16 @@ pub fn evidence(
     .with_input("unit", lim.unit.symbol.clone())
     .with_input("worst_ratio_upper95", j.worst_ratio_hi95)
     .with_input("worst_frequency_upper95_hz", j.worst_f_hi95_hz)
-    .with_artifact(name))
+    .with_input("worst_ratio_lower95", j.worst_ratio_lo95)
+    .with_artifact(name);
+    if ratio.is_nan() {
+        ev.basis = None;
+        ev.outcome = geodesic_core::check::Outcome::NotVerified(format!(
+            "inconclusive at 95 % confidence: the estimate's worst ratio to the limit is {:.3} at {:.4e} Hz, but its upper 95 % bound reaches {:.3} at {:.4e} Hz and no lower bound exceeds the limit (worst {:.3}); a longer series (more segments) decides",
+            j.worst_ratio, j.worst_f_hz, j.worst_ratio_hi95, j.worst_f_hi95_hz, j.worst_ratio_lo95
+        ));
+    }
+    Ok(ev)
 }
 
 /// SHA-256 of the CSV a series YAML names (empty if it cannot be read: the loader reports it).

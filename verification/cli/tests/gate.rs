@@ -70,11 +70,38 @@ fn row<'a>(doc: &'a Value, id: &str) -> &'a Value {
         .unwrap_or_else(|| panic!("no row {id}"))
 }
 
-/// Makes `d` a git work tree that tracks only `requirements/` (everything else a test writes
+/// The traced tests of the scratch trees: what a recorded run's locations point at.
+/// `tests/traced.rs:3` verifies TMS-Z-POS, `:8` REL-GPRM-VEL and TMS-Z-POS, `:13` CHG-V, each
+/// asserting its limit.
+const TRACED: &str = "#[test]
+fn z_offset() {
+    geodesic_core::verifies!(\"TMS-Z-POS\");
+    geodesic_core::trace::assert_limit(\"TMS-Z-POS\", 1e-6);
+}
+#[test]
+fn gprm() {
+    geodesic_core::verifies!(\"REL-GPRM-VEL\", \"TMS-Z-POS\");
+    geodesic_core::trace::assert_limit(\"REL-GPRM-VEL\", 1e-6);
+}
+#[test]
+fn chg_v() {
+    geodesic_core::verifies!(\"CHG-V\");
+    geodesic_core::trace::assert_limit(\"CHG-V\", 1.0);
+}
+";
+
+/// Makes `d` a git work tree that tracks only `requirements/`, `verification/` (the
+/// dispositions verify reads) and `tests/traced.rs` ([`TRACED`]; everything else a test writes
 /// there, reports, runs, inputs, is ignored), with one commit; returns the fingerprint a fresh
 /// test run of it records.
 fn git_repo(d: &Path) -> geodesic_core::testrun::TreeState {
-    std::fs::write(d.join(".gitignore"), "/*\n!/.gitignore\n!/requirements/\n").unwrap();
+    std::fs::write(
+        d.join(".gitignore"),
+        "/*\n!/.gitignore\n!/requirements/\n!/verification/\n!/tests/\n",
+    )
+    .unwrap();
+    std::fs::create_dir_all(d.join("tests")).unwrap();
+    std::fs::write(d.join("tests/traced.rs"), TRACED).unwrap();
     for args in [
         &["init", "-q"][..],
         &["add", "-A"],
@@ -319,10 +346,10 @@ fn an_ignored_or_failed_traced_test_shows_in_its_row_and_can_fail_verify() {
             &format!(
                 r#"[
               {{"krate": "verification", "test": "capture::z_offset", "result": "{z_pos}",
-                "location": "x.rs:1", "requirements": ["TMS-Z-POS"], "cases": 1,
+                "location": "tests/traced.rs:3", "requirements": ["TMS-Z-POS"], "cases": 1,
                 "assertions": ["limit"], "kind": "unit"}},
               {{"krate": "verification", "test": "release::gprm", "result": "passed",
-                "location": "y.rs:1", "requirements": ["REL-GPRM-VEL"], "cases": 256,
+                "location": "tests/traced.rs:8", "requirements": ["REL-GPRM-VEL"], "cases": 256,
                 "assertions": ["limit"], "kind": "proptest"}}]"#
             ),
         )
@@ -358,14 +385,27 @@ fn an_ignored_or_failed_traced_test_shows_in_its_row_and_can_fail_verify() {
         ],
     );
     assert_eq!(row(&doc, "TMS-Z-POS")["tests_status"], "incomplete");
-    // not plainly compliant: the verdict says its test did not run
-    let v = row(&doc, "TMS-Z-POS")["verdict"].as_str().unwrap();
+    // not compliant: its ignored test asserts its limit (issue 49)
+    let r = row(&doc, "TMS-Z-POS");
+    assert_eq!(r["status"], "not-verified", "{r}");
     assert!(
-        v.starts_with("compliant (") && v.contains("tests incomplete"),
-        "{v}"
+        r["reason"].as_str().unwrap().starts_with(
+            "traced test verification::capture::z_offset asserts its limit and was ignored"
+        ),
+        "{r}"
     );
     assert_eq!(code, 1, "a passing test lost is a regression: {err}");
-    assert!(err.contains("REGRESSION TMS-Z-POS: test verification::capture::z_offset passed in the baseline, now ignored"), "{err}");
+    let line = err
+        .lines()
+        .find(|l| l.contains("REGRESSION TMS-Z-POS: "))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(
+        line.contains("lost its evidence")
+            && line.contains(
+                "test verification::capture::z_offset passed in the baseline, now ignored"
+            ),
+        "{line}"
+    );
     // without a baseline, --require-tests fails on it
     let (code, _, err) = verify(
         &d,
@@ -387,7 +427,7 @@ fn a_forged_or_stale_test_run_is_stale_on_every_row_and_fails_require_tests() {
     let req = requirements(&d, |_, t| t.to_string());
     let tree = git_repo(&d);
     let tests = r#"[{"krate": "verification", "test": "release::gprm", "result": "passed",
-        "location": "y.rs:1", "requirements": ["REL-GPRM-VEL", "TMS-Z-POS"], "cases": 1,
+        "location": "tests/traced.rs:8", "requirements": ["REL-GPRM-VEL", "TMS-Z-POS"], "cases": 1,
         "assertions": ["limit"], "kind": "unit"}]"#;
     let forged = format!(
         r#"{{"commit": "{}", "dirty": false, "date": "2001-01-01T00:00:00Z",
@@ -458,6 +498,11 @@ fn a_forged_or_stale_test_run_is_stale_on_every_row_and_fails_require_tests() {
     );
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(table.contains("STALE"), "{table}");
+    // the terminal says the confidence the sampled verdicts are decided at
+    assert!(
+        table.contains("sampled verdicts: decided by their 95 % confidence bounds"),
+        "{table}"
+    );
 }
 
 /// A Monte Carlo too small to bound the requirement's quantile leaves its rows not verified
@@ -777,4 +822,335 @@ fn charge_and_budget_inputs_move_their_rows() {
     assert_eq!(out.status.code(), Some(2));
     let e = String::from_utf8_lossy(&out.stderr);
     assert!(e.contains("bad.yaml:") && e.contains("gap_m"), "{e}");
+}
+
+/// One record of a recorded run (JSON text), asserting its requirements' limits.
+fn rec(test: &str, result: &str, location: &str, reqs: &str, cases: u64) -> String {
+    format!(
+        r#"{{"krate": "verification", "test": "{test}", "result": "{result}",
+            "location": "{location}", "requirements": [{reqs}], "cases": {cases},
+            "assertions": ["limit"], "kind": "unit"}}"#
+    )
+}
+
+/// A scratch tree ([`git_repo`]) with a baseline written from a fresh run of two passing traced
+/// tests (CHG-V, REL-GPRM-VEL: [`good_records`]) in `base/`.
+fn traced_tree(name: &str) -> (PathBuf, PathBuf, geodesic_core::testrun::TreeState, Value) {
+    let d = scratch(name);
+    let req = requirements(&d, |_, t| t.to_string());
+    let tree = git_repo(&d);
+    std::fs::write(
+        d.join("good.json"),
+        run_json(&tree, &format!("[{}]", good_records().join(","))),
+    )
+    .unwrap();
+    let (_, base, err) = verify(&d, &req, "base", &["--tests", "good.json"]);
+    assert_eq!(base["test_run"]["fresh"], true, "{err}");
+    (d, req, tree, base)
+}
+
+/// The records of the passing traced tests of CHG-V and REL-GPRM-VEL in [`TRACED`].
+fn good_records() -> [String; 2] {
+    [
+        rec(
+            "charge::chg_v",
+            "passed",
+            "tests/traced.rs:13",
+            r#""CHG-V""#,
+            1,
+        ),
+        rec(
+            "release::gprm",
+            "passed",
+            "tests/traced.rs:8",
+            r#""REL-GPRM-VEL""#,
+            1,
+        ),
+    ]
+}
+
+/// Issue 49: a recorded test counts only where the fingerprinted tree holds its `verifies!` of
+/// that requirement and its call ran. A record at a file that does not exist, at a line whose
+/// call names another requirement, or whose call never ran (cases 0) is rejected: the row is
+/// not plainly compliant, `--require-tests` fails and the gate exits 1, each naming the row.
+#[test]
+fn forged_test_records_are_refused_and_fail_the_gate() {
+    let (d, req, tree, base) = traced_tree("forged-records");
+    let good = good_records();
+    assert_eq!(row(&base, "CHG-V")["verdict"], "compliant");
+    // the binary says which commit it was built from, and that it is not this tree's
+    assert_eq!(base["run"]["build_commit"].as_str().unwrap().len(), 40);
+    assert!(
+        base["run"]["build_note"]
+            .as_str()
+            .unwrap()
+            .starts_with("this binary was built from commit"),
+        "{}",
+        base["run"]
+    );
+    let forgeries = [
+        (
+            "nowhere",
+            rec(
+                "charge::this_test_does_not_exist",
+                "passed",
+                "verification/checks/tests/verification/nowhere.rs:1",
+                r#""CHG-V""#,
+                1,
+            ),
+            "is not a file of the fingerprinted tree",
+        ),
+        (
+            "never-ran",
+            rec(
+                "charge::chg_v",
+                "passed",
+                "tests/traced.rs:13",
+                r#""CHG-V""#,
+                0,
+            ),
+            "never ran (cases 0)",
+        ),
+        (
+            "other-call",
+            rec(
+                "charge::chg_v",
+                "passed",
+                "tests/traced.rs:3",
+                r#""CHG-V""#,
+                1,
+            ),
+            "names CHG-V",
+        ),
+    ];
+    for (name, forged, why) in forgeries {
+        let file = format!("{name}.json");
+        std::fs::write(
+            d.join(&file),
+            run_json(&tree, &format!("[{forged},{}]", good[1])),
+        )
+        .unwrap();
+        let (code, doc, err) = verify(
+            &d,
+            &req,
+            name,
+            &[
+                "--tests",
+                &file,
+                "--require-tests",
+                "--baseline",
+                "base/compliance.json",
+            ],
+        );
+        assert_eq!(code, 1, "{name}: {err}");
+        let r = row(&doc, "CHG-V");
+        assert_eq!(r["tests_status"], "rejected", "{name}: {r}");
+        assert_eq!(r["verdict"], "compliant (test record rejected)", "{name}");
+        assert!(
+            r["tests"][0]["rejected"].as_str().unwrap().contains(why),
+            "{name}: {r}"
+        );
+        assert!(
+            err.contains("--require-tests: CHG-V: traced test record rejected against the tree"),
+            "{name}: {err}"
+        );
+        let line = err
+            .lines()
+            .find(|l| l.contains("REGRESSION CHG-V: "))
+            .unwrap_or_else(|| panic!("{name}: {err}"));
+        assert!(
+            line.contains("traced test record rejected against the tree"),
+            "{name}: {line}"
+        );
+    }
+}
+
+/// Issue 49: a failed traced test that asserts its row's limit leaves the row not compliant,
+/// and the gate exits 1 naming it.
+#[test]
+fn a_failed_traced_test_that_asserts_the_limit_leaves_its_row_not_compliant() {
+    let (d, req, tree, _) = traced_tree("failed-test");
+    let good = good_records();
+    std::fs::write(
+        d.join("failed.json"),
+        run_json(
+            &tree,
+            &format!(
+                "[{},{}]",
+                good[0],
+                rec(
+                    "release::gprm",
+                    "failed",
+                    "tests/traced.rs:8",
+                    r#""REL-GPRM-VEL""#,
+                    1
+                )
+            ),
+        ),
+    )
+    .unwrap();
+    let (code, doc, err) = verify(
+        &d,
+        &req,
+        "failed",
+        &[
+            "--tests",
+            "failed.json",
+            "--baseline",
+            "base/compliance.json",
+        ],
+    );
+    assert_eq!(code, 1, "{err}");
+    let r = row(&doc, "REL-GPRM-VEL");
+    assert_eq!(r["status"], "not-verified", "{r}");
+    assert!(
+        r["reason"]
+            .as_str()
+            .unwrap()
+            .starts_with("traced test verification::release::gprm asserts its limit and failed"),
+        "{r}"
+    );
+    assert!(err.contains("REGRESSION REL-GPRM-VEL: "), "{err}");
+}
+
+/// Issue 49: what verify reads is what the fingerprint covers. A requirement file hidden from
+/// git through `.git/info/exclude` makes the recorded run stale, naming the file.
+#[test]
+fn a_requirement_file_hidden_from_git_makes_the_test_run_stale() {
+    let d = scratch("hidden");
+    let req = requirements(&d, |_, t| t.to_string());
+    let tree = git_repo(&d);
+    std::fs::write(d.join("run.json"), run_json(&tree, "[]")).unwrap();
+    let (_, doc, _) = verify(&d, &req, "a", &["--tests", "run.json"]);
+    assert_eq!(doc["test_run"]["fresh"], true, "{}", doc["test_run"]);
+    std::fs::write(d.join(".git/info/exclude"), "extra.yaml\n").unwrap();
+    std::fs::write(
+        req.join("extra.yaml"),
+        "family: extra\nlevel: system\nstage: qualification\nrequirements:\n  - id: EXT-ONE\n    title: t\n    text: \"The TM shall be grounded.\"\n    source: s\n    method: inspection\n    activity: a\n",
+    )
+    .unwrap();
+    assert_eq!(
+        geodesic_core::testrun::tree_state(&d).unwrap().tree_sha256,
+        tree.tree_sha256,
+        "git does not see the hidden file"
+    );
+    let (code, doc, err) = verify(&d, &req, "b", &["--tests", "run.json", "--require-tests"]);
+    assert_eq!(code, 1, "{err}");
+    assert_eq!(doc["test_run"]["fresh"], false);
+    let why = doc["test_run"]["stale_reason"].as_str().unwrap();
+    assert!(
+        why.contains("extra.yaml") && why.contains("does not cover"),
+        "{why}"
+    );
+    assert!(row(&doc, "EXT-ONE")["id"].is_string());
+}
+
+/// Issue 49: the ECSS method decides which evidence closes a requirement. PLG-EXTRA-VEL made
+/// `method: test` is not closed by its model (not verified, "not verified" in the VCD), and
+/// the gate exits 1 naming it; so does an edit of a requirement's `check:`.
+#[test]
+fn a_test_method_is_not_closed_by_a_model_and_method_or_check_edits_fail_the_gate() {
+    let d = scratch("method");
+    let req = requirements(&d, |_, t| t.to_string());
+    verify(&d, &req, "base", &[]);
+    let dir = scratch("method-copy");
+    let edited = requirements(&dir, |f, t| {
+        if f == "plunger.yaml" {
+            t.replacen("    method: analysis", "    method: test", 1)
+        } else if f == "charge.yaml" {
+            let i = t.find("  - id: CHG-V\n").unwrap();
+            let (head, tail) = t.split_at(i);
+            format!(
+                "{head}{}",
+                tail.replacen("check: charge-analysis", "check: plunger-attraction", 1)
+            )
+        } else {
+            t.to_string()
+        }
+    });
+    let (code, doc, err) = verify(&d, &edited, "now", &["--baseline", "base/compliance.json"]);
+    assert_eq!(code, 1, "{err}");
+    let r = row(&doc, "PLG-EXTRA-VEL");
+    assert_eq!(r["method"], "test");
+    assert_eq!(r["status"], "not-verified", "{r}");
+    assert!(
+        r["reason"]
+            .as_str()
+            .unwrap()
+            .starts_with("its method is test (ECSS-E-ST-10-02C): model evidence"),
+        "{r}"
+    );
+    assert!(
+        err.contains(
+            "REGRESSION PLG-EXTRA-VEL: requirement changed, needs review: method `analysis` -> `test`"
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains("REGRESSION CHG-V: requirement changed, needs review: check `charge-analysis` -> `plunger-attraction`"),
+        "{err}"
+    );
+    let vcd = std::fs::read_to_string(d.join("now/vcd.csv")).unwrap();
+    let line = vcd
+        .lines()
+        .find(|l| l.starts_with("PLG-EXTRA-VEL,"))
+        .unwrap();
+    assert!(line.contains("not verified"), "{line}");
+}
+
+/// Issue 49: `--confidence` outside [0.5, 1) is refused (exit 2); an open NCR on a compliant
+/// row leaves it not plainly compliant; a disposition whose requirement was renamed is said,
+/// and the rows computed from the input its renamed judge rejects are not plainly compliant.
+#[test]
+fn smaller_holes_confidence_open_ncr_renamed_judge() {
+    let d = scratch("holes");
+    let req = requirements(&d, |_, t| t.to_string());
+    for c in ["0.001", "0.4", "1", "1.5"] {
+        let out = geodesic(
+            &[
+                "verify",
+                "--requirements",
+                req.to_str().unwrap(),
+                "--confidence",
+                c,
+            ],
+            &d,
+        );
+        assert_eq!(out.status.code(), Some(2), "--confidence {c}");
+        let e = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            e.contains(&format!("--confidence {c}: must be at least 0.5")),
+            "{e}"
+        );
+    }
+    let ncr = "dispositions:\n  - requirement: CHG-V\n    kind: NCR\n    reference: NCR-T-9\n    \
+               reason: seen on the bench\n    owner: tests\n    date: 2099-01-01\n";
+    std::fs::write(d.join("ncr.yaml"), ncr).unwrap();
+    // the facility family with FAC-ADH-CAL alone, renamed
+    let fac = std::fs::read_to_string(workspace().join("requirements/facility.yaml")).unwrap();
+    let i = fac.find("  - id: FAC-ADH-CAL\n").unwrap();
+    let j = i + 4 + fac[i + 4..].find("  - id: ").unwrap();
+    let head = &fac[..fac.find("requirements:\n").unwrap() + "requirements:\n".len()];
+    std::fs::write(
+        req.join("facility.yaml"),
+        format!(
+            "{head}{}",
+            fac[i..j].replace("id: FAC-ADH-CAL", "id: FAC-ADH-CAL-2")
+        ),
+    )
+    .unwrap();
+    let (_, doc, err) = verify(&d, &req, "r", &["--dispositions", "ncr.yaml"]);
+    assert_eq!(
+        row(&doc, "CHG-V")["verdict"],
+        "compliant (NCR NCR-T-9 open)"
+    );
+    let v = row(&doc, "REL-GPRM-VEL")["verdict"].as_str().unwrap();
+    assert!(v.contains("budget judge FAC-ADH-CAL not loaded"), "{v}");
+    assert_eq!(doc["summary"]["plainly_compliant"], 0);
+    // the mission's own dispositions file names FAC-ADH-CAL: said
+    let (_, _, err2) = verify(&d, &req, "s", &[]);
+    assert!(
+        err2.contains("NCR NCR-GEO-002") && err2.contains("names FAC-ADH-CAL, which is not loaded"),
+        "{err2} / {err}"
+    );
 }

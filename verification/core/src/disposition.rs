@@ -277,6 +277,30 @@ pub fn from_str_with(
     Ok(out)
 }
 
+/// The dispositions of `text` that name a requirement not in `reqs` (a renamed or removed
+/// requirement, or one outside a subset), one line each: `NCR NCR-GEO-002 (file:line) names
+/// FAC-ADH-CAL, which is not loaded`. Empty when the text does not parse (the loader says why).
+pub fn unmatched(text: &str, file: &Path, reqs: &Requirements) -> Vec<String> {
+    let Ok(raw) = serde_saphyr::from_str::<RawFile>(text) else {
+        return Vec::new();
+    };
+    raw.dispositions
+        .iter()
+        .filter(|r| reqs.get(r.requirement.value.trim()).is_none())
+        .map(|r| {
+            let at = origin_of(file, &r.requirement);
+            format!(
+                "{} {} ({}:{}) names {}, which is not loaded: it applies to nothing in this run",
+                r.kind.value.trim(),
+                r.reference.value.trim(),
+                at.file.display(),
+                at.line,
+                r.requirement.value.trim()
+            )
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

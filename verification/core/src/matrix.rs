@@ -108,13 +108,31 @@ pub struct TestRef {
     pub assertions: Vec<Assertion>,
     /// Cases run (a property test runs many).
     pub cases: u64,
+    /// Why the record does not count, when it does not check against the tree (its location is
+    /// not in the fingerprinted tree or holds no `verifies!` of this requirement, or its call
+    /// never ran).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rejected: Option<String>,
+    /// Whether its source asserts this requirement's limit after its `verifies!` call (read
+    /// from the tree: what a failed or ignored test would have asserted).
+    #[serde(skip)]
+    pub source_asserts_limit: bool,
 }
 
 impl TestRef {
-    /// Whether this test is evidence for its requirement: it passed and asserted the limit or an
-    /// independent reference (a snapshot alone is change detection).
+    /// Whether this test asserts the requirement's own limit: recorded at run time, or in its
+    /// source.
+    pub fn asserts_limit(&self) -> bool {
+        self.source_asserts_limit || self.assertions.contains(&Assertion::Limit)
+    }
+
+    /// Whether this test is evidence for its requirement: its record checks against the tree,
+    /// its call ran, it passed and asserted the limit or an independent reference (a snapshot
+    /// alone is change detection).
     pub fn is_evidence(&self) -> bool {
         self.result == TestResult::Passed
+            && self.rejected.is_none()
+            && self.cases > 0
             && self
                 .assertions
                 .iter()
@@ -138,6 +156,9 @@ pub enum TestsStatus {
     /// The recorded run is not a run of this tree (another commit, edits since, no
     /// fingerprint): its results are not evidence for this verdict.
     Stale,
+    /// A record of a traced test does not check against the tree (its location is not in the
+    /// fingerprinted tree, holds no `verifies!` of this requirement, or its call never ran).
+    Rejected,
 }
 
 impl TestsStatus {
@@ -149,6 +170,7 @@ impl TestsStatus {
             TestsStatus::Incomplete => "incomplete",
             TestsStatus::None => "none",
             TestsStatus::Stale => "stale",
+            TestsStatus::Rejected => "rejected",
         }
     }
 }
@@ -215,6 +237,9 @@ pub struct Row {
     pub source: String,
     /// Verification method.
     pub method: String,
+    /// The registered check the requirement names for its evidence (`check:`; empty when
+    /// none): an edit of it is an edit of the requirement.
+    pub check: String,
     /// Verification level (ECSS-E-ST-10-02C: equipment, subsystem, element, system).
     pub level: String,
     /// Verification stage (qualification, acceptance, pre-launch, in-orbit, post-landing).
@@ -473,9 +498,19 @@ impl Matrix {
         dispositions: &[Disposition],
     ) -> Matrix {
         let mut orphans = Vec::new();
+        // a model input judged by evidence whose requirement is not loaded (renamed or
+        // removed): input -> that requirement
+        let mut unjudged: BTreeMap<String, String> = BTreeMap::new();
         let mut by_req: BTreeMap<&str, Vec<(&str, &Evidence)>> = BTreeMap::new();
         for (check, evs) in evidence {
             for e in evs {
+                if reqs.get(&e.requirement).is_none()
+                    && let Some(i) = &e.judges_input
+                {
+                    unjudged
+                        .entry(i.clone())
+                        .or_insert_with(|| e.requirement.clone());
+                }
                 if reqs.get(&e.requirement).is_some() {
                     by_req
                         .entry(e.requirement.as_str())
@@ -502,7 +537,8 @@ impl Matrix {
                 )
             })
             .collect();
-        findings(&mut rows, tests);
+        closure(&mut rows, tests);
+        findings(&mut rows, tests, &unjudged);
         let s = summarise(
             &rows,
             match tests {
@@ -895,12 +931,19 @@ fn finish_row(
                     result: t.result,
                     assertions: t.assertions_for(r.id.as_str()),
                     cases: t.cases,
+                    rejected: t.rejected.get(r.id.as_str()).cloned().or_else(|| {
+                        (t.result == TestResult::Passed && t.cases == 0)
+                            .then(|| "its verifies! call never ran (cases 0)".to_string())
+                    }),
+                    source_asserts_limit: t.source_asserts_limit.contains(r.id.as_str()),
                 })
                 .collect()
         })
         .unwrap_or_default();
     let tests_status = if tests.is_some_and(|t| !t.freshness.is_fresh()) {
         TestsStatus::Stale
+    } else if test_refs.iter().any(|t| t.rejected.is_some()) {
+        TestsStatus::Rejected
     } else if test_refs.iter().any(|t| t.result == TestResult::Failed) {
         TestsStatus::Failed
     } else if test_refs
@@ -946,6 +989,7 @@ fn finish_row(
         family: r.family.clone(),
         source: r.source.clone(),
         method: r.method.to_string(),
+        check: r.check.clone().unwrap_or_default(),
         level: r.level.as_str().to_string(),
         stage: r.stage.as_str().to_string(),
         note: r.note.clone(),
@@ -966,6 +1010,68 @@ fn finish_row(
     }
 }
 
+/// Turns a compliant row not verified when what closes it does not stand: a traced test that
+/// asserts its limit failed, was ignored or did not run (in a run of this tree), or its ECSS
+/// method is `test` and neither a measurement nor a passing traced test that asserts its
+/// limit closes it (a model, a flow-down or an analysis does not close a test requirement).
+fn closure(rows: &mut [Row], tests: Option<TestEvidence<'_>>) {
+    let fresh = tests.is_some_and(|t| t.freshness.is_fresh());
+    for r in rows.iter_mut() {
+        if r.status != Status::Compliant {
+            continue;
+        }
+        let shown = format!(
+            "{} {}",
+            r.value.map_or("?".into(), crate::units::fmt_num),
+            r.unit
+        )
+        .trim_end()
+        .to_string();
+        let basis = r.basis.map_or("none", Basis::label);
+        let why = if fresh
+            && let Some(t) = r.tests.iter().find(|t| {
+                t.rejected.is_none()
+                    && t.asserts_limit()
+                    && matches!(
+                        t.result,
+                        TestResult::Failed | TestResult::Ignored | TestResult::NotRun
+                    )
+            }) {
+            Some(format!(
+                "traced test {} asserts its limit and {}: the {basis} value ({shown}) does not close it while its test does not pass",
+                t.test,
+                match t.result {
+                    TestResult::Failed => "failed",
+                    TestResult::Ignored => "was ignored",
+                    _ => "did not run",
+                }
+            ))
+        } else if r.method == crate::requirement::Method::Test.to_string()
+            && r.basis != Some(Basis::Measurement)
+            && !(fresh
+                && r.tests
+                    .iter()
+                    .any(|t| t.is_evidence() && t.assertions.contains(&Assertion::Limit)))
+        {
+            Some(format!(
+                "its method is test (ECSS-E-ST-10-02C): {basis} evidence ({shown}) does not close it; a measurement, or a passing traced test of it that asserts its limit, does"
+            ))
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            r.status = Status::NotVerified;
+            r.reason = Some(why);
+            r.value = None;
+            r.margin = None;
+            r.basis = None;
+            r.sampling = None;
+            r.assumes.clear();
+            r.by_construction = None;
+        }
+    }
+}
+
 /// The short name of a model input in a verdict: its declared name, `_` read as a space.
 fn input_word(name: &str) -> String {
     name.replace('_', " ")
@@ -974,7 +1080,11 @@ fn input_word(name: &str) -> String {
 /// Fills every row's findings and verdict text, once every status is known: what a flow-down
 /// assumes that is not verified (followed through the assumed rows' own assumptions), a model
 /// input a non-compliant row rejects, the traced tests, what holds by construction.
-fn findings(rows: &mut [Row], tests: Option<TestEvidence<'_>>) {
+fn findings(
+    rows: &mut [Row],
+    tests: Option<TestEvidence<'_>>,
+    unjudged: &BTreeMap<String, String>,
+) {
     let status: BTreeMap<String, Status> = rows.iter().map(|r| (r.id.clone(), r.status)).collect();
     let assumes: BTreeMap<String, Vec<String>> = rows
         .iter()
@@ -1007,6 +1117,17 @@ fn findings(rows: &mut [Row], tests: Option<TestEvidence<'_>>) {
                     "computed from the {} that {judge} rejects (non-compliant{})",
                     input_word(i),
                     disp.as_ref().map_or(String::new(), |d| format!("; {d}"))
+                ));
+            }
+        }
+        for i in &r.model_inputs {
+            if let Some(judge) = unjudged.get(i)
+                && !rejected.contains_key(i)
+            {
+                qual.push(format!("{} judge {judge} not loaded", input_word(i)));
+                found.push(format!(
+                    "computed from the {} that {judge} judges, and {judge} is not in the requirement set (renamed or removed): that judgement, and any disposition of it, is missing",
+                    input_word(i)
                 ));
             }
         }
@@ -1084,10 +1205,32 @@ fn basis_findings(r: &Row, qual: &mut Vec<String>, found: &mut Vec<String>) {
             }
         }
     }
+    if r.status == Status::Compliant
+        && let Some(d) = &r.disposition
+    {
+        qual.push(format!("{} {} open", d.kind.as_str(), d.reference));
+        found.push(format!(
+            "a {} ({}, {}) is open against it: {}",
+            d.kind.as_str(),
+            d.reference,
+            d.date,
+            d.reason
+        ));
+    }
     if let Some(b) = r.basis
         && b != Basis::Model
     {
         qual.push(b.label().to_string());
+    }
+    if r.status == Status::Compliant
+        && r.method == crate::requirement::Method::Test.to_string()
+        && r.basis != Some(Basis::Measurement)
+    {
+        qual.push("method test: closed by its traced test".into());
+        found.push(format!(
+            "its method is test: closed by a passing traced test that asserts its limit (the {} value is shown beside it)",
+            r.basis.map_or("none", Basis::label)
+        ));
     }
     if let Some(why) = &r.by_construction {
         qual.push("by construction".into());
@@ -1139,6 +1282,18 @@ fn test_findings(
     found: &mut Vec<String>,
 ) {
     match r.tests_status {
+        TestsStatus::Rejected => {
+            qual.push("test record rejected".into());
+            let names: Vec<String> = r
+                .tests
+                .iter()
+                .filter_map(|t| t.rejected.as_ref().map(|w| format!("{} ({w})", t.test)))
+                .collect();
+            found.push(format!(
+                "traced test record rejected against the tree: {}",
+                names.join(", ")
+            ));
+        }
         TestsStatus::Failed => {
             qual.push("test failed".into());
             let names: Vec<&str> = r
@@ -1554,12 +1709,16 @@ requirements:
                 assertions: vec![Assertion::Limit],
                 kind: "unit".into(),
                 asserted: Default::default(),
+                rejected: Default::default(),
+                source_asserts_limit: Default::default(),
             }],
         };
         let now = Ok(crate::testrun::TreeState {
             commit: "1".repeat(40),
             tree_sha256: "y".into(),
             dirty: false,
+            top: PathBuf::from("."),
+            files: Default::default(),
         });
         let fr = run.freshness(&now);
         assert!(!fr.is_fresh());
@@ -1588,7 +1747,62 @@ requirements:
             }),
             &[],
         );
-        assert_eq!(m.requirements[0].verdict, "compliant (test failed)");
+        // a failed test that asserts the row's limit: the row is not compliant
+        let row = &m.requirements[0];
+        assert_eq!(row.status, Status::NotVerified, "{}", row.verdict);
+        assert!(
+            row.reason
+                .as_deref()
+                .unwrap()
+                .starts_with("traced test c::t asserts its limit and failed"),
+            "{:?}",
+            row.reason
+        );
+        assert!(row.value.is_none() && row.basis.is_none());
+        // so does an ignored one
+        run.tests[0].result = crate::testrun::TestResult::Ignored;
+        let built = |run: &TestRun| {
+            Matrix::build_with(
+                &r,
+                &ev,
+                Some(TestEvidence {
+                    file: "run.json",
+                    run,
+                    freshness: &fresh,
+                }),
+                &[],
+            )
+        };
+        assert_eq!(built(&run).requirements[0].status, Status::NotVerified);
+        // a failed test that asserted nothing of the limit (a snapshot): named, not deciding
+        run.tests[0].result = crate::testrun::TestResult::Failed;
+        run.tests[0].assertions = vec![Assertion::ChangeDetection];
+        assert_eq!(
+            built(&run).requirements[0].verdict,
+            "compliant (test failed)"
+        );
+        // a record whose call never ran, or rejected against the tree: no evidence, named
+        run.tests[0].result = crate::testrun::TestResult::Passed;
+        run.tests[0].assertions = vec![Assertion::Limit];
+        run.tests[0].cases = 0;
+        let m = built(&run);
+        assert_eq!(m.requirements[0].tests_status, TestsStatus::Rejected);
+        assert_eq!(
+            m.requirements[0].verdict,
+            "compliant (test record rejected)"
+        );
+        assert!(m.requirements[0].findings[0].contains("never ran (cases 0)"));
+        assert_eq!(m.without_test_evidence(), ["A-ONE"]);
+        run.tests[0].cases = 1;
+        run.tests[0].rejected.insert(
+            "A-ONE".into(),
+            "its location f.rs:1 is not a file of the fingerprinted tree".into(),
+        );
+        let m = built(&run);
+        assert_eq!(m.requirements[0].tests_status, TestsStatus::Rejected);
+        assert!(!m.requirements[0].tests[0].is_evidence());
+        run.tests[0].rejected.clear();
+        assert_eq!(built(&run).requirements[0].verdict, "compliant");
         // and with no test at all: a model verdict without test evidence
         run.tests.clear();
         let m = Matrix::build_with(
@@ -1603,6 +1817,133 @@ requirements:
         );
         assert_eq!(m.requirements[0].verdict, "compliant (no traced test)");
         assert_eq!(m.without_test_evidence(), ["A-ONE"]);
+    }
+
+    /// ECSS method against basis: a `test` requirement is not closed by a model; a measurement
+    /// or a passing traced test that asserts its limit closes it.
+    #[test]
+    fn a_test_requirement_is_not_closed_by_a_model() {
+        use crate::testrun::{RecordedTest, TestRun};
+        let t = "family: f
+requirements:
+  - id: A-ONE
+    title: a
+    text: shall
+    source: s
+    quantity: q
+    dimension: velocity
+    limit: <= 5 um/s
+    method: test
+    activity: mc
+";
+        let r = Requirements::from_sources(&[(PathBuf::from("f.yaml"), t.into())]).unwrap();
+        let ev = |b: Basis| {
+            vec![(
+                "mc".to_string(),
+                vec![Evidence::measured(
+                    "A-ONE",
+                    Quantity::new(1e-6, Dim::VELOCITY),
+                    b,
+                    "mc",
+                )],
+            )]
+        };
+        let m = Matrix::build(&r, &ev(Basis::Model), None, &[]);
+        let row = &m.requirements[0];
+        assert_eq!(row.status, Status::NotVerified);
+        assert!(
+            row.reason.as_deref().unwrap().starts_with(
+                "its method is test (ECSS-E-ST-10-02C): model evidence (1 um/s) does not close it"
+            ),
+            "{:?}",
+            row.reason
+        );
+        assert_eq!(
+            Matrix::build(&r, &ev(Basis::FlowDown), None, &[]).requirements[0].status,
+            Status::NotVerified
+        );
+        // a measurement closes it
+        let m = Matrix::build(&r, &ev(Basis::Measurement), None, &[]);
+        assert_eq!(m.requirements[0].verdict, "compliant (measurement)");
+        // a passing traced test that asserts its limit, in a run of this tree, closes it
+        let run = TestRun {
+            commit: "c".into(),
+            dirty: false,
+            tree_sha256: Some("x".into()),
+            proptest_rng_seed: None,
+            date: "2026-01-01T00:00:00Z".into(),
+            command: "cargo xtask test".into(),
+            tests: vec![RecordedTest {
+                krate: "c".into(),
+                test: "t".into(),
+                result: crate::testrun::TestResult::Passed,
+                location: "f.rs:1".into(),
+                requirements: vec!["A-ONE".into()],
+                cases: 1,
+                assertions: vec![Assertion::Limit],
+                kind: "unit".into(),
+                asserted: Default::default(),
+                rejected: Default::default(),
+                source_asserts_limit: Default::default(),
+            }],
+        };
+        let fresh = Freshness::Fresh;
+        let tests = Some(TestEvidence {
+            file: "run.json",
+            run: &run,
+            freshness: &fresh,
+        });
+        let m = Matrix::build_with(&r, &ev(Basis::Model), tests, &[]);
+        assert_eq!(
+            m.requirements[0].verdict,
+            "compliant (method test: closed by its traced test)"
+        );
+        // the same test, stale: not
+        let m = Matrix::build(&r, &ev(Basis::Model), Some(("run.json", &run)), &[]);
+        assert_eq!(m.requirements[0].status, Status::NotVerified);
+    }
+
+    /// An open NCR on a compliant row, and a model input whose judge is not loaded (renamed),
+    /// leave the row not plainly compliant.
+    #[test]
+    fn an_open_ncr_or_a_missing_judge_is_a_finding() {
+        let r = reqs();
+        let d = crate::disposition::from_str_with(
+            "dispositions:\n  - requirement: A-ONE\n    kind: NCR\n    reference: NCR-X-1\n    reason: seen in test\n    owner: o\n    date: 2099-01-01\n",
+            std::path::Path::new("d.yaml"),
+            &r,
+            20_000,
+            true,
+        )
+        .unwrap();
+        let ev = vec![(
+            "mc".to_string(),
+            vec![
+                Evidence::measured(
+                    "A-ONE",
+                    Quantity::new(1e-6, Dim::VELOCITY),
+                    Basis::Model,
+                    "mc",
+                )
+                .from_inputs(&["design"]),
+                // the judge of the design inputs, under an ID no longer loaded
+                Evidence::measured(
+                    "A-CAL",
+                    Quantity::new(9.0, Dim::DIMENSIONLESS),
+                    Basis::Model,
+                    "cal",
+                )
+                .judging_input("design"),
+            ],
+        )];
+        let m = Matrix::build(&r, &ev, None, &d);
+        let row = &m.requirements[0];
+        assert_eq!(
+            row.verdict,
+            "compliant (NCR NCR-X-1 open; design judge A-CAL not loaded)"
+        );
+        assert!(!row.plainly_compliant());
+        assert_eq!(m.summary.plainly_compliant, 0);
     }
 
     #[test]

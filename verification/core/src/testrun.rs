@@ -89,6 +89,16 @@ pub struct RecordedTest {
     /// before this field existed, see [`RecordedTest::assertions_for`].
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub asserted: BTreeMap<String, Vec<Assertion>>,
+    /// Why the record does not count for a requirement, by requirement ID, found by
+    /// [`check_records`] against the tree (its location is not in the fingerprinted tree, holds
+    /// no `verifies!` of that requirement, or the call never ran): never read from a file.
+    #[serde(skip)]
+    pub rejected: BTreeMap<String, String>,
+    /// The requirement IDs whose limit the test's source asserts after its `verifies!` call
+    /// (`assert_limit("ID", ...)`), read from the tree by [`check_records`]: what a failed or
+    /// ignored test would have asserted. Never read from a file.
+    #[serde(skip)]
+    pub source_asserts_limit: std::collections::BTreeSet<String>,
 }
 
 impl RecordedTest {
@@ -183,6 +193,10 @@ pub struct TreeState {
     pub tree_sha256: String,
     /// Whether the tree differs from the commit (tracked files changed or untracked files).
     pub dirty: bool,
+    /// The work tree's top folder.
+    pub top: std::path::PathBuf,
+    /// The paths the fingerprint covers, relative to [`TreeState::top`] (`/`-separated).
+    pub files: std::collections::BTreeSet<String>,
 }
 
 fn git(dir: &Path, args: &[&str]) -> Result<Vec<u8>, String> {
@@ -259,10 +273,13 @@ pub fn tree_state(dir: &Path) -> Result<TreeState, String> {
     let tree_sha256 =
         crate::hash::sha256_parts(parts.iter().map(|(n, b)| (n.as_str(), b.as_slice())));
     let dirty = !git(&top, &["status", "--porcelain"])?.is_empty();
+    let files = parts.into_iter().map(|(n, _)| n).collect();
     Ok(TreeState {
         commit,
         tree_sha256,
         dirty,
+        top,
+        files,
     })
 }
 
@@ -353,6 +370,236 @@ impl TestRun {
     }
 }
 
+/// `text` with the contents of comments and of string and character literals blanked (newlines
+/// kept), so that a brace or a `verifies!` inside them is not read as code; string literals
+/// keep their quotes and their text is kept in `strings` (byte offset of the opening quote ->
+/// the literal's content).
+fn code_and_strings(text: &str) -> (Vec<u8>, BTreeMap<usize, String>) {
+    let b = text.as_bytes();
+    let mut code = b.to_vec();
+    let mut strings = BTreeMap::new();
+    let mut i = 0;
+    while i < b.len() {
+        if b[i..].starts_with(b"//") {
+            while i < b.len() && b[i] != b'\n' {
+                code[i] = b' ';
+                i += 1;
+            }
+        } else if b[i..].starts_with(b"/*") {
+            while i < b.len() && !b[i..].starts_with(b"*/") {
+                if b[i] != b'\n' {
+                    code[i] = b' ';
+                }
+                i += 1;
+            }
+            for c in code.iter_mut().take((i + 2).min(b.len())).skip(i) {
+                *c = b' ';
+            }
+            i += 2;
+        } else if b[i] == b'"' {
+            let open = i;
+            i += 1;
+            let start = i;
+            while i < b.len() && b[i] != b'"' {
+                if b[i] == b'\\' {
+                    code[i] = b' ';
+                    i += 1;
+                }
+                if i < b.len() && b[i] != b'\n' {
+                    code[i] = b' ';
+                }
+                i += 1;
+            }
+            strings.insert(open, text[start..i.min(b.len())].to_string());
+            i += 1;
+        } else if b[i] == b'r'
+            && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_'))
+            && b.get(i + 1 + b[i + 1..].iter().take_while(|c| **c == b'#').count()) == Some(&b'"')
+        {
+            // a raw string r"..." / r#"..."#
+            let hashes = b[i + 1..].iter().take_while(|c| **c == b'#').count();
+            let open = i + 1 + hashes;
+            let mut close_seq = vec![b'"'];
+            close_seq.extend(std::iter::repeat_n(b'#', hashes));
+            let end = find(&b[open + 1..], &close_seq).map_or(b.len(), |k| open + 1 + k);
+            for c in code.iter_mut().take(end).skip(open + 1) {
+                if *c != b'\n' {
+                    *c = b' ';
+                }
+            }
+            strings.insert(open, text[open + 1..end].to_string());
+            i = end + close_seq.len();
+        } else if b[i] == b'\'' && i + 2 < b.len() && b[i + 1] != b'\\' && b[i + 2] == b'\'' {
+            code[i + 1] = b' ';
+            i += 3;
+        } else if b[i] == b'\'' && i + 3 < b.len() && b[i + 1] == b'\\' {
+            let end = (i + 3..b.len())
+                .find(|&k| b[k] == b'\'')
+                .unwrap_or(b.len() - 1);
+            for c in code.iter_mut().take(end).skip(i + 1) {
+                *c = b' ';
+            }
+            i = end + 1;
+        } else {
+            i += 1;
+        }
+    }
+    (code, strings)
+}
+
+/// What the source says at a recorded `file:line`: the requirement IDs of the `verifies!` call
+/// that starts on that line (`None`: no call there), and the IDs whose limit the code after
+/// the call asserts, up to the end of the block holding it (`assert_limit("ID", ...)`).
+pub fn source_trace(text: &str, line: usize) -> Option<(Vec<String>, Vec<String>)> {
+    let (code, strings) = code_and_strings(text);
+    let start = text
+        .split_inclusive('\n')
+        .take(line.checked_sub(1)?)
+        .map(str::len)
+        .sum::<usize>();
+    if start >= text.len() && line > 1 {
+        return None;
+    }
+    let end_of_line = code[start..]
+        .iter()
+        .position(|c| *c == b'\n')
+        .map_or(code.len(), |k| start + k);
+    let on_line = &code[start..end_of_line];
+    let at = start + find(on_line, b"verifies!")?;
+    let open = at + code[at..].iter().position(|c| *c == b'(')?;
+    let close = open + code[open..].iter().position(|c| *c == b')')?;
+    let ids: Vec<String> = strings.range(open..close).map(|(_, s)| s.clone()).collect();
+    // the rest of the enclosing block
+    let mut depth = 0i64;
+    let mut end = code.len();
+    for (k, c) in code.iter().enumerate().skip(close) {
+        match c {
+            b'{' => depth += 1,
+            b'}' => {
+                depth -= 1;
+                if depth < 0 {
+                    end = k;
+                    break;
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut limits = Vec::new();
+    let mut k = close;
+    while let Some(p) = find(&code[k..end], b"assert_limit") {
+        let p = k + p;
+        let after = p + b"assert_limit".len();
+        let rest = &code[after..end];
+        let ws = rest.iter().take_while(|c| c.is_ascii_whitespace()).count();
+        if rest.get(ws) == Some(&b'(') {
+            let q = after + ws + 1;
+            let ws2 = code[q..end]
+                .iter()
+                .take_while(|c| c.is_ascii_whitespace())
+                .count();
+            if let Some(id) = strings.get(&(q + ws2))
+                && !limits.contains(id)
+            {
+                limits.push(id.clone());
+            }
+        }
+        k = after;
+    }
+    Some((ids, limits))
+}
+
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// Checks every record of `run` against the tree it claims to be a run of: each recorded
+/// location (`file:line`, several joined by `, `) must be a file the fingerprint covers whose
+/// line holds a `verifies!` call, the calls must name every requirement the record claims, and
+/// a passed test must have run its call (cases > 0). What does not hold is kept, per
+/// requirement, in [`RecordedTest::rejected`]; what the source asserts after the call in
+/// [`RecordedTest::source_asserts_limit`].
+pub fn check_records(run: &mut TestRun, tree: &TreeState) {
+    let mut cache: BTreeMap<String, Option<String>> = BTreeMap::new();
+    for t in &mut run.tests {
+        let mut named: Vec<String> = Vec::new();
+        let mut problems: Vec<String> = Vec::new();
+        let locations: Vec<&str> = t
+            .location
+            .split(", ")
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect();
+        if locations.is_empty() {
+            problems.push("the record names no location of its verifies! call".into());
+        }
+        for loc in locations {
+            let Some((file, line)) = loc
+                .rsplit_once(':')
+                .and_then(|(f, l)| Some((f, l.parse::<usize>().ok()?)))
+            else {
+                problems.push(format!("its location `{loc}` is not file:line"));
+                continue;
+            };
+            let file = file.trim_start_matches("./");
+            if !tree.files.contains(file) {
+                problems.push(format!(
+                    "its location {loc} is not a file of the fingerprinted tree"
+                ));
+                continue;
+            }
+            let text = cache
+                .entry(file.to_string())
+                .or_insert_with(|| std::fs::read_to_string(tree.top.join(file)).ok());
+            match text.as_deref().and_then(|x| source_trace(x, line)) {
+                Some((ids, limits)) => {
+                    named.extend(ids);
+                    t.source_asserts_limit.extend(limits);
+                }
+                None => problems.push(format!("line {line} of {file} holds no verifies! call")),
+            }
+        }
+        if t.result == TestResult::Passed && t.cases == 0 {
+            problems.push("its verifies! call never ran (cases 0)".into());
+        }
+        for id in &t.requirements {
+            let mut why = problems.clone();
+            if problems.is_empty() && !named.contains(id) {
+                why.push(format!("no verifies! at {} names {id}", t.location));
+            }
+            if !why.is_empty() {
+                t.rejected.insert(id.clone(), why.join("; "));
+            }
+        }
+    }
+}
+
+/// The files `verify` read (paths as given) that the fingerprint of `tree` does not cover: a
+/// file git ignores or does not see (hidden through `.git/info/exclude`, in an untracked
+/// folder of its own) or outside the work tree. A run of the tests is not evidence about them.
+pub fn uncovered(tree: &TreeState, read: &[std::path::PathBuf]) -> Vec<String> {
+    let top = std::fs::canonicalize(&tree.top).unwrap_or_else(|_| tree.top.clone());
+    read.iter()
+        .filter(|p| {
+            let Ok(abs) = std::fs::canonicalize(p) else {
+                return true;
+            };
+            match abs.strip_prefix(&top) {
+                Ok(rel) => {
+                    let rel = rel
+                        .components()
+                        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                        .collect::<Vec<_>>()
+                        .join("/");
+                    !tree.files.contains(&rel)
+                }
+                Err(_) => true,
+            }
+        })
+        .map(|p| p.display().to_string())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -379,6 +626,131 @@ mod tests {
             command: "cargo xtask test".into(),
             tests: vec![],
         }
+    }
+
+    const SRC: &str = r##"// verifies!("NOT-HERE")
+#[test]
+fn gprm() {
+    geodesic_core::verifies!("REL-GPRM-VEL", "TMS-Z-VEL");
+    let s = "}"; let c = '}';
+    let j = r#"{"a": "}"}"#;
+    geodesic_core::trace::assert_limit("REL-GPRM-VEL", 1e-6);
+}
+
+#[test]
+fn snap() {
+    geodesic_core::verifies!(
+        "CHG-V"
+    );
+}
+fn after() { assert_limit("CHG-V", 1.0); }
+"##;
+
+    #[test]
+    fn the_source_at_a_recorded_line_says_what_it_verifies_and_asserts() {
+        assert_eq!(super::source_trace(SRC, 1), None, "a comment is no call");
+        assert_eq!(
+            super::source_trace(SRC, 4),
+            Some((
+                vec!["REL-GPRM-VEL".to_string(), "TMS-Z-VEL".to_string()],
+                vec!["REL-GPRM-VEL".to_string()]
+            ))
+        );
+        assert_eq!(super::source_trace(SRC, 5), None);
+        // a call over several lines; the assertion of another function is not its own
+        assert_eq!(
+            super::source_trace(SRC, 12),
+            Some((vec!["CHG-V".to_string()], vec![]))
+        );
+        assert_eq!(super::source_trace(SRC, 99), None);
+    }
+
+    fn recorded(location: &str, result: TestResult, cases: u64, reqs: &[&str]) -> RecordedTest {
+        RecordedTest {
+            krate: "verification".into(),
+            test: "t".into(),
+            result,
+            location: location.into(),
+            requirements: reqs.iter().map(|r| r.to_string()).collect(),
+            cases,
+            assertions: vec![Assertion::Limit],
+            kind: "unit".into(),
+            asserted: BTreeMap::new(),
+            rejected: BTreeMap::new(),
+            source_asserts_limit: Default::default(),
+        }
+    }
+
+    /// A record counts only where the tree holds its call: a location outside the tree, a line
+    /// with no `verifies!`, a call that does not name the requirement, a passed test whose call
+    /// never ran, are each rejected with why; a file hidden from git is not in the tree.
+    #[test]
+    fn test_records_are_checked_against_the_tree() {
+        let tmp = tempfile::tempdir().unwrap();
+        let d = tmp.path();
+        std::fs::create_dir_all(d.join("tests")).unwrap();
+        std::fs::write(d.join("tests/v.rs"), SRC).unwrap();
+        git_in(d, &["init", "-q"]);
+        git_in(d, &["add", "-A"]);
+        git_in(d, &["commit", "-q", "-m", "one"]);
+        // hidden from git: not in the fingerprint, so not a place a test can be
+        std::fs::write(d.join(".git/info/exclude"), "hidden.rs\n").unwrap();
+        std::fs::write(d.join("tests/hidden.rs"), SRC).unwrap();
+        let tree = tree_state(d).unwrap();
+        assert!(tree.files.contains("tests/v.rs"));
+        assert!(!tree.files.contains("tests/hidden.rs"));
+        let mut run = run_of(&tree);
+        run.tests = vec![
+            recorded("tests/v.rs:4", TestResult::Passed, 1, &["REL-GPRM-VEL"]),
+            recorded("tests/nowhere.rs:1", TestResult::Passed, 1, &["CHG-V"]),
+            recorded("tests/v.rs:5", TestResult::Passed, 1, &["CHG-V"]),
+            recorded(
+                "tests/v.rs:4",
+                TestResult::Passed,
+                1,
+                &["CHG-V", "TMS-Z-VEL"],
+            ),
+            recorded("tests/v.rs:12", TestResult::Passed, 0, &["CHG-V"]),
+            recorded(
+                "tests/hidden.rs:4",
+                TestResult::Passed,
+                1,
+                &["REL-GPRM-VEL"],
+            ),
+            recorded("tests/v.rs:12", TestResult::Ignored, 0, &["CHG-V"]),
+        ];
+        check_records(&mut run, &tree);
+        let why = |i: usize, id: &str| run.tests[i].rejected.get(id).cloned();
+        assert_eq!(why(0, "REL-GPRM-VEL"), None);
+        assert!(
+            run.tests[0].source_asserts_limit.contains("REL-GPRM-VEL"),
+            "{:?}",
+            run.tests[0].source_asserts_limit
+        );
+        assert!(
+            why(1, "CHG-V")
+                .unwrap()
+                .contains("not a file of the fingerprinted tree")
+        );
+        assert!(why(2, "CHG-V").unwrap().contains("holds no verifies! call"));
+        assert!(
+            why(3, "CHG-V").unwrap().contains("names CHG-V"),
+            "{:?}",
+            why(3, "CHG-V")
+        );
+        assert_eq!(why(3, "TMS-Z-VEL"), None);
+        assert!(why(4, "CHG-V").unwrap().contains("never ran (cases 0)"));
+        assert!(why(5, "REL-GPRM-VEL").is_some());
+        assert_eq!(
+            why(6, "CHG-V"),
+            None,
+            "an ignored test ran nothing, as it says"
+        );
+        // what verify reads: a hidden requirement file is not covered, a tracked one is
+        let read = [d.join("tests/v.rs"), d.join("tests/hidden.rs")];
+        let out = uncovered(&tree, &read);
+        assert_eq!(out.len(), 1, "{out:?}");
+        assert!(out[0].ends_with("hidden.rs"));
     }
 
     /// The fingerprint follows what the tests read: tracked files and new files beside them;

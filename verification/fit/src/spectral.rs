@@ -338,6 +338,9 @@ pub struct Judgement {
     pub worst_ratio_hi95: f64,
     /// Frequency of that ratio [Hz].
     pub worst_f_hi95_hz: f64,
+    /// Worst ratio of the lower 95 % bound of the ASD [-]: above 1, the ASD exceeds the
+    /// limit at that bin beyond what the estimate's scatter explains.
+    pub worst_ratio_lo95: f64,
     /// Bins judged.
     pub bins: usize,
     /// Lowest and highest frequencies judged [Hz].
@@ -440,6 +443,7 @@ pub fn judge(asd: &Asd, spectrum: &Spectrum, level_si: f64) -> Result<Judgement,
         let l = level_si * spectrum.shape(f);
         let r = asd.asd[j] / l;
         let rh = asd.hi95[j] / l;
+        let rl = asd.lo95[j] / l;
         let b = best.get_or_insert(Judgement {
             worst_ratio: r,
             worst_f_hz: f,
@@ -447,6 +451,7 @@ pub fn judge(asd: &Asd, spectrum: &Spectrum, level_si: f64) -> Result<Judgement,
             worst_limit: l,
             worst_ratio_hi95: rh,
             worst_f_hi95_hz: f,
+            worst_ratio_lo95: rl,
             bins: 0,
             judged_hz: [f, f],
         });
@@ -456,6 +461,7 @@ pub fn judge(asd: &Asd, spectrum: &Spectrum, level_si: f64) -> Result<Judgement,
             b.worst_asd = asd.asd[j];
             b.worst_limit = l;
         }
+        b.worst_ratio_lo95 = b.worst_ratio_lo95.max(rl);
         if rh > b.worst_ratio_hi95 {
             b.worst_ratio_hi95 = rh;
             b.worst_f_hi95_hz = f;
@@ -590,6 +596,7 @@ mod tests {
             j.worst_ratio
         );
         assert!(j.worst_ratio_hi95 > j.worst_ratio);
+        assert!(j.worst_ratio_lo95 < j.worst_ratio);
         // too slowly sampled or too short: a clear refusal
         let slow = welch(
             &x,

@@ -52,6 +52,8 @@ struct OldRow {
     #[serde(default)]
     method: Option<String>,
     #[serde(default)]
+    check: Option<String>,
+    #[serde(default)]
     text: Option<String>,
     #[serde(default)]
     quantity: Option<String>,
@@ -274,11 +276,16 @@ pub fn diff_text(
         let Some(o) = old_by.get(r.id.as_str()) else {
             d.added.push(r.id.clone());
             // a new requirement that is non-compliant with no disposition is a regression
-            if let Some(why) = undisposed(r) {
+            let why: Vec<String> = undisposed(r)
+                .into_iter()
+                .chain(rejected_tests(r))
+                .map(|w| format!("new requirement, {w}"))
+                .collect();
+            if !why.is_empty() {
                 d.changes.push(Change {
                     id: r.id.clone(),
                     regression: true,
-                    regressions: vec![format!("new requirement, {why}")],
+                    regressions: why,
                     notes: vec![],
                     status: ("absent".into(), r.status.as_str().to_string()),
                     margin: (None, r.margin),
@@ -343,6 +350,7 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
     if tests_compared {
         tests_lost(r, o, &mut reg);
     }
+    reg.extend(rejected_tests(r));
     if r.status == Status::NonCompliant {
         match (&r.disposition, &o.disposition) {
             (Some(dn), _) if dn.expired => reg.push(format!(
@@ -390,6 +398,7 @@ fn requirement_edits(r: &Row, o: &OldRow) -> Option<String> {
             r.probability.as_deref(),
         ),
         ("method", o.method.as_deref(), Some(r.method.as_str())),
+        ("check", o.check.as_deref(), Some(r.check.as_str())),
         ("quantity", o.quantity.as_deref(), Some(r.quantity.as_str())),
         ("text", o.text.as_deref(), Some(r.text.as_str())),
     ]
@@ -498,6 +507,22 @@ fn margin_change(
             ));
         }
     }
+}
+
+/// The traced test records of row `r` that do not check against the tree (a forged or
+/// foreign record): a regression whatever the baseline says.
+fn rejected_tests(r: &Row) -> Option<String> {
+    let bad: Vec<String> = r
+        .tests
+        .iter()
+        .filter_map(|t| t.rejected.as_ref().map(|w| format!("{} ({w})", t.test)))
+        .collect();
+    (!bad.is_empty()).then(|| {
+        format!(
+            "traced test record rejected against the tree: {}",
+            bad.join(", ")
+        )
+    })
 }
 
 /// Traced tests that passed in the baseline and no longer pass: all vanished at once, or

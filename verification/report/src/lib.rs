@@ -77,6 +77,17 @@ pub struct RunInfo {
     /// Wall time of the run and of each check [s]: differs run to run (machine, load), so it
     /// is information only: the baseline diff and the determinism checks ignore it.
     pub timings: Timings,
+    /// The commit the binary was built from (`git rev-parse HEAD` at build time), when known.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub build_commit: Option<String>,
+    /// Said when the binary's build commit is not the commit of the tree it judges: the checks
+    /// that ran are those of the build, not of the tree.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub build_note: Option<String>,
+    /// Dispositions that name a requirement not loaded (renamed or removed), one line each:
+    /// said, never silently dropped.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub unmatched_dispositions: Vec<String>,
 }
 
 /// How the reports title the fidelity table and its reference column.
@@ -511,6 +522,9 @@ requirements:
                 reference: Default::default(),
                 partial: None,
                 timings: Default::default(),
+                build_commit: None,
+                build_note: None,
+                unmatched_dispositions: Vec::new(),
             },
             reverify: Default::default(),
         }

@@ -148,6 +148,12 @@ pub fn print(program: &str, opts: &Options, out: &crate::Outcome) -> u8 {
             .filter(|p| p.parent() == Some(opts.reports.as_path()))
             .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
             .collect();
+        println!(
+            "sampled verdicts: decided by their {} confidence bounds (Monte Carlo N = {}, seed {})",
+            geodesic_core::units::fmt_pct(out.report.run.confidence),
+            out.report.run.mc_n,
+            out.report.run.seed
+        );
         for l in pipeline::input_lines(&out.report.run.inputs) {
             println!("{l}");
         }

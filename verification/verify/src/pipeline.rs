@@ -60,6 +60,9 @@ pub struct Options {
     pub tool_version: String,
     /// The command line written in the reports.
     pub command: String,
+    /// The commit the running binary was built from (the command line's `build.rs`), when
+    /// known; the run says when it is not the commit of the tree it judges.
+    pub build_commit: Option<String>,
 }
 
 impl Default for Options {
@@ -84,12 +87,17 @@ impl Default for Options {
             json: false,
             tool_version: env!("CARGO_PKG_VERSION").to_string(),
             command: std::env::args().collect::<Vec<_>>().join(" "),
+            build_commit: None,
         }
     }
 }
 
 /// The confidence of the bounds a sampled verdict is decided by, unless told otherwise [-].
 pub const DEFAULT_CONFIDENCE: f64 = 0.95;
+
+/// The lowest `--confidence` accepted [-]: below it a one-sided bound falls on the wrong side of
+/// its estimate.
+pub const MIN_CONFIDENCE: f64 = 0.5;
 
 /// What a run produced.
 pub struct Outcome {
@@ -323,9 +331,11 @@ fn check_options(mission: &Mission, opts: &Options) -> Result<(), Error> {
             opts.mc_n, mission.max_mc_n
         )));
     }
-    if !(opts.confidence.is_finite() && opts.confidence > 0.0 && opts.confidence < 1.0) {
+    // below 0.5 a one-sided bound lies on the wrong side of its estimate: an upper bound
+    // below the median would pass what the estimate fails
+    if !(opts.confidence.is_finite() && (MIN_CONFIDENCE..1.0).contains(&opts.confidence)) {
         return Err(Error::bad(format!(
-            "--confidence {}: must be between 0 and 1 (exclusive), e.g. 0.95",
+            "--confidence {}: must be at least {MIN_CONFIDENCE} and below 1, e.g. 0.95 (a bound at a lower confidence is weaker than the estimate it bounds)",
             opts.confidence
         )));
     }
@@ -378,6 +388,7 @@ struct Loaded {
     tests_path: Option<PathBuf>,
     test_run: Option<geodesic_core::testrun::TestRun>,
     freshness: Option<geodesic_core::testrun::Freshness>,
+    unmatched_dispositions: Vec<String>,
 }
 
 fn load(mission: &Mission, opts: &Options, names: &[&str]) -> Result<Loaded, Error> {
@@ -408,18 +419,39 @@ fn load(mission: &Mission, opts: &Options, names: &[&str]) -> Result<Loaded, Err
         ),
         None => (Vec::new(), None),
     };
+    // a disposition whose requirement is not loaded (renamed, removed) is said, not dropped
+    let unmatched_dispositions = match &disp_file {
+        Some(f) => geodesic_core::disposition::unmatched(&f.text, Path::new(&f.label), &reqs),
+        None => Vec::new(),
+    };
     let tests_path = opts.tests.clone().or_else(|| {
         let p = PathBuf::from("target/geodesic/test-run.json");
         p.is_file().then_some(p)
     });
-    let test_run = match &tests_path {
+    let mut test_run = match &tests_path {
         Some(p) => Some(geodesic_core::testrun::TestRun::load(p).map_err(Error::bad)?),
         None => None,
     };
-    // the recorded run counts only for the tree it ran on: same commit, same content
-    let freshness = test_run
-        .as_ref()
-        .map(|t| t.freshness(&geodesic_core::testrun::tree_state(Path::new("."))));
+    // the recorded run counts only for the tree it ran on (same commit, same content), each
+    // record only where that tree holds its call, and only if what verify reads is in it
+    let tree = geodesic_core::testrun::tree_state(Path::new("."));
+    let freshness = test_run.as_mut().map(|t| {
+        let f = t.freshness(&tree);
+        let Ok(tree) = &tree else { return f };
+        geodesic_core::testrun::check_records(t, tree);
+        let hidden = geodesic_core::testrun::uncovered(tree, &read_files(&source, &inputs, &disp_path, &document_file));
+        match (f, hidden.is_empty()) {
+            (geodesic_core::testrun::Freshness::Fresh, false) => {
+                geodesic_core::testrun::Freshness::Stale {
+                    reason: format!(
+                        "verify reads {}, which the tree fingerprint does not cover (ignored or hidden from git, or outside the work tree): the tests did not run on it",
+                        hidden.join(", ")
+                    ),
+                }
+            }
+            (f, _) => f,
+        }
+    });
     Ok(Loaded {
         reqs,
         source,
@@ -432,7 +464,38 @@ fn load(mission: &Mission, opts: &Options, names: &[&str]) -> Result<Loaded, Err
         tests_path,
         test_run,
         freshness,
+        unmatched_dispositions,
     })
+}
+
+/// The files a run reads from disk: the requirement files, the input files given or found on
+/// disk (not the built-in copies), the dispositions and the document, the series.
+fn read_files(
+    requirements: &str,
+    inputs: &Inputs,
+    dispositions: &Option<PathBuf>,
+    document: &InputFile,
+) -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = Vec::new();
+    if let Ok(rd) = std::fs::read_dir(requirements) {
+        let mut files: Vec<PathBuf> = rd
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("yaml" | "yml")))
+            .collect();
+        files.sort();
+        out.extend(files);
+    }
+    for (_, _, f) in inputs.iter() {
+        if f.origin != Some(InputOrigin::BuiltIn) {
+            out.push(PathBuf::from(&f.label));
+        }
+    }
+    out.extend(inputs.series.values().map(|f| PathBuf::from(&f.label)));
+    out.extend(dispositions.iter().cloned());
+    if !document.label.starts_with("<built-in>") {
+        out.push(PathBuf::from(&document.label));
+    }
+    out
 }
 
 /// Whether `check` has work in a requirement set: one of the IDs it declares is loaded, or a
@@ -627,6 +690,7 @@ pub fn run(mission: &Mission, opts: &Options) -> Result<Outcome, Error> {
         checks: ran.timings,
     };
     let (commit, dirty) = git_state();
+    let build_note = build_note(opts.build_commit.as_deref(), &commit);
     let partial = selection.as_ref().map(|s| s.partial(&l.reqs));
     let report = Report {
         matrix,
@@ -659,6 +723,9 @@ pub fn run(mission: &Mission, opts: &Options) -> Result<Outcome, Error> {
                 .unwrap_or_default(),
             partial,
             timings,
+            build_note,
+            build_commit: opts.build_commit.clone(),
+            unmatched_dispositions: l.unmatched_dispositions,
         },
         reverify: Default::default(),
     };
@@ -714,6 +781,14 @@ fn finish(
         written.extend(opts.junit.clone());
     }
     let mut messages = Vec::new();
+    messages.extend(report.run.build_note.iter().map(|n| format!("note: {n}")));
+    messages.extend(
+        report
+            .run
+            .unmatched_dispositions
+            .iter()
+            .map(|n| format!("dispositions: {n}")),
+    );
     if let Some(d) = &diff {
         gate_messages(d, &report, &mut messages);
     }
@@ -784,6 +859,17 @@ fn require_tests(m: &Matrix, out: &mut Vec<String>) -> bool {
         let why = match r.tests_status {
             geodesic_core::matrix::TestsStatus::Stale => {
                 Some("its traced test results are stale".to_string())
+            }
+            geodesic_core::matrix::TestsStatus::Rejected => {
+                let bad: Vec<String> = r
+                    .tests
+                    .iter()
+                    .filter_map(|t| t.rejected.as_ref().map(|w| format!("{} ({w})", t.test)))
+                    .collect();
+                Some(format!(
+                    "traced test record rejected against the tree: {}",
+                    bad.join(", ")
+                ))
             }
             geodesic_core::matrix::TestsStatus::Failed
             | geodesic_core::matrix::TestsStatus::Incomplete => {
@@ -861,6 +947,20 @@ pub fn git_state() -> (String, bool) {
         }
         _ => ("unknown".into(), false),
     }
+}
+
+/// What a run says when the binary was built from another commit than the tree's `commit`
+/// (`None` when they agree, or when either is unknown).
+pub fn build_note(build: Option<&str>, commit: &str) -> Option<String> {
+    let build = build?;
+    let short = |c: &str| c.chars().take(12).collect::<String>();
+    (build != commit && build != "unknown" && commit != "unknown").then(|| {
+        format!(
+            "this binary was built from commit {}, the work tree is at {}: the checks that ran are those of the build (rebuild to judge the tree with its own code)",
+            short(build),
+            short(commit)
+        )
+    })
 }
 
 /// UTC date and time now, RFC 3339 (`2026-11-23T18:40:00Z`).

@@ -39,7 +39,7 @@ fn run(series: &Path, dir: &Path) -> geodesic_core::Evidence {
     let ctx = geodesic_checks::context(reqs, inputs, dir.to_path_buf(), 10, 1, 0.95, true);
     let ev = SpectralAsd.run(&ctx).unwrap();
     ev.into_iter()
-        .find(|e| e.requirement == "LPF-DA-ASD" && matches!(e.outcome, Outcome::Measured(_)))
+        .find(|e| e.requirement == "LPF-DA-ASD" && e.inputs.contains_key("series"))
         .unwrap()
 }
 
@@ -90,8 +90,19 @@ fn only_a_declared_measurement_is_measurement_evidence() {
     let y = tmp.path().join("declared.yaml");
     std::fs::write(&y, text).unwrap();
     let e = run(&y, tmp.path());
-    assert_eq!(e.basis, Some(Basis::Measurement));
+    assert_eq!(e.inputs["origin"], "measurement");
     assert_eq!(e.inputs["provenance"], "a named facility run");
+    // its estimate meets the limit (worst ratio 0.742) but its upper 95 % bound does not quite
+    // (1.0002): as a measurement it is inconclusive, not compliant (issue 49)
+    let up = e.inputs["worst_ratio_upper95"].as_f64().unwrap();
+    assert!(
+        up > 1.0 && e.inputs["worst_ratio"].as_f64().unwrap() < 0.8,
+        "{up}"
+    );
+    let Outcome::NotVerified(why) = &e.outcome else {
+        panic!("{:?}", e.outcome)
+    };
+    assert!(why.contains("inconclusive at 95 % confidence"), "{why}");
     // a measurement without its provenance is refused with its line
     std::fs::write(
         &y,
@@ -134,8 +145,11 @@ fn white_noise_is_judged_at_the_bottom_of_the_band() {
         truth,
         4.0 * (1.0 / (2.0 * dof)).sqrt(),
     );
-    // the value is the ratio referred to the level, so the matrix margin is 1 - ratio
-    assert!((q.value - ratio * 3e-14).abs() < 1e-27);
+    // the value is the upper 95 % bound of the ratio referred to the level (the matrix
+    // margin is 1 - that bound), never the estimate
+    let upper = e.inputs["worst_ratio_upper95"].as_f64().unwrap();
+    assert!(upper > ratio);
+    assert!((q.value - upper * 3e-14).abs() < 1e-27);
     assert!(tmp.path().join("spectra/LPF-DA-ASD.svg").is_file());
 }
 
@@ -153,4 +167,90 @@ fn noise_above_the_curve_is_not_met() {
         .unwrap();
     let lim = r.limit.as_ref().unwrap();
     assert!(!lim.op.holds(ratio * lim.value.value, lim.value.value));
+}
+
+/// Issue 49: a measured spectrum is judged by its 95 % bounds, never its estimate. The
+/// repository's example scaled by 1.3 and declared a measurement has an estimate within the
+/// limit and an upper bound of 1.30 times it: not compliant (inconclusive, not verified); scaled
+/// by 2 its lower bound exceeds the limit: non-compliant.
+#[test]
+fn a_measured_spectrum_is_judged_by_its_bounds_not_its_estimate() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let example = std::fs::read_to_string(root.join("data/spectra/lpf-da-example.yaml")).unwrap();
+    let csv = std::fs::read_to_string(root.join("data/spectra/lpf-da-example.csv")).unwrap();
+    let reqs = geodesic_core::trace::requirements().clone();
+    let judged = |scale: f64| {
+        let mut out = String::from("t,da\n");
+        for l in csv.lines().skip(1) {
+            let (t, v) = l.split_once(',').unwrap();
+            let _ = writeln!(out, "{t},{:e}", scale * v.parse::<f64>().unwrap());
+        }
+        std::fs::write(tmp.path().join("m2.csv"), out).unwrap();
+        let yaml = example
+            .replace(
+                "origin: synthetic",
+                "origin: measurement\nprovenance: \"bench run 7\"",
+            )
+            .replace("data: lpf-da-example.csv", "data: m2.csv");
+        let y = tmp.path().join("m2.yaml");
+        std::fs::write(&y, yaml).unwrap();
+        let mut inputs = geodesic_checks::builtin_inputs();
+        inputs.series.insert(
+            "LPF-DA-ASD".into(),
+            geodesic_core::check::InputFile::read(&y).unwrap(),
+        );
+        let ctx = geodesic_checks::context(
+            reqs.clone(),
+            inputs,
+            tmp.path().to_path_buf(),
+            10,
+            1,
+            0.95,
+            true,
+        );
+        let ev = SpectralAsd.run(&ctx).unwrap();
+        let m =
+            geodesic_core::matrix::Matrix::build(&reqs, &[("spectral-asd".into(), ev)], None, &[]);
+        m.requirements
+            .into_iter()
+            .find(|r| r.id == "LPF-DA-ASD")
+            .unwrap()
+    };
+    let row = judged(1.3);
+    let e = &row.evidence[0];
+    let (est, up) = (
+        e.inputs["worst_ratio"].as_f64().unwrap(),
+        e.inputs["worst_ratio_upper95"].as_f64().unwrap(),
+    );
+    assert!(est < 1.0 && up > 1.0, "estimate {est}, upper bound {up}");
+    assert_eq!(
+        row.status,
+        geodesic_core::matrix::Status::NotVerified,
+        "{}",
+        row.verdict
+    );
+    assert!(
+        row.reason
+            .as_deref()
+            .unwrap()
+            .contains("inconclusive at 95 % confidence"),
+        "{:?}",
+        row.reason
+    );
+    let row = judged(2.5);
+    assert_eq!(
+        row.status,
+        geodesic_core::matrix::Status::NonCompliant,
+        "{}",
+        row.verdict
+    );
+    let e = &row.evidence[0];
+    let lo = e.inputs["worst_ratio_lower95"].as_f64().unwrap();
+    let limit = row.limit.unwrap();
+    assert!(
+        (row.value.unwrap() - lo * limit).abs() < 1e-9 * limit,
+        "{:?} {lo}",
+        row.value
+    );
 }

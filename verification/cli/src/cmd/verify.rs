@@ -18,8 +18,10 @@ pub struct Args {
 
 impl clap::FromArgMatches for Args {
     fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
+        let mut options = geodesic_verify::harness::options(m);
+        options.build_commit = Some(env!("GEODESIC_BUILD_COMMIT").to_string());
         Ok(Args {
-            options: geodesic_verify::harness::options(m),
+            options,
             mission: m.get_one::<String>("mission").cloned(),
         })
     }
