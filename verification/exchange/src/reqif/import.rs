@@ -914,11 +914,54 @@ impl Fields<'_> {
                 (l, None, None)
             }
         };
+        if let Some(q) = si {
+            self.check_limit_value(&text, q, model);
+        }
         ReadLimit {
             text,
             si,
             dim,
             qualitative: None,
+        }
+    }
+
+    /// A `geodesic.LimitValue` (in the unit of `geodesic.Unit`) that contradicts the limit as
+    /// written (`limit`, `q` in SI), as after a tool edited one and not the other: said; the
+    /// limit as written is taken.
+    fn check_limit_value(&self, limit: &str, q: Quantity, model: &mut Model) {
+        let Some(v) = self.o.get_any(&["geodesic.LimitValue"]) else {
+            return;
+        };
+        let unit = self
+            .o
+            .get_any(&["geodesic.Unit"])
+            .map_or(String::new(), |u| u.text.trim().to_string());
+        let value = v.text.trim();
+        // a unit geodesic cannot compare (a spectral density's `Hz^-1/2`) is not judged
+        let agrees = match lenient_number(value) {
+            None => false,
+            Some(x) => match geodesic_core::units::parse_quantity(&format!("{x:e} {unit}")) {
+                Ok((s, _)) if s.dim == q.dim => {
+                    (s.value - q.value).abs() <= 1e-9 * q.value.abs().max(s.value.abs())
+                }
+                _ => true,
+            },
+        };
+        if !agrees {
+            model.problems.warn(
+                self.o.line,
+                format!(
+                    "geodesic.LimitValue `{}{}` contradicts geodesic.Limit `{}`: the limit as \
+                     written is taken; correct or remove geodesic.LimitValue",
+                    clip(value, 40),
+                    if unit.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" {}", clip(&unit, 20))
+                    },
+                    clip(limit, 80)
+                ),
+            );
         }
     }
 
@@ -1326,7 +1369,25 @@ fn link(
             },
             None => match (pending[si].limit_si, pending[ti].limit_si) {
                 (Some(c), Some(p)) if c.dim == p.dim && p.value != 0.0 => {
-                    Some(c.value / p.value).filter(|m| m.is_finite())
+                    let m = Some(c.value / p.value).filter(|m| m.is_finite());
+                    // geodesic's own relation without its margin: a tool kept the link and
+                    // dropped the attribute (StrictDoc), and a limit edited there would move
+                    // the margin silently. Other tools' links carry no margin: the ratio of
+                    // the limits is their margin, as documented.
+                    let lost = norm(type_name) == norm("geodesic.DerivedFrom");
+                    if let Some(m) = m.filter(|_| lost) {
+                        model.problems.warn(
+                            line,
+                            format!(
+                                "relation '{type_name}' from {} to {target_id} has no \
+                                 geodesic.DerivationMargin: recomputed from the limits as {} \
+                                 (child limit / parent limit); check it against the flow-down",
+                                pending[si].req.id,
+                                geodesic_core::units::fmt_num_digits(m, 6)
+                            ),
+                        );
+                    }
+                    m
                 }
                 _ => None,
             },
