@@ -484,3 +484,40 @@ fn a_round_trip_that_drops_margins_or_edits_a_limit_warns() {
     assert_eq!(moved.0, parent);
     assert!((moved.1 - 2.0 * margin).abs() < 1e-9 * margin, "{moved:?}");
 }
+
+/// A StrictDoc export: its `[TEXT]` node is not a requirement; a requirement without a UID
+/// gets an ID from its content, the same whatever identifier the export gave it (issue 52).
+#[test]
+fn strictdoc_text_nodes_are_left_out_and_nodes_without_a_uid_keep_their_id() {
+    let (name, text) = fixture("strictdoc-text-node.reqif");
+    let ids = |text: &str| -> Vec<String> {
+        let (imp, set) = import_to_set(&name, text, &ImportOptions::default());
+        assert!(imp.warnings.is_empty(), "{:?}", imp.warnings);
+        assert_eq!(imp.spec_objects, 3);
+        set.items.iter().map(|r| r.id.to_string()).collect()
+    };
+    let first = ids(&text);
+    assert_eq!(first.len(), 2, "{first:?}");
+    assert!(first.contains(&"REL-B".to_string()), "{first:?}");
+    let generated = first.iter().find(|i| *i != "REL-B").unwrap();
+    assert!(
+        generated.starts_with("REQ-") && generated.len() == 14,
+        "{generated}"
+    );
+    // the next export: new UUIDs, the same IDs
+    let again = text
+        .replace(
+            "026322f4-1bb6-4579-97c2-9167e4ad3d47",
+            "11111111-2222-4333-8444-555555555555",
+        )
+        .replace(
+            "a0493ed1-d908-440d-97ef-171baaffe1b4",
+            "66666666-7777-4888-9999-aaaaaaaaaaaa",
+        )
+        .replace(
+            "67dad31e-88b0-482a-ad14-a9653a7d4974",
+            "bbbbbbbb-cccc-4ddd-8eee-ffffffffffff",
+        );
+    assert_ne!(again, text);
+    assert_eq!(ids(&again), first);
+}

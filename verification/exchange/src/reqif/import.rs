@@ -679,6 +679,12 @@ fn sort_objects(
             heading_objects.push((*i, place.clone()));
             continue;
         }
+        // StrictDoc's free text between requirements (`[TEXT]`, type `TEXT`): not a
+        // requirement, counted with the objects without a requirement text
+        if o.type_name.trim().eq_ignore_ascii_case("text") {
+            other_objects += 1;
+            continue;
+        }
         match candidate(*i, place, o, opts, &mut auto_used, model) {
             Some(c) => cands.push(c),
             None => other_objects += 1,
@@ -1738,7 +1744,12 @@ fn assign_ids(pending: &mut [Pending], model: &mut Model) {
             continue;
         }
         let ident = p.ident.clone();
-        let base = to_req_id(&ident);
+        let base = match (&p.raw_id, generated_identifier(&ident)) {
+            // a tool that makes a new identifier on every export (StrictDoc's UUIDs): an ID
+            // from the content, the same on every export
+            (None, true) => content_id(&p.req.title, &p.req.text),
+            _ => to_req_id(&ident),
+        };
         let mut id = base.clone();
         let mut n = 2;
         while taken.contains(&id) {
@@ -1773,6 +1784,30 @@ fn assign_ids(pending: &mut [Pending], model: &mut Model) {
             },
         ));
     }
+}
+
+/// Whether a SPEC-OBJECT identifier is one StrictDoc generates anew on each export of a node
+/// without a UID: its node type and a random UUID (`REQUIREMENT-66d7a1a0-6c84-43d3-9ea9-
+/// aa8023764b4c`). Other tools' UUIDs (ProR, DOORS) stay with their object: they are kept.
+fn generated_identifier(ident: &str) -> bool {
+    let groups: Vec<&str> = ident.split('-').collect();
+    groups.len() == 6
+        && !groups[0].is_empty()
+        && groups[0]
+            .chars()
+            .all(|c| c.is_ascii_uppercase() || c == '_')
+        && groups[1..].iter().map(|g| g.len()).eq([8, 4, 4, 4, 12])
+        && groups[1..]
+            .iter()
+            .all(|g| g.chars().all(|c| c.is_ascii_hexdigit()))
+}
+
+/// An ID from a requirement's title and text: `REQ-` and the first 10 hexadecimal digits of
+/// their SHA-256 (the same on every export of the same requirement).
+fn content_id(title: &str, text: &str) -> String {
+    let h =
+        geodesic_util::hash::sha256_parts([("title", title.as_bytes()), ("text", text.as_bytes())]);
+    format!("REQ-{}", h[..10].to_ascii_uppercase())
 }
 
 /// A derivation the loader would refuse (a margin that is not positive, limits of other
