@@ -7,10 +7,16 @@
 # junit-10.xsd is the copy pytest's source distribution ships (testing/example_scripts/), the
 # same bytes as the plugin's (src/main/resources/.../model/xsd/junit-10.xsd, MIT licence):
 # checked by its SHA-256.
-# Usage: .ci/clients.sh REPORTS_DIR JUNIT_FILE
+# StrictDoc (pinned with its dependencies in .ci/strictdoc-requirements.txt, its own venv)
+# converts both ReqIF exports (with and without the matrix) with its default options; its
+# export back to ReqIF imports into geodesic with a warning for each derivation margin it
+# dropped.
+# Usage: .ci/clients.sh REPORTS_DIR JUNIT_FILE GEODESIC_BINARY
 set -euo pipefail
-reports=${1:?usage: clients.sh REPORTS_DIR JUNIT_FILE}
-junit=${2:?usage: clients.sh REPORTS_DIR JUNIT_FILE}
+usage="usage: clients.sh REPORTS_DIR JUNIT_FILE GEODESIC_BINARY"
+reports=$(realpath "${1:?$usage}")
+junit=$(realpath "${2:?$usage}")
+bin=$(realpath "${3:?$usage}")
 here=$(cd "$(dirname "$0")" && pwd)
 venv="$here/../target/clients-venv"
 pins="xmlschema==4.3.2 elementpath==5.1.4 junitparser==5.0.3 xunitparser==1.3.4 pandas==3.1.1 numpy==2.4.6 python-dateutil==4.0.0 tzdata==2026.6 openpyxl==3.1.5 et_xmlfile==2.0.0"
@@ -33,3 +39,40 @@ fi
 echo "$xsd_sha256  $venv/junit-10.xsd" | sha256sum --check --quiet
 "$venv/bin/python" "$here/clients.py" junit "$junit" "$venv/junit-10.xsd"
 "$venv/bin/python" "$here/clients.py" vcd "$reports/vcd.csv" "$reports/vcd.xlsx"
+
+# StrictDoc, as its users run it
+sd="$here/../target/strictdoc-venv"
+sd_pins=$(sha256sum "$here/strictdoc-requirements.txt" | cut -d' ' -f1)
+if ! { [ -x "$sd/bin/strictdoc" ] && [ "$(cat "$sd/.pins" 2>/dev/null)" = "$sd_pins" ]; }; then
+  rm -rf "$sd"
+  python3 -m venv "$sd"
+  "$sd/bin/python" -m pip install --quiet --disable-pip-version-check \
+      -r "$here/strictdoc-requirements.txt"
+  echo "$sd_pins" > "$sd/.pins"
+fi
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+(
+  cd "$work"   # no ./requirements here: the built-in set
+  "$bin" export reqif --out g.reqif >/dev/null
+  "$bin" export reqif --matrix "$reports/compliance.json" --out gm.reqif >/dev/null
+  for f in g gm; do
+    "$sd/bin/strictdoc" convert "$f.reqif" "sdoc-$f" >"$f.log" 2>&1 \
+      || { tail -5 "$f.log"; echo "clients: strictdoc convert $f.reqif failed"; exit 1; }
+  done
+  n=$(grep -c '^UID: ' sdoc-gm/*.sdoc)
+  "$sd/bin/strictdoc" export sdoc-g --formats reqif-sdoc --output-dir back >back.log 2>&1 \
+      || { tail -5 back.log; echo "clients: strictdoc export reqif-sdoc failed"; exit 1; }
+  "$bin" import reqif back/reqif/output.reqif --out imported --json >import.json 2>/dev/null
+  "$venv/bin/python" - "$n" <<'PY'
+import json, sys
+n = int(sys.argv[1])
+imp = json.load(open("import.json"))
+warned = [w for w in imp["warnings"] if "no geodesic.DerivationMargin: recomputed" in w["cause"]]
+count = imp["requirements"] if isinstance(imp.get("requirements"), int) else len(imp["requirements"])
+if count != n or not warned:
+    sys.exit(f"clients: StrictDoc round trip: {count} of {n} requirements back, {len(warned)} margin warnings")
+print(f"strictdoc: converts both exports ({n} requirements with UIDs); its ReqIF export imports "
+      f"back with {count} requirements and {len(warned)} warnings of a recomputed margin")
+PY
+)
