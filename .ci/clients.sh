@@ -40,16 +40,24 @@ echo "$xsd_sha256  $venv/junit-10.xsd" | sha256sum --check --quiet
 "$venv/bin/python" "$here/clients.py" junit "$junit" "$venv/junit-10.xsd"
 "$venv/bin/python" "$here/clients.py" vcd "$reports/vcd.csv" "$reports/vcd.xlsx"
 
+# venv DIR REQUIREMENTS_FILE: DIR made (or reused while the pinned file is unchanged)
+venv_from() {
+  local dir=$1 reqs=$2 pins
+  pins=$(sha256sum "$reqs" | cut -d' ' -f1)
+  if ! { [ -x "$dir/bin/python" ] && [ "$(cat "$dir/.pins" 2>/dev/null)" = "$pins" ]; }; then
+    rm -rf "$dir"
+    python3 -m venv "$dir"
+    "$dir/bin/python" -m pip install --quiet --disable-pip-version-check -r "$reqs"
+    echo "$pins" > "$dir/.pins"
+  fi
+}
+
 # StrictDoc, as its users run it
 sd="$here/../target/strictdoc-venv"
-sd_pins=$(sha256sum "$here/strictdoc-requirements.txt" | cut -d' ' -f1)
-if ! { [ -x "$sd/bin/strictdoc" ] && [ "$(cat "$sd/.pins" 2>/dev/null)" = "$sd_pins" ]; }; then
-  rm -rf "$sd"
-  python3 -m venv "$sd"
-  "$sd/bin/python" -m pip install --quiet --disable-pip-version-check \
-      -r "$here/strictdoc-requirements.txt"
-  echo "$sd_pins" > "$sd/.pins"
-fi
+venv_from "$sd" "$here/strictdoc-requirements.txt"
+# Sphinx with sphinx-needs (pinned in .ci/sphinx-requirements.txt)
+sx="$here/../target/sphinx-venv"
+venv_from "$sx" "$here/sphinx-requirements.txt"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 (
@@ -75,4 +83,23 @@ if count != n or not warned:
 print(f"strictdoc: converts both exports ({n} requirements with UIDs); its ReqIF export imports "
       f"back with {count} requirements and {len(warned)} warnings of a recomputed margin")
 PY
+)
+
+# sphinx-needs, as a Sphinx project loads needs.json: needimport and a needtable, -W
+(
+  cd "$work"
+  mkdir sphinx
+  "$bin" export needs --matrix "$reports/compliance.json" --out sphinx/needs.json >/dev/null
+  cat > sphinx/conf.py <<'PY'
+project = "geodesic needs"
+extensions = ["sphinx_needs"]
+needs_types = [dict(directive="req", title="Requirement", prefix="", color="#BFD8D2", style="node")]
+needs_fields = {f: {"default": ""} for f in ["verdict", "basis", "limit", "value", "unit", "margin",
+                                             "derivation_margin", "source", "method", "family"]}
+PY
+  printf 'Matrix\n======\n\n.. needimport:: needs.json\n\n.. needtable::\n   :columns: id, title, status, verdict, margin\n' > sphinx/index.rst
+  "$sx/bin/sphinx-build" -W -q -b html sphinx sphinx/_build >sphinx.log 2>&1 \
+      || { tail -5 sphinx.log; echo "clients: sphinx-needs does not load needs.json"; exit 1; }
+  n=$(grep -o 'needs_amount": [0-9]*' sphinx/needs.json | grep -o '[0-9]*$')
+  echo "sphinx-needs: sphinx-build -W loads needs.json ($n needs) into a page with a needtable"
 )
