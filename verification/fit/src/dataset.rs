@@ -1270,8 +1270,15 @@ impl Header<'_> {
             {
                 fix += "the header seems to be in a `#` comment line: remove its `#`; ";
             }
+            // a time column the YAML does not name (`Time [ms]` for the default `t`)
+            let time_like = names.iter().find(|h| {
+                let name = header_unit(h).map_or(h.trim(), |(n, _, _)| n);
+                matches!(name.to_lowercase().as_str(), "t" | "time")
+            });
             fix += &if spec.yaml.is_empty() {
                 "rename the column".to_string()
+            } else if let (true, Some(h)) = (c.channel == "time", time_like) {
+                format!("the time column seems to be `{h}`: set `time_column: \"{h}\"`")
             } else if c.channel == "time" {
                 "set `time_column:` to the time column's header".to_string()
             } else {

@@ -150,6 +150,12 @@ fn a_unit_in_the_header_is_used_when_the_yaml_gives_none() {
         .replace("  x: m\n  y: m\n", "  x: nm\n  y: {column: y}\n");
     let d = load(&short, in_ms_nm(&csv, "t [ms],x (nm),y (nm)").as_bytes()).unwrap();
     assert_same(&d, &plain);
+    // a time column the YAML does not name: the refusal names it
+    let e = err(&yaml, in_ms_nm(&csv, "Time [ms],x,y").as_bytes());
+    assert!(
+        e.contains("d.csv:1:") && e.contains("time_column: \"Time [ms]\""),
+        "{e}"
+    );
     // without any unit the channel is refused at its YAML line, naming both places
     let none = named.replace("  y: {column: y}\n", "  y: {column: tip}\n");
     let e = err(&none, in_ms_nm(&csv, "Time [ms],x (nm),tip").as_bytes());
