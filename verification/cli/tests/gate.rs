@@ -372,7 +372,7 @@ fn an_ignored_or_failed_traced_test_shows_in_its_row_and_can_fail_verify() {
         "{junit}"
     );
     assert!(junit.contains("name=\"z_offset\""), "{junit}");
-    assert!(junit.contains("<property name=\"requirement\" value=\"TMS-Z-POS\"/>"));
+    assert!(junit.contains("requirement: TMS-Z-POS\n"), "{junit}");
     let (code, doc, err) = verify(
         &d,
         &req,

@@ -432,3 +432,45 @@ fn files_of_other_tools_import_with_warnings_and_a_report() {
     );
     assert!(matches!(out.status.code(), Some(0 | 1)), "{out:?}");
 }
+
+/// `geodesic export needs`: a sphinx-needs needs.json of the built-in set, the same bytes
+/// for the same SOURCE_DATE_EPOCH; a matrix that cannot be read exits 2 naming it (issue 52).
+#[test]
+fn export_needs_writes_one_need_per_requirement() {
+    let dir = scratch("needs");
+    let run = |out: &str| {
+        ok(&geodesic_at(
+            &["export", "needs", "--out", out, "--json"],
+            &dir,
+            "1767225600",
+        ))
+    };
+    let summary: serde_json::Value = serde_json::from_str(&run("a.json")).unwrap();
+    run("b.json");
+    let a = std::fs::read_to_string(dir.join("a.json")).unwrap();
+    assert_eq!(a, std::fs::read_to_string(dir.join("b.json")).unwrap());
+    let doc: serde_json::Value = serde_json::from_str(&a).unwrap();
+    let v = doc["current_version"].as_str().unwrap();
+    let needs = doc["versions"][v]["needs"].as_object().unwrap();
+    assert_eq!(summary["requirements"], needs.len());
+    assert!(needs.len() >= 20);
+    assert_eq!(needs["REL-DFACS-VEL"]["links"][0], "REL-GPRM-VEL");
+    let out = geodesic(
+        &[
+            "export",
+            "needs",
+            "--matrix",
+            "none.json",
+            "--out",
+            "c.json",
+        ],
+        &dir,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.contains("none.json") && e.trim_end().lines().count() == 1,
+        "{e}"
+    );
+    assert!(!dir.join("c.json").exists());
+}

@@ -148,7 +148,7 @@ pub struct Unit {
 #[non_exhaustive]
 pub enum UnitError {
     /// The unit text has a symbol that is not known.
-    #[error("unknown unit `{}` (symbol `{}`)", one_line(.unit), one_line(.symbol))]
+    #[error("unknown unit `{}` (symbol `{}`{})", one_line(.unit), one_line(.symbol), suggestion(.symbol))]
     UnknownSymbol {
         /// The whole unit text.
         unit: String,
@@ -200,7 +200,13 @@ fn symbol(s: &str) -> Option<(f64, Dim, bool)> {
         "A" => (1.0, Dim([0, 0, 0, 1, 0, 0]), true),
         "K" => (1.0, Dim::TEMPERATURE, true),
         "rad" => (1.0, Dim::ANGLE, true),
-        "deg" => (std::f64::consts::PI / 180.0, Dim::ANGLE, false),
+        "deg" | "degree" | "degrees" => (std::f64::consts::PI / 180.0, Dim::ANGLE, false),
+        // revolutions per minute and per second, as motor and turntable data sheets write them
+        "rpm" => (std::f64::consts::PI / 30.0, Dim::ANGULAR_RATE, false),
+        "rps" => (2.0 * std::f64::consts::PI, Dim::ANGULAR_RATE, false),
+        "micron" | "microns" => (1e-6, Dim::LENGTH, false),
+        "sec" | "secs" => (1.0, Dim::TIME, true),
+        "gram" | "grams" => (1e-3, Dim::MASS, false),
         "V" => (1.0, Dim::VOLTAGE, true),
         "C" => (1.0, Dim::CHARGE, true),
         "e" => (ELEMENTARY_CHARGE_C, Dim::CHARGE, false),
@@ -220,6 +226,109 @@ fn symbol(s: &str) -> Option<(f64, Dim, bool)> {
         _ => return None,
     };
     Some(v)
+}
+
+/// Unit names written out, with the symbol to write instead (for suggestions only).
+const SPELLED: &[(&str, &str)] = &[
+    ("second", "s"),
+    ("millisecond", "ms"),
+    ("microsecond", "us"),
+    ("nanosecond", "ns"),
+    ("meter", "m"),
+    ("metre", "m"),
+    ("millimeter", "mm"),
+    ("millimetre", "mm"),
+    ("micrometer", "um"),
+    ("micrometre", "um"),
+    ("nanometer", "nm"),
+    ("nanometre", "nm"),
+    ("kilogram", "kg"),
+    ("volt", "V"),
+    ("millivolt", "mV"),
+    ("radian", "rad"),
+    ("microradian", "urad"),
+    ("hertz", "Hz"),
+    ("newton", "N"),
+    ("coulomb", "C"),
+    ("farad", "F"),
+    ("minute", "min"),
+    ("hour", "h"),
+    ("percent", "%"),
+];
+
+/// Symbols an unknown symbol is compared with for a suggestion (with common prefixes).
+fn suggestion_candidates() -> Vec<String> {
+    let bases = [
+        "m", "g", "s", "A", "K", "rad", "V", "C", "e", "F", "N", "J", "W", "Pa", "Hz", "deg",
+        "rpm", "micron", "min", "h", "day", "ppm",
+    ];
+    let mut out: Vec<String> = bases.iter().map(|b| b.to_string()).collect();
+    for p in ["k", "m", "u", "n", "p"] {
+        for b in ["m", "g", "s", "rad", "V", "N", "Hz", "F", "C"] {
+            out.push(format!("{p}{b}"));
+        }
+    }
+    out
+}
+
+/// Case-insensitive edit distance between two short words: insertions, deletions,
+/// substitutions and transpositions of adjacent characters (optimal string alignment).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.to_lowercase().chars().collect();
+    let b: Vec<char> = b.to_lowercase().chars().collect();
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for (j, cell) in d[0].iter_mut().enumerate() {
+        *cell = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+/// `; did you mean `X`?` for an unknown unit symbol: a unit name written out (`meters`), the
+/// same symbol in another case (`MS`), or one edit away from a known symbol (`rmp`); else
+/// empty.
+fn suggestion(symbol: &str) -> String {
+    let s = symbol.trim();
+    let lower = s.to_lowercase();
+    let singular = lower.strip_suffix('s').unwrap_or(&lower);
+    let found = SPELLED
+        .iter()
+        .find(|(w, _)| *w == lower || *w == singular)
+        .map(|(_, sym)| sym.to_string())
+        .or_else(|| {
+            let cands = suggestion_candidates();
+            let same_case = cands.iter().find(|c| c.to_lowercase() == lower).cloned();
+            same_case.or_else(|| {
+                if s.chars().count() < 3 {
+                    return None;
+                }
+                cands
+                    .into_iter()
+                    .filter(|c| c.chars().count() >= 2)
+                    .map(|c| (edit_distance(s, &c), c))
+                    .filter(|(d, _)| *d == 1)
+                    .min_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.cmp(&b.1)))
+                    .map(|(_, c)| c)
+            })
+        });
+    match found {
+        Some(f) => format!("; did you mean `{f}`?"),
+        None => String::new(),
+    }
 }
 
 /// One factor: a symbol with an optional prefix (a whole symbol wins over prefix + symbol, so
@@ -505,6 +614,37 @@ pub fn fmt_num_digits(v: f64, digits: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn common_spellings_are_units_and_unknown_ones_get_a_suggestion() {
+        let rpm = parse_unit("rpm").unwrap();
+        assert_eq!(rpm.dim, Dim::ANGULAR_RATE);
+        // 30 rpm is pi rad/s
+        let (q, _) = parse_quantity("30 rpm").unwrap();
+        assert!((q.value - std::f64::consts::PI).abs() < 1e-15);
+        let (q, _) = parse_quantity("5 micron").unwrap();
+        // as `5 um`: the number times the scale
+        assert!((q.value - 5e-6).abs() < 1e-20 && q.dim == Dim::LENGTH);
+        assert_eq!(q.value, parse_quantity("5 um").unwrap().0.value);
+        assert_eq!(parse_unit("microns").unwrap().scale, 1e-6);
+        assert_eq!(parse_unit("msec").unwrap().dim, Dim::TIME);
+        assert_eq!(parse_unit("msec").unwrap().scale, 1e-3);
+        assert_eq!(parse_unit("grams").unwrap().dim, Dim::MASS);
+        assert_eq!(parse_unit("degrees").unwrap().dim, Dim::ANGLE);
+        for (bad, hint) in [
+            ("meters", "`m`"),
+            ("micrometre", "`um`"),
+            ("MS", "`ms`"),
+            ("rmp", "`rpm`"),
+            ("mircon", "`micron`"),
+            ("Volts", "`V`"),
+        ] {
+            let e = parse_unit(bad).unwrap_err().to_string();
+            assert!(e.contains(&format!("did you mean {hint}")), "{bad}: {e}");
+        }
+        let e = parse_unit("furlong").unwrap_err().to_string();
+        assert!(!e.contains("did you mean"), "{e}");
+    }
 
     #[test]
     fn numbers_near_their_limit_keep_the_digits_that_tell_them_apart() {

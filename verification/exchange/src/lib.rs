@@ -3,6 +3,7 @@
 //! - [`reqif::export`] writes the requirement set (and, given a `compliance.json`, the status of
 //!   each row of the Verification Control Document) as a ReqIF 1.2 file (OMG, namespace
 //!   `http://www.omg.org/spec/ReqIF/20110401/reqif.xsd`) that validates against the OMG schema.
+//! - [`needs::export`] writes the same as a sphinx-needs `needs.json`.
 //! - [`reqif::import`] reads a ReqIF file written by geodesic, IBM DOORS / DOORS Next, Polarion
 //!   or another tool into requirement YAML in geodesic's format ([`yaml`]).
 //!
@@ -27,6 +28,7 @@
 //! a small escaping writer ([`xml`]) as the project writes its HTML and JUnit; a writer crate
 //! would add a dependency for `&lt;` and indentation.
 
+pub mod needs;
 pub mod reqif;
 pub mod status;
 pub mod xml;

@@ -432,3 +432,92 @@ fn bad_files_name_the_line() {
     );
     assert_eq!(imp.count(), 3);
 }
+
+/// What a StrictDoc round trip does to an export: the relations keep their type and ends but
+/// lose `geodesic.DerivationMargin`, and a limit edited there leaves `geodesic.LimitValue` as
+/// it was. Both are said; the margin is recomputed from the edited limits (issue 52).
+#[test]
+fn a_round_trip_that_drops_margins_or_edits_a_limit_warns() {
+    let reqs = repo_requirements();
+    let first = reqif::export(&reqs, &opts("2026-01-01T00:00:00Z", None));
+    // every tool reads it: no REAL, no empty value
+    assert!(!first.contains("REAL") && !first.contains("THE-VALUE=\"\""));
+    let (imp, _) = import_to_set(Path::new("g.reqif"), &first, &ImportOptions::default());
+    assert!(imp.warnings.is_empty(), "{:?}", imp.warnings);
+    // the margins dropped
+    let mut edited = String::new();
+    let mut rest = first.as_str();
+    while let Some(i) = rest.find("<SPEC-RELATION ") {
+        let (head, tail) = rest.split_at(i);
+        edited.push_str(head);
+        let v0 = tail.find("<VALUES>").unwrap();
+        let v1 = tail.find("</VALUES>").unwrap() + "</VALUES>".len();
+        assert!(v1 < tail.find("<SOURCE>").unwrap());
+        edited.push_str(&tail[..v0]);
+        rest = &tail[v1..];
+    }
+    edited.push_str(rest);
+    // REL-DFACS-VEL's limit doubled in its text only
+    let child = reqs.get("REL-DFACS-VEL").unwrap();
+    let (parent, margin) = child.parent.clone().unwrap();
+    let l = child.limit.as_ref().unwrap();
+    let at = edited
+        .find("IDENTIFIER=\"geodesic-req-REL-DFACS-VEL\"")
+        .unwrap();
+    let def = at
+        + edited[at..]
+            .find(">geodesic-ad-req-limit</ATTRIBUTE-DEFINITION-STRING-REF>")
+            .unwrap();
+    let v = edited[..def].rfind("THE-VALUE=\"").unwrap() + "THE-VALUE=\"".len();
+    let end = v + edited[v..].find('"').unwrap();
+    let new_limit = format!("&lt;= {} {}", 2.0 * l.in_unit(), l.unit.symbol);
+    edited.replace_range(v..end, &new_limit);
+    let (imp, back) = import_to_set(Path::new("s.reqif"), &edited, &ImportOptions::default());
+    let said = |what: &str| imp.warnings.iter().any(|w| w.cause.contains(what));
+    assert!(
+        said("from REL-DFACS-VEL to REL-GPRM-VEL has no geodesic.DerivationMargin: recomputed"),
+        "{:?}",
+        imp.warnings
+    );
+    assert!(said("contradicts geodesic.Limit"), "{:?}", imp.warnings);
+    let moved = back.get("REL-DFACS-VEL").unwrap().parent.clone().unwrap();
+    assert_eq!(moved.0, parent);
+    assert!((moved.1 - 2.0 * margin).abs() < 1e-9 * margin, "{moved:?}");
+}
+
+/// A StrictDoc export: its `[TEXT]` node is not a requirement; a requirement without a UID
+/// gets an ID from its content, the same whatever identifier the export gave it (issue 52).
+#[test]
+fn strictdoc_text_nodes_are_left_out_and_nodes_without_a_uid_keep_their_id() {
+    let (name, text) = fixture("strictdoc-text-node.reqif");
+    let ids = |text: &str| -> Vec<String> {
+        let (imp, set) = import_to_set(&name, text, &ImportOptions::default());
+        assert!(imp.warnings.is_empty(), "{:?}", imp.warnings);
+        assert_eq!(imp.spec_objects, 3);
+        set.items.iter().map(|r| r.id.to_string()).collect()
+    };
+    let first = ids(&text);
+    assert_eq!(first.len(), 2, "{first:?}");
+    assert!(first.contains(&"REL-B".to_string()), "{first:?}");
+    let generated = first.iter().find(|i| *i != "REL-B").unwrap();
+    assert!(
+        generated.starts_with("REQ-") && generated.len() == 14,
+        "{generated}"
+    );
+    // the next export: new UUIDs, the same IDs
+    let again = text
+        .replace(
+            "026322f4-1bb6-4579-97c2-9167e4ad3d47",
+            "11111111-2222-4333-8444-555555555555",
+        )
+        .replace(
+            "a0493ed1-d908-440d-97ef-171baaffe1b4",
+            "66666666-7777-4888-9999-aaaaaaaaaaaa",
+        )
+        .replace(
+            "67dad31e-88b0-482a-ad14-a9653a7d4974",
+            "bbbbbbbb-cccc-4ddd-8eee-ffffffffffff",
+        );
+    assert_ne!(again, text);
+    assert_eq!(ids(&again), first);
+}

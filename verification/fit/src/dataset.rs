@@ -158,6 +158,7 @@ pub const KEYS: &[&str] = &[
     "data",
     "time_column",
     "time_unit",
+    "delimiter",
     "channels",
     "known",
     "noise",
@@ -174,11 +175,84 @@ struct Meta {
     time_column: Option<Spanned<String>>,
     #[serde(default)]
     time_unit: Option<Spanned<String>>,
+    #[serde(default)]
+    delimiter: Option<Spanned<String>>,
     channels: Spanned<BTreeMap<String, Spanned<ChannelSpec>>>,
     #[serde(default)]
-    known: Option<Spanned<BTreeMap<String, Spanned<f64>>>>,
+    known: Option<Spanned<BTreeMap<String, Spanned<Number>>>>,
     #[serde(default)]
-    noise: Option<BTreeMap<String, Spanned<f64>>>,
+    noise: Option<BTreeMap<String, Spanned<Number>>>,
+}
+
+/// A number of the dataset YAML: bare (`0.089`, in SI for a known constant, in the channel's
+/// unit for a noise figure) or with its unit (`89 g`, `0.8 nm`).
+#[derive(Debug, Clone)]
+enum Number {
+    Bare(f64),
+    Text(String),
+}
+
+impl<'de> Deserialize<'de> for Number {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = Number;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number, bare or with its unit (`0.089` or `89 g`)")
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Number, E> {
+                Ok(Number::Bare(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Number, E> {
+                Ok(Number::Bare(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Number, E> {
+                Ok(Number::Bare(v as f64))
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Number, E> {
+                Ok(Number::Text(v.to_string()))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl Number {
+    /// The value in SI: a bare number times `bare_scale` (as [`to_si`] does with a cell), a
+    /// number with a unit converted by that unit, which must be of dimension `dim` when given.
+    /// `Err` is the cause, for a message.
+    fn si(&self, bare_scale: f64, dim: Option<Dim>) -> Result<f64, String> {
+        let bare = |text: &str, v: f64| to_si(text, v, bare_scale, power_of_ten(bare_scale));
+        let text = match self {
+            Number::Bare(v) => return Ok(bare(&format!("{v:e}"), *v)),
+            Number::Text(t) => t.trim(),
+        };
+        let (q, unit) = geodesic_core::units::parse_quantity(text).map_err(|e| e.to_string())?;
+        if unit.symbol.is_empty() {
+            return Ok(bare(text, q.value / unit.scale));
+        }
+        if let Some(d) = dim
+            && q.dim != d
+        {
+            return Err(format!(
+                "`{}` is of dimension {}, expected {d}",
+                geodesic_core::text::clip(text, 40),
+                q.dim
+            ));
+        }
+        // the number as written, its exponent shifted by a power-of-ten unit (`89 g` is the
+        // bits of `0.089`)
+        let num = text.replace('\u{03BC}', "µ");
+        let num = num
+            .trim_end()
+            .strip_suffix(unit.symbol.as_str())
+            .unwrap_or(text)
+            .trim();
+        Ok(match num.parse::<f64>() {
+            Ok(v) => to_si(num, v, unit.scale, power_of_ten(unit.scale)),
+            Err(_) => q.value,
+        })
+    }
 }
 
 fn line_of<T>(s: &Spanned<T>) -> usize {
@@ -199,19 +273,14 @@ pub fn scenario_channels(s: Scenario) -> &'static [&'static str] {
     s.channels()
 }
 
-/// The declared channels of `meta` (the dataset YAML `file`) as CSV columns, and their units:
-/// each a channel of `scenario`, with a unit of its dimension; every channel the scenario needs
-/// declared.
-fn channel_columns(
-    file: &str,
-    meta: &Meta,
-    scenario: Scenario,
-) -> Result<(Vec<Column>, BTreeMap<String, String>), FitError> {
+/// The declared channels of `meta` (the dataset YAML `file`) as CSV columns: each a channel
+/// of `scenario`, with a unit of its dimension when the YAML gives one (else the CSV header's,
+/// [`Header::resolve`]); every channel the scenario needs declared.
+fn channel_columns(file: &str, meta: &Meta, scenario: Scenario) -> Result<Vec<Column>, FitError> {
     let file = file.to_string();
     let known_channels = scenario_channels(scenario);
     // channels: unit, column
     let mut columns: Vec<Column> = Vec::new();
-    let mut units = BTreeMap::new();
     for (ch, spec) in &meta.channels.value {
         let line = line_of(spec);
         if !known_channels.contains(&ch.as_str()) {
@@ -230,15 +299,18 @@ fn channel_columns(
                 ),
             ));
         }
+        let header = spec.value.column.clone().unwrap_or_else(|| ch.clone());
         let Some(u) = spec.value.unit.as_deref() else {
-            return Err(FitError::input(
-                &file,
+            // the unit of the CSV header (`x [nm]`), or a refusal once the header is read
+            columns.push(Column {
+                channel: ch.clone(),
+                header,
+                scale: 1.0,
+                unit: None,
+                dim: channel_dim(ch),
                 line,
-                format!(
-                    "channel `{ch}` has no unit: add `unit:` ({})",
-                    channel_hint(ch)
-                ),
-            ));
+            });
+            continue;
         };
         let unit = parse_unit(u.trim()).map_err(|e| {
             FitError::input(
@@ -264,17 +336,17 @@ fn channel_columns(
                 ),
             ));
         }
-        let header = spec.value.column.clone().unwrap_or_else(|| ch.clone());
         columns.push(Column {
             channel: ch.clone(),
             header,
             scale: unit.scale,
+            unit: Some(u.trim().to_string()),
+            dim: channel_dim(ch),
             line,
         });
-        units.insert(ch.clone(), u.to_string());
     }
     for need in scenario.required_channels() {
-        if !units.contains_key(*need) {
+        if !columns.iter().any(|c| c.channel == *need) {
             let found = meta
                 .channels
                 .value
@@ -299,7 +371,7 @@ fn channel_columns(
             ));
         }
     }
-    Ok((columns, units))
+    Ok(columns)
 }
 
 /// The known constants of `meta` (the dataset YAML `file`): those `scenario` uses, finite,
@@ -338,14 +410,21 @@ fn known_constants(
                 ),
             ));
         }
-        if !v.value.is_finite() {
+        let si = v.value.si(1.0, known_dim(k)).map_err(|e| {
+            FitError::input(
+                &file,
+                line_of(v),
+                format!("known `{k}`: {e}: write {}", known_what(k)),
+            )
+        })?;
+        if !si.is_finite() {
             return Err(FitError::input(
                 &file,
                 line_of(v),
                 format!("known `{k}` is not a finite number: write its value in SI"),
             ));
         }
-        known.insert(k.clone(), v.value);
+        known.insert(k.clone(), si);
     }
     for need in wanted {
         if !known.contains_key(*need) {
@@ -361,19 +440,16 @@ fn known_constants(
         }
     }
     for (k, what) in [("m", "TM mass, kg"), ("E0", "electrode voltage, V")] {
-        if let Some(v) = meta
-            .known
-            .as_ref()
-            .and_then(|m| m.value.get(k))
-            .filter(|v| v.value <= 0.0)
-        {
+        if let Some(v) = known.get(k).filter(|v| **v <= 0.0) {
+            let line = meta
+                .known
+                .as_ref()
+                .and_then(|m| m.value.get(k))
+                .map_or(known_line, line_of);
             return Err(FitError::input(
                 &file,
-                line_of(v),
-                format!(
-                    "known `{k}` ({what}) must be positive, not {}: write it in SI",
-                    v.value
-                ),
+                line,
+                format!("known `{k}` ({what}) must be positive, not {v}: write it in SI"),
             ));
         }
     }
@@ -406,36 +482,39 @@ fn noise_figures(
                 ),
             ));
         };
-        if !(v.value.is_finite() && v.value > 0.0) {
-            return Err(FitError::input(
+        let positive = || {
+            FitError::input(
                 &file,
                 line_of(v),
                 format!(
                     "noise of `{ch}` must be a positive number (1 sigma, in the channel's \
-                     unit {}), or leave it out to have it estimated",
+                     unit {} or with its own), or leave it out to have it estimated",
                     units[ch]
                 ),
-            ));
-        }
+            )
+        };
         // as the CSV's cells: the decimal written, its exponent shifted (exact)
-        noise.insert(
-            ch.clone(),
-            to_si(
-                &format!("{:e}", v.value),
-                v.value,
-                c.scale,
-                power_of_ten(c.scale),
-            ),
-        );
+        let si = v.value.si(c.scale, c.dim).map_err(|e| {
+            FitError::input(
+                &file,
+                line_of(v),
+                format!("noise of `{ch}`: {e}: write {}", channel_hint(ch)),
+            )
+        })?;
+        if !(si.is_finite() && si > 0.0) {
+            return Err(positive());
+        }
+        noise.insert(ch.clone(), si);
     }
     Ok(noise)
 }
 
-/// The time column's scale to seconds (`time_unit`, seconds when absent).
-fn time_scale(file: &str, meta: &Meta) -> Result<f64, FitError> {
+/// The time column's unit as written and its scale to seconds (`time_unit`; `None` when absent:
+/// the header's unit, else seconds).
+fn time_unit(file: &str, meta: &Meta) -> Result<Option<(String, f64)>, FitError> {
     let file = file.to_string();
     Ok(match &meta.time_unit {
-        None => 1.0,
+        None => None,
         Some(u) => {
             let unit = parse_unit(u.value.trim()).map_err(|e| {
                 FitError::input(
@@ -455,9 +534,34 @@ fn time_scale(file: &str, meta: &Meta) -> Result<f64, FitError> {
                     ),
                 ));
             }
-            unit.scale
+            Some((u.value.trim().to_string(), unit.scale))
         }
     })
+}
+
+/// The CSV's delimiter from the YAML's `delimiter:` (`None`: detected from the header).
+fn delimiter_of(file: &str, meta: &Meta) -> Result<Option<u8>, FitError> {
+    let Some(d) = &meta.delimiter else {
+        return Ok(None);
+    };
+    let b = match d.value.as_str() {
+        "," | "comma" => b',',
+        ";" | "semicolon" => b';',
+        "\t" | "\\t" | "tab" => b'\t',
+        "|" => b'|',
+        _ => {
+            return Err(FitError::input(
+                file,
+                line_of(d),
+                format!(
+                    "delimiter `{}` is not one geodesic reads: write `delimiter: \",\"`, \
+                     `\";\"`, `\"\\t\"` (a tab) or `\"|\"`, or leave it out to detect `;` and tabs",
+                    short(&d.value)
+                ),
+            ));
+        }
+    };
+    Ok(Some(b))
 }
 
 /// Refuses a table (of the CSV `csv`) too short to fit or without a sample after the trigger.
@@ -562,6 +666,18 @@ pub(crate) fn read_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T
     let file = path.display().to_string();
     let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
         .map_err(|e| FitError::input(&file, e.line(), format!("{}: check the path", e.cause())))?;
+    let text = plain_text(text);
+    if text
+        .lines()
+        .all(|l| l.trim().is_empty() || l.trim_start().starts_with('#'))
+    {
+        return Err(FitError::input(
+            &file,
+            1,
+            "the file is empty (no YAML key): a dataset YAML names at least `scenario:`, \
+             `data:` and `channels:` (docs/spec/interface.md)",
+        ));
+    }
     serde_saphyr::from_str(&text).map_err(|e| {
         let line = e.location().map_or(1, |l| (l.line() as usize).max(1));
         let msg = e.to_string();
@@ -604,13 +720,19 @@ fn strip_location(s: &str) -> String {
 }
 
 /// A channel read from a CSV column.
+#[derive(Clone)]
 struct Column {
     /// The channel.
     channel: String,
     /// Its CSV header.
     header: String,
-    /// SI per unit of the values as written.
+    /// SI per unit of the values as written (of `unit`; 1 until [`Header::resolve`] when the
+    /// YAML gives no unit).
     scale: f64,
+    /// The unit as the YAML writes it (`None`: none given, the header's is used).
+    unit: Option<String>,
+    /// The dimension the column must have, when the format fixes it.
+    dim: Option<Dim>,
     /// The YAML line that declared it.
     line: usize,
 }
@@ -681,14 +803,14 @@ impl Dataset {
                 ),
             )
         })?;
-        let (columns, units) = channel_columns(&file, &meta, scenario)?;
+        let columns = channel_columns(&file, &meta, scenario)?;
         let known = known_constants(&file, &meta, scenario)?;
-        let noise = noise_figures(&file, &meta, &columns, &units)?;
         let time_col = meta
             .time_column
             .as_ref()
             .map_or("t".to_string(), |s| s.value.clone());
-        let time_scale = time_scale(&file, &meta)?;
+        let time_unit = time_unit(&file, &meta)?;
+        let delimiter = delimiter_of(&file, &meta)?;
         let csv_path = path
             .parent()
             .unwrap_or(Path::new("."))
@@ -698,8 +820,14 @@ impl Dataset {
             time: Column {
                 channel: "time".into(),
                 header: time_col,
-                scale: time_scale,
-                line: meta.time_column.as_ref().map_or(0, line_of),
+                scale: time_unit.as_ref().map_or(1.0, |u| u.1),
+                unit: time_unit.map(|u| u.0),
+                dim: Some(Dim::TIME),
+                line: meta
+                    .time_unit
+                    .as_ref()
+                    .or(meta.time_column.as_ref())
+                    .map_or(0, line_of),
             },
             channels: columns,
             missing: if opts.strict {
@@ -708,10 +836,18 @@ impl Dataset {
                 Missing::Skip
             },
             comments: true,
+            header_units: true,
+            delimiter,
             yaml: file.clone(),
             data_line: line_of(&meta.data),
         };
         let mut table = read_table(&csv_path, &spec)?;
+        let units: BTreeMap<String, String> = table
+            .columns
+            .iter()
+            .map(|c| (c.channel.clone(), c.unit.clone().unwrap_or_default()))
+            .collect();
+        let noise = noise_figures(&file, &meta, &table.columns, &units)?;
         check_samples(&csv, &table)?;
         // wild samples: excluded, or refused under --strict
         exclude_wild(&mut table, &spec, &noise, opts.strict)?;
@@ -759,9 +895,18 @@ impl Dataset {
 
 fn known_what(k: &str) -> &'static str {
     match k {
-        "m" => "the TM mock-up mass in kg, e.g. `m: 0.089`",
-        "E0" => "the initial electrode voltage in V, e.g. `E0: 120`",
+        "m" => "the TM mock-up mass in kg, e.g. `m: 0.089` or `m: 89 g`",
+        "E0" => "the initial electrode voltage in V, e.g. `E0: 120` or `E0: 120 V`",
         _ => "in SI",
+    }
+}
+
+/// The dimension of a known constant, if the format fixes it.
+fn known_dim(k: &str) -> Option<Dim> {
+    match k {
+        "m" => Some(Dim::MASS),
+        "E0" => Some(Dim::VOLTAGE),
+        _ => None,
     }
 }
 
@@ -798,6 +943,8 @@ pub(crate) fn read_csv_columns(
             channel: "time".into(),
             header: time_col.to_string(),
             scale: 1.0,
+            unit: None,
+            dim: None,
             line: 0,
         },
         channels: channels
@@ -806,11 +953,15 @@ pub(crate) fn read_csv_columns(
                 channel: c.clone(),
                 header: c.clone(),
                 scale: 1.0,
+                unit: None,
+                dim: None,
                 line: 0,
             })
             .collect(),
         missing: Missing::Refuse,
         comments: false,
+        header_units: false,
+        delimiter: Some(b','),
         yaml: String::new(),
         data_line: 0,
     };
@@ -833,6 +984,11 @@ struct TableSpec {
     missing: Missing,
     /// `#` lines are comments.
     comments: bool,
+    /// A unit in a column's header (`Time [ms]`, `x (um)`) is used when the YAML gives none
+    /// and checked against the YAML's.
+    header_units: bool,
+    /// The delimiter (`None`: `,`, or `;` or a tab when the header has no comma, with a note).
+    delimiter: Option<u8>,
     /// The YAML that names the columns (empty: none), for messages.
     yaml: String,
     /// Its `data:` line.
@@ -842,18 +998,43 @@ struct TableSpec {
 struct Table {
     t: Vec<f64>,
     channels: BTreeMap<String, Vec<f64>>,
+    /// The channels' columns with their units resolved ([`Header::resolve`]).
+    columns: Vec<Column>,
     rows: Rows,
 }
 
 /// Reads a CSV by its [`TableSpec`]: values in SI, checked.
 fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
     let file = path.display().to_string();
-    let text = read_csv_text(path, spec, &file)?;
+    let text = plain_text(read_csv_text(path, spec, &file)?);
+    // the header's line: the first that is neither empty nor a comment
+    let is_comment = |l: &str| spec.comments && l.starts_with('#');
+    let Some(header_at) = text
+        .lines()
+        .position(|l| !(l.trim().is_empty() || is_comment(l)))
+    else {
+        return Err(FitError::input(
+            &file,
+            1,
+            if text.trim().is_empty() {
+                "the file is empty: a data file starts with a header line naming its columns, \
+                 then one row per sample"
+                    .to_string()
+            } else {
+                "the file has only comment lines and no header: the first line that is not a \
+                 `#` comment names the columns"
+                    .to_string()
+            },
+        ));
+    };
+    let header_text = text.lines().nth(header_at).unwrap_or("");
+    let (delimiter, note) = detect_delimiter(spec, header_text, &file, header_at + 1);
     let body = uncommented(&text, spec.comments);
     let blank: Vec<bool> = body.lines().map(|l| l.trim().is_empty()).collect();
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(true)
         .flexible(true)
+        .delimiter(delimiter)
         .trim(csv::Trim::All)
         .from_reader(body.as_bytes());
     let headers = rdr
@@ -861,7 +1042,7 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
         .map_err(|e| {
             FitError::input(
                 &file,
-                1,
+                header_at + 1,
                 format!(
                     "bad header: {}: the first line that is not a `#` comment names the columns",
                     short(&e.to_string())
@@ -871,14 +1052,11 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
         .clone();
     let header = Header {
         names: headers.iter().collect(),
-        // the header's line: the first that is neither empty nor a comment
-        line: text
-            .lines()
-            .position(|l| !(l.trim().is_empty() || (spec.comments && l.starts_with('#'))))
-            .map_or(1, |i| i + 1),
+        line: header_at + 1,
         text: &text,
         file: &file,
         spec,
+        delimiter,
     };
     let it = header.index(&spec.time)?;
     let idx: Vec<usize> = spec
@@ -886,7 +1064,11 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
         .iter()
         .map(|c| header.index(c))
         .collect::<Result<_, _>>()?;
-    let mut reading = Reading::new(spec, &file);
+    let resolved = header.resolve(it, &idx)?;
+    let mut reading = Reading::new(&resolved, &file);
+    if let Some(n) = note {
+        reading.rows.warnings.push(n);
+    }
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
             FitError::input(
@@ -901,6 +1083,53 @@ fn read_table(path: &Path, spec: &TableSpec) -> Result<Table, FitError> {
         reading.record(&rec, record_line(rec.position(), &blank), it, &idx)?;
     }
     Ok(reading.finish(&text))
+}
+
+/// A file's text as a program reads it: without the UTF-8 byte-order mark spreadsheet
+/// programs write first, with `\n` line ends (a CRLF file's line numbers are those an editor
+/// shows).
+fn plain_text(text: String) -> String {
+    let t = text.strip_prefix('\u{FEFF}').unwrap_or(&text);
+    if t.contains('\r') {
+        t.replace("\r\n", "\n")
+    } else if t.len() == text.len() {
+        text
+    } else {
+        t.to_string()
+    }
+}
+
+/// The delimiter of a CSV whose header line (line `line` of `file`) is `header`: the YAML's,
+/// else `,`, or `;` or a tab when the header has no comma but one of them, with a note saying
+/// so.
+fn detect_delimiter(
+    spec: &TableSpec,
+    header: &str,
+    file: &str,
+    line: usize,
+) -> (u8, Option<String>) {
+    if let Some(d) = spec.delimiter {
+        return (d, None);
+    }
+    let found = if header.contains(',') {
+        None
+    } else if header.contains(';') {
+        Some((b';', "`;`", "\";\""))
+    } else if header.contains('\t') {
+        Some((b'\t', "tabs", "\"\\t\""))
+    } else {
+        None
+    };
+    match found {
+        None => (b',', None),
+        Some((d, what, yaml)) => (
+            d,
+            Some(format!(
+                "{file}:{line}: note: the header has no comma, its columns are separated by \
+                 {what}: read so; write `delimiter: {yaml}` in the dataset YAML to say it"
+            )),
+        ),
+    }
 }
 
 /// The CSV's text, a read error naming the file (or the YAML's `data:` line that names it).
@@ -961,20 +1190,75 @@ struct Header<'a> {
     text: &'a str,
     file: &'a str,
     spec: &'a TableSpec,
+    /// The delimiter the header was split with.
+    delimiter: u8,
+}
+
+/// The name and unit of a header that ends in a unit in brackets or parentheses (`Time [ms]`,
+/// `x (um)`, `tip [nm]`): `(name, unit text, unit)`; `None` when it has none or the bracket
+/// holds no unit (`x (filtered)`).
+fn header_unit(h: &str) -> Option<(&str, &str, geodesic_core::units::Unit)> {
+    let h = h.trim();
+    let close = h.chars().last()?;
+    let open = match close {
+        ']' => '[',
+        ')' => '(',
+        _ => return None,
+    };
+    let at = h.rfind(open)?;
+    let inside = h[at + 1..h.len() - 1].trim();
+    let unit = parse_unit(inside).ok()?;
+    Some((h[..at].trim(), inside, unit))
 }
 
 impl Header<'_> {
-    /// The index of column `c`, or an error that says how to name it.
+    /// The index of column `c`: the header named so, else the one whose name before its unit
+    /// is (`t` finds `t [ms]`); or an error that says how to name it.
     fn index(&self, c: &Column) -> Result<usize, FitError> {
         let (names, spec) = (&self.names, self.spec);
-        names.iter().position(|h| *h == c.header).ok_or_else(|| {
+        let by_name = || {
+            spec.header_units
+                .then(|| {
+                    names
+                        .iter()
+                        .position(|h| header_unit(h).is_some_and(|(n, _, _)| n == c.header))
+                })
+                .flatten()
+        };
+        let found = names.iter().position(|h| *h == c.header).or_else(by_name);
+        found.ok_or_else(|| {
             let mut fix = match nearest(&c.header, names.iter().copied()) {
                 Some(n) => format!("did you mean `{n}`? "),
                 None => String::new(),
             };
-            if names.len() == 1 && names[0].contains([';', '\t']) {
-                fix += "the columns are separated by `;` or tabs: geodesic reads comma-separated \
-                        values; ";
+            let used = char::from(self.delimiter);
+            if let Some(other) = [',', ';', '\t', '|']
+                .into_iter()
+                .find(|d| *d != used && names.len() == 1 && names[0].contains(*d))
+            {
+                let (seen, yaml) = match other {
+                    '\t' => ("tabs".to_string(), "\"\\t\"".to_string()),
+                    d => (format!("`{d}`"), format!("\"{d}\"")),
+                };
+                return FitError::input(
+                    self.file,
+                    self.line,
+                    format!(
+                        "the header is one column ({}): its names are separated by {seen}, \
+                         not `{}`: write `delimiter: {yaml}` in the dataset YAML{}",
+                        geodesic_core::text::clip(names[0], 80),
+                        if used == '\t' {
+                            "\\t".to_string()
+                        } else {
+                            used.to_string()
+                        },
+                        if spec.delimiter.is_some() {
+                            " (or remove `delimiter:` to detect it)"
+                        } else {
+                            ""
+                        }
+                    ),
+                );
             }
             if spec.comments
                 && self
@@ -986,8 +1270,15 @@ impl Header<'_> {
             {
                 fix += "the header seems to be in a `#` comment line: remove its `#`; ";
             }
+            // a time column the YAML does not name (`Time [ms]` for the default `t`)
+            let time_like = names.iter().find(|h| {
+                let name = header_unit(h).map_or(h.trim(), |(n, _, _)| n);
+                matches!(name.to_lowercase().as_str(), "t" | "time")
+            });
             fix += &if spec.yaml.is_empty() {
                 "rename the column".to_string()
+            } else if let (true, Some(h)) = (c.channel == "time", time_like) {
+                format!("the time column seems to be `{h}`: set `time_column: \"{h}\"`")
             } else if c.channel == "time" {
                 "set `time_column:` to the time column's header".to_string()
             } else {
@@ -1006,6 +1297,113 @@ impl Header<'_> {
                 ),
             )
         })
+    }
+
+    /// The spec with the unit of each column (the time at header index `it`, the channels at
+    /// `idx`) settled: the YAML's, the header's when the YAML gives none (a contradiction
+    /// between them refused naming both), seconds for a time column without either; a channel
+    /// without either is refused.
+    fn resolve(&self, it: usize, idx: &[usize]) -> Result<TableSpec, FitError> {
+        let spec = self.spec;
+        let mut out = TableSpec {
+            time: self.resolve_column(&spec.time, self.names[it])?,
+            channels: Vec::new(),
+            missing: spec.missing,
+            comments: spec.comments,
+            header_units: spec.header_units,
+            delimiter: spec.delimiter,
+            yaml: spec.yaml.clone(),
+            data_line: spec.data_line,
+        };
+        for (c, &i) in spec.channels.iter().zip(idx) {
+            out.channels.push(self.resolve_column(c, self.names[i])?);
+        }
+        Ok(out)
+    }
+
+    /// Column `c` (headed `h`) with its unit settled ([`Header::resolve`]).
+    fn resolve_column(&self, c: &Column, h: &str) -> Result<Column, FitError> {
+        let spec = self.spec;
+        let from_header = if spec.header_units {
+            header_unit(h)
+        } else {
+            None
+        };
+        let yaml_at = || {
+            if c.line > 0 {
+                format!("{}:{}", spec.yaml, c.line)
+            } else {
+                spec.yaml.clone()
+            }
+        };
+        let what = if c.channel == "time" {
+            "`time_unit`".to_string()
+        } else {
+            format!("channel `{}`'s unit", c.channel)
+        };
+        let mut out = c.clone();
+        match (&c.unit, from_header) {
+            (Some(y), Some((_, hu_text, hu))) => {
+                let same = hu.dim == parse_unit(y).map_or(hu.dim, |u| u.dim)
+                    && ((hu.scale - c.scale) / c.scale).abs() < 1e-12;
+                if !same {
+                    return Err(FitError::input(
+                        self.file,
+                        self.line,
+                        format!(
+                            "column `{}` is in `{}` by its header, but the YAML ({}) gives \
+                             {what} `{}`: make them agree, or remove the YAML's unit to use \
+                             the header's",
+                            short(h),
+                            short(hu_text),
+                            yaml_at(),
+                            short(y)
+                        ),
+                    ));
+                }
+            }
+            (None, Some((_, hu_text, hu))) => {
+                if let Some(d) = c.dim.filter(|d| *d != hu.dim) {
+                    return Err(FitError::input(
+                        self.file,
+                        self.line,
+                        format!(
+                            "column `{}` is in `{}` by its header, of dimension {}, but {} is \
+                             a {}: correct the header, or give the unit in the YAML ({})",
+                            short(h),
+                            short(hu_text),
+                            hu.dim,
+                            if c.channel == "time" {
+                                "the time".to_string()
+                            } else {
+                                format!("channel `{}`", c.channel)
+                            },
+                            d,
+                            yaml_at()
+                        ),
+                    ));
+                }
+                out.scale = hu.scale;
+                out.unit = Some(hu_text.to_string());
+            }
+            (Some(_), None) => {}
+            (None, None) if c.channel == "time" || !spec.header_units => {}
+            (None, None) => {
+                return Err(FitError::input(
+                    &spec.yaml,
+                    c.line,
+                    format!(
+                        "channel `{}` has no unit, in the YAML or in its CSV header `{}`: add \
+                         `unit:` ({}), or write it in the header (`{} [nm]`)",
+                        c.channel,
+                        short(h),
+                        channel_hint(&c.channel),
+                        c.channel
+                    ),
+                ));
+            }
+        }
+        Ok(out)
     }
 }
 
@@ -1154,7 +1552,15 @@ impl<'a> Reading<'a> {
             FitError::input(
                 self.file,
                 line,
-                if s.starts_with('"') {
+                if s.contains(',') && s.replace(',', ".").parse::<f64>().is_ok() {
+                    format!(
+                        "`{}` in column `{}` has a decimal comma: export the record with a `.` \
+                         decimal point (`{}`)",
+                        short(s),
+                        c.header,
+                        short(&s.replace(',', "."))
+                    )
+                } else if s.starts_with('"') {
                     format!(
                         "`{}` in column `{}` is not a number (unbalanced quote?): write a \
                          plain or scientific number",
@@ -1204,6 +1610,7 @@ impl<'a> Reading<'a> {
             .count();
         Table {
             t: self.t,
+            columns: self.spec.channels.clone(),
             channels: self
                 .spec
                 .channels
@@ -1418,5 +1825,7 @@ pub fn fmt_sig(v: f64) -> String {
     }
 }
 
+#[cfg(test)]
+mod daq_tests;
 #[cfg(test)]
 mod tests;

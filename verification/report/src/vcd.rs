@@ -55,6 +55,14 @@ pub struct VcdLine {
     pub limit: String,
     /// Margin (`73.4 %`, `—`).
     pub margin: String,
+    /// The value as a number in [`VcdLine::unit`] (`None`: none, or not finite).
+    pub value_number: Option<f64>,
+    /// The limit as a number in [`VcdLine::unit`] (`None`: a qualitative requirement).
+    pub limit_number: Option<f64>,
+    /// The unit of the value and limit (`um/s`; empty for a pure number).
+    pub unit: String,
+    /// The margin as a fraction of the limit (0.734 for 73.4 %; `None` when none).
+    pub margin_fraction: Option<f64>,
     /// What the verdict rests on: model, flow-down, accepted (empty when not verified).
     pub basis: &'static str,
     /// The sample behind a sampled value: the quantile or probability, N, the bounds at their
@@ -315,6 +323,10 @@ fn line(rep: &Report, r: &Row, date: &str) -> VcdLine {
         value: fmt_value(r),
         limit: fmt_limit(r),
         margin: fmt_margin(r.margin),
+        value_number: r.value.filter(|v| v.is_finite()),
+        limit_number: r.limit.filter(|v| v.is_finite()),
+        unit: r.unit.clone(),
+        margin_fraction: r.margin.filter(|v| v.is_finite()),
         basis: r.basis.map_or("", |b| b.as_str()),
         sampling: crate::sampling_text(r).unwrap_or_default(),
         compliance: compliance(r),
@@ -478,8 +490,13 @@ fn csv_field(s: &str) -> String {
     }
 }
 
-/// The column names of the CSV and XLSX exports, in order.
-pub const COLUMNS: [&str; 27] = [
+/// The column names of the CSV and XLSX exports, in order. `value` and `limit` are numbers in
+/// `unit`, `margin` a number, the fraction of the limit (0.734 for 73.4 %); each empty when
+/// there is none; `value_text`, `limit_text` and `margin_text` are the same as the reports write
+/// them (`1.329 um/s`, `<= 5 um/s`, `73.4 %`). `evidence_references` are the documents and tests
+/// the evidence is in (not `references`: Doorstop's import takes a column of that name for its
+/// own file references).
+pub const COLUMNS: [&str; 31] = [
     "id",
     "title",
     "text",
@@ -493,10 +510,14 @@ pub const COLUMNS: [&str; 27] = [
     "section",
     "evidence",
     "evidence_detail",
-    "references",
+    "evidence_references",
     "value",
     "limit",
+    "unit",
     "margin",
+    "value_text",
+    "limit_text",
+    "margin_text",
     "basis",
     "sampling",
     "compliance",
@@ -526,6 +547,10 @@ pub fn cells(rep: &Report, l: &VcdLine) -> Vec<String> {
         l.evidence.clone(),
         l.detail.join("\n"),
         l.references.join("; "),
+        number(l.value_number),
+        number(l.limit_number),
+        l.unit.clone(),
+        number(l.margin_fraction),
         l.value.clone(),
         l.limit.clone(),
         l.margin.clone(),
@@ -542,10 +567,21 @@ pub fn cells(rep: &Report, l: &VcdLine) -> Vec<String> {
     ]
 }
 
-/// The VCD as CSV (RFC 4180 quoting), one header row; the run's identification is in the
+/// A number cell: the shortest text that reads back to the same number, empty for none.
+fn number(v: Option<f64>) -> String {
+    match v {
+        None => String::new(),
+        Some(v) if v == 0.0 || (1e-4..1e15).contains(&v.abs()) => format!("{v}"),
+        Some(v) => format!("{v:e}"),
+    }
+}
+
+/// The VCD as CSV (RFC 4180 quoting), UTF-8 with a byte-order mark (so that spreadsheet
+/// programs do not read `±` as `Â±`), one header row; the run's identification is in the
 /// `document` column and in the other exports' headers.
 pub fn csv(rep: &Report) -> String {
-    let mut o = COLUMNS.join(",");
+    let mut o = String::from("\u{FEFF}");
+    o.push_str(&COLUMNS.join(","));
     o.push('\n');
     for l in lines(rep) {
         let row: Vec<String> = cells(rep, &l).iter().map(|s| csv_field(s)).collect();
@@ -691,9 +727,47 @@ mod tests {
         );
         assert!(b.reverify && b.reverify_reason == "margin moved");
         let csv = csv(&r);
-        assert_eq!(csv.lines().next().unwrap(), COLUMNS.join(","));
+        assert_eq!(
+            csv.lines().next().unwrap(),
+            format!("\u{FEFF}{}", COLUMNS.join(","))
+        );
         assert_eq!(csv.lines().count(), 3);
         let md = markdown(&r);
         assert!(md.contains("document: DOC-1 issue 2: T") && !md.contains("`<="));
+    }
+
+    /// What a spreadsheet program or pandas reads: value, limit and margin as numbers that read
+    /// back to the matrix's, the unit beside them, the text as the reports write it.
+    #[test]
+    fn the_csv_has_numbers_a_unit_and_a_byte_order_mark() {
+        let mut r = report(1.3, 6.0);
+        r.matrix.requirements[1].value = Some(1.234_567_890_123e-9);
+        let text = csv(&r);
+        let body = text
+            .strip_prefix('\u{FEFF}')
+            .expect("a byte-order mark first");
+        let mut rdr = ::csv::Reader::from_reader(body.as_bytes());
+        let header: Vec<String> = rdr.headers().unwrap().iter().map(String::from).collect();
+        assert_eq!(header, COLUMNS.map(String::from).to_vec());
+        let col = |name: &str| header.iter().position(|c| c == name).unwrap();
+        let rows: Vec<::csv::StringRecord> = rdr.records().map(|r| r.unwrap()).collect();
+        assert_eq!(rows.len(), 2);
+        for (cells, m) in rows.iter().zip(&r.matrix.requirements) {
+            let num = |name: &str| cells[col(name)].parse::<f64>().unwrap();
+            assert_eq!(num("value"), m.value.unwrap());
+            assert_eq!(num("limit"), m.limit.unwrap());
+            assert_eq!(num("margin"), m.margin.unwrap());
+            assert_eq!(&cells[col("unit")], "um/s");
+            assert_eq!(cells[col("value_text")], *crate::fmt_value(m));
+            assert_eq!(cells[col("margin_text")], *crate::fmt_margin(m.margin));
+        }
+        assert!(body.contains(",1.234567890123e-9,5,um/s,"), "{body}");
+        // none: an empty cell, not a dash
+        r.matrix.requirements[0].value = None;
+        r.matrix.requirements[0].margin = None;
+        let l = &lines(&r)[0];
+        let c = cells(&r, l);
+        assert_eq!(c[COLUMNS.iter().position(|n| *n == "value").unwrap()], "");
+        assert_eq!(c[COLUMNS.iter().position(|n| *n == "margin").unwrap()], "");
     }
 }

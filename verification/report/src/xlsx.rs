@@ -5,10 +5,12 @@
 //! `Document` with the document identification and the run (date, tool version, commit,
 //! hashes, command line).
 //!
-//! `value` and `margin` are number cells, so that a spreadsheet sorts and filters them: the value
-//! in the requirement's unit with the unit in its number format (`1.329 um/s` shown, 1.329
+//! `value`, `limit` and `margin` are number cells, so that a spreadsheet (and pandas, openpyxl)
+//! sorts, filters and computes with them: the value and the limit in the requirement's unit,
+//! which is in the `unit` column and also in their number format (`1.329 um/s` shown, 1.329
 //! stored), the margin as a fraction in a percentage format (`73.4%` shown, 0.734 stored); a
-//! row with none has an empty cell. Every other column is text, as in `vcd.csv`.
+//! row with none has an empty cell. Every other column is text, as in `vcd.csv`
+//! (`value_text`, `limit_text`, `margin_text` as the reports write them).
 //!
 //! Written with `rust_xlsxwriter` (pure Rust, no system library, default features off). The
 //! workbook's creation date is the run's date, so two runs of the same inputs differ in the
@@ -95,22 +97,19 @@ pub fn render(rep: &Report) -> Result<Vec<u8>, XlsxError> {
                 .clone()
                 .set_background_color(Color::RGB(status_color(&l.compliance)))
                 .set_bold();
-            // `lines` has one line per matrix row, in order
-            let r = rep.matrix.requirements.iter().find(|r| r.id == l.id);
             for (c, (name, v)) in COLUMNS.iter().zip(cells(rep, l)).enumerate() {
                 let c = c as u16;
-                match (*name, r) {
-                    ("value", Some(r)) => match r.value.filter(|v| v.is_finite()) {
-                        Some(x) => {
-                            ws.write_number_with_format(row, c, x, &unit_format(&cell, &r.unit))?
-                        }
-                        None => ws.write_blank(row, c, &cell)?,
-                    },
-                    ("margin", Some(r)) => match r.margin.filter(|v| v.is_finite()) {
-                        Some(m) => ws.write_number_with_format(row, c, m, &percent)?,
-                        None => ws.write_blank(row, c, &cell)?,
-                    },
-                    _ => {
+                let unit = unit_format(&cell, &l.unit);
+                let num = match *name {
+                    "value" => Some((l.value_number, &unit)),
+                    "limit" => Some((l.limit_number, &unit)),
+                    "margin" => Some((l.margin_fraction, &percent)),
+                    _ => None,
+                };
+                match num {
+                    Some((Some(x), f)) => ws.write_number_with_format(row, c, x, f)?,
+                    Some((None, _)) => ws.write_blank(row, c, &cell)?,
+                    None => {
                         let f = if matches!(*name, "id" | "compliance" | "close_out") {
                             &colored
                         } else {
@@ -184,17 +183,23 @@ mod tests {
         let col = |name: &str| COLUMNS.iter().position(|c| *c == name).unwrap();
         for (got, want) in rows[1..].iter().zip(&expect) {
             for (c, (g, w)) in got.iter().zip(want).enumerate() {
-                if c != col("value") && c != col("margin") {
+                if ![col("value"), col("limit"), col("margin")].contains(&c) {
                     assert_eq!(g, w, "every text cell of every row reads back");
                 }
             }
         }
-        // value and margin are numbers: the value in the requirement's unit, the margin a
-        // fraction (shown as a percentage)
+        // value, limit and margin are numbers: the value and limit in the requirement's unit
+        // (its own column), the margin a fraction (shown as a percentage)
         for (i, row) in vcd.rows().skip(1).enumerate() {
             let m = &r.matrix.requirements[i];
             assert_eq!(row[col("value")], Data::Float(m.value.unwrap()));
+            assert_eq!(row[col("limit")], Data::Float(m.limit.unwrap()));
             assert_eq!(row[col("margin")], Data::Float(m.margin.unwrap()));
+            assert_eq!(row[col("unit")], Data::String("um/s".into()));
+            assert_eq!(
+                row[col("value_text")],
+                Data::String(super::super::fmt_value(m))
+            );
         }
         assert!(((r.matrix.requirements[0].value.unwrap()) - 1.3).abs() < 1e-12);
         assert!((r.matrix.requirements[1].margin.unwrap() + 0.2).abs() < 1e-12);

@@ -27,10 +27,12 @@ pub struct ExportOptions<'a> {
 }
 
 #[derive(Clone, Copy)]
+/// An attribute's datatype. Numbers are STRING values (the shortest decimal that reads back to
+/// the same double, `7.5`, `1e-7`): StrictDoc (0.30) reads no REAL attribute, and every tool
+/// reads a string (docs/exchange.md).
 enum Kind {
     String,
     Xhtml,
-    Real,
     Enum(&'static str),
 }
 
@@ -39,7 +41,6 @@ impl Kind {
         match self {
             Kind::String => "STRING",
             Kind::Xhtml => "XHTML",
-            Kind::Real => "REAL",
             Kind::Enum(_) => "ENUMERATION",
         }
     }
@@ -48,7 +49,6 @@ impl Kind {
         match self {
             Kind::String => DT_STRING,
             Kind::Xhtml => DT_XHTML,
-            Kind::Real => DT_REAL,
             Kind::Enum(dt) => dt,
         }
     }
@@ -56,7 +56,6 @@ impl Kind {
 
 const DT_STRING: &str = "geodesic-dt-string";
 const DT_XHTML: &str = "geodesic-dt-xhtml";
-const DT_REAL: &str = "geodesic-dt-real";
 const DT_METHOD: &str = "geodesic-dt-method";
 const DT_STATUS: &str = "geodesic-dt-status";
 const DT_BASIS: &str = "geodesic-dt-basis";
@@ -143,7 +142,7 @@ const REQ_ATTRS: &[Attr] = &[
     attr(
         "geodesic-ad-req-limit-value",
         "geodesic.LimitValue",
-        Kind::Real,
+        Kind::String,
         "the limit's number in the unit of geodesic.Unit",
     ),
     attr(
@@ -236,13 +235,13 @@ const STATUS_ATTRS: &[Attr] = &[
     attr(
         "geodesic-ad-req-value",
         "geodesic.Value",
-        Kind::Real,
+        Kind::String,
         "verified value in the unit of geodesic.Unit (a sampled value: the deciding confidence bound)",
     ),
     attr(
         "geodesic-ad-req-margin",
         "geodesic.Margin",
-        Kind::Real,
+        Kind::String,
         "margin as a fraction of the limit (0.25 = 25 %; negative: violated)",
     ),
     attr(
@@ -268,7 +267,7 @@ const STATUS_ATTRS: &[Attr] = &[
 const REL_ATTRS: &[Attr] = &[attr(
     "geodesic-ad-rel-margin",
     "geodesic.DerivationMargin",
-    Kind::Real,
+    Kind::String,
     "child limit = margin x parent limit",
 )];
 
@@ -336,7 +335,12 @@ fn write_values(w: &mut Writer, attrs: &[Attr], vals: &[(&str, Val)]) {
     }
     w.open("VALUES", &[]);
     for a in attrs {
-        for (_, v) in vals.iter().filter(|(id, _)| *id == a.id) {
+        // no empty attribute value (StrictDoc refuses one): an empty string is left out, as the
+        // import reads it (a dimensionless limit has no geodesic.Unit)
+        for (_, v) in vals
+            .iter()
+            .filter(|(id, v)| *id == a.id && !matches!(v, Val::Str(s) if s.is_empty()))
+        {
             let tag = format!("ATTRIBUTE-VALUE-{}", a.kind.def());
             let def_ref = format!("ATTRIBUTE-DEFINITION-{}-REF", a.kind.def());
             match v {
@@ -550,7 +554,7 @@ pub fn export(reqs: &Requirements, opts: &ExportOptions) -> String {
     out
 }
 
-/// The datatypes: string, XHTML, real, the method's enumeration, and with a status the
+/// The datatypes: string, XHTML, the method's enumeration, and with a status the
 /// enumerations of status, basis and close-out.
 fn write_datatypes(b: &mut Writer, with_status: bool) {
     b.open("DATATYPES", &[]);
@@ -569,17 +573,6 @@ fn write_datatypes(b: &mut Writer, with_status: bool) {
             ("IDENTIFIER", DT_XHTML),
             ("LAST-CHANGE", LAST_CHANGE),
             ("LONG-NAME", "Rich text"),
-        ],
-    );
-    b.empty(
-        "DATATYPE-DEFINITION-REAL",
-        &[
-            ("ACCURACY", "17"),
-            ("IDENTIFIER", DT_REAL),
-            ("LAST-CHANGE", LAST_CHANGE),
-            ("LONG-NAME", "Real"),
-            ("MAX", "1.7976931348623157e308"),
-            ("MIN", "-1.7976931348623157e308"),
         ],
     );
     write_enum(b, DT_METHOD, "Verification method", METHODS);

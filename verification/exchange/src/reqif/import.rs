@@ -679,6 +679,12 @@ fn sort_objects(
             heading_objects.push((*i, place.clone()));
             continue;
         }
+        // StrictDoc's free text between requirements (`[TEXT]`, type `TEXT`): not a
+        // requirement, counted with the objects without a requirement text
+        if o.type_name.trim().eq_ignore_ascii_case("text") {
+            other_objects += 1;
+            continue;
+        }
         match candidate(*i, place, o, opts, &mut auto_used, model) {
             Some(c) => cands.push(c),
             None => other_objects += 1,
@@ -914,11 +920,54 @@ impl Fields<'_> {
                 (l, None, None)
             }
         };
+        if let Some(q) = si {
+            self.check_limit_value(&text, q, model);
+        }
         ReadLimit {
             text,
             si,
             dim,
             qualitative: None,
+        }
+    }
+
+    /// A `geodesic.LimitValue` (in the unit of `geodesic.Unit`) that contradicts the limit as
+    /// written (`limit`, `q` in SI), as after a tool edited one and not the other: said; the
+    /// limit as written is taken.
+    fn check_limit_value(&self, limit: &str, q: Quantity, model: &mut Model) {
+        let Some(v) = self.o.get_any(&["geodesic.LimitValue"]) else {
+            return;
+        };
+        let unit = self
+            .o
+            .get_any(&["geodesic.Unit"])
+            .map_or(String::new(), |u| u.text.trim().to_string());
+        let value = v.text.trim();
+        // a unit geodesic cannot compare (a spectral density's `Hz^-1/2`) is not judged
+        let agrees = match lenient_number(value) {
+            None => false,
+            Some(x) => match geodesic_core::units::parse_quantity(&format!("{x:e} {unit}")) {
+                Ok((s, _)) if s.dim == q.dim => {
+                    (s.value - q.value).abs() <= 1e-9 * q.value.abs().max(s.value.abs())
+                }
+                _ => true,
+            },
+        };
+        if !agrees {
+            model.problems.warn(
+                self.o.line,
+                format!(
+                    "geodesic.LimitValue `{}{}` contradicts geodesic.Limit `{}`: the limit as \
+                     written is taken; correct or remove geodesic.LimitValue",
+                    clip(value, 40),
+                    if unit.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" {}", clip(&unit, 20))
+                    },
+                    clip(limit, 80)
+                ),
+            );
         }
     }
 
@@ -1326,7 +1375,25 @@ fn link(
             },
             None => match (pending[si].limit_si, pending[ti].limit_si) {
                 (Some(c), Some(p)) if c.dim == p.dim && p.value != 0.0 => {
-                    Some(c.value / p.value).filter(|m| m.is_finite())
+                    let m = Some(c.value / p.value).filter(|m| m.is_finite());
+                    // geodesic's own relation without its margin: a tool kept the link and
+                    // dropped the attribute (StrictDoc), and a limit edited there would move
+                    // the margin silently. Other tools' links carry no margin: the ratio of
+                    // the limits is their margin, as documented.
+                    let lost = norm(type_name) == norm("geodesic.DerivedFrom");
+                    if let Some(m) = m.filter(|_| lost) {
+                        model.problems.warn(
+                            line,
+                            format!(
+                                "relation '{type_name}' from {} to {target_id} has no \
+                                 geodesic.DerivationMargin: recomputed from the limits as {} \
+                                 (child limit / parent limit); check it against the flow-down",
+                                pending[si].req.id,
+                                geodesic_core::units::fmt_num_digits(m, 6)
+                            ),
+                        );
+                    }
+                    m
                 }
                 _ => None,
             },
@@ -1677,7 +1744,12 @@ fn assign_ids(pending: &mut [Pending], model: &mut Model) {
             continue;
         }
         let ident = p.ident.clone();
-        let base = to_req_id(&ident);
+        let base = match (&p.raw_id, generated_identifier(&ident)) {
+            // a tool that makes a new identifier on every export (StrictDoc's UUIDs): an ID
+            // from the content, the same on every export
+            (None, true) => content_id(&p.req.title, &p.req.text),
+            _ => to_req_id(&ident),
+        };
         let mut id = base.clone();
         let mut n = 2;
         while taken.contains(&id) {
@@ -1712,6 +1784,30 @@ fn assign_ids(pending: &mut [Pending], model: &mut Model) {
             },
         ));
     }
+}
+
+/// Whether a SPEC-OBJECT identifier is one StrictDoc generates anew on each export of a node
+/// without a UID: its node type and a random UUID (`REQUIREMENT-66d7a1a0-6c84-43d3-9ea9-
+/// aa8023764b4c`). Other tools' UUIDs (ProR, DOORS) stay with their object: they are kept.
+fn generated_identifier(ident: &str) -> bool {
+    let groups: Vec<&str> = ident.split('-').collect();
+    groups.len() == 6
+        && !groups[0].is_empty()
+        && groups[0]
+            .chars()
+            .all(|c| c.is_ascii_uppercase() || c == '_')
+        && groups[1..].iter().map(|g| g.len()).eq([8, 4, 4, 4, 12])
+        && groups[1..]
+            .iter()
+            .all(|g| g.chars().all(|c| c.is_ascii_hexdigit()))
+}
+
+/// An ID from a requirement's title and text: `REQ-` and the first 10 hexadecimal digits of
+/// their SHA-256 (the same on every export of the same requirement).
+fn content_id(title: &str, text: &str) -> String {
+    let h =
+        geodesic_util::hash::sha256_parts([("title", title.as_bytes()), ("text", text.as_bytes())]);
+    format!("REQ-{}", h[..10].to_ascii_uppercase())
 }
 
 /// A derivation the loader would refuse (a margin that is not positive, limits of other

@@ -327,12 +327,12 @@ fn every_refusal_names_file_line_and_the_fix() {
             "d.csv:2:",
             "remove its `#`",
         ),
-        // semicolons
+        // semicolons where the YAML says commas (without `delimiter:` they are detected)
         (
-            yaml.clone(),
+            yaml.replace("time_column: t\n", "time_column: t\ndelimiter: \",\"\n"),
             csv.replace(',', ";"),
             "d.csv:1:",
-            "comma-separated",
+            "delimiter: \";\"",
         ),
         // a time unit that is not a time
         (
