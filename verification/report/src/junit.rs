@@ -398,6 +398,8 @@ mod tests {
             result,
             assertions: vec![],
             cases: 1,
+            rejected: None,
+            source_asserts_limit: false,
         };
         {
             let a = &mut r.matrix.requirements[0];
