@@ -129,7 +129,8 @@ pub fn sampling_findings(t: &[f64]) -> Vec<Finding> {
             size: largest,
             unit: "s".into(),
             text: format!(
-                "{} gap{} in the time stamps (about {missing:.0} samples missing of {}; the                  largest {} s, {} steps of {} s)",
+                "{} gap{} in the time stamps (about {missing:.0} samples missing of {}; the \
+                 largest {} s, {} steps of {} s)",
                 gaps.len(),
                 if gaps.len() == 1 { "" } else { "s" },
                 t.len() as f64 + missing,
@@ -154,7 +155,8 @@ pub fn sampling_findings(t: &[f64]) -> Vec<Finding> {
             size: sd / h,
             unit: "1".into(),
             text: format!(
-                "irregular time stamps: their intervals scatter by {} % of the median step {} s                  (standard deviation {} s)",
+                "irregular time stamps: their intervals scatter by {} % of the median step {} s \
+                 (standard deviation {} s)",
                 fmt_sig(100.0 * sd / h),
                 fmt_sig(h),
                 fmt_sig(sd)
