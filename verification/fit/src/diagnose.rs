@@ -73,6 +73,18 @@ pub struct DiagnoseReport {
     /// (`crate::design`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub design: Option<crate::design::DesignAdvice>,
+    /// Samples set aside as wild before any decision ([`crate::screen`], issue 50); absent
+    /// when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set_aside: Vec<crate::record::SetAside>,
+    /// Each declared noise figure tested against the pre-trigger ([`crate::screen`]); absent
+    /// when none could be tested.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub noise_checks: Vec<crate::record::NoiseCheck>,
+    /// What the record shows of its own quality: gaps, irregular sampling, quantisation, heavy
+    /// tails, with their size ([`crate::record::Finding`]); absent when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub record_shows: Vec<crate::record::Finding>,
 }
 
 /// Compares BIC's verdict on the best candidate with the Laplace evidence's.
@@ -141,12 +153,19 @@ pub(crate) fn map_reporting<T: Sync, R: Send>(
 }
 
 /// Runs the diagnosis; returns the report and the baseline outcome (for plots and history).
+/// A record not yet screened is screened first against `effects` ([`crate::screen::screen`]);
+/// the outcome is then that of the screened record (screen it first, as the CLI does, to use
+/// the outcome with it).
 pub fn diagnose(
     prep: &Prepared,
     effects: &[&str],
     opts: &FitOptions,
 ) -> Result<(DiagnoseReport, FitOutcome), FitError> {
-    diagnose_with(prep, effects, opts, &mut |_| {})
+    if prep.screened {
+        return diagnose_with(prep, effects, opts, &mut |_| {});
+    }
+    let screened = crate::screen::screen(prep.clone(), effects, opts, &mut |_| {})?;
+    diagnose_with(&screened, effects, opts, &mut |_| {})
 }
 
 /// The model of `effects` with the effect `cand` added, its parameters at `base_p` (the values
@@ -337,9 +356,12 @@ pub fn diagnose_with(
             missing,
             delta_bic_threshold: DELTA_BIC_STRONG,
             explained,
-            explained_reason,
+            explained_reason: crate::screen::with_record_notes(&explained_reason, prep),
             evidence_note: evidence_note(candidates_best.as_ref()),
             design,
+            set_aside: prep.set_aside.clone(),
+            noise_checks: prep.noise_checks.clone(),
+            record_shows: prep.record_shows.clone(),
         },
         base,
     ))

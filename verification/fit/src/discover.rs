@@ -136,6 +136,18 @@ pub struct DiscoverReport {
     pub improves: Vec<Improvement>,
     /// Detection thresholds of the candidates not in the final model.
     pub thresholds: Vec<Threshold>,
+    /// Samples set aside as wild before any decision ([`crate::screen`], issue 50); absent
+    /// when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set_aside: Vec<crate::record::SetAside>,
+    /// Each declared noise figure tested against the pre-trigger ([`crate::screen`]); absent
+    /// when none could be tested.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub noise_checks: Vec<crate::record::NoiseCheck>,
+    /// What the record shows of its own quality: gaps, irregular sampling, quantisation, heavy
+    /// tails, with their size ([`crate::record::Finding`]); absent when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub record_shows: Vec<crate::record::Finding>,
 }
 
 /// Options of [`discover`].
@@ -206,24 +218,80 @@ pub fn progress_line(what: &str, elapsed_s: f64) -> String {
 
 /// Runs the loop (see the module documentation). Returns the report, the final outcome and
 /// every round's fit (in the ledger's order).
+///
+/// The record is screened for wild samples first ([`discover_screened`]); the outcomes returned
+/// are those of the screened record, whose samples are fewer when some were set aside (use
+/// [`discover_screened`], as the CLI does, to have that record with them).
 pub fn discover(
     prep: &Prepared,
     baseline: &[&str],
     opts: &DiscoverOptions,
-    mut progress: impl FnMut(&str),
+    progress: impl FnMut(&str),
 ) -> Result<(DiscoverReport, FitOutcome, Vec<FitOutcome>), FitError> {
+    let (_, report, last, all) = discover_screened(prep.clone(), baseline, opts, progress)?;
+    Ok((report, last, all))
+}
+
+/// [`discover`] on the record screened for wild samples (issue 50), returned with the report:
+/// the record is screened against `baseline` ([`crate::screen::screen`]) unless it already
+/// was; after the loop, the samples that the last model's residual shows wild (those the
+/// baseline's misfit hid: a spike in the ringing of a retraction the baseline does not
+/// describe) are set aside too and the loop run again on the cleaned record, once.
+pub fn discover_screened(
+    prep: Prepared,
+    baseline: &[&str],
+    opts: &DiscoverOptions,
+    mut progress: impl FnMut(&str),
+) -> Result<(Prepared, DiscoverReport, FitOutcome, Vec<FitOutcome>), FitError> {
     // every progress line with the time since the start (the plain lines of a CI log carry it)
     let t0 = std::time::Instant::now();
     let mut progress = |m: &str| progress(&progress_line(m, t0.elapsed().as_secs_f64()));
+    let prep = crate::screen::screen(prep, baseline, &opts.fit, &mut progress)?;
+    let again = {
+        let ledger = run_ledger(&prep, baseline, opts, &mut progress)?;
+        let last = ledger.fits.last().expect("round 0");
+        match crate::screen::again(&prep, &last.pred) {
+            None => {
+                let shows = crate::screen::shows_against(&prep, last);
+                let (mut report, last, all) = finish(ledger, &mut progress)?;
+                report.record_shows = shows;
+                return Ok((prep, report, last, all));
+            }
+            Some(cleaned) => cleaned,
+        }
+    };
+    progress("the last model's residual shows more wild samples: set aside, the loop again");
+    let ledger = run_ledger(&again, baseline, opts, &mut progress)?;
+    let shows = crate::screen::shows_against(&again, ledger.fits.last().expect("round 0"));
+    let (mut report, last, all) = finish(ledger, &mut progress)?;
+    report.record_shows = shows;
+    Ok((again, report, last, all))
+}
+
+/// The ledger of `prep` after its rounds.
+fn run_ledger<'a>(
+    prep: &'a Prepared,
+    baseline: &[&str],
+    opts: &DiscoverOptions,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Ledger<'a>, FitError> {
     let mut ledger = Ledger::new(prep, baseline, &opts.fit);
     for k in 0..=opts.max_rounds {
-        if !ledger.round(k, opts.max_rounds, &mut progress)? {
+        if !ledger.round(k, opts.max_rounds, progress)? {
             break;
         }
     }
+    Ok(ledger)
+}
+
+/// The verdict of a ledger and its report.
+fn finish(
+    mut ledger: Ledger<'_>,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(DiscoverReport, FitOutcome, Vec<FitOutcome>), FitError> {
     let lookahead_note = ledger.lookahead_verdict();
     let verdict = ledger.verdict(lookahead_note);
-    ledger.report(verdict, &mut progress)
+    ledger.report(verdict, progress)
 }
 
 /// The discovery loop's state from round to round ([`discover`]).
@@ -657,10 +725,13 @@ impl<'a> Ledger<'a> {
                 rounds: verdict.rounds,
                 final_fit,
                 explained,
-                reason: verdict.reason,
+                reason: crate::screen::with_record_notes(&verdict.reason, prep),
                 residual,
                 improves: if explained { Vec::new() } else { self.improves },
                 thresholds,
+                set_aside: prep.set_aside.clone(),
+                noise_checks: prep.noise_checks.clone(),
+                record_shows: prep.record_shows.clone(),
             },
             final_outcome,
             self.fits,

@@ -26,11 +26,16 @@ pub fn run(args: Args) -> CmdResult {
         ),
     );
     geodesic_fit::progress::set_hook(task.fit_hook());
-    let r = geodesic_fit::diagnose::diagnose(&prep, &effects, &opts)
+    // wild samples set aside before any decision (the same prepared record for the outputs)
+    let r = geodesic_fit::screen::screen(prep, &effects, &opts, &mut |_| {})
+        .and_then(|prep| {
+            let r = geodesic_fit::diagnose::diagnose(&prep, &effects, &opts)?;
+            Ok((prep, r))
+        })
         .map_err(|e| CliError::bad(e.to_string()));
     geodesic_fit::progress::set_hook(None);
     task.finish();
-    let (mut report, base) = r?;
+    let (prep, (mut report, base)) = r?;
     let mut fr: FitReport = report.fit.clone();
     geodesic_fit::outliers::flag_user_bounds(&mut fr, &opts.bounds);
     outputs(&prep, &base.pred, &mut fr, &fits)?;
@@ -67,6 +72,9 @@ pub fn run(args: Args) -> CmdResult {
             "explained: {} ({})",
             report.explained, report.explained_reason
         );
+        for f in &report.record_shows {
+            println!("the record shows: {}", f.text);
+        }
         if !report.evidence_note.is_empty() {
             println!("evidence: {}", report.evidence_note);
         }

@@ -7,7 +7,7 @@
 
 use crate::error::{CliError, CmdResult};
 use crate::fitting::{fits_under, load, outputs, warn};
-use geodesic_fit::discover::{DiscoverOptions, discover, new_effect};
+use geodesic_fit::discover::{DiscoverOptions, discover_screened, new_effect};
 use std::path::{Path, PathBuf};
 
 /// Flags of `geodesic discover`.
@@ -70,13 +70,14 @@ pub fn run(args: Args) -> CmdResult {
         max_rounds: args.max_rounds,
     };
     geodesic_fit::progress::set_hook(task.fit_hook());
-    let r = discover(&prep, &effects, &opts, |m| {
+    // wild samples set aside before any decision (the same prepared record for the outputs)
+    let r = discover_screened(prep, &effects, &opts, |m| {
         task.set_label(&format!("discover: {m}"))
     })
     .map_err(|e| CliError::bad(e.to_string()));
     geodesic_fit::progress::set_hook(None);
     task.finish();
-    let (mut report, last, all) = r?;
+    let (prep, mut report, last, all) = r?;
     // every round's fit into the history and its plot, in order
     for o in &all {
         let mut fr = geodesic_fit::FitReport::new(&prep, o);

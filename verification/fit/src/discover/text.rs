@@ -12,6 +12,9 @@ pub fn text(report: &DiscoverReport) -> String {
     let mut s = ledger(report);
     s += &crate::summary::summary(&report.final_fit);
     let _ = writeln!(s, "explained: {} ({})", report.explained, report.reason);
+    for f in &report.record_shows {
+        let _ = writeln!(s, "the record shows: {}", f.text);
+    }
     for i in &report.improves {
         let _ = writeln!(
             s,

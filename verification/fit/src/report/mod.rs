@@ -346,7 +346,8 @@ impl FitReport {
     }
 }
 
-/// The residual is consistent with noise: chi2_red within 5 sigma of 1 and white.
+/// The residual is consistent with noise: chi2_red within 5 sigma of 1 (above and below: a
+/// residual far below its noise figure says the figure is wrong, issue 50) and white.
 pub fn is_explained(r: &FitReport) -> (bool, String) {
     let nu = (r.n_samples.saturating_sub(r.n_free)).max(1) as f64;
     let bound = 1.0 + 5.0 * (2.0 / nu).sqrt();
@@ -356,6 +357,25 @@ pub fn is_explained(r: &FitReport) -> (bool, String) {
             format!(
                 "chi2_red {:.3} is above {bound:.3} (1 + 5 sqrt(2/nu)): structure is left in the residual",
                 r.chi2_red
+            ),
+        )
+    } else if r.chi2_red < 1.0 - 5.0 * (2.0 / nu).sqrt() {
+        // as suspicious as a chi2_red far above 1 (issue 50): every sigma would be too wide
+        (
+            false,
+            format!(
+                "chi2_red {:.3} is below {:.3} (1 - 5 sqrt(2/nu)): the residual is smaller than \
+                 the noise figure ({}), by a factor {:.2} in RMS: the declared noise is too large \
+                 (state the figure the record shows, or remove it from the YAML to have it \
+                 estimated), or the model follows the noise",
+                r.chi2_red,
+                1.0 - 5.0 * (2.0 / nu).sqrt(),
+                r.noise
+                    .iter()
+                    .map(|(c, v)| format!("{c}: {}", crate::outliers::fmt_sig(*v)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                r.chi2_red.max(0.0).sqrt()
             ),
         )
     } else if !r.whiteness.white {

@@ -193,6 +193,32 @@ pub fn assess(prep: &Prepared, o: &FitOutcome, resid: &[f64], r: &mut FitReport)
         ));
     }
     outliers.extend(found);
+    // samples the screen set aside before any decision (issue 50): out of the fit like the
+    // loader's wild samples, but judged against the model's residual, so the residual's
+    // whiteness is that of the cleaned record
+    let white_before = outliers.is_empty();
+    if !prep.set_aside.is_empty() {
+        warnings.push(format!(
+            "{}{}: {}",
+            rows.file,
+            prep.set_aside[0]
+                .line
+                .map_or(String::new(), |l| format!(":{l}")),
+            crate::record::set_aside_text(&prep.set_aside)
+        ));
+    }
+    outliers.extend(prep.set_aside.iter().map(|a| Outlier {
+        channel: a.channel.clone(),
+        line: a.line,
+        t: a.t,
+        value: a.value,
+        deviation: a.deviation,
+        robust_sigma: a.robust_sigma,
+        excluded: true,
+    }));
+    for c in prep.noise_checks.iter().filter(|c| c.mismatch) {
+        warnings.push(c.note.clone());
+    }
     outliers.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.channel.cmp(&b.channel)));
     let astronomical = r.chi2_red.is_nan() || r.chi2_red > CHI2_RED_ASTRONOMICAL;
     if astronomical {
@@ -206,7 +232,7 @@ pub fn assess(prep: &Prepared, o: &FitOutcome, resid: &[f64], r: &mut FitReport)
             o.sigma_source
         ));
     }
-    if !outliers.is_empty() || astronomical {
+    if !white_before || astronomical {
         r.residual_white = false;
     }
     if let Some((chi2_red, bound)) = prep.profile.as_ref().and_then(|p| p.misfit()) {

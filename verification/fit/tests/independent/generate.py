@@ -318,9 +318,13 @@ RT_NOM = {"R": 371.2, "m": 9e-4, "Ca": 2.3e-7, "k": 4.91e7, "b": 9.77, "T": 5.73
 
 
 def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy=3e-9, m=M_MID,
-                ar=None, noise_in_yaml=True, delay=0.0, description=""):
+                ar=None, noise_in_yaml=True, delay=0.0, description="", spikes=None,
+                declared=None, tail_y=None, gaps=None):
     """A TMMF release record; `delay` [s]: the trigger (t = 0) fires that long before the tip and
-    the TM move (both channels shifted). With `m_nd` in `p`, the needles are a body."""
+    the TM move (both channels shifted). With `m_nd` in `p`, the needles are a body. `spikes`:
+    {channel: fraction} of samples made wild (`add_spikes`); returns their CSV lines per channel
+    as a third value when given. `declared`: {channel: factor} the YAML's noise figure is the
+    true one times (a mis-stated figure)."""
     rng = np.random.Generator(np.random.PCG64(seed))
     t = times(fs, pre, post)
     if "m_nd" in p:
@@ -330,21 +334,73 @@ def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy
     x = tmmf_reading(t, x, p)
     y = tip_profile(t - delay, JERK, V_TIP)
     xn = x + noise(rng, len(t), sx, ar)
-    yn = y + noise(rng, len(t), sy)
-    write_dataset(out, name, "tmmf-release", t, {"x": xn, "y": yn}, {"m": m},
-                  {"x": sx, "y": sy} if noise_in_yaml else None, description)
+    if tail_y:
+        # Student-t noise of `tail_y` degrees of freedom, scaled to the standard deviation sy
+        # (a generator of its own: the TM channel's noise is that of the record without it)
+        rt_ = np.random.Generator(np.random.PCG64(seed + 60000))
+        yn = y + rt_.standard_t(tail_y, len(t)) * sy / math.sqrt(tail_y / (tail_y - 2.0))
+    else:
+        yn = y + noise(rng, len(t), sy)
+    chans = {"x": xn, "y": yn}
+    lines = add_spikes(seed, chans, {"x": sx, "y": sy}, spikes) if spikes else None
+    yaml_noise = {"x": sx, "y": sy}
+    for c, f in (declared or {}).items():
+        yaml_noise[c] *= f
+    if gaps:
+        # rows lost in acquisition: (first sample index, count) each
+        keep = np.ones(len(t), dtype=bool)
+        for i0, k in gaps:
+            keep[i0:i0 + k] = False
+        t = t[keep]
+        chans = {c: v[keep] for c, v in chans.items()}
+    write_dataset(out, name, "tmmf-release", t, chans, {"m": m},
+                  yaml_noise if noise_in_yaml else None, description)
+    if spikes:
+        return t, x, lines
     return t, x
 
 
 def rt_record(out, name, seed, q, *, em=None, fs=1e6, pre=2e-5, post=1e-3, sy=1e-9, ar=None,
-              noise_in_yaml=True, delay=0.0, e0=120.0, description=""):
+              noise_in_yaml=True, delay=0.0, e0=120.0, description="", spikes=None):
     rng = np.random.Generator(np.random.PCG64(seed))
     t = times(fs, pre, post)
     y = rt_truth(t - delay, q, e0, em)
     yn = y + noise(rng, len(t), sy, ar)
-    write_dataset(out, name, "rt-retraction", t, {"y": yn}, {"E0": e0},
+    chans = {"y": yn}
+    lines = add_spikes(seed, chans, {"y": sy}, spikes) if spikes else None
+    write_dataset(out, name, "rt-retraction", t, chans, {"E0": e0},
                   {"y": sy} if noise_in_yaml else None, description)
+    if spikes:
+        return t, y, lines
     return t, y
+
+
+SPIKE_SIGMA = (10.0, 18.0)
+
+
+def add_spikes(seed, chans, sigma, spikes):
+    """Makes `fraction` of the samples of each channel in `spikes` wild: single samples of
+    10 to 18 times the channel's noise `sigma` [m], random sign, at least 12 samples apart and
+    away from the ends (below the loader's 20-sigma cut: they stay in the record). A generator
+    of its own (seed + 50000), so the noise of the record is the one without spikes. Returns
+    {channel: [CSV line, ...]} (line 1 is the header)."""
+    rng = np.random.Generator(np.random.PCG64(seed + 50000))
+    lines = {}
+    for c in sorted(spikes):
+        v = chans[c]
+        n = len(v)
+        k = max(1, int(round(spikes[c] * n)))
+        picked = []
+        while len(picked) < k:
+            i = int(rng.integers(12, n - 12))
+            if all(abs(i - j) >= 12 for j in picked):
+                picked.append(i)
+        picked.sort()
+        for i in picked:
+            a = rng.uniform(*SPIKE_SIGMA) * sigma[c]
+            v[i] += a if rng.random() < 0.5 else -a
+        lines[c] = [i + 2 for i in picked]
+    return lines
 
 
 def combinations(q, e0, em=None):
@@ -665,6 +721,62 @@ def main():
                                                           "tip_contact.k_c"]},
                          "truth": truth, "known": {"m": m}})
 
+    # ---- class 6 (issue 50): one measurement defect per record ---------------------------------
+    # (after every earlier class, with seeds of their own: the records above are unchanged)
+    # Outliers: 0.5 % of the samples of a channel are single spikes of 10 to 18 sigma, below the
+    # loader's 20-sigma cut; the answer is the one of the record without them, and the samples
+    # to set aside are the spikes' CSV lines. A mis-stated noise figure: the YAML's figure of x
+    # is half or twice the true one (the pre-trigger's 200 samples say which). Heavy tails:
+    # Student-t noise (3 degrees of freedom) on the tip channel. Gaps: rows lost in acquisition.
+    adhesion = {"tip_adhesion.A1": 1.3e5, "tip_adhesion.lambda": 6e-7}
+    defects = [
+        ("spikes-tmmf-adhesion", 1101, dict(spikes={"x": 0.005, "y": 0.005}), tmmf_base_names,
+         ["tip_adhesion"], "TMMF: tip adhesion hidden, 0.5 % of x and of y 10-18 sigma spikes"),
+        ("spikes-tmmf-nothing", 1102, dict(spikes={"x": 0.005, "y": 0.005}),
+         tmmf_base_names + ["tip_adhesion"], [], "TMMF: nothing hidden, 0.5 % of x and of y 10-18 sigma spikes"),
+        ("noise-small-tmmf", 1104, dict(declared={"x": 0.5}), tmmf_base_names, ["tip_adhesion"],
+         "TMMF: tip adhesion hidden, the noise of x declared half the true figure"),
+        ("noise-large-tmmf", 1105, dict(declared={"x": 2.0}), tmmf_base_names, ["tip_adhesion"],
+         "TMMF: tip adhesion hidden, the noise of x declared twice the true figure"),
+        ("tail-tip-nothing", 1106, dict(tail_y=3), tmmf_base_names + ["tip_adhesion"], [],
+         "TMMF: nothing hidden, Student-t noise (3 dof) on the tip channel"),
+        ("gaps-tmmf-adhesion", 1107, dict(gaps=[(150, 30), (900, 60), (1500, 12)]),
+         tmmf_base_names, ["tip_adhesion"],
+         "TMMF: tip adhesion hidden, three gaps of 30, 60 and 12 samples in the acquisition"),
+    ]
+    for name, seed, kw, base, added, desc in defects:
+        if not want(name):
+            continue
+        r = tmmf_record(out, name, seed, full, description=desc, **kw)
+        expect = {"explained": True, "added": added}
+        if "spikes" in kw:
+            expect["set_aside"] = r[2]
+        if "declared" in kw:
+            # the figure the record shows over the one declared, per channel
+            expect["noise_ratio"] = {c: 1.0 / f for c, f in kw["declared"].items()}
+            expect["noise_used"] = {"x": 8e-10}
+        if "tail_y" in kw:
+            # what the record shows: {kind: channel}
+            expect["shows"] = {"heavy tails": "y"}
+        if "gaps" in kw:
+            expect["shows"] = {"gaps": None}
+            expect["largest_gap_s"] = (max(k for _, k in kw["gaps"]) + 1) / 2e5
+        if added:
+            expect["within_sigma"] = {"sigma": 3.0, "params": sorted(adhesion)}
+        expected.append({"name": name, "class": "defect", "baseline": base, "expect": expect,
+                         "truth": dict(adhesion, **{"needle_contact.k_nd": TMMF_BASE["k_nd"],
+                                                    "needle_contact.F_pre": TMMF_BASE["F_pre"],
+                                                    "tip_contact.k_c": TMMF_BASE["k_c"]})})
+    if want("spikes-rt-plunger"):
+        q = dict(RT_NOM, Mg=0.021, Kg=2.0e6)
+        _, _, lines = rt_record(out, "spikes-rt-plunger", 1103, q, post=1e-3,
+                                spikes={"y": 0.005},
+                                description="retraction: plunger hidden, 0.5 % of y 10-18 sigma spikes")
+        expected.append({"name": "spikes-rt-plunger", "class": "defect", "baseline": ["piezo"],
+                         "expect": {"explained": True, "added": ["plunger_compliance"],
+                                    "set_aside": lines},
+                         "truth": rt_params(q), "combinations": combinations(q, 120.0)})
+
     if args.large:
         p = dict(TMMF_BASE, A1=1.3e5, **{"lambda": 6e-7}, drift=(0.0, 2e-6, 0.0))
         tmmf_record(out, "large-400k", 1061, p, fs=2e5, pre=5e-4, post=2.0,
@@ -672,18 +784,6 @@ def main():
         expected.append({"name": "large-400k", "class": "large", "baseline": tmmf_base_names,
                          "expect": {"explained": True, "added": ["drift", "tip_adhesion"]}})
 
-    if only is not None and not args.large:
-        # the records asked for replace their entries in the expected.json of --out (the
-        # others are kept as they are), in the order of the full run
-        path = os.path.join(out, "expected.json")
-        with open(path) as f:
-            old = json.load(f)
-        names = {e["name"] for e in expected}
-        kept = [e for e in old["records"] if e["name"] not in names]
-        old["records"] = kept + expected
-        with open(path, "w") as f:
-            json.dump(old, f, indent=1, sort_keys=True)
-            f.write("\n")
     if only is None or args.large:
         path = os.path.join(out, "expected.json" if not args.large else "expected-large.json")
         if args.large:
@@ -693,6 +793,16 @@ def main():
                        "numpy": np.__version__,
                        "scipy": __import__("scipy").__version__,
                        "records": expected}, f, indent=1, sort_keys=True)
+            f.write("\n")
+    elif only is not None and expected:
+        # --only: the records written replace their entries in expected.json (the others kept)
+        path = os.path.join(out, "expected.json")
+        with open(path) as f:
+            doc = json.load(f)
+        names = {e["name"] for e in expected}
+        doc["records"] = [r for r in doc["records"] if r["name"] not in names] + expected
+        with open(path, "w") as f:
+            json.dump(doc, f, indent=1, sort_keys=True)
             f.write("\n")
     print(f"wrote {len(expected)} records to {out}")
 
