@@ -177,7 +177,13 @@ fn a_budget_change_that_eats_a_margin_exits_1_naming_each_requirement_once() {
     verify(&d, &req, "base", &[]);
     let budget = std::fs::read_to_string(workspace().join("models/release/budget.yaml")).unwrap();
     // a lighter TM: the same momentum gives 4 times the velocity
-    let lighter = budget.replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.49}");
+    // (its pedigree widens the TM mass's plausible range with a reason: issue 49)
+    let lighter = budget
+        .replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.49}")
+        .replace(
+            "tm_mass_kg: {kind: cited,",
+            "tm_mass_kg: {range: {min: 0.4, max: 2.0, reason: \"this test's what-if: a lighter TM\"}, kind: cited,",
+        );
     assert_ne!(lighter, budget);
     std::fs::write(d.join("lighter.yaml"), lighter).unwrap();
     let (code, doc, err) = verify(
@@ -745,7 +751,12 @@ fn charge_and_budget_inputs_move_their_rows() {
     let budget = std::fs::read_to_string(workspace().join("models/release/budget.yaml")).unwrap();
     std::fs::write(
         d.join("half.yaml"),
-        budget.replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.98}"),
+        budget
+            .replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.98}")
+            .replace(
+                "tm_mass_kg: {kind: cited,",
+                "tm_mass_kg: {range: {min: 0.4, max: 2.0, reason: \"this test's what-if: a lighter TM\"}, kind: cited,",
+            ),
     )
     .unwrap();
     let (_, doc, _) = verify(
@@ -777,4 +788,89 @@ fn charge_and_budget_inputs_move_their_rows() {
     assert_eq!(out.status.code(), Some(2));
     let e = String::from_utf8_lossy(&out.stderr);
     assert!(e.contains("bad.yaml:") && e.contains("gap_m"), "{e}");
+}
+
+/// Issue 49: a model input edit is reviewed like a requirement edit, whichever way it moves
+/// the rows. `contact_voltage_2sigma_v: 1.0 -> 0.95` closes CHG-Q's known non-compliance
+/// (NCR-GEO-001 would simply drop): the gate exits 1 naming CHG-Q, the parameter, its old and
+/// new value; a comment edit moves nothing and passes.
+#[test]
+fn a_model_input_edit_that_closes_a_non_compliance_fails_the_gate_naming_the_row() {
+    let d = scratch("input-edit");
+    let req = requirements(&d, |_, t| t.to_string());
+    let (_, base, _) = verify(&d, &req, "base", &[]);
+    assert_eq!(row(&base, "CHG-Q")["status"], "non-compliant");
+    assert_eq!(
+        base["run"]["inputs"]["charge"]["parameters"]["contact_voltage_2sigma_v"],
+        "1.0"
+    );
+    let charge = std::fs::read_to_string(workspace().join("models/charge/charge.yaml")).unwrap();
+    let edited = charge.replace(
+        "contact_voltage_2sigma_v: 1.0",
+        "contact_voltage_2sigma_v: 0.95",
+    );
+    assert_ne!(edited, charge);
+    std::fs::write(d.join("charge.yaml"), edited).unwrap();
+    let (code, doc, err) = verify(
+        &d,
+        &req,
+        "now",
+        &[
+            "--baseline",
+            "base/compliance.json",
+            "--charge",
+            "charge.yaml",
+        ],
+    );
+    assert_eq!(
+        row(&doc, "CHG-Q")["status"],
+        "compliant",
+        "the edit closes it"
+    );
+    assert_eq!(code, 1, "{err}");
+    let line = err
+        .lines()
+        .find(|l| l.contains("REGRESSION CHG-Q:"))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(
+        line.contains(
+            "input changed, needs review: charge contact_voltage_2sigma_v 1.0 -> 0.95 (charge.yaml)"
+        ) && line.contains("status non-compliant -> compliant"),
+        "{line}"
+    );
+    let changes = doc["baseline_diff"]["inputs_changed"].as_array().unwrap();
+    assert_eq!(changes.len(), 1, "{changes:?}");
+    assert_eq!(changes[0]["parameter"], "contact_voltage_2sigma_v");
+    let rows = changes[0]["rows"].as_array().unwrap();
+    assert!(
+        rows.iter()
+            .any(|r| r.as_str().unwrap().starts_with("CHG-Q (")),
+        "{rows:?}"
+    );
+    assert!(
+        rows.iter()
+            .any(|r| r.as_str().unwrap().starts_with("CHG-V (")),
+        "{rows:?}"
+    );
+
+    // a comment edit changes the file's hash, no parameter: nothing to review
+    std::fs::write(d.join("comment.yaml"), format!("{charge}\n# a note\n")).unwrap();
+    let (code, doc, err) = verify(
+        &d,
+        &req,
+        "now2",
+        &[
+            "--baseline",
+            "base/compliance.json",
+            "--charge",
+            "comment.yaml",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        doc["baseline_diff"]["inputs_changed"]
+            .as_array()
+            .unwrap()
+            .is_empty()
+    );
 }

@@ -12,6 +12,7 @@ pub mod check;
 pub mod disposition;
 pub mod document;
 pub mod matrix;
+pub mod pedigree;
 pub mod requirement;
 pub mod spectrum;
 pub mod testrun;

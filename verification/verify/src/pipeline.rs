@@ -242,7 +242,7 @@ pub fn resolve_inputs(mission: &Mission, opts: &Options) -> Result<Inputs, Error
             )));
         };
         mission.validate_input(&spec.name, &f).map_err(Error::bad)?;
-        inputs.insert(&spec.name, &spec.words, f);
+        inputs.insert(&spec.name, &spec.words, f.with_parameters());
     }
     Ok(inputs)
 }
