@@ -874,3 +874,127 @@ fn a_model_input_edit_that_closes_a_non_compliance_fails_the_gate_naming_the_row
             .is_empty()
     );
 }
+
+/// Issue 49: every judged row carries a credibility assessment, and a requirement may state the
+/// level its verdict needs. REL-GPRM-VEL with `credibility: 4` is not compliant, whatever its
+/// margin: its budget is rejected by FAC-ADH-CAL (validation 0). The gate calls a row demoted
+/// so a regression, naming it.
+#[test]
+fn a_requirement_needing_more_credibility_than_its_evidence_has_is_not_compliant() {
+    let d = scratch("credibility");
+    let need4 = |name: &str, t: &str| {
+        if name == "release.yaml" {
+            t.replacen(
+                "    check: release-montecarlo\n    parent: {id: TMS-Z-VEL, margin: 1.0}",
+                "    check: release-montecarlo\n    parent: {id: TMS-Z-VEL, margin: 1.0}\n    credibility: 4",
+                1,
+            )
+        } else {
+            t.to_string()
+        }
+    };
+    // every family, FAC-ADH-CAL's too; `--only` runs REL-GPRM-VEL and the row that judges its
+    // budget
+    let all = d.join("all");
+    std::fs::create_dir_all(&all).unwrap();
+    for e in std::fs::read_dir(workspace().join("requirements"))
+        .unwrap()
+        .flatten()
+    {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let text = std::fs::read_to_string(e.path()).unwrap();
+        std::fs::write(all.join(&name), need4(&name, &text)).unwrap();
+    }
+    assert!(
+        std::fs::read_to_string(all.join("release.yaml"))
+            .unwrap()
+            .contains("credibility: 4")
+    );
+    let (code, doc, err) = verify(&d, &all, "only", &["--only", "REL-GPRM-VEL"]);
+    assert_eq!(code, 1, "FAC-ADH-CAL is non-compliant: {err}");
+    let r = row(&doc, "REL-GPRM-VEL");
+    let c = &r["credibility"];
+    assert_eq!(r["status"], "not-verified", "{r}");
+    assert_eq!(c["required"], 4, "{c}");
+    assert_eq!(c["validation"]["level"], 0, "{c}");
+    assert!(
+        c["validation"]["why"]
+            .as_str()
+            .unwrap()
+            .contains("rejected by FAC-ADH-CAL"),
+        "{c}"
+    );
+    assert!(
+        r["reason"]
+            .as_str()
+            .unwrap()
+            .contains("below the 4 its requirement needs"),
+        "{r}"
+    );
+    for f in [
+        "verification",
+        "validation",
+        "input_pedigree",
+        "results_uncertainty",
+        "results_robustness",
+    ] {
+        let l = c[f]["level"].as_u64().unwrap();
+        assert!(
+            l <= 4 && c[f]["why"].as_str().is_some_and(|w| !w.is_empty()),
+            "{f}: {c}"
+        );
+    }
+    assert_eq!(c["results_uncertainty"]["level"], 4, "{c}");
+    assert_eq!(c["results_robustness"]["level"], 3, "{c}");
+
+    // the gate: a baseline without the need, then the need
+    let req = requirements(&d, |_, t| t.to_string());
+    let (_, base, _) = verify(&d, &req, "base", &[]);
+    assert_eq!(row(&base, "REL-GPRM-VEL")["status"], "compliant");
+    for r in base["requirements"].as_array().unwrap() {
+        assert_eq!(
+            r["status"] != "not-verified",
+            r.get("credibility").is_some(),
+            "every judged row, only those: {}",
+            r["id"]
+        );
+    }
+    let req4 = requirements(&d, need4);
+    let (code, doc, err) = verify(&d, &req4, "now", &["--baseline", "base/compliance.json"]);
+    assert_eq!(row(&doc, "REL-GPRM-VEL")["status"], "not-verified");
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.lines().any(|l| l.contains("REGRESSION REL-GPRM-VEL:")
+            && l.contains(
+                "no longer compliant: credibility 0 is below the 4 its requirement needs"
+            )),
+        "{err}"
+    );
+    // a level that is not 0-4 is bad input with its file and line
+    let bad = requirements(&d, |name, t| {
+        if name == "release.yaml" {
+            t.replacen(
+                "    check: release-montecarlo\n",
+                "    check: release-montecarlo\n    credibility: 5\n",
+                1,
+            )
+        } else {
+            t.to_string()
+        }
+    });
+    let out = geodesic(
+        &[
+            "requirements",
+            "check",
+            "--requirements",
+            bad.to_str().unwrap(),
+        ],
+        &d,
+    );
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("release.yaml:") && e.contains("credibility 5 is not a level of 0 to 4"),
+        "{e}"
+    );
+}

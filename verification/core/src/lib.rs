@@ -8,7 +8,9 @@
 //!
 //! This crate depends on no model crate: models <- framework <- CLI.
 
+pub mod cas;
 pub mod check;
+pub mod credibility;
 pub mod disposition;
 pub mod document;
 pub mod matrix;

@@ -10,8 +10,8 @@
 //!
 //! ```yaml
 //! pedigree:
-//!   tm_mass_kg: {kind: cited, ref: "thesis ch. 2: the 1.96 kg Au-Pt TM", uncertainty: "+-0.01 kg"}
-//!   mechanism.*: {kind: calibrated, ref: "docs/release.md: 11.5 % fitted to the v_RT spread"}
+//!   mass_kg: {kind: cited, ref: "the design report, sec. 2", uncertainty: "+-0.01 kg"}
+//!   spring.*: {kind: calibrated, ref: "fitted to the qualification model's test"}
 //!   preload_n: {kind: design, ref: "...", range: {min: 0.1, max: 3.0, reason: "a stiffer spring under test"}}
 //! ```
 //!
@@ -38,7 +38,7 @@ pub enum Kind {
     Measured,
     /// Fitted to a measurement (a model parameter calibrated on a campaign).
     Calibrated,
-    /// Taken from a cited source (the thesis, a handbook, an FE analysis).
+    /// Taken from a cited source (a report, a handbook, an FE analysis).
     Cited,
     /// A design value: what the design states, not yet measured.
     Design,
@@ -92,7 +92,7 @@ pub struct RangeOverride {
 pub struct Entry {
     /// Measured, calibrated, cited, design or assumed.
     pub kind: Kind,
-    /// Where it comes from (a thesis section, a document, a campaign).
+    /// Where it comes from (a report's section, a document, a campaign).
     #[serde(rename = "ref")]
     pub reference: String,
     /// Its uncertainty in words with its unit (`+-0.01 kg`), where it has one.
@@ -486,7 +486,7 @@ mod tests {
         },
     ];
 
-    const OK: &str = "m_kg: {fixed: 1.96}\ncaps:\n  a_f: 3.44e-11\n  b_f: 1.0e-11\nalt:\n  - {name: x, mu_r: 2.0e4}\npedigree:\n  m_kg: {kind: cited, ref: \"thesis\", uncertainty: \"0.01 kg\"}\n  caps.*: {kind: cited, ref: \"FE\"}\n  alt[*].mu_r: {kind: assumed, ref: \"typical\"}\n";
+    const OK: &str = "m_kg: {fixed: 1.96}\ncaps:\n  a_f: 3.44e-11\n  b_f: 1.0e-11\nalt:\n  - {name: x, mu_r: 2.0e4}\npedigree:\n  m_kg: {kind: cited, ref: \"report\", uncertainty: \"0.01 kg\"}\n  caps.*: {kind: cited, ref: \"FE\"}\n  alt[*].mu_r: {kind: assumed, ref: \"typical\"}\n";
 
     #[test]
     fn a_file_within_its_ranges_is_questioned_and_flattened() {
@@ -549,7 +549,7 @@ mod tests {
     #[test]
     fn a_parameter_without_pedigree_or_range_is_refused() {
         let t = OK.replace(
-            "  m_kg: {kind: cited, ref: \"thesis\", uncertainty: \"0.01 kg\"}\n",
+            "  m_kg: {kind: cited, ref: \"report\", uncertainty: \"0.01 kg\"}\n",
             "",
         );
         let e = question(&t, "f.yaml", R).unwrap_err();

@@ -16,7 +16,11 @@
 //! - evidence lost (a value in the baseline, none now) or a weaker basis (model -> flow-down);
 //! - a traced test that passed in the baseline and does not pass now, or vanished (compared
 //!   only when this run's recorded test run is fresh);
-//! - a requirement that disappeared.
+//! - a requirement that disappeared;
+//! - a model input parameter that changed ("input changed, needs review", with the rows it
+//!   moved, whichever way: [`InputChange`]);
+//! - a credibility level that fell, or a row no longer compliant because its credibility is
+//!   below the level its requirement needs.
 //!
 //! A known non-compliance with its disposition is not a regression; an improvement is listed but
 //! never fails the gate. Checks whose value or inputs changed (a seed, say) are listed as
@@ -30,6 +34,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 
+mod credibility;
 mod inputs;
 pub use inputs::InputChange;
 
@@ -79,6 +84,8 @@ struct OldRow {
     tests: Vec<OldTest>,
     #[serde(default)]
     disposition: Option<OldDisposition>,
+    #[serde(default)]
+    credibility: Option<serde_json::Value>,
 }
 
 #[derive(Deserialize)]
@@ -367,6 +374,7 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
     if tests_compared {
         tests_lost(r, o, &mut reg);
     }
+    reg.extend(credibility::regressions(r, o));
     if r.status == Status::NonCompliant {
         match (&r.disposition, &o.disposition) {
             (Some(dn), _) if dn.expired => reg.push(format!(

@@ -159,6 +159,26 @@ pub fn render(rep: &Report) -> String {
                     esc(f)
                 ));
             }
+            if let Some(c) = &r.credibility {
+                o.push_str(&format!(
+                    "<property name=\"credibility\" value=\"{}\"/><property name=\"credibility_weakest\" value=\"{}\"/>",
+                    c.level,
+                    esc(&c.weakest)
+                ));
+                if let Some(n) = c.required {
+                    o.push_str(&format!(
+                        "<property name=\"credibility_required\" value=\"{n}\"/>"
+                    ));
+                }
+                for (n, f) in c.factors() {
+                    o.push_str(&format!(
+                        "<property name=\"credibility_{}\" value=\"{}: {}\"/>",
+                        n.replace(' ', "_"),
+                        f.level,
+                        esc(&f.why)
+                    ));
+                }
+            }
             o.push_str("</properties>\n");
             let detail = format!(
                 "value {} against {}, margin {}; evidence: {}",

@@ -550,6 +550,7 @@ fn build_matrix(
             ));
         }
     }
+    geodesic_core::credibility::apply(&mut matrix, &l.reqs, &l.inputs);
     if let Some(s) = selection {
         s.apply(&mut matrix);
     }
