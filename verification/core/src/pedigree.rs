@@ -402,7 +402,7 @@ pub fn question(
             ));
         }
         if let Some(r) = &e.range
-            && (r.reason.trim().is_empty() || !(r.min <= r.max))
+            && (r.reason.trim().is_empty() || r.min.is_nan() || r.max.is_nan() || r.min > r.max)
         {
             return Err(format!(
                 "{label}:{line}: pedigree of {k}: a range override needs min <= max and a non-empty reason"
