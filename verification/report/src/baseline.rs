@@ -374,7 +374,7 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
     if tests_compared {
         tests_lost(r, o, &mut reg);
     }
-    reg.extend(credibility::regressions(r, o));
+    reg.extend(credibility::regressions(r, o, tests_compared));
     if r.status == Status::NonCompliant {
         match (&r.disposition, &o.disposition) {
             (Some(dn), _) if dn.expired => reg.push(format!(

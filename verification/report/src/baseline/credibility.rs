@@ -5,28 +5,39 @@
 use super::OldRow;
 use geodesic_core::matrix::{Row, Status};
 
-/// The regressions of row `r`'s credibility against the baseline's row `o`.
-pub(super) fn regressions(r: &Row, o: &OldRow) -> Vec<String> {
+/// The regressions of row `r`'s credibility against the baseline's row `o`. When the test
+/// results are not compared (this run's recorded test run is stale or absent: `--require-tests`
+/// says so), the verification factor is left out of both levels, as the tests themselves are.
+pub(super) fn regressions(r: &Row, o: &OldRow, tests_compared: bool) -> Vec<String> {
     let mut out = Vec::new();
     let Some(c) = &r.credibility else {
         return out;
     };
-    let old = o
-        .credibility
-        .as_ref()
-        .and_then(|v| v.get("level"))
-        .and_then(serde_json::Value::as_u64);
-    if let Some(old) = old
-        && u64::from(c.level) < old
+    const KEYS: [(&str, &str); 5] = [
+        ("verification", "verification"),
+        ("validation", "validation"),
+        ("input_pedigree", "input pedigree"),
+        ("results_uncertainty", "results uncertainty"),
+        ("results_robustness", "results robustness"),
+    ];
+    let counted = |name: &str| tests_compared || name != "verification";
+    let old = o.credibility.as_ref().and_then(|v| {
+        KEYS.iter()
+            .filter(|(_, n)| counted(n))
+            .filter_map(|(k, _)| v.get(*k)?.get("level")?.as_u64())
+            .min()
+    });
+    let now = c
+        .factors()
+        .into_iter()
+        .filter(|(n, _)| counted(n))
+        .min_by_key(|(_, f)| f.level);
+    if let (Some(old), Some((name, f))) = (old, now)
+        && u64::from(f.level) < old
     {
-        let why = c
-            .factors()
-            .iter()
-            .find(|(n, _)| *n == c.weakest)
-            .map_or(String::new(), |(_, f)| f.why.clone());
         out.push(format!(
-            "credibility fell from {old} to {} (weakest: {}: {why})",
-            c.level, c.weakest
+            "credibility fell from {old} to {} (weakest: {name}: {})",
+            f.level, f.why
         ));
     }
     if c.below_required() && r.status == Status::NotVerified && o.status == "compliant" {
