@@ -46,7 +46,8 @@ pub fn mission() -> Mission {
     .expect("the built-in mission.yaml is valid (tested)")
     .series(crate::series)
     .validate("design", |f| {
-        geodesic_housing::Design::from_yaml(&f.text, &f.label).map(|_| ())
+        geodesic_housing::Design::from_yaml(&f.text, &f.label)?;
+        crate::ranges::question(&f.text, &f.label, crate::ranges::DESIGN)
     });
     for (p, t) in FILES {
         m = m.builtin(p, t);

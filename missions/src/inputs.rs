@@ -60,6 +60,15 @@ impl ModelInput {
         }
     }
 
+    /// The plausible ranges of its parameters ([`crate::ranges`]).
+    pub fn ranges(self) -> &'static [geodesic_core::pedigree::Range] {
+        match self {
+            ModelInput::Budget => crate::ranges::BUDGET,
+            ModelInput::Capture => crate::ranges::CAPTURE,
+            ModelInput::Charge => crate::ranges::CHARGE,
+        }
+    }
+
     /// The copy built into the binary.
     pub fn builtin(self) -> &'static str {
         match self {
@@ -73,8 +82,15 @@ impl ModelInput {
 /// Resolves a model input: `given` (its flag) if set, else the repository's copy when it exists
 /// relative to the current directory, else the built-in copy. The file is read whole (at most
 /// [`geodesic_core::fsio::MAX_YAML_BYTES`], UTF-8); the error is one line naming the flag and
-/// the file.
+/// the file. Every parameter's pedigree and plausible range are questioned
+/// ([`crate::ranges`]): a value outside its range is one line `file:line: cause`.
 pub fn resolve(input: ModelInput, given: Option<&Path>) -> Result<InputFile, CliError> {
+    let f = resolve_file(input, given)?;
+    crate::ranges::question(&f.text, &f.label, input.ranges()).map_err(CliError::bad)?;
+    Ok(f)
+}
+
+fn resolve_file(input: ModelInput, given: Option<&Path>) -> Result<InputFile, CliError> {
     let read = |p: &Path, origin: InputOrigin| {
         let text = geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_YAML_BYTES).map_err(
             |e| {

@@ -7,6 +7,7 @@ mod cmd;
 pub mod drag_free_cubesat;
 mod inputs;
 pub mod lisa_pathfinder;
+pub mod ranges;
 mod threads;
 
 use geodesic_verify::Mission;

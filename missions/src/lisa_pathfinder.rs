@@ -86,17 +86,17 @@ pub fn mission() -> Mission {
                 // its adhesion_from (a campaign result) must load before anything runs
                 geodesic_release::population::resolve(b, Some(std::path::Path::new(&f.label)))?;
             }
-            Ok(())
+            crate::ranges::question(&f.text, &f.label, crate::ranges::BUDGET)
         })
         .validate("capture", |f| {
             geodesic_capture::CaptureInputs::from_yaml_str(&f.text, &f.label)
-                .map(|_| ())
-                .map_err(|e| e.to_string())
+                .map_err(|e| e.to_string())?;
+            crate::ranges::question(&f.text, &f.label, crate::ranges::CAPTURE)
         })
         .validate("charge", |f| {
             geodesic_charge::ChargeFile::from_yaml_str(&f.text, &f.label)
-                .map(|_| ())
-                .map_err(|e| e.to_string())
+                .map_err(|e| e.to_string())?;
+            crate::ranges::question(&f.text, &f.label, crate::ranges::CHARGE)
         });
     for (p, t) in FILES {
         m = m.builtin(p, t);

@@ -135,6 +135,9 @@ struct RawInputs {
     xlim: RawXlim,
     drift_time_s: Spanned<f64>,
     states: Spanned<NamedMap<StateSource>>,
+    /// The parameters' pedigree (issue 49), read by `geodesic_core::pedigree`, not here.
+    #[serde(default, rename = "pedigree")]
+    _pedigree: Option<serde::de::IgnoredAny>,
 }
 
 #[derive(Deserialize)]

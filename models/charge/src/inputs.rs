@@ -45,6 +45,9 @@ struct Raw {
     capacitances: RawCaps,
     contact_voltage_2sigma_v: Spanned<f64>,
     release_tip: RawTip,
+    /// The parameters' pedigree (issue 49), read by `geodesic_core::pedigree`, not here.
+    #[serde(default, rename = "pedigree")]
+    _pedigree: Option<serde::de::IgnoredAny>,
 }
 
 #[derive(Deserialize)]

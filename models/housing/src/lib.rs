@@ -94,6 +94,9 @@ pub struct Design {
     pub shield_alternatives: Vec<ShieldMaterial>,
     /// FE modes.
     pub modes_hz: Modes,
+    /// The parameters' pedigree (issue 49), read by `geodesic_core::pedigree`, not here.
+    #[serde(default)]
+    pub pedigree: Option<serde::de::IgnoredAny>,
 }
 
 impl Design {

@@ -422,6 +422,9 @@ struct RawBudget {
     e0_v: S,
     #[serde(default)]
     adhesion_from: Option<Spanned<String>>,
+    /// The parameters' pedigree (issue 49), read by `geodesic_core::pedigree`, not here.
+    #[serde(default, rename = "pedigree")]
+    _pedigree: Option<serde::de::IgnoredAny>,
 }
 
 /// Largest physically plausible value of a budget field [SI] (generous: 100 to 10^5 times the

@@ -204,7 +204,13 @@ fn a_budget_change_that_eats_a_margin_exits_1_naming_each_requirement_once() {
     verify(&d, &req, "base", &[]);
     let budget = std::fs::read_to_string(workspace().join("models/release/budget.yaml")).unwrap();
     // a lighter TM: the same momentum gives 4 times the velocity
-    let lighter = budget.replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.49}");
+    // (its pedigree widens the TM mass's plausible range with a reason: issue 49)
+    let lighter = budget
+        .replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.49}")
+        .replace(
+            "tm_mass_kg: {kind: cited,",
+            "tm_mass_kg: {range: {min: 0.4, max: 2.0, reason: \"this test's what-if: a lighter TM\"}, kind: cited,",
+        );
     assert_ne!(lighter, budget);
     std::fs::write(d.join("lighter.yaml"), lighter).unwrap();
     let (code, doc, err) = verify(
@@ -790,7 +796,12 @@ fn charge_and_budget_inputs_move_their_rows() {
     let budget = std::fs::read_to_string(workspace().join("models/release/budget.yaml")).unwrap();
     std::fs::write(
         d.join("half.yaml"),
-        budget.replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.98}"),
+        budget
+            .replace("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 0.98}")
+            .replace(
+                "tm_mass_kg: {kind: cited,",
+                "tm_mass_kg: {range: {min: 0.4, max: 2.0, reason: \"this test's what-if: a lighter TM\"}, kind: cited,",
+            ),
     )
     .unwrap();
     let (_, doc, _) = verify(
@@ -1152,5 +1163,214 @@ fn smaller_holes_confidence_open_ncr_renamed_judge() {
     assert!(
         err2.contains("NCR NCR-GEO-002") && err2.contains("names FAC-ADH-CAL, which is not loaded"),
         "{err2} / {err}"
+    );
+}
+
+/// Issue 49: a model input edit is reviewed like a requirement edit, whichever way it moves
+/// the rows. `contact_voltage_2sigma_v: 1.0 -> 0.95` closes CHG-Q's known non-compliance
+/// (NCR-GEO-001 would simply drop): the gate exits 1 naming CHG-Q, the parameter, its old and
+/// new value; a comment edit moves nothing and passes.
+#[test]
+fn a_model_input_edit_that_closes_a_non_compliance_fails_the_gate_naming_the_row() {
+    let d = scratch("input-edit");
+    let req = requirements(&d, |_, t| t.to_string());
+    let (_, base, _) = verify(&d, &req, "base", &[]);
+    assert_eq!(row(&base, "CHG-Q")["status"], "non-compliant");
+    assert_eq!(
+        base["run"]["inputs"]["charge"]["parameters"]["contact_voltage_2sigma_v"],
+        "1.0"
+    );
+    let charge = std::fs::read_to_string(workspace().join("models/charge/charge.yaml")).unwrap();
+    let edited = charge.replace(
+        "contact_voltage_2sigma_v: 1.0",
+        "contact_voltage_2sigma_v: 0.95",
+    );
+    assert_ne!(edited, charge);
+    std::fs::write(d.join("charge.yaml"), edited).unwrap();
+    let (code, doc, err) = verify(
+        &d,
+        &req,
+        "now",
+        &[
+            "--baseline",
+            "base/compliance.json",
+            "--charge",
+            "charge.yaml",
+        ],
+    );
+    assert_eq!(
+        row(&doc, "CHG-Q")["status"],
+        "compliant",
+        "the edit closes it"
+    );
+    assert_eq!(code, 1, "{err}");
+    let line = err
+        .lines()
+        .find(|l| l.contains("REGRESSION CHG-Q:"))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(
+        line.contains(
+            "input changed, needs review: charge contact_voltage_2sigma_v 1.0 -> 0.95 (charge.yaml)"
+        ) && line.contains("status non-compliant -> compliant"),
+        "{line}"
+    );
+    let changes = doc["baseline_diff"]["inputs_changed"].as_array().unwrap();
+    assert_eq!(changes.len(), 1, "{changes:?}");
+    assert_eq!(changes[0]["parameter"], "contact_voltage_2sigma_v");
+    let rows = changes[0]["rows"].as_array().unwrap();
+    assert!(
+        rows.iter()
+            .any(|r| r.as_str().unwrap().starts_with("CHG-Q (")),
+        "{rows:?}"
+    );
+    assert!(
+        rows.iter()
+            .any(|r| r.as_str().unwrap().starts_with("CHG-V (")),
+        "{rows:?}"
+    );
+
+    // a comment edit changes the file's hash, no parameter: nothing to review
+    std::fs::write(d.join("comment.yaml"), format!("{charge}\n# a note\n")).unwrap();
+    let (code, doc, err) = verify(
+        &d,
+        &req,
+        "now2",
+        &[
+            "--baseline",
+            "base/compliance.json",
+            "--charge",
+            "comment.yaml",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        doc["baseline_diff"]["inputs_changed"]
+            .as_array()
+            .unwrap()
+            .is_empty()
+    );
+}
+
+/// Issue 49: every judged row carries a credibility assessment, and a requirement may state the
+/// level its verdict needs. REL-GPRM-VEL with `credibility: 4` is not compliant, whatever its
+/// margin: its budget is rejected by FAC-ADH-CAL (validation 0). The gate calls a row demoted
+/// so a regression, naming it.
+#[test]
+fn a_requirement_needing_more_credibility_than_its_evidence_has_is_not_compliant() {
+    let d = scratch("credibility");
+    let need4 = |name: &str, t: &str| {
+        if name == "release.yaml" {
+            t.replacen(
+                "    check: release-montecarlo\n    parent: {id: TMS-Z-VEL, margin: 1.0}",
+                "    check: release-montecarlo\n    parent: {id: TMS-Z-VEL, margin: 1.0}\n    credibility: 4",
+                1,
+            )
+        } else {
+            t.to_string()
+        }
+    };
+    // every family, FAC-ADH-CAL's too; `--only` runs REL-GPRM-VEL and the row that judges its
+    // budget
+    let all = d.join("all");
+    std::fs::create_dir_all(&all).unwrap();
+    for e in std::fs::read_dir(workspace().join("requirements"))
+        .unwrap()
+        .flatten()
+    {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let text = std::fs::read_to_string(e.path()).unwrap();
+        std::fs::write(all.join(&name), need4(&name, &text)).unwrap();
+    }
+    assert!(
+        std::fs::read_to_string(all.join("release.yaml"))
+            .unwrap()
+            .contains("credibility: 4")
+    );
+    let (code, doc, err) = verify(&d, &all, "only", &["--only", "REL-GPRM-VEL"]);
+    assert_eq!(code, 1, "FAC-ADH-CAL is non-compliant: {err}");
+    let r = row(&doc, "REL-GPRM-VEL");
+    let c = &r["credibility"];
+    assert_eq!(r["status"], "not-verified", "{r}");
+    assert_eq!(c["required"], 4, "{c}");
+    assert_eq!(c["validation"]["level"], 0, "{c}");
+    assert!(
+        c["validation"]["why"]
+            .as_str()
+            .unwrap()
+            .contains("rejected by FAC-ADH-CAL"),
+        "{c}"
+    );
+    assert!(
+        r["reason"]
+            .as_str()
+            .unwrap()
+            .contains("below the 4 its requirement needs"),
+        "{r}"
+    );
+    for f in [
+        "verification",
+        "validation",
+        "input_pedigree",
+        "results_uncertainty",
+        "results_robustness",
+    ] {
+        let l = c[f]["level"].as_u64().unwrap();
+        assert!(
+            l <= 4 && c[f]["why"].as_str().is_some_and(|w| !w.is_empty()),
+            "{f}: {c}"
+        );
+    }
+    assert_eq!(c["results_uncertainty"]["level"], 4, "{c}");
+    assert_eq!(c["results_robustness"]["level"], 3, "{c}");
+
+    // the gate: a baseline without the need, then the need
+    let req = requirements(&d, |_, t| t.to_string());
+    let (_, base, _) = verify(&d, &req, "base", &[]);
+    assert_eq!(row(&base, "REL-GPRM-VEL")["status"], "compliant");
+    for r in base["requirements"].as_array().unwrap() {
+        assert_eq!(
+            r["status"] != "not-verified",
+            r.get("credibility").is_some(),
+            "every judged row, only those: {}",
+            r["id"]
+        );
+    }
+    let req4 = requirements(&d, need4);
+    let (code, doc, err) = verify(&d, &req4, "now", &["--baseline", "base/compliance.json"]);
+    assert_eq!(row(&doc, "REL-GPRM-VEL")["status"], "not-verified");
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.lines().any(|l| l.contains("REGRESSION REL-GPRM-VEL:")
+            && l.contains(
+                "no longer compliant: credibility 0 is below the 4 its requirement needs"
+            )),
+        "{err}"
+    );
+    // a level that is not 0-4 is bad input with its file and line
+    let bad = requirements(&d, |name, t| {
+        if name == "release.yaml" {
+            t.replacen(
+                "    check: release-montecarlo\n",
+                "    check: release-montecarlo\n    credibility: 5\n",
+                1,
+            )
+        } else {
+            t.to_string()
+        }
+    });
+    let out = geodesic(
+        &[
+            "requirements",
+            "check",
+            "--requirements",
+            bad.to_str().unwrap(),
+        ],
+        &d,
+    );
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("release.yaml:") && e.contains("credibility 5 is not a level of 0 to 4"),
+        "{e}"
     );
 }

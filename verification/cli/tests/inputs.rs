@@ -114,7 +114,13 @@ fn every_command_reads_hashes_and_moves_with_the_repository_budget() {
 
     // a lighter TM: every release velocity grows (the same momentum on less mass)
     let text = String::from_utf8(bytes).unwrap();
-    let edited = text.replacen("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 1.5}", 1);
+    // (its pedigree widens the TM mass's plausible range with a reason: issue 49)
+    let edited = text
+        .replacen("tm_mass_kg: {fixed: 1.96}", "tm_mass_kg: {fixed: 1.5}", 1)
+        .replace(
+            "tm_mass_kg: {kind: cited,",
+            "tm_mass_kg: {range: {min: 0.4, max: 2.0, reason: \"this test's what-if: a lighter TM\"}, kind: cited,",
+        );
     assert_ne!(edited, text, "the budget's TM mass line moved");
     std::fs::write(&budget, &edited).unwrap();
     let sha_edited = geodesic_core::hash::sha256_hex(edited.as_bytes());
@@ -206,4 +212,107 @@ fn capture_and_charge_say_which_file_they_read() {
         after["q_2sigma_e"].as_f64().unwrap(),
     );
     assert!((a / b - 2.0).abs() < 1e-9, "Q 2-sigma {b} -> {a} e");
+}
+
+/// Issue 49: a model input whose value lies outside the plausible range its mission states is
+/// refused before anything runs: exit 2, one line naming the file and line, the range and the
+/// unit expected. The audit's slips: a tenfold TM mass, a capacitance in F for pF, a
+/// permeability no material has, a stress in GPa under an MPa key.
+#[test]
+fn unit_slips_in_model_inputs_are_refused_with_file_line_range_and_unit() {
+    let d = scratch("slips");
+    for (rel, from, to, args, want) in [
+        (
+            "models/release/budget.yaml",
+            "tm_mass_kg: {fixed: 1.96}",
+            "tm_mass_kg: {fixed: 19.6}",
+            &["verify", "--budget", "in.yaml"][..],
+            "tm_mass_kg = 19.6 is outside its plausible range [1.9, 2] kg",
+        ),
+        (
+            "models/release/budget.yaml",
+            "tm_mass_kg: {fixed: 1.96}",
+            "tm_mass_kg: {fixed: 19.6}",
+            &["montecarlo", "--n", "10", "--budget", "in.yaml"][..],
+            "tm_mass_kg = 19.6 is outside its plausible range [1.9, 2] kg",
+        ),
+        (
+            "models/charge/charge.yaml",
+            "c_eh_f: 34.4e-12",
+            "c_eh_f: 34.4",
+            &["verify", "--charge", "in.yaml"][..],
+            "capacitances.c_eh_f = 34.4 is outside its plausible range [1e-13, 1e-9] F",
+        ),
+        (
+            "missions/drag-free-cubesat/design.yaml",
+            "mu_r: 200000.0",
+            "mu_r: 2e12",
+            &[
+                "verify",
+                "--mission",
+                "drag-free-cubesat",
+                "--design",
+                "in.yaml",
+            ][..],
+            "shield.mu_r = 2e12 is outside its plausible range [1, 1e6] -",
+        ),
+        (
+            "missions/drag-free-cubesat/design.yaml",
+            "fe_von_mises_mpa: 27.5",
+            "fe_von_mises_mpa: 0.0275",
+            &[
+                "verify",
+                "--mission",
+                "drag-free-cubesat",
+                "--design",
+                "in.yaml",
+            ][..],
+            "fe_von_mises_mpa = 0.0275 is outside its plausible range [0.4, 2000] MPa",
+        ),
+    ] {
+        let text = std::fs::read_to_string(workspace().join(rel)).unwrap();
+        let line = text.lines().position(|l| l.contains(from)).unwrap() + 1;
+        let edited = text.replacen(from, to, 1);
+        assert_ne!(edited, text, "{rel}: {from}");
+        std::fs::write(d.join("in.yaml"), &edited).unwrap();
+        let out = geodesic(args, &d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+        assert!(err.contains(&format!("in.yaml:{line}: ")), "{err}");
+        assert!(err.contains(want), "{err}");
+        assert!(!d.join("reports").exists(), "nothing written on bad input");
+        // the same value with a range overridden for a reason is accepted
+        let key = to.split(':').next().unwrap().trim();
+        let why = edited.replacen(
+            &format!("  {}: {{kind:", pedigree_key(rel, key)),
+            &format!(
+                "  {}: {{range: {{min: 0, max: 1e13, reason: \"this test's what-if\"}}, kind:",
+                pedigree_key(rel, key)
+            ),
+            1,
+        );
+        assert_ne!(why, edited, "{rel}: the pedigree entry of {key}");
+        let pedigree = geodesic_missions::ranges::question(&why, "in.yaml", ranges_of(rel));
+        assert!(pedigree.is_ok(), "{pedigree:?}");
+    }
+}
+
+fn pedigree_key(rel: &str, key: &str) -> String {
+    match (rel.contains("charge"), key) {
+        (true, k) => format!("capacitances.{k}"),
+        (_, "mu_r") => "shield.mu_r".into(),
+        (_, k) => k.into(),
+    }
+}
+
+fn ranges_of(rel: &str) -> &'static [geodesic_core::pedigree::Range] {
+    use geodesic_missions::ranges::{BUDGET, CHARGE, DESIGN};
+    if rel.contains("budget") {
+        BUDGET
+    } else if rel.contains("charge") {
+        CHARGE
+    } else {
+        DESIGN
+    }
 }

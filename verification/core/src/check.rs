@@ -29,6 +29,17 @@ pub struct InputFile {
     /// read otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub origin: Option<InputOrigin>,
+    /// Every parameter of a model input by path, its value as written in flow style (issue
+    /// 49): what the gate compares with the baseline's ("input changed, needs review"). Empty
+    /// until [`InputFile::with_parameters`] fills it (the verify pipeline does for each
+    /// declared input).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub parameters: BTreeMap<String, String>,
+    /// The pedigree each parameter states (`measured`, `calibrated`, `cited`, `design`,
+    /// `assumed`), by path ([`crate::pedigree`]); what the credibility assessment's input
+    /// pedigree factor reads.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub pedigree: BTreeMap<String, crate::pedigree::Kind>,
 }
 
 /// Where a model input file came from (`geodesic` resolves every model input the same way:
@@ -65,7 +76,18 @@ impl InputFile {
             sha256: crate::hash::sha256_hex(text.as_bytes()),
             text,
             origin: None,
+            parameters: BTreeMap::new(),
+            pedigree: BTreeMap::new(),
         }
+    }
+
+    /// The same file with its parameters and their pedigree read from its YAML
+    /// ([`crate::pedigree::parameters`], [`crate::pedigree::kinds`]); nothing for a file that
+    /// is no YAML.
+    pub fn with_parameters(mut self) -> Self {
+        self.parameters = crate::pedigree::parameters(&self.text);
+        self.pedigree = crate::pedigree::kinds(&self.text);
+        self
     }
 
     /// The same file, stating where it was resolved from.

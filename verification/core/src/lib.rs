@@ -8,10 +8,13 @@
 //!
 //! This crate depends on no model crate: models <- framework <- CLI.
 
+pub mod cas;
 pub mod check;
+pub mod credibility;
 pub mod disposition;
 pub mod document;
 pub mod matrix;
+pub mod pedigree;
 pub mod requirement;
 pub mod spectrum;
 pub mod testrun;

@@ -269,6 +269,10 @@ pub struct Row {
     /// chosen row depends on it, and why; absent in a whole run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub selection: Option<Selection>,
+    /// The credibility of its verdict (levels 0-4 per factor, the weakest named); absent for
+    /// a row not verified, and until the credibility assessment of the matrix has run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub credibility: Option<crate::cas::Credibility>,
 }
 
 /// Why a row is in a partial run (`verify --only`).
@@ -1007,6 +1011,7 @@ fn finish_row(
         tests_status,
         defined_at: format!("{}:{}", r.origin.file.display(), r.origin.line),
         selection: None,
+        credibility: None,
     }
 }
 

@@ -277,6 +277,8 @@ struct RawRequirement {
     level: Option<Spanned<String>>,
     #[serde(default)]
     stage: Option<Spanned<String>>,
+    #[serde(default)]
+    credibility: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -441,6 +443,10 @@ pub struct Requirement {
     pub parent: Option<(ReqId, f64)>,
     /// Free note.
     pub note: Option<String>,
+    /// The credibility level (0-4, [`crate::credibility`]) its verdict needs (`credibility: 3`
+    /// in the YAML): below it the row is not compliant, whatever its margin.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub credibility: Option<u8>,
     /// Where the entry starts.
     pub origin: Origin,
     /// Where the `check` field is (to report unknown checks).
@@ -765,6 +771,19 @@ fn requirement(
         Some(p) => Some((p.id, p.margin)),
         None => None,
     };
+    let credibility = match &r.credibility {
+        Some(c) if !(c.value.fract() == 0.0 && (0.0..=4.0).contains(&c.value)) => {
+            return Err(LoadError {
+                origin: origin_of(file, c),
+                cause: format!(
+                    "requirement {id}: credibility {} is not a level of 0 to 4 (docs/credibility.md)",
+                    c.value
+                ),
+            });
+        }
+        Some(c) => Some(c.value as u8),
+        None => None,
+    };
     let req = Requirement {
         id,
         family: family.to_string(),
@@ -785,6 +804,7 @@ fn requirement(
         check_origin: r.check.as_ref().map(&at),
         parent: None,
         note: r.note,
+        credibility,
         origin: at(&r.id),
     };
     Ok((req, parent))

@@ -47,6 +47,9 @@ pub struct RowStatus {
     pub reason: Option<String>,
     /// The limit as written in the matrix (checked against the requirement set).
     pub limit_text: String,
+    /// The verdict's credibility (issue 49): `level 0 (weakest: validation); verification 3:
+    /// ...; validation 0: ...`, when the matrix states it.
+    pub credibility: Option<String>,
 }
 
 /// The status of every row of a compliance matrix, and where it comes from.
@@ -148,6 +151,10 @@ impl StatusSet {
                 disposition,
                 reason: s("reason"),
                 limit_text: s("limit_text").unwrap_or_default(),
+                credibility: r
+                    .get("credibility")
+                    .filter(|c| c.is_object())
+                    .map(credibility_text),
             };
             if out.rows.insert(id.clone(), row).is_some() {
                 return Err(err(format!("requirement {id} appears twice")));
@@ -208,4 +215,31 @@ impl StatusSet {
         }
         Ok(())
     }
+}
+
+/// A row's `credibility` object in one line: `level 0 (weakest: validation); verification 3:
+/// why; ...`.
+fn credibility_text(c: &Value) -> String {
+    let level = |v: &Value| v.get("level").and_then(Value::as_u64).unwrap_or(0);
+    let mut parts = vec![format!(
+        "level {} (weakest: {})",
+        level(c),
+        c.get("weakest").and_then(Value::as_str).unwrap_or("?")
+    )];
+    for (key, name) in [
+        ("verification", "verification"),
+        ("validation", "validation"),
+        ("input_pedigree", "input pedigree"),
+        ("results_uncertainty", "results uncertainty"),
+        ("results_robustness", "results robustness"),
+    ] {
+        if let Some(f) = c.get(key) {
+            parts.push(format!(
+                "{name} {}: {}",
+                level(f),
+                f.get("why").and_then(Value::as_str).unwrap_or("")
+            ));
+        }
+    }
+    parts.join("; ")
 }

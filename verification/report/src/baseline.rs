@@ -16,7 +16,11 @@
 //! - evidence lost (a value in the baseline, none now) or a weaker basis (model -> flow-down);
 //! - a traced test that passed in the baseline and does not pass now, or vanished (compared
 //!   only when this run's recorded test run is fresh);
-//! - a requirement that disappeared.
+//! - a requirement that disappeared;
+//! - a model input parameter that changed ("input changed, needs review", with the rows it
+//!   moved, whichever way: [`InputChange`]);
+//! - a credibility level that fell, or a row no longer compliant because its credibility is
+//!   below the level its requirement needs.
 //!
 //! A known non-compliance with its disposition is not a regression; an improvement is listed but
 //! never fails the gate. Checks whose value or inputs changed (a seed, say) are listed as
@@ -30,9 +34,22 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 
+mod credibility;
+mod inputs;
+pub use inputs::InputChange;
+
 #[derive(Deserialize)]
 struct OldReport {
     requirements: Vec<OldRow>,
+    #[serde(default)]
+    run: Option<OldRun>,
+}
+
+#[derive(Deserialize)]
+struct OldRun {
+    /// The model inputs by name (`parameters`, `sha256`), and the time series under `series`.
+    #[serde(default)]
+    inputs: BTreeMap<String, serde_json::Value>,
 }
 
 #[derive(Deserialize)]
@@ -69,6 +86,8 @@ struct OldRow {
     tests: Vec<OldTest>,
     #[serde(default)]
     disposition: Option<OldDisposition>,
+    #[serde(default)]
+    credibility: Option<serde_json::Value>,
 }
 
 #[derive(Deserialize)]
@@ -144,6 +163,9 @@ pub struct Diff {
     pub removed: Vec<String>,
     /// Checks whose evidence changed.
     pub suspect_evidence: Vec<Suspect>,
+    /// Model input parameters that changed since the baseline, each with the rows it moved
+    /// (each a regression: on every row it moved, or of its own when it moved none).
+    pub inputs_changed: Vec<InputChange>,
     /// Number of requirements with a regression (each counted once).
     pub regressions: usize,
 }
@@ -270,6 +292,7 @@ pub fn diff_text(
         added: vec![],
         removed: vec![],
         suspect_evidence: vec![],
+        inputs_changed: vec![],
         regressions: 0,
     };
     for r in &now.matrix.requirements {
@@ -311,7 +334,15 @@ pub fn diff_text(
         .filter(|o| !now_ids.contains(&o.id.as_str()))
         .map(|o| o.id.clone())
         .collect();
-    d.regressions = d.changes.iter().filter(|c| c.regression).count() + d.removed.len();
+    if let Some(run) = &old.run {
+        inputs::gate(now, &run.inputs, &old_by, &mut d);
+    }
+    d.regressions = d.changes.iter().filter(|c| c.regression).count()
+        + d.removed.len()
+        + d.inputs_changed
+            .iter()
+            .filter(|c| c.rows.is_empty())
+            .count();
     Ok(d)
 }
 
@@ -351,6 +382,7 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
         tests_lost(r, o, &mut reg);
     }
     reg.extend(rejected_tests(r));
+    reg.extend(credibility::regressions(r, o, tests_compared));
     if r.status == Status::NonCompliant {
         match (&r.disposition, &o.disposition) {
             (Some(dn), _) if dn.expired => reg.push(format!(
@@ -644,6 +676,9 @@ pub fn summary_lines(d: &Diff) -> Vec<String> {
             "REGRESSION {id}: removed (it is in the baseline, not in this run)"
         ));
     }
+    for c in d.inputs_changed.iter().filter(|c| c.rows.is_empty()) {
+        out.push(format!("REGRESSION {}; it moved no row", c.words()));
+    }
     out
 }
 
@@ -662,7 +697,11 @@ pub fn markdown(d: &Diff) -> String {
             d.tests_not_compared.as_deref().unwrap_or("no fresh test run")
         ));
     }
-    if d.changes.is_empty() && d.added.is_empty() && d.removed.is_empty() {
+    if d.changes.is_empty()
+        && d.added.is_empty()
+        && d.removed.is_empty()
+        && d.inputs_changed.is_empty()
+    {
         o.push_str("No requirement changed status, margin, basis, tests or disposition.\n\n");
     }
     if !d.changes.is_empty() {
@@ -691,6 +730,26 @@ pub fn markdown(d: &Diff) -> String {
             "Removed (regression): {}\n\n",
             d.removed.join(", ")
         ));
+    }
+    if !d.inputs_changed.is_empty() {
+        o.push_str("Model inputs changed since the baseline (each needs review):\n\n");
+        for c in &d.inputs_changed {
+            let rows = if c.rows.is_empty() {
+                "it moved no row (regression)".to_string()
+            } else {
+                format!("rows it moved: {}", c.rows.join("; "))
+            };
+            o.push_str(&format!(
+                "- `{}` {} `{}` -> `{}` ({}): {}\n",
+                c.input,
+                c.parameter,
+                c.old.replace('`', "'"),
+                c.new.replace('`', "'"),
+                c.label,
+                rows.replace('|', "\\|")
+            ));
+        }
+        o.push('\n');
     }
     if !d.suspect_evidence.is_empty() {
         o.push_str("Suspect evidence (changed since the baseline):\n\n");

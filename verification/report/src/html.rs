@@ -144,7 +144,7 @@ fn vcd_table(rep: &Report, link: &str) -> String {
              <td class=\"ev\">{act}<br><b>{ev}</b> <a href=\"{link}#{id}\">§ evidence</a>\
              <details><summary>full evidence and references</summary><ul>{detail}</ul><b>References</b><ul>{refs}</ul></details></td>\
              <td>{value}<br>{limit}<br>margin {margin}<br><span class=\"small muted\">basis {basis}{sample}</span></td>\
-             <td><span class=\"badge\">{comp}</span><br><b>{co}</b>: {cor}{cref}</td><td class=\"small\">{rem}</td><td>{rv}</td></tr>",
+             <td><span class=\"badge\">{comp}</span><br><span class=\"small\">credibility {cred}</span><br><b>{co}</b>: {cor}{cref}</td><td class=\"small\">{rem}</td><td>{rv}</td></tr>",
             id = esc(&l.id),
             idl = idlink(&l.id),
             title = esc(&l.title),
@@ -170,6 +170,7 @@ fn vcd_table(rep: &Report, link: &str) -> String {
                 format!("<br>sample: {}", esc(&l.sampling))
             },
             comp = esc(&l.compliance),
+            cred = esc(&l.credibility),
             co = l.close_out,
             cor = esc(&l.close_out_reason),
             cref = if l.close_out_reference.is_empty() {
@@ -322,8 +323,8 @@ fn matrix_table(o: &mut String, rep: &Report) {
          <button data-filter=\"all\">all</button><button data-filter=\"compliant\">compliant</button>\
          <button data-filter=\"non-compliant\">non-compliant</button><button data-filter=\"not-verified\">not-verified</button></div>\
          <table class=\"matrix\"><colgroup><col class=\"m-id\"><col class=\"m-t\"><col class=\"m-me\"><col class=\"m-st\"><col class=\"m-b\">\
-         <col class=\"m-v\"><col class=\"m-l\"><col class=\"m-mg\"><col class=\"m-ev\"><col class=\"m-te\"></colgroup>\
-         <thead><tr><th>ID</th><th>Title</th><th>Method</th><th>Status</th><th>Basis</th><th>Value</th><th>Limit</th><th>Margin</th><th>Evidence</th><th>Tests</th></tr></thead><tbody>"
+         <col class=\"m-v\"><col class=\"m-l\"><col class=\"m-mg\"><col class=\"m-ev\"><col class=\"m-te\"><col class=\"m-cr\"></colgroup>\
+         <thead><tr><th>ID</th><th>Title</th><th>Method</th><th>Status</th><th>Basis</th><th>Value</th><th>Limit</th><th>Margin</th><th>Evidence</th><th>Tests</th><th>Credibility</th></tr></thead><tbody>"
     );
     let run = m.test_run.is_some();
     for r in &m.requirements {
@@ -337,7 +338,8 @@ fn matrix_table(o: &mut String, rep: &Report) {
         let _ = write!(
             o,
             "<tr id=\"matrix-{id}\" data-status=\"{st}\" class=\"{st}\"><td><a href=\"#{id}\">{id}</a></td><td>{t}</td><td>{meth}</td>\
-             <td><span class=\"badge\">{verdict}</span></td><td>{basis}</td><td class=\"num\">{v}</td><td class=\"num\">{lim}</td><td class=\"num\">{mg}</td><td>{ev}</td><td>{nt}</td></tr>",
+             <td><span class=\"badge\">{verdict}</span></td><td>{basis}</td><td class=\"num\">{v}</td><td class=\"num\">{lim}</td><td class=\"num\">{mg}</td><td>{ev}</td><td>{nt}</td><td>{cr}</td></tr>",
+            cr = esc(&crate::credibility_word(r)),
             verdict = esc(&crate::verdict(r)),
             basis = crate::basis_word(r),
             id = esc(&r.id),
@@ -483,6 +485,17 @@ fn verdict_items(o: &mut String, r: &Row) {
     }
     for f in &r.findings {
         let _ = write!(o, "<li>Finding: {}</li>", esc(f));
+    }
+    if let Some((head, factors)) = crate::credibility_lines(r).split_first() {
+        let items: String = factors
+            .iter()
+            .map(|l| format!("<li>{}</li>", esc(l)))
+            .collect();
+        let _ = write!(
+            o,
+            "<li>Credibility {} (rubric: docs/credibility.md)<ul>{items}</ul></li>",
+            esc(head)
+        );
     }
 }
 

@@ -127,6 +127,21 @@ fn requirement_lines(r: &geodesic_core::matrix::Row) -> Vec<String> {
         lines.push(format!("sample: {text}"));
     }
     lines.extend(r.findings.iter().map(|f| format!("finding: {f}")));
+    if let Some(c) = &r.credibility {
+        lines.push(format!("credibility: {}", c.level));
+        lines.push(format!("credibility_weakest: {}", c.weakest));
+        if let Some(n) = c.required {
+            lines.push(format!("credibility_required: {n}"));
+        }
+        for (n, f) in c.factors() {
+            lines.push(format!(
+                "credibility_{}: {}: {}",
+                n.replace(' ', "_"),
+                f.level,
+                f.why
+            ));
+        }
+    }
     lines.push(format!(
         "value {} against {}, margin {}; evidence: {}",
         fmt_value(r),

@@ -425,6 +425,35 @@ pub fn tests_word(r: &geodesic_core::matrix::Row, run_recorded: bool) -> String 
     }
 }
 
+/// A row's credibility in a cell: `0 (validation)`, `2 (verification; needs 4)`, `—` when the
+/// row is not judged.
+pub fn credibility_word(r: &geodesic_core::matrix::Row) -> String {
+    r.credibility
+        .as_ref()
+        .map_or_else(|| "—".to_string(), |c| c.short())
+}
+
+/// A row's credibility factor by factor, one line each (`verification 3: ...`), with the row's
+/// level and its weakest factor first; empty for a row not judged.
+pub fn credibility_lines(r: &geodesic_core::matrix::Row) -> Vec<String> {
+    let Some(c) = &r.credibility else {
+        return Vec::new();
+    };
+    let mut v = vec![format!(
+        "level {} (weakest: {}){}",
+        c.level,
+        c.weakest,
+        c.required
+            .map_or(String::new(), |n| format!("; its requirement needs {n}"))
+    )];
+    v.extend(
+        c.factors()
+            .iter()
+            .map(|(n, f)| format!("{n} {}: {}", f.level, f.why)),
+    );
+    v
+}
+
 /// Formats a margin as a percentage (`70.0 %`), `—` when absent.
 pub fn fmt_margin(m: Option<f64>) -> String {
     m.map_or_else(|| "—".to_string(), |m| format!("{:.1} %", 100.0 * m))

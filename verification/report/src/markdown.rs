@@ -53,9 +53,9 @@ fn summary_table(o: &mut String, rep: &Report) {
     );
     let _ = writeln!(
         o,
-        "| ID | Title | Method | Status | Basis | Value | Limit | Margin | Evidence | Tests |"
+        "| ID | Title | Method | Status | Basis | Value | Limit | Margin | Evidence | Tests | Credibility |"
     );
-    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|---|");
     let run = m.test_run.is_some();
     for r in &m.requirements {
         let value = fmt_value(r);
@@ -66,7 +66,7 @@ fn summary_table(o: &mut String, rep: &Report) {
             .collect();
         let _ = writeln!(
             o,
-            "| [{id}](#{anchor}){dep} | {t} | {meth} | {st} | {basis} | {value} | {lim} | {mg} | {ev} | {nt} |",
+            "| [{id}](#{anchor}){dep} | {t} | {meth} | {st} | {basis} | {value} | {lim} | {mg} | {ev} | {nt} | {cr} |",
             id = r.id,
             dep = match &r.selection {
                 Some(s) if s.role == "dependency" => format!(" (dependency: {})", cell(&s.why)),
@@ -84,7 +84,8 @@ fn summary_table(o: &mut String, rep: &Report) {
             } else {
                 ev.join(", ")
             },
-            nt = crate::tests_word(r, run)
+            nt = crate::tests_word(r, run),
+            cr = crate::credibility_word(r)
         );
     }
 }
@@ -157,6 +158,7 @@ fn requirement_section(o: &mut String, r: &Row) {
     }
     let _ = writeln!(o, "- Defined at: `{}`", r.defined_at);
     verdict_lines(o, r);
+    credibility_list(o, r);
     evidence_list(o, r);
     traced_tests(o, r);
     let _ = writeln!(o);
@@ -210,6 +212,22 @@ fn verdict_lines(o: &mut String, r: &Row) {
                 fmt_margin(r.margin)
             );
         }
+    }
+}
+
+/// A row's credibility, factor by factor (nothing for a row not judged).
+fn credibility_list(o: &mut String, r: &Row) {
+    let lines = crate::credibility_lines(r);
+    let Some((head, factors)) = lines.split_first() else {
+        return;
+    };
+    let _ = writeln!(
+        o,
+        "\nCredibility (rubric: `docs/credibility.md`): {}\n",
+        cell(head)
+    );
+    for l in factors {
+        let _ = writeln!(o, "- {}", cell(l));
     }
 }
 

@@ -1,13 +1,23 @@
-//! The short compliance table printed on a terminal by `geodesic verify`.
+//! The short compliance table printed on a terminal by `geodesic verify`: one row per
+//! requirement, its credibility level and weakest factor last ([`geodesic_core::credibility`]).
 
 use crate::{basis_word, fmt_limit, fmt_margin, fmt_value, tests_word, verdict};
 use geodesic_core::matrix::{Matrix, Status};
 
 /// Renders the matrix as an aligned text table with a summary line.
 pub fn table(m: &Matrix, color: bool) -> String {
-    let head = ["ID", "status", "basis", "value", "limit", "margin", "tests"];
+    let head = [
+        "ID",
+        "status",
+        "basis",
+        "value",
+        "limit",
+        "margin",
+        "tests",
+        "credibility",
+    ];
     let run = m.test_run.is_some();
-    let rows: Vec<[String; 7]> = m
+    let rows: Vec<[String; 8]> = m
         .requirements
         .iter()
         .map(|r| {
@@ -19,6 +29,7 @@ pub fn table(m: &Matrix, color: bool) -> String {
                 fmt_limit(r),
                 fmt_margin(r.margin),
                 tests_word(r, run),
+                crate::credibility_word(r),
             ]
         })
         .collect();

@@ -71,6 +71,9 @@ pub struct VcdLine {
     /// yes / yes (with the verdict's qualifiers: `yes (flow-down; assumes not-verified
     /// TMS-X-VEL)`) / no / partial / not verified.
     pub compliance: String,
+    /// The verdict's credibility: level and weakest factor (`0 (validation)`, `—` when not
+    /// judged; the factors in [`VcdLine::detail`]).
+    pub credibility: String,
     /// open / closed.
     pub close_out: &'static str,
     /// Why open or closed.
@@ -330,6 +333,7 @@ fn line(rep: &Report, r: &Row, date: &str) -> VcdLine {
         basis: r.basis.map_or("", |b| b.as_str()),
         sampling: crate::sampling_text(r).unwrap_or_default(),
         compliance: compliance(r),
+        credibility: crate::credibility_word(r),
         close_out,
         close_out_reason,
         close_out_reference,
@@ -342,7 +346,10 @@ fn line(rep: &Report, r: &Row, date: &str) -> VcdLine {
 /// The full evidence of a line ([`VcdLine::detail`]): each check with every input, then each
 /// traced test with its full name, kind, location, result and assertions.
 fn detail(r: &Row) -> Vec<String> {
-    let mut detail = Vec::new();
+    let mut detail: Vec<String> = crate::credibility_lines(r)
+        .into_iter()
+        .map(|l| format!("credibility: {l}"))
+        .collect();
     for e in &r.evidence {
         let inputs: Vec<String> = e
             .inputs
@@ -495,8 +502,9 @@ fn csv_field(s: &str) -> String {
 /// there is none; `value_text`, `limit_text` and `margin_text` are the same as the reports write
 /// them (`1.329 um/s`, `<= 5 um/s`, `73.4 %`). `evidence_references` are the documents and tests
 /// the evidence is in (not `references`: Doorstop's import takes a column of that name for its
-/// own file references).
-pub const COLUMNS: [&str; 31] = [
+/// own file references). `credibility` is the verdict's level and weakest factor
+/// (docs/credibility.md).
+pub const COLUMNS: [&str; 32] = [
     "id",
     "title",
     "text",
@@ -528,6 +536,7 @@ pub const COLUMNS: [&str; 31] = [
     "reverify",
     "reverify_reason",
     "document",
+    "credibility",
 ];
 
 /// The cells of a line in [`COLUMNS`] order.
@@ -564,6 +573,7 @@ pub fn cells(rep: &Report, l: &VcdLine) -> Vec<String> {
         if l.reverify { "yes" } else { "no" }.to_string(),
         l.reverify_reason.clone(),
         format!("{} issue {}", rep.run.document.id, rep.run.document.issue),
+        l.credibility.clone(),
     ]
 }
 
@@ -600,12 +610,12 @@ pub fn markdown(rep: &Report) -> String {
         o.push_str(&format!("- {k}: {}\n", c(&v)));
     }
     o.push_str("\nColumns follow ECSS-E-ST-10-02C Annex B. Compliance: yes (a model or measurement verdict with no finding) / yes (qualified: its basis, what it assumes, a rejected input, a test problem) / no / partial (partly met) / not verified. A sampled value is the confidence bound that decides (Sample column). Full evidence per requirement below the table.\n\n");
-    o.push_str("| ID | Requirement | Source | Parent / children | Level / stage | Method | Activity / evidence | Value | Limit | Margin | Basis | Sample | Compliance | Close-out | Remarks | Re-verify |\n");
-    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    o.push_str("| ID | Requirement | Source | Parent / children | Level / stage | Method | Activity / evidence | Value | Limit | Margin | Basis | Sample | Compliance | Credibility | Close-out | Remarks | Re-verify |\n");
+    o.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     let lines = lines(rep);
     for l in &lines {
         o.push_str(&format!(
-            "| [{id}](#{a}) | **{title}**: {text} | {src} | {par} / {ch} | {lev} / {st} | {meth} | {act}<br>{ev}<br>refs: {refs} | {val} | {lim} | {mg} | {basis} | {smp} | {comp} | {co}: {cor}{cref} | {rem} | {rv} |\n",
+            "| [{id}](#{a}) | **{title}**: {text} | {src} | {par} / {ch} | {lev} / {st} | {meth} | {act}<br>{ev}<br>refs: {refs} | {val} | {lim} | {mg} | {basis} | {smp} | {comp} | {cred} | {co}: {cor}{cref} | {rem} | {rv} |\n",
             id = l.id,
             a = l.id.to_lowercase(),
             title = c(&l.title),
@@ -633,6 +643,7 @@ pub fn markdown(rep: &Report) -> String {
                 c(&l.sampling)
             },
             comp = l.compliance,
+            cred = l.credibility,
             co = l.close_out,
             cor = c(&l.close_out_reason),
             cref = if l.close_out_reference.is_empty() {

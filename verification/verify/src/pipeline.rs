@@ -250,7 +250,7 @@ pub fn resolve_inputs(mission: &Mission, opts: &Options) -> Result<Inputs, Error
             )));
         };
         mission.validate_input(&spec.name, &f).map_err(Error::bad)?;
-        inputs.insert(&spec.name, &spec.words, f);
+        inputs.insert(&spec.name, &spec.words, f.with_parameters());
     }
     Ok(inputs)
 }
@@ -613,6 +613,7 @@ fn build_matrix(
             ));
         }
     }
+    geodesic_core::credibility::apply(&mut matrix, &l.reqs, &l.inputs);
     if let Some(s) = selection {
         s.apply(&mut matrix);
     }

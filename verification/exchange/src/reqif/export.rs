@@ -245,6 +245,12 @@ const STATUS_ATTRS: &[Attr] = &[
         "margin as a fraction of the limit (0.25 = 25 %; negative: violated)",
     ),
     attr(
+        "geodesic-ad-req-credibility",
+        "geodesic.Credibility",
+        Kind::String,
+        "the verdict's credibility: its level (0-4), the weakest factor and each factor's level and why (docs/credibility.md)",
+    ),
+    attr(
         "geodesic-ad-req-close-out",
         "geodesic.CloseOut",
         Kind::Enum(DT_CLOSE_OUT),
@@ -494,6 +500,9 @@ fn requirement_values(r: &Requirement, st: Option<&RowStatus>) -> Vec<(&'static 
         }
         if let Some(m) = s.margin.filter(|m| m.is_finite()) {
             v.push(("geodesic-ad-req-margin", Val::Real(m)));
+        }
+        if let Some(c) = &s.credibility {
+            v.push(("geodesic-ad-req-credibility", Val::Str(c.clone())));
         }
         v.push(("geodesic-ad-req-close-out", Val::Enum(s.close_out.clone())));
         if let Some(d) = &s.disposition {
