@@ -26,7 +26,7 @@ const MAX_TERMS: usize = 16;
 /// Grid steps a gap is crossed by, one `exp(A h)` each; a longer gap takes one exponential.
 const GAP_STEPS: u64 = 64;
 
-/// Intervals the typical step is the median of (evenly spread over the record).
+/// Intervals the typical step of a long record is the median of.
 const STEP_SAMPLE: usize = 4095;
 
 /// `r . v` in a fixed order.
@@ -45,8 +45,21 @@ fn block(m: &Mat) -> [[f64; N_HOM]; N_HOM] {
     std::array::from_fn(|i| std::array::from_fn(|j| m[i][j]))
 }
 
-/// The typical step of `times` after `t0`: the median of up to [`STEP_SAMPLE`] of its
-/// intervals, evenly spread; `None` for fewer than two samples, a time stamp that is not a
+/// Whether the intervals of `times` change (by more than `tol` [s] from one to the next) often
+/// enough, more than 32 times and one interval in 16, that an exponential per change, what the
+/// interval-by-interval propagation costs, would be dearer than this tail's bins. A record
+/// uniform by pieces (the fit's search subset: a dense head, a thinned tail; a few gaps) keeps
+/// the interval-by-interval propagation and its bits.
+pub(super) fn steps_change_often(times: &[f64], tol: f64) -> bool {
+    let changes = times
+        .windows(3)
+        .filter(|w| ((w[2] - w[1]) - (w[1] - w[0])).abs() > tol)
+        .count();
+    changes > 32 && changes > times.len() / 16
+}
+
+/// The typical step of `times` after `t0`: the median of its intervals, or of
+/// [`STEP_SAMPLE`] of them at fixed pseudo-random places; `None` for fewer than two samples, a time stamp that is not a
 /// number or not after the one before it (the caller then propagates interval by interval).
 pub(super) fn typical_step(t0: f64, times: &[f64]) -> Option<f64> {
     let n = times.len();
@@ -57,11 +70,22 @@ pub(super) fn typical_step(t0: f64, times: &[f64]) -> Option<f64> {
     if times.windows(2).any(|w| !(w[1] > w[0])) || !times[n - 1].is_finite() {
         return None;
     }
-    let stride = (n - 1).div_ceil(STEP_SAMPLE).max(1);
-    let mut d: Vec<f64> = (1..n)
-        .step_by(stride)
-        .map(|i| times[i] - times[i - 1])
-        .collect();
+    // every interval of a short record; of a long one, intervals at fixed pseudo-random places
+    // (a stride would alias with a periodic pattern of gaps)
+    let mut d: Vec<f64> = if n - 1 <= STEP_SAMPLE {
+        times.windows(2).map(|w| w[1] - w[0]).collect()
+    } else {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        (0..STEP_SAMPLE)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                let i = 1 + ((s >> 33) as usize) % (n - 1);
+                times[i] - times[i - 1]
+            })
+            .collect()
+    };
     let mid = d.len() / 2;
     let (_, &mut h, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
     (h > 0.0 && h.is_finite()).then_some(h)
