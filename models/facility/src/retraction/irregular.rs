@@ -63,11 +63,15 @@ pub(super) fn steps_change_often(times: &[f64], tol: f64) -> bool {
 /// number or not after the one before it (the caller then propagates interval by interval).
 pub(super) fn typical_step(t0: f64, times: &[f64]) -> Option<f64> {
     let n = times.len();
-    if n < 2 || !(times[0] > t0) {
+    if n < 2 || times[0].partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
-    // `!(b > a)` also refuses a NaN
-    if times.windows(2).any(|w| !(w[1] > w[0])) || !times[n - 1].is_finite() {
+    // a NaN compares as nothing: refused too
+    if times
+        .windows(2)
+        .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+        || !times[n - 1].is_finite()
+    {
         return None;
     }
     // every interval of a short record; of a long one, intervals at fixed pseudo-random places
@@ -124,7 +128,7 @@ impl Irregular {
         scale_y: f64,
         d0: f64,
     ) -> Option<Irregular> {
-        if z[N_HOM..].iter().any(|&v| v != 0.0) || !(h > 0.0) {
+        if z[N_HOM..].iter().any(|&v| v != 0.0) || h.is_nan() || h <= 0.0 {
             return None;
         }
         let a_norm = norm_inf(a);
