@@ -8,7 +8,8 @@
 //! baseline `needle_contact,tip_contact` of a TMMF release that hides its tip adhesion, at
 //! 2 000 samples (10 ms at 200 kHz) and 400 000 samples (2 s). The
 //! throughput is in samples, so criterion prints the cost per sample; the datasets are
-//! synthesized in memory with `synth`'s code (fixed seeds).
+//! synthesized in memory with `synth`'s code (fixed seeds). `sampling_twins`: a 20 000-sample
+//! rt-retraction record on its regular grid, jittered and gapped (issue 50, item 5).
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -180,5 +181,75 @@ fn discoveries(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, forward, lockstep, fits, diagnoses, discoveries);
+/// The time stamps of `t` after the trigger moved by a normal jitter of sd 10 % of the step
+/// (a fixed seed; issue 50, item 5), or with one sample of every 7 left out.
+fn irregular(t: &[f64], jitter: bool) -> Vec<f64> {
+    let h = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+    let mut s = 50u64;
+    let mut uniform = || {
+        s = s
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((s >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    t.iter()
+        .enumerate()
+        .filter(|&(i, &ti)| jitter || ti <= 0.0 || i % 7 != 3)
+        .map(|(_, &ti)| {
+            let g = (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos();
+            if jitter && ti > 0.0 {
+                ti + 0.1 * h * g
+            } else {
+                ti
+            }
+        })
+        .collect()
+}
+
+/// Regular, jittered and gapped twins of a 20 000-sample rt-retraction record (1 MHz, 20 ms):
+/// the forward model of each, and `fit` of the regular and the jittered one with
+/// `piezo,plunger_compliance` (issue 50, item 5: the irregular ones no more than twice the
+/// regular one).
+fn sampling_twins(c: &mut Criterion) {
+    let effects = ["piezo", "plunger_compliance"];
+    let n = 20_000;
+    let prep = record(Scenario::RtRetraction, n);
+    let model = Model::new(Scenario::RtRetraction, &effects).unwrap();
+    let p = model.nominal();
+    let mut g = c.benchmark_group("sampling_twins_forward");
+    for (name, t) in [
+        ("regular", prep.dataset.t.clone()),
+        ("jittered", irregular(&prep.dataset.t, true)),
+        ("gapped", irregular(&prep.dataset.t, false)),
+    ] {
+        g.throughput(Throughput::Elements(t.len() as u64));
+        g.bench_with_input(BenchmarkId::new(name, n), &t, |b, t| {
+            b.iter(|| model.predict(black_box(&p), t, &prep.inputs))
+        });
+    }
+    g.finish();
+    let mut g = c.benchmark_group("sampling_twins_fit");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(30));
+    let mut jittered = prep.dataset.clone();
+    jittered.t = irregular(&jittered.t, true);
+    let jittered = Prepared::new(jittered);
+    for (name, prep) in [("regular", &prep), ("jittered", &jittered)] {
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_with_input(BenchmarkId::new(name, n), prep, |b, prep| {
+            b.iter(|| fit(prep, &effects, &FitOptions::default()).expect("fit"))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    forward,
+    lockstep,
+    fits,
+    diagnoses,
+    discoveries,
+    sampling_twins
+);
 criterion_main!(benches);
