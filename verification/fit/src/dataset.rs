@@ -1828,4 +1828,4 @@ pub fn fmt_sig(v: f64) -> String {
 #[cfg(test)]
 mod daq_tests;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

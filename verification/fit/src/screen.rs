@@ -234,19 +234,7 @@ pub fn with_record_notes(reason: &str, prep: &Prepared) -> String {
 mod tests {
     use super::*;
 
-    /// A deterministic Gaussian-ish sequence (sum of 12 uniforms, minus 6).
-    fn gauss(n: usize, seed: u64) -> Vec<f64> {
-        let mut s = seed;
-        let mut u = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
-        (0..n)
-            .map(|_| (0..12).map(|_| u()).sum::<f64>() - 6.0)
-            .collect()
-    }
+    use crate::dataset::tests::gauss;
 
     #[test]
     fn spikes_are_found_and_a_step_or_a_kink_is_not() {

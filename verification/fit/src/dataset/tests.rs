@@ -411,8 +411,8 @@ fn a_wild_sample_is_excluded_named_by_line_or_refused_under_strict() {
     assert!(Dataset::load(&p).unwrap().rows.wild.is_empty());
 }
 
-/// Gaussian noise of unit sigma (deterministic).
-fn gauss(n: usize, seed: u64) -> Vec<f64> {
+/// Gaussian noise of unit sigma (deterministic): the test noise of the crate's modules.
+pub(crate) fn gauss(n: usize, seed: u64) -> Vec<f64> {
     use rand::SeedableRng;
     use rand_distr::{Distribution, Normal};
     let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
