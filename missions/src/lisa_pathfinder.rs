@@ -78,7 +78,7 @@ pub fn mission() -> Mission {
     let mut m = Mission::new(DESCRIPTOR, "mission.yaml", ".", session)
         .expect("the built-in mission.yaml is valid (tested)")
         .max_mc_n(geodesic_release::montecarlo::MAX_N)
-        .series(crate::series)
+        .series(geodesic_checks::spectral::validate_series)
         .validate("budget", |f| {
             let b = geodesic_release::budget::Budget::from_yaml(&f.text, &f.label)
                 .map_err(|e| e.to_string())?;

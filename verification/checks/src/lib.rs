@@ -1,4 +1,6 @@
-//! geodesic-checks: the one registry of verification activities.
+//! geodesic-checks: the one registry of the root mission's verification activities (the
+//! Drag-Free CubeSat's are in its own crate, `missions/drag-free-cubesat/`), and the generic
+//! spectral check every mission may name.
 //!
 //! Each family module (`release`, `capture`, `charge`, `tm_state`, `facility`) exposes
 //! `checks()`; [`registry`] lists them all, and `geodesic verify`, the reports and the tests
@@ -10,7 +12,6 @@
 
 pub mod capture;
 pub mod charge;
-pub mod dfc;
 pub mod facility;
 pub mod fidelity;
 pub mod images;
@@ -102,20 +103,15 @@ pub fn context(
     }
 }
 
-/// Every registered check, in a stable order.
+/// Every check of the root mission, in a stable order (other missions' checks are their own
+/// crates').
 pub fn registry() -> Vec<Box<dyn Check>> {
-    let mut all = registry_with(release::SharedMonteCarlo::new());
-    // the order of old: the Drag-Free CubeSat's before the generic spectral check
-    let generic = all.split_off(all.len() - spectral::checks().len());
-    all.extend(dfc::checks());
-    all.extend(generic);
-    all
+    registry_with(release::SharedMonteCarlo::new())
 }
 
 /// The root mission's checks (LISA Pathfinder's release and the generic spectral check), with
 /// a given release Monte Carlo cache (shared by the checks that need its velocities, and by
-/// [`fidelity::table`], so that `geodesic verify` runs it once). The Drag-Free CubeSat's checks
-/// ([`dfc::checks`]) are its own mission's; [`registry`] lists both.
+/// [`fidelity::table`], so that `geodesic verify` runs it once).
 pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<dyn Check>> {
     let mut all: Vec<Box<dyn Check>> = Vec::new();
     all.extend(release::checks_with(mc.clone()));

@@ -25,6 +25,12 @@ use std::path::Path;
 /// Name of the check (what `check:` names in YAML).
 pub const NAME: &str = "spectral-asd";
 
+/// Checks a time series (this check's input, `verify --series ID=FILE`) before anything runs:
+/// `Ok`, or the one-line cause.
+pub fn validate_series(p: &Path) -> Result<(), String> {
+    Series::load(p).map(|_| ()).map_err(|e| e.to_string())
+}
+
 /// Overlap of Welch's segments [-].
 pub const OVERLAP: f64 = 0.5;
 

@@ -19,6 +19,17 @@ pub fn all() -> &'static [Mission] {
     MISSIONS.get().map_or(&[], Vec::as_slice)
 }
 
+/// The names of every registered mission's checks, each once, in the missions' order.
+pub fn check_names() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = Vec::new();
+    for n in all().iter().flat_map(Mission::check_names) {
+        if !names.contains(&n) {
+            names.push(n);
+        }
+    }
+    names
+}
+
 /// The root mission.
 pub fn root() -> Result<&'static Mission, CliError> {
     all()

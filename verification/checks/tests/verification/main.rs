@@ -6,7 +6,6 @@ mod capture;
 mod charge;
 mod fit;
 mod framework;
-mod housing;
 mod images;
 mod plunger;
 mod release;

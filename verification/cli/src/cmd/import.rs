@@ -93,7 +93,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         .map(|f| (a.out.join(&f.file_name), f.yaml.clone()))
         .collect();
     let reqs = Requirements::from_sources(&sources).map_err(|e| CliError::bad(e.to_string()))?;
-    let names = geodesic_checks::check_names();
+    let names = crate::missions::check_names();
     reqs.validate_checks(&names)
         .map_err(|e| CliError::bad(format!("{}: {}", a.file.display(), e.cause)))?;
 
@@ -143,7 +143,7 @@ fn options(a: &ReqifArgs) -> Result<ImportOptions, CliError> {
         skip_incomplete: a.skip_incomplete,
         strict: a.strict,
         checks: Some(
-            geodesic_checks::check_names()
+            crate::missions::check_names()
                 .into_iter()
                 .map(str::to_string)
                 .collect(),

@@ -1,5 +1,5 @@
-//! The Drag-Free CubeSat TM housing (thesis ch. 8): the design inputs and the simple models that
-//! give its requirement rows evidence where a simple model exists.
+//! The housing's model (thesis ch. 8): the design inputs and the simple models that give its
+//! requirement rows evidence where a simple model exists.
 //!
 //! - **Magnetic shielding**: the foil around the housing as a spherical shell of relative
 //!   permeability `mu_r` in a uniform field (Jackson, *Classical Electrodynamics*, sec. 5.12):
@@ -15,9 +15,8 @@
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
-/// The built-in copy of `missions/drag-free-cubesat/design.yaml`.
-pub const DEFAULT_DESIGN_YAML: &str =
-    include_str!("../../../missions/drag-free-cubesat/design.yaml");
+/// The built-in copy of the mission's `design.yaml`.
+pub const DEFAULT_DESIGN_YAML: &str = include_str!("../design.yaml");
 
 /// A material's data.
 #[derive(Debug, Clone, PartialEq, Deserialize)]

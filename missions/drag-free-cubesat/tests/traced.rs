@@ -1,13 +1,14 @@
-//! Traced tests of the Drag-Free CubeSat housing (`missions/drag-free-cubesat/`, thesis ch. 8)
-//! and of the spectral check (issue 16, items 3 and 4). Each asserts the requirement's own limit
-//! on the check's evidence, or agreement with an independent reference (a closed form, or a
-//! synthetic series whose spectrum is known analytically).
+//! Traced tests of the housing (thesis ch. 8; issue 16, item 4). Each asserts the requirement's
+//! own limit on the check's evidence, or agreement with an independent reference (a closed
+//! form).
 
-use geodesic_checks::dfc::{MagneticShield, Structure};
 use geodesic_core::Check;
 use geodesic_core::trace::{assert_limit, assert_reference, mission_requirements};
 use geodesic_core::{CheckContext, Outcome};
-use geodesic_housing::{Design, shell_shielding_factor};
+use geodesic_mission_drag_free_cubesat::checks::{MagneticShield, Structure};
+use geodesic_mission_drag_free_cubesat::housing::{
+    DEFAULT_DESIGN_YAML, Design, shell_shielding_factor,
+};
 use proptest::prelude::*;
 
 fn dfc_context(design: Option<&str>) -> (CheckContext, tempfile::TempDir) {
@@ -55,7 +56,7 @@ fn designed_shield_meets_the_shielding_factor() {
 #[test]
 fn a_mu_metal_foil_of_the_same_thickness_does_not_meet_it() {
     // the verdict moves with the design: 0.1 mm of mu-metal (mu_r 20 000) shields 0.0315 only
-    let text = geodesic_housing::DEFAULT_DESIGN_YAML
+    let text = DEFAULT_DESIGN_YAML
         .replace("material: Metglas 2714A", "material: mu-metal")
         .replace("mu_r: 200000.0", "mu_r: 20000.0");
     let (ctx, _d) = dfc_context(Some(&text));
@@ -94,7 +95,7 @@ proptest! {
     #[test]
     fn structure_and_shield_move_with_their_inputs(load in 50.0f64..2000.0, k in 1.1f64..10.0) {
         geodesic_core::verifies!("DFC-STR-SF-6061", "DFC-MAG-SHIELD");
-        let text = geodesic_housing::DEFAULT_DESIGN_YAML
+        let text = DEFAULT_DESIGN_YAML
             .replace("caging_load_n: 200.0", &format!("caging_load_n: {load}"));
         let (ctx, _d) = dfc_context(Some(&text));
         let sf = value(&Structure.run(&ctx).unwrap(), "DFC-STR-SF-6061");

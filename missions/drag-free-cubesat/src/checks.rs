@@ -1,5 +1,5 @@
-//! Checks of the Drag-Free CubeSat housing (thesis ch. 8; `missions/drag-free-cubesat/`), the
-//! second mission geodesic verifies (issue 16, item 4). They read the mission's design file
+//! The housing's checks (thesis ch. 8), the second mission geodesic verifies (issue 16, item 4).
+//! They read the mission's design file
 //! (`geodesic verify --design`, by default `design.yaml` beside the requirements folder, else the
 //! built-in copy):
 //!
@@ -7,10 +7,10 @@
 //!   safety factors DFC-STR-SF-6061/-7075 from the FE Von Mises stress scaled with the design's
 //!   caging load and each material's yield strength (`accepted`: the stress is a cited result);
 //! - `dfc-magnetic-shield`: DFC-MAG-SHIELD from the spherical-shell model of
-//!   `geodesic_housing` (`model`), with the thickness each compared material needs.
+//!   [`crate::housing`] (`model`), with the thickness each compared material needs.
 
+use crate::housing::{DEFAULT_DESIGN_YAML, Design, thickness_for};
 use geodesic_core::{Basis, Check, CheckContext, CheckError, Dim, Evidence, Quantity};
-use geodesic_housing::{Design, thickness_for};
 
 /// The checks of this family.
 pub fn checks() -> Vec<Box<dyn Check>> {
@@ -28,7 +28,7 @@ pub fn design_of(ctx: &CheckContext) -> Result<(Design, String, String), CheckEr
         None => {
             let f = geodesic_core::check::InputFile::new(
                 "<built-in>/missions/drag-free-cubesat/design.yaml",
-                geodesic_housing::DEFAULT_DESIGN_YAML,
+                DEFAULT_DESIGN_YAML,
             );
             Ok((Design::builtin(), f.label, f.sha256))
         }
