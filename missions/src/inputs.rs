@@ -1,13 +1,16 @@
-//! One input resolution for every command that reads a model input (issue 37, item 3).
+//! One input resolution for every command that reads a model input (issue 37, item 3), of the
+//! inputs the root mission's descriptor declares (issue 51, item 2: `mission.yaml` `inputs:` is
+//! the one declaration; the flag `--NAME`, the words, the default path and the built-in copy
+//! derive from it).
 //!
 //! `verify`, `montecarlo`, `sensitivity`, `tip-radius`, `capture` and `charge` read the release
 //! budget, the capture inputs and the charge inputs through [`resolve`] alone, so that they all
 //! read the same file:
 //!
-//! 1. the file given with the command's flag (`--budget`, `--capture`, `--charge`);
-//! 2. else the repository's copy (`models/release/budget.yaml`, ...) when the command runs from
-//!    the repository's root (the path exists relative to the current directory: how `verify`
-//!    has always found it);
+//! 1. the file given with the command's flag (`--NAME`: `--budget`, `--capture`, `--charge`);
+//! 2. else the repository's copy (the descriptor's `path`) when the command runs from the
+//!    repository's root (the path exists relative to the current directory: how `verify` has
+//!    always found it);
 //! 3. else the copy built into the binary (the same bytes as the repository's file at build
 //!    time).
 //!
@@ -17,111 +20,113 @@
 //! built-in one): the same hex string in every command for the same file.
 
 use crate::error::CliError;
-use geodesic_core::check::{InputFile, InputOrigin};
+use geodesic_core::check::{InputFile, InputOrigin, Inputs};
+use geodesic_verify::{InputSpec, Mission};
 use std::path::Path;
+use std::sync::OnceLock;
 
-/// A model input file that several commands read.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ModelInput {
-    /// The release Monte Carlo's uncertainty budget (`models/release/budget.yaml`).
-    Budget,
-    /// The capture inputs: xlim, drift time, state sources (`models/capture/capture.yaml`).
-    Capture,
-    /// The charge inputs: capacitances, contact voltage spread, release-tip geometry
-    /// (`models/charge/charge.yaml`).
-    Charge,
+/// The root mission (its descriptor and built-in copies), built once.
+fn root() -> &'static Mission {
+    static M: OnceLock<Mission> = OnceLock::new();
+    M.get_or_init(crate::lisa_pathfinder::mission)
 }
 
+/// A model input file that several commands read: one the root mission's descriptor
+/// (`mission.yaml` `inputs:`) declares, by its name there. Its flag, its words, its default path
+/// and its built-in copy are the descriptor's.
+#[derive(Clone, Copy, Debug)]
+pub struct ModelInput(&'static InputSpec);
+
 impl ModelInput {
-    /// The flag that names another file.
-    pub fn flag(self) -> &'static str {
-        match self {
-            ModelInput::Budget => "--budget",
-            ModelInput::Capture => "--capture",
-            ModelInput::Charge => "--charge",
-        }
+    /// The release Monte Carlo's uncertainty budget.
+    pub fn budget() -> ModelInput {
+        ModelInput::named("budget")
+    }
+
+    /// The capture inputs: xlim, drift time, state sources.
+    pub fn capture() -> ModelInput {
+        ModelInput::named("capture")
+    }
+
+    /// The charge inputs: capacitances, contact voltage spread, release-tip geometry.
+    pub fn charge() -> ModelInput {
+        ModelInput::named("charge")
+    }
+
+    /// The input `name` of the descriptor; panics when it declares none (tested for every name
+    /// the commands read).
+    pub fn named(name: &str) -> ModelInput {
+        ModelInput(
+            root()
+                .spec
+                .inputs
+                .iter()
+                .find(|i| i.name == name)
+                .unwrap_or_else(|| panic!("mission.yaml declares no input `{name}`")),
+        )
+    }
+
+    /// Its name in the descriptor.
+    pub fn name(self) -> &'static str {
+        &self.0.name
+    }
+
+    /// The flag that names another file: `--NAME`.
+    pub fn flag(self) -> String {
+        format!("--{}", self.0.name)
     }
 
     /// In words, for the human output.
     pub fn words(self) -> &'static str {
-        match self {
-            ModelInput::Budget => "release budget",
-            ModelInput::Capture => "capture inputs",
-            ModelInput::Charge => "charge inputs",
-        }
+        &self.0.words
     }
 
     /// The repository's copy, relative to the repository's root.
     pub fn repository_path(self) -> &'static str {
-        match self {
-            ModelInput::Budget => "models/release/budget.yaml",
-            ModelInput::Capture => "models/capture/capture.yaml",
-            ModelInput::Charge => "models/charge/charge.yaml",
-        }
-    }
-
-    /// The plausible ranges of its parameters ([`crate::ranges`]).
-    pub fn ranges(self) -> &'static [geodesic_core::pedigree::Range] {
-        match self {
-            ModelInput::Budget => crate::ranges::BUDGET,
-            ModelInput::Capture => crate::ranges::CAPTURE,
-            ModelInput::Charge => crate::ranges::CHARGE,
-        }
+        &self.0.path
     }
 
     /// The copy built into the binary.
     pub fn builtin(self) -> &'static str {
-        match self {
-            ModelInput::Budget => geodesic_release::budget::DEFAULT_BUDGET_YAML,
-            ModelInput::Capture => geodesic_capture::DEFAULT_CAPTURE_YAML,
-            ModelInput::Charge => geodesic_charge::DEFAULT_CHARGE_YAML,
-        }
+        root()
+            .builtin
+            .get(&self.0.path)
+            .copied()
+            .unwrap_or_else(|| panic!("no built-in copy of {}", self.0.path))
     }
 }
 
 /// Resolves a model input: `given` (its flag) if set, else the repository's copy when it exists
-/// relative to the current directory, else the built-in copy. The file is read whole (at most
+/// relative to the current directory, else the built-in copy (as `verify` resolves it:
+/// [`geodesic_verify::pipeline::resolve_file`]). The file is read whole (at most
 /// [`geodesic_core::fsio::MAX_YAML_BYTES`], UTF-8); the error is one line naming the flag and
 /// the file. Every parameter's pedigree and plausible range are questioned
 /// ([`crate::ranges`]): a value outside its range is one line `file:line: cause`.
 pub fn resolve(input: ModelInput, given: Option<&Path>) -> Result<InputFile, CliError> {
-    let f = resolve_file(input, given)?;
-    crate::ranges::question(&f.text, &f.label, input.ranges()).map_err(CliError::bad)?;
+    let f = geodesic_verify::pipeline::resolve_file(
+        root(),
+        input.repository_path(),
+        given,
+        &input.flag(),
+    )?
+    .ok_or_else(|| CliError::bad(format!("{}: not found", input.repository_path())))?;
+    crate::ranges::question(&f.text, &f.label, crate::ranges::of(input.name()))
+        .map_err(CliError::bad)?;
     Ok(f)
 }
 
-fn resolve_file(input: ModelInput, given: Option<&Path>) -> Result<InputFile, CliError> {
-    let read = |p: &Path, origin: InputOrigin| {
-        let text = geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_YAML_BYTES).map_err(
-            |e| {
-                let at = match e.line() {
-                    0 => String::new(),
-                    l => format!(":{l}"),
-                };
-                let by = match origin {
-                    InputOrigin::Given => format!("{} ", input.flag()),
-                    _ => String::new(),
-                };
-                CliError::bad(format!("{by}{}{at}: {}", p.display(), e.cause()))
-            },
-        )?;
-        Ok(InputFile::new(p.display().to_string(), text).with_origin(origin))
-    };
-    match given {
-        Some(p) => read(p, InputOrigin::Given),
-        None => {
-            let repo = Path::new(input.repository_path());
-            if repo.is_file() {
-                read(repo, InputOrigin::Repository)
-            } else {
-                Ok(InputFile::new(
-                    format!("<built-in>/{}", input.repository_path()),
-                    input.builtin(),
-                )
-                .with_origin(InputOrigin::BuiltIn))
-            }
-        }
+/// Every input the root mission declares, as its built-in copy (`<built-in>/PATH`).
+pub fn builtin_inputs() -> Inputs {
+    let mut inputs = Inputs::default();
+    for i in &root().spec.inputs {
+        let input = ModelInput::named(&i.name);
+        inputs.insert(
+            &i.name,
+            &i.words,
+            InputFile::new(format!("<built-in>/{}", i.path), input.builtin()),
+        );
     }
+    inputs
 }
 
 /// One line saying which file a command read: `release budget: models/release/budget.yaml
@@ -153,7 +158,11 @@ mod tests {
     fn builtin_copy_hashes_as_the_repository_file() {
         // the built-in copy is the repository's file at build time: the same bytes, the same
         // SHA-256 (what `verify` prints for models/release/budget.yaml)
-        for m in [ModelInput::Budget, ModelInput::Capture, ModelInput::Charge] {
+        for m in [
+            ModelInput::budget(),
+            ModelInput::capture(),
+            ModelInput::charge(),
+        ] {
             let path = Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("..")
                 .join(m.repository_path());
@@ -177,7 +186,7 @@ mod tests {
 
     #[test]
     fn a_missing_given_file_names_its_flag() {
-        let e = resolve(ModelInput::Budget, Some(Path::new("no/such/budget.yaml")))
+        let e = resolve(ModelInput::budget(), Some(Path::new("no/such/budget.yaml")))
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("--budget no/such/budget.yaml"), "{e}");

@@ -8,7 +8,8 @@ use geodesic_verify::{Mission, Session};
 /// The descriptor, built into the program.
 pub const DESCRIPTOR: &str = include_str!("../../mission.yaml");
 
-/// The built-in copies of the mission's files (paths relative to the descriptor).
+/// The built-in copies of the mission's requirement and document files (paths relative to the
+/// descriptor).
 const FILES: &[(&str, &str)] = &[
     (
         "requirements/capture.yaml",
@@ -42,19 +43,10 @@ const FILES: &[(&str, &str)] = &[
         "verification/document.yaml",
         include_str!("../../verification/document.yaml"),
     ),
-    (
-        "models/release/budget.yaml",
-        geodesic_release::budget::DEFAULT_BUDGET_YAML,
-    ),
-    (
-        "models/capture/capture.yaml",
-        geodesic_capture::DEFAULT_CAPTURE_YAML,
-    ),
-    (
-        "models/charge/charge.yaml",
-        geodesic_charge::DEFAULT_CHARGE_YAML,
-    ),
 ];
+
+// the built-in copy of each input the descriptor declares, by its name there
+use geodesic_checks::INPUT_COPIES;
 
 fn session() -> Session {
     let mc = SharedMonteCarlo::new();
@@ -86,26 +78,47 @@ pub fn mission() -> Mission {
                 // its adhesion_from (a campaign result) must load before anything runs
                 geodesic_release::population::resolve(b, Some(std::path::Path::new(&f.label)))?;
             }
-            crate::ranges::question(&f.text, &f.label, crate::ranges::BUDGET)
+            crate::ranges::question(&f.text, &f.label, crate::ranges::of("budget"))
         })
         .validate("capture", |f| {
             geodesic_capture::CaptureInputs::from_yaml_str(&f.text, &f.label)
                 .map_err(|e| e.to_string())?;
-            crate::ranges::question(&f.text, &f.label, crate::ranges::CAPTURE)
+            crate::ranges::question(&f.text, &f.label, crate::ranges::of("capture"))
         })
         .validate("charge", |f| {
             geodesic_charge::ChargeFile::from_yaml_str(&f.text, &f.label)
                 .map_err(|e| e.to_string())?;
-            crate::ranges::question(&f.text, &f.label, crate::ranges::CHARGE)
+            crate::ranges::question(&f.text, &f.label, crate::ranges::of("charge"))
         });
     for (p, t) in FILES {
         m = m.builtin(p, t);
+    }
+    let declared: Vec<(String, String)> = m
+        .spec
+        .inputs
+        .iter()
+        .map(|i| (i.name.clone(), i.path.clone()))
+        .collect();
+    for (name, path) in declared {
+        let copy = INPUT_COPIES.iter().find(|(n, _)| *n == name);
+        let (_, text) = copy.unwrap_or_else(|| panic!("no built-in copy of input `{name}`"));
+        m = m.builtin(&path, text);
     }
     m
 }
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn every_declared_input_has_a_built_in_copy_and_ranges() {
+        let m = super::mission();
+        assert_eq!(m.spec.inputs.len(), super::INPUT_COPIES.len());
+        for i in &m.spec.inputs {
+            assert!(m.builtin.contains_key(&i.path), "{}", i.name);
+            assert!(!crate::ranges::of(&i.name).is_empty(), "{}", i.name);
+        }
+    }
+
     #[test]
     fn every_requirement_file_is_built_in() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../requirements");

@@ -233,6 +233,17 @@ pub const CHARGE: &[Range] = &[
     ),
 ];
 
+/// The ranges of the root mission's input `name` (its name in `mission.yaml`), empty for an
+/// input it states none for.
+pub fn of(name: &str) -> &'static [Range] {
+    match name {
+        "budget" => BUDGET,
+        "capture" => CAPTURE,
+        "charge" => CHARGE,
+        _ => &[],
+    }
+}
+
 /// Questions an input file with its ranges: `Ok` or the one-line cause.
 pub fn question(text: &str, label: &str, ranges: &[Range]) -> Result<(), String> {
     geodesic_core::pedigree::question(text, label, ranges).map(|_| ())

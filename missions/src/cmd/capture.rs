@@ -95,14 +95,17 @@ impl Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let file = crate::inputs::resolve(crate::inputs::ModelInput::Capture, args.capture.as_deref())?;
-    crate::inputs::announce(args.json, crate::inputs::ModelInput::Capture, &file);
+    let file = crate::inputs::resolve(
+        crate::inputs::ModelInput::capture(),
+        args.capture.as_deref(),
+    )?;
+    crate::inputs::announce(args.json, crate::inputs::ModelInput::capture(), &file);
     let inputs = CaptureInputs::from_yaml_str(&file.text, &file.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
     let (reqs, _, _) = crate::missions::load_requirements(args.requirements.as_ref())?;
     let ctx = geodesic_checks::context(
         reqs,
-        geodesic_checks::builtin_inputs(),
+        crate::inputs::builtin_inputs(),
         std::env::temp_dir(),
         1,
         args.seed,
@@ -143,7 +146,7 @@ pub fn run(args: Args) -> CmdResult {
         print_text(&xlim, &eval, prob.as_ref());
         println!(
             "{}",
-            crate::inputs::line(crate::inputs::ModelInput::Capture, &file)
+            crate::inputs::line(crate::inputs::ModelInput::capture(), &file)
         );
     }
     // exit 1 is the verdict of a command that judges: this state is not captured

@@ -89,8 +89,8 @@ fn capacitance(flag: &str, given_pf: Option<f64>, file_f: f64) -> Result<f64, Cl
 
 pub fn run(args: Args) -> CmdResult {
     use crate::inputs::ModelInput;
-    let charge_file = crate::inputs::resolve(ModelInput::Charge, args.charge.as_deref())?;
-    crate::inputs::announce(args.json, ModelInput::Charge, &charge_file);
+    let charge_file = crate::inputs::resolve(ModelInput::charge(), args.charge.as_deref())?;
+    crate::inputs::announce(args.json, ModelInput::charge(), &charge_file);
     let file = geodesic_charge::ChargeFile::from_yaml_str(&charge_file.text, &charge_file.label)
         .map_err(|e| CliError::bad(e.to_string()))?;
     let geometry = TipGeometry {
@@ -177,7 +177,10 @@ pub fn run(args: Args) -> CmdResult {
         println!("{doc}");
         return Ok(0);
     }
-    println!("{}", crate::inputs::line(ModelInput::Charge, &charge_file));
+    println!(
+        "{}",
+        crate::inputs::line(ModelInput::charge(), &charge_file)
+    );
     println!(
         "C_RT = {:.4} pF (quadrature; exact {:.4} pF, small-angle {:.4} pF; thesis 2.5 pF)",
         c_rt_quad * 1e12,

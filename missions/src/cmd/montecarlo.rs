@@ -145,8 +145,8 @@ pub fn run(args: Args) -> CmdResult {
     let (case, shard) = checked(&args)?;
     let limit = limit_um_s()?;
     let budget_file =
-        crate::inputs::resolve(crate::inputs::ModelInput::Budget, args.budget.as_deref())?;
-    crate::inputs::announce(args.json, crate::inputs::ModelInput::Budget, &budget_file);
+        crate::inputs::resolve(crate::inputs::ModelInput::budget(), args.budget.as_deref())?;
+    crate::inputs::announce(args.json, crate::inputs::ModelInput::budget(), &budget_file);
     let (budget, population) = budget_and_population(&args, &budget_file)?;
     if population.is_some() && shard.is_some() {
         return Err(CliError::bad(
@@ -241,7 +241,7 @@ fn print_text(
     }
     println!(
         "  {}: {}",
-        crate::inputs::line(crate::inputs::ModelInput::Budget, budget_file),
+        crate::inputs::line(crate::inputs::ModelInput::budget(), budget_file),
         s.budget
     );
     println!("  {:.2} s", report.seconds);

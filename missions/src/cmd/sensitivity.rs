@@ -47,8 +47,8 @@ pub fn run(args: Args) -> CmdResult {
         )));
     }
     let budget_file =
-        crate::inputs::resolve(crate::inputs::ModelInput::Budget, args.budget.as_deref())?;
-    crate::inputs::announce(args.json, crate::inputs::ModelInput::Budget, &budget_file);
+        crate::inputs::resolve(crate::inputs::ModelInput::budget(), args.budget.as_deref())?;
+    crate::inputs::announce(args.json, crate::inputs::ModelInput::budget(), &budget_file);
     let (budget, _) =
         geodesic_checks::release::budget_from_file(&budget_file).map_err(|e| CliError::bad(e.0))?;
     let groups = release_groups().len() as u64;
@@ -93,7 +93,7 @@ pub fn run(args: Args) -> CmdResult {
     }
     println!(
         "{}",
-        crate::inputs::line(crate::inputs::ModelInput::Budget, &budget_file)
+        crate::inputs::line(crate::inputs::ModelInput::budget(), &budget_file)
     );
     println!(
         "|v_TM| over {} x 2 draws (seed {}): 99.73 % point {:.3} um/s, variance {:.4} (um/s)^2",

@@ -59,8 +59,8 @@ pub fn run(args: Args) -> CmdResult {
         geodesic_util::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
     }
     let budget_file =
-        crate::inputs::resolve(crate::inputs::ModelInput::Budget, args.budget.as_deref())?;
-    crate::inputs::announce(args.json, crate::inputs::ModelInput::Budget, &budget_file);
+        crate::inputs::resolve(crate::inputs::ModelInput::budget(), args.budget.as_deref())?;
+    crate::inputs::announce(args.json, crate::inputs::ModelInput::budget(), &budget_file);
     let (budget, _) =
         geodesic_checks::release::budget_from_file(&budget_file).map_err(|e| CliError::bad(e.0))?;
     let mut mc = Vec::new();
@@ -99,7 +99,7 @@ pub fn run(args: Args) -> CmdResult {
 fn print_text(doc: &TradeOff, budget_file: &geodesic_core::check::InputFile) {
     println!(
         "{}",
-        crate::inputs::line(crate::inputs::ModelInput::Budget, budget_file)
+        crate::inputs::line(crate::inputs::ModelInput::budget(), budget_file)
     );
     println!(
         "initial tip jerk {:.3e} m/s^3 (mechanism model), E* {:.0} GPa, M {} kg, gold 120 MPa, bond 0.8 um",

@@ -28,40 +28,34 @@ use geodesic_core::{Check, CheckContext, Requirements};
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// The model input files embedded in the binary (the repository's defaults), labelled
-/// `<built-in>/...`.
+/// The root mission's inputs as their built-in copies (labelled `<built-in>/PATH`), for tests
+/// and examples: their names, words and paths are the descriptor's (`mission.yaml` `inputs:`,
+/// read at run time from the mission the tests run in, [`geodesic_core::trace::mission_root`]).
 pub fn builtin_inputs() -> Inputs {
+    let root = geodesic_core::trace::mission_root().expect("a mission.yaml above the tests");
+    let label = root.join("mission.yaml").display().to_string();
+    let text = std::fs::read_to_string(root.join("mission.yaml")).expect("a readable mission.yaml");
+    let spec =
+        geodesic_verify::MissionSpec::from_yaml(&text, &label).expect("a valid mission.yaml");
     let mut inputs = Inputs::default();
-    for (name, words, path, text) in INPUTS {
-        inputs.insert(
-            name,
-            words,
-            InputFile::new(format!("<built-in>/{path}"), *text),
-        );
+    for i in &spec.inputs {
+        if let Some((_, copy)) = INPUT_COPIES.iter().find(|(n, _)| *n == i.name) {
+            inputs.insert(
+                &i.name,
+                &i.words,
+                InputFile::new(format!("<built-in>/{}", i.path), *copy),
+            );
+        }
     }
     inputs
 }
 
-/// The root mission's declared inputs: (name, words, path in the repository, built-in copy).
-pub const INPUTS: &[(&str, &str, &str, &str)] = &[
-    (
-        "budget",
-        "release budget",
-        "models/release/budget.yaml",
-        geodesic_release::budget::DEFAULT_BUDGET_YAML,
-    ),
-    (
-        "capture",
-        "capture inputs",
-        "models/capture/capture.yaml",
-        geodesic_capture::DEFAULT_CAPTURE_YAML,
-    ),
-    (
-        "charge",
-        "charge inputs",
-        "models/charge/charge.yaml",
-        geodesic_charge::DEFAULT_CHARGE_YAML,
-    ),
+/// The built-in copy of each input the root mission's descriptor declares, by its name there
+/// (the model crates embed their own files; the descriptor gives the path and the words).
+pub const INPUT_COPIES: &[(&str, &str)] = &[
+    ("budget", geodesic_release::budget::DEFAULT_BUDGET_YAML),
+    ("capture", geodesic_capture::DEFAULT_CAPTURE_YAML),
+    ("charge", geodesic_charge::DEFAULT_CHARGE_YAML),
 ];
 
 /// A check context on the repository's embedded requirements and built-in model inputs, for
