@@ -76,6 +76,15 @@ impl ModelInput {
         format!("--{}", self.0.name)
     }
 
+    /// What it is, for a flag's help (the descriptor's `about`, else its words).
+    pub fn about(self) -> &'static str {
+        if self.0.about.is_empty() {
+            &self.0.words
+        } else {
+            &self.0.about
+        }
+    }
+
     /// In words, for the human output.
     pub fn words(self) -> &'static str {
         &self.0.words

@@ -18,9 +18,9 @@ pub struct Args {
     /// TM state as YAML (`vz: -3.0e-6`, ...); the flags below override its values.
     #[arg(long, value_name = "FILE.yaml")]
     pub state: Option<PathBuf>,
-    /// Capture inputs: limits x_LIM, drift time, state sources [default:
-    /// ./models/capture/capture.yaml if present, else the built-in copy].
-    #[arg(long, alias = "xlim", value_name = "FILE.yaml")]
+    /// The capture inputs (`--capture`, the flag the descriptor's input declares: added by
+    /// [`super::reading`]).
+    #[arg(skip)]
     pub capture: Option<PathBuf>,
     /// Requirement directory the TM state box is read from (rows TMS-*) [default:
     /// ./requirements if present, else the built-in set].

@@ -53,9 +53,9 @@ pub struct Args {
     /// Charge whose neutralisation time is reported [e] (negative: cosmic rays charge positively).
     #[arg(long, default_value_t = -3e8, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CHARGE, geodesic_core::units::ELEMENTARY_CHARGE_C))]
     pub neutralise_e: f64,
-    /// Charge inputs: capacitances, contact voltage spread, release-tip geometry [default:
-    /// ./models/charge/charge.yaml if present, else the built-in copy; as verify].
-    #[arg(long, value_name = "FILE.yaml")]
+    /// The charge inputs (`--charge`, the flag the descriptor's input declares: added by
+    /// [`super::reading`]).
+    #[arg(skip)]
     pub charge: Option<std::path::PathBuf>,
     /// Monte Carlo draws.
     #[arg(long, default_value_t = 100_000)]

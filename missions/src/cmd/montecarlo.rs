@@ -24,9 +24,9 @@ pub struct Args {
     /// Uncertainties sampled: all | adhesion | mechanisms.
     #[arg(long, default_value = "all")]
     pub case: String,
-    /// Uncertainty budget YAML [default: ./models/release/budget.yaml if present, else the
-    /// built-in copy; as verify].
-    #[arg(long, value_name = "FILE")]
+    /// The release budget (`--budget`, the flag the descriptor's input declares: added by
+    /// [`super::reading`]).
+    #[arg(skip)]
     pub budget: Option<PathBuf>,
     /// Run only shard I of K (1-based) and write it with --out.
     #[arg(long, value_name = "I/K", requires = "out")]

@@ -25,9 +25,9 @@ pub struct Args {
     /// Seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Uncertainty budget YAML [default: ./models/release/budget.yaml if present, else the
-    /// built-in copy; as verify].
-    #[arg(long, value_name = "FILE.yaml")]
+    /// The release budget (`--budget`, the flag the descriptor's input declares: added by
+    /// [`super::reading`]).
+    #[arg(skip)]
     pub budget: Option<PathBuf>,
     /// Worker threads (results do not depend on it).
     #[arg(long)]
