@@ -19,7 +19,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE.yaml")]
     pub state: Option<PathBuf>,
     /// The capture inputs (`--capture`, the flag the descriptor's input declares: added by
-    /// [`super::reading`]).
+    /// `Reading::reading` in `cmd/mod.rs`).
     #[arg(skip)]
     pub capture: Option<PathBuf>,
     /// Requirement directory the TM state box is read from (rows TMS-*) [default:

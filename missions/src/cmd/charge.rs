@@ -54,7 +54,7 @@ pub struct Args {
     #[arg(long, default_value_t = -3e8, allow_hyphen_values = true, value_parser = crate::quantity::in_unit(geodesic_core::units::Dim::CHARGE, geodesic_core::units::ELEMENTARY_CHARGE_C))]
     pub neutralise_e: f64,
     /// The charge inputs (`--charge`, the flag the descriptor's input declares: added by
-    /// [`super::reading`]).
+    /// `Reading::reading` in `cmd/mod.rs`).
     #[arg(skip)]
     pub charge: Option<std::path::PathBuf>,
     /// Monte Carlo draws.

@@ -25,7 +25,7 @@ pub struct Args {
     #[arg(long, default_value = "all")]
     pub case: String,
     /// The release budget (`--budget`, the flag the descriptor's input declares: added by
-    /// [`super::reading`]).
+    /// `Reading::reading` in `cmd/mod.rs`).
     #[arg(skip)]
     pub budget: Option<PathBuf>,
     /// Run only shard I of K (1-based) and write it with --out.

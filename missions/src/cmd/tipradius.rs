@@ -28,7 +28,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// The release budget (`--budget`, the flag the descriptor's input declares: added by
-    /// [`super::reading`]).
+    /// `Reading::reading` in `cmd/mod.rs`).
     #[arg(skip)]
     pub budget: Option<PathBuf>,
     /// Also write the plot to FILE.svg.
