@@ -22,7 +22,7 @@ MISSION_WORDS = re.compile(r"\b(LISA|Pathfinder|LPF|thesis|budget|capture)\b", r
 LAYERS = [
     {"geodesic-util", "geodesic-workspace-hack"},
     {"geodesic-plot", "geodesic-contact", "geodesic-mechanism", "geodesic-housing",
-     "geodesic-facility"},
+     "geodesic-facility", "geodesic-numeric"},
     {"geodesic-release", "geodesic-capture", "geodesic-charge", "geodesic-core"},
     {"geodesic-fit", "geodesic-report", "geodesic-exchange", "geodesic-images"},
     {"geodesic-verify"},

@@ -460,8 +460,8 @@ impl LmRun {
             if !accepted || self.small >= 2 || self.iterations >= opts.max_iter {
                 self.finished = true;
             }
-            if self.r.len() >= crate::numeric::progress::ITERATION_SAMPLES {
-                crate::numeric::progress::note(false, || {
+            if self.r.len() >= crate::progress::ITERATION_SAMPLES {
+                crate::progress::note(false, || {
                     format!(
                         "Levenberg-Marquardt iteration {}, chi2 {:.6e} ({} samples)",
                         self.iterations,

@@ -25,7 +25,7 @@ pub fn run(args: Args) -> CmdResult {
             effects.join("+")
         ),
     );
-    geodesic_fit::progress::set_hook(task.fit_hook());
+    geodesic_fit::numeric::progress::set_hook(task.fit_hook());
     // wild samples set aside before any decision (the same prepared record for the outputs)
     let r = geodesic_fit::screen::screen(prep, &effects, &opts, &mut |_| {})
         .and_then(|prep| {
@@ -33,7 +33,7 @@ pub fn run(args: Args) -> CmdResult {
             Ok((prep, r))
         })
         .map_err(|e| CliError::bad(e.to_string()));
-    geodesic_fit::progress::set_hook(None);
+    geodesic_fit::numeric::progress::set_hook(None);
     task.finish();
     let (prep, (mut report, base)) = r?;
     let mut fr: FitReport = report.fit.clone();

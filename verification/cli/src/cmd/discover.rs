@@ -69,13 +69,13 @@ pub fn run(args: Args) -> CmdResult {
         fit,
         max_rounds: args.max_rounds,
     };
-    geodesic_fit::progress::set_hook(task.fit_hook());
+    geodesic_fit::numeric::progress::set_hook(task.fit_hook());
     // wild samples set aside before any decision (the same prepared record for the outputs)
     let r = discover_screened(prep, &effects, &opts, |m| {
         task.set_label(&format!("discover: {m}"))
     })
     .map_err(|e| CliError::bad(e.to_string()));
-    geodesic_fit::progress::set_hook(None);
+    geodesic_fit::numeric::progress::set_hook(None);
     task.finish();
     let (prep, mut report, last, all) = r?;
     // every round's fit into the history and its plot, in order

@@ -13,7 +13,7 @@ use crate::fitting::{fits_dir, load, outputs, warn};
 /// Flags of `geodesic fit` (shared with `geodesic diagnose`).
 pub use crate::fitting::FitArgs as Args;
 
-/// Every sampled parameter's chain is converged ([`geodesic_fit::ensemble::CONVERGED_TAUS`]).
+/// Every sampled parameter's chain is converged ([`geodesic_fit::numeric::ensemble::CONVERGED_TAUS`]).
 fn report_converged(r: &geodesic_fit::fit::FitReport) -> bool {
     r.posterior
         .as_ref()
@@ -58,9 +58,9 @@ pub fn run(args: Args) -> CmdResult {
             effects.join("+")
         ),
     );
-    geodesic_fit::progress::set_hook(task.fit_hook());
+    geodesic_fit::numeric::progress::set_hook(task.fit_hook());
     let o = geodesic_fit::fit(&prep, &effects, &opts).map_err(|e| CliError::bad(e.to_string()));
-    geodesic_fit::progress::set_hook(None);
+    geodesic_fit::numeric::progress::set_hook(None);
     task.finish();
     let o = o?;
     let mut report = FitReport::new(&prep, &o);
@@ -74,7 +74,7 @@ pub fn run(args: Args) -> CmdResult {
                 }));
             }
             _ => {
-                let eo = geodesic_fit::ensemble::EnsembleOptions {
+                let eo = geodesic_fit::numeric::ensemble::EnsembleOptions {
                     steps: args.posterior_steps,
                     seed: args.posterior_seed,
                     walkers: args.posterior_walkers,
