@@ -1,10 +1,14 @@
 //! What the fit commands (`fit`, `diagnose`, `discover`, `campaign`, `history`) share, so that
 //! no command imports another: the flags of `fit` and `diagnose`, the parsing of `--effects`,
 //! `--fix` and `--bound`, the dataset's loading, the fits folder (`--reports DIR` + `fits`),
-//! the outputs of a fit (its SVG and its history entry) and its warnings.
+//! the outputs of a fit (its SVG and its history entry), its warnings and the observer that
+//! shows a fit's progress.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use geodesic_fit::numeric::observe::{Observer, SharedObserver};
 
 use geodesic_fit::{Dataset, FitOptions, FitReport, Prepared, history, plot};
 
@@ -141,7 +145,75 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
         max_starts: None,
         profile: false,
         sigma: None,
+        observer: SharedObserver::default(),
     })
+}
+
+/// The environment variable that turns on the fit library's debug lines on standard error
+/// (the multi-start stages, the runs stopped, the null-space tests): read here, by the binary,
+/// never by a library.
+pub const DEBUG_VAR: &str = "GEODESIC_FIT_DEBUG";
+
+/// What the fit commands show while the library works: a spinner task (under the quiet rule of
+/// `crate::progress`) that the library's progress lines and stages update, and the library's
+/// debug lines on standard error when [`DEBUG_VAR`] is set.
+pub struct FitProgress {
+    task: Mutex<Option<crate::progress::Task>>,
+    hook: Option<crate::progress::LineHook>,
+    prefix: String,
+    debug: bool,
+}
+
+impl FitProgress {
+    /// Starts the spinner `label`; a stage the library reports replaces the label by
+    /// `prefix` and the stage.
+    pub fn start(json: bool, label: &str, prefix: &str) -> Arc<FitProgress> {
+        let task = crate::progress::Task::spinner(json, label);
+        Arc::new(FitProgress {
+            hook: task.fit_hook(),
+            task: Mutex::new(Some(task)),
+            prefix: prefix.to_string(),
+            debug: std::env::var_os(DEBUG_VAR).is_some(),
+        })
+    }
+
+    /// The observer to pass in the fit options.
+    pub fn observer(self: &Arc<Self>) -> SharedObserver {
+        SharedObserver::from_arc(self.clone())
+    }
+
+    /// Ends the spinner.
+    pub fn finish(&self) {
+        if let Some(t) = self.task.lock().ok().and_then(|mut t| t.take()) {
+            t.finish();
+        }
+    }
+}
+
+impl Observer for FitProgress {
+    fn progress(&self, line: &str, milestone: bool) {
+        if let Some(h) = &self.hook {
+            h(line, milestone);
+        }
+    }
+
+    fn stage(&self, label: &str) {
+        if let Ok(mut t) = self.task.lock()
+            && let Some(t) = t.as_mut()
+        {
+            t.set_label(&format!("{}{label}", self.prefix));
+        }
+    }
+
+    fn debugging(&self) -> bool {
+        self.debug
+    }
+
+    fn debug(&self, line: &dyn Fn() -> String) {
+        if self.debug {
+            eprintln!("{}", line());
+        }
+    }
 }
 
 /// Loads and prepares a dataset (`strict`: a missing value or a wild sample refused instead

@@ -9,12 +9,13 @@
 //! - [`noise`]: coloured (AR) measurement noise, Burg's method, the whitening filter.
 //! - [`ensemble`]: the affine-invariant ensemble sampler, autocorrelation times, marginals.
 //! - [`posterior`]: posterior summaries (truncated normals of the Laplace approximation).
-//! - [`progress`]: the progress hook long computations report to.
+//! - [`observe`]: the [`Observer`](observe::Observer) a caller passes in to see progress and
+//!   debug lines (no global, no environment variable).
 
 pub mod ensemble;
 pub mod linalg;
 pub mod lm;
 pub mod noise;
+pub mod observe;
 pub mod posterior;
-pub mod progress;
 pub mod residual;

@@ -14,18 +14,19 @@ pub use crate::fitting::FitArgs as Args;
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let fits = fits_dir(&args)?;
-    let opts = args.model.options()?;
+    let mut opts = args.model.options()?;
     let prep = load(&args.dataset, args.strict)?;
     let effects = args.model.effects();
-    let task = crate::progress::Task::spinner(
+    let task = crate::fitting::FitProgress::start(
         args.json,
         &format!(
             "diagnose: {} samples, model {} and each candidate effect it lacks",
             prep.dataset.t.len(),
             effects.join("+")
         ),
+        "diagnose: ",
     );
-    geodesic_fit::numeric::progress::set_hook(task.fit_hook());
+    opts.observer = task.observer();
     // wild samples set aside before any decision (the same prepared record for the outputs)
     let r = geodesic_fit::screen::screen(prep, &effects, &opts, &mut |_| {})
         .and_then(|prep| {
@@ -33,7 +34,6 @@ pub fn run(args: Args) -> CmdResult {
             Ok((prep, r))
         })
         .map_err(|e| CliError::bad(e.to_string()));
-    geodesic_fit::numeric::progress::set_hook(None);
     task.finish();
     let (prep, (mut report, base)) = r?;
     let mut fr: FitReport = report.fit.clone();

@@ -8,6 +8,7 @@
 use crate::error::{CliError, CmdResult};
 use crate::fitting::{fits_under, load, outputs, warn};
 use geodesic_fit::discover::{DiscoverOptions, discover_screened, new_effect};
+use geodesic_fit::numeric::observe::Observer;
 use std::path::{Path, PathBuf};
 
 /// Flags of `geodesic discover`.
@@ -54,28 +55,26 @@ pub fn run(args: Args) -> CmdResult {
         new_effect::preflight(name, root).map_err(CliError::bad)?;
     }
     let fits = fits_under(&args.reports, None)?;
-    let fit = args.model.options()?;
+    let mut fit = args.model.options()?;
     let prep = load(&args.dataset, args.strict)?;
     let effects = args.model.effects();
-    let mut task = crate::progress::Task::spinner(
+    let task = crate::fitting::FitProgress::start(
         args.json,
         &format!(
             "discover: {} samples from {}",
             prep.dataset.t.len(),
             effects.join("+")
         ),
+        "discover: ",
     );
+    fit.observer = task.observer();
     let opts = DiscoverOptions {
         fit,
         max_rounds: args.max_rounds,
     };
-    geodesic_fit::numeric::progress::set_hook(task.fit_hook());
     // wild samples set aside before any decision (the same prepared record for the outputs)
-    let r = discover_screened(prep, &effects, &opts, |m| {
-        task.set_label(&format!("discover: {m}"))
-    })
-    .map_err(|e| CliError::bad(e.to_string()));
-    geodesic_fit::numeric::progress::set_hook(None);
+    let r = discover_screened(prep, &effects, &opts, |m| task.stage(m))
+        .map_err(|e| CliError::bad(e.to_string()));
     task.finish();
     let (prep, mut report, last, all) = r?;
     // every round's fit into the history and its plot, in order

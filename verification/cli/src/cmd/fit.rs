@@ -46,21 +46,21 @@ pub fn run(args: Args) -> CmdResult {
     let opts = args.model.options()?;
     let prep = load(&args.dataset, args.strict)?;
     let effects = args.model.effects();
-    let opts = FitOptions {
-        profile: true,
-        ..opts
-    };
-    let task = crate::progress::Task::spinner(
+    let task = crate::fitting::FitProgress::start(
         args.json,
         &format!(
             "fit: {} samples, model {}",
             prep.dataset.t.len(),
             effects.join("+")
         ),
+        "fit: ",
     );
-    geodesic_fit::numeric::progress::set_hook(task.fit_hook());
+    let opts = FitOptions {
+        profile: true,
+        observer: task.observer(),
+        ..opts
+    };
     let o = geodesic_fit::fit(&prep, &effects, &opts).map_err(|e| CliError::bad(e.to_string()));
-    geodesic_fit::numeric::progress::set_hook(None);
     task.finish();
     let o = o?;
     let mut report = FitReport::new(&prep, &o);
