@@ -1,8 +1,8 @@
 //! What the fit commands (`fit`, `diagnose`, `discover`, `campaign`, `history`) share, so that
 //! no command imports another: the flags of `fit` and `diagnose`, the parsing of `--effects`,
-//! `--fix` and `--bound`, the dataset's loading, the fits folder (`--reports DIR` + `fits`),
-//! the outputs of a fit (its SVG and its history entry), its warnings and the observer that
-//! shows a fit's progress.
+//! `--fix` and `--bound`, the opening of the identification session (which loads the dataset,
+//! runs the stages and writes each fit's plot and history entry), the fits folder
+//! (`--reports DIR` + `fits`), a fit's warnings and the observer that shows a fit's progress.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -10,7 +10,9 @@ use std::sync::{Arc, Mutex};
 
 use geodesic_fit::numeric::observe::{Observer, SharedObserver};
 
-use geodesic_fit::{Dataset, FitOptions, FitReport, Prepared, history, plot};
+use geodesic_fit::dataset::LoadOptions;
+use geodesic_fit::session::Session;
+use geodesic_fit::{FitOptions, FitReport};
 
 use crate::error::CliError;
 
@@ -216,12 +218,17 @@ impl Observer for FitProgress {
     }
 }
 
-/// Loads and prepares a dataset (`strict`: a missing value or a wild sample refused instead
-/// of skipped), mapping errors to exit 2.
-pub fn load(path: &Path, strict: bool) -> Result<Prepared, CliError> {
-    let ds = Dataset::load_with(path, geodesic_fit::dataset::LoadOptions { strict })
-        .map_err(|e| CliError::bad(e.to_string()))?;
-    Ok(Prepared::new(ds))
+/// Opens the identification session of a command: loads and prepares the dataset (`strict`:
+/// a missing value or a wild sample refused instead of skipped) for the model of `effects`,
+/// mapping errors to exit 2.
+pub fn open(
+    path: &Path,
+    strict: bool,
+    effects: &[&str],
+    opts: FitOptions,
+) -> Result<Session, CliError> {
+    Session::open(path, LoadOptions { strict }, effects, opts)
+        .map_err(|e| CliError::bad(e.to_string()))
 }
 
 /// Prints a fit report's warnings on standard error, one line each.
@@ -229,25 +236,6 @@ pub fn warn(r: &FitReport) {
     for w in &r.warnings {
         eprintln!("geodesic: warning: {w}");
     }
-}
-
-/// Writes the SVG of a fit and appends it to the history; returns the SVG path.
-pub fn outputs(
-    prep: &Prepared,
-    pred: &[f64],
-    report: &mut FitReport,
-    out: &Path,
-) -> Result<(), CliError> {
-    let svg = plot::fit_svg(prep, pred, report).map_err(|e| CliError::Io(e.to_string()))?;
-    let path = out.join(format!(
-        "{}.{}.svg",
-        prep.dataset.stem(),
-        report.effects.join("+")
-    ));
-    plot::write_svg(&path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
-    report.svg = Some(path.display().to_string());
-    history::append(out, &prep.dataset.stem(), report).map_err(|e| CliError::Io(e.to_string()))?;
-    Ok(())
 }
 
 /// The effect names of `--effects`, trimmed, empty items dropped.

@@ -16,6 +16,8 @@
 //! - [`fit`]: the public face of the three above (re-exports only);
 //! - [`diagnose`], [`kinds`], [`discover`], [`scaffold`]: candidate effects ranked by delta
 //!   BIC, the kinds of term outside the catalogue, the discovery loop, a new effect's code;
+//! - [`session`]: the identification session a front end calls: a dataset, a model and options
+//!   in, `fit`, `diagnose` or `discover` run with their outputs, typed results out;
 //! - [`synth`]: synthetic datasets from a truth model built from the same effect code;
 //! - [`history`], [`plot`], [`campaign`], [`campaign_page`], [`design`], [`spectral`].
 //!
@@ -41,6 +43,7 @@ pub mod record;
 pub mod report;
 pub mod scaffold;
 pub mod screen;
+pub mod session;
 pub mod spectral;
 pub mod summary;
 pub mod synth;
