@@ -474,7 +474,7 @@ fn exact_directions(
                         found.push((v.clone(), sym));
                     } else if debug {
                         obs.debug(&|| {
-                            format!("null-space: refuted: the chi-square rises along the direction")
+                            "null-space: refuted: the chi-square rises along the direction".into()
                         });
                     }
                 }

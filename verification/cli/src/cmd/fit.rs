@@ -49,16 +49,15 @@ pub fn run(args: Args) -> CmdResult {
         ),
         "fit: ",
     );
-    let posterior = args
-        .posterior
-        .then(|| match args.posterior_method.as_str() {
-            "laplace" => PosteriorRequest::Laplace,
-            _ => PosteriorRequest::Ensemble(EnsembleOptions {
-                steps: args.posterior_steps,
-                seed: args.posterior_seed,
-                walkers: args.posterior_walkers,
-            }),
-        });
+    let method = match args.posterior_method.as_str() {
+        "laplace" => PosteriorRequest::Laplace,
+        _ => PosteriorRequest::Ensemble(EnsembleOptions {
+            steps: args.posterior_steps,
+            seed: args.posterior_seed,
+            walkers: args.posterior_walkers,
+        }),
+    };
+    let posterior = args.posterior.then_some(method);
     let report = session
         .with_observer(task.observer())
         .with_outputs(fits)

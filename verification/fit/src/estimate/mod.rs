@@ -476,9 +476,9 @@ mod tests {
             "profiles",
         ] {
             assert!(
-                lines.iter().any(|(l, m)| *m
-                    && l.contains(&format!("{stage}"))
-                    && l.contains("piezo+voltage_ramp")),
+                lines
+                    .iter()
+                    .any(|(l, m)| *m && l.contains(stage) && l.contains("piezo+voltage_ramp")),
                 "no milestone for {stage}: {lines:?}"
             );
         }
