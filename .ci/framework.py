@@ -21,7 +21,8 @@ MISSION_WORDS = re.compile(r"\b(LISA|Pathfinder|LPF|thesis|budget|capture)\b", r
 # layers, bottom first: a crate may depend only on crates of a lower layer (or its own)
 LAYERS = [
     {"geodesic-util", "geodesic-workspace-hack"},
-    {"geodesic-plot", "geodesic-contact", "geodesic-mechanism", "geodesic-facility"},
+    {"geodesic-plot", "geodesic-contact", "geodesic-mechanism", "geodesic-facility",
+     "geodesic-numeric"},
     {"geodesic-release", "geodesic-capture", "geodesic-charge", "geodesic-core"},
     {"geodesic-fit", "geodesic-report", "geodesic-exchange", "geodesic-images"},
     {"geodesic-verify"},

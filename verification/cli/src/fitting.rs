@@ -1,12 +1,18 @@
 //! What the fit commands (`fit`, `diagnose`, `discover`, `campaign`, `history`) share, so that
 //! no command imports another: the flags of `fit` and `diagnose`, the parsing of `--effects`,
-//! `--fix` and `--bound`, the dataset's loading, the fits folder (`--reports DIR` + `fits`),
-//! the outputs of a fit (its SVG and its history entry) and its warnings.
+//! `--fix` and `--bound`, the opening of the identification session (which loads the dataset,
+//! runs the stages and writes each fit's plot and history entry), the fits folder
+//! (`--reports DIR` + `fits`), a fit's warnings and the observer that shows a fit's progress.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
-use geodesic_fit::{Dataset, FitOptions, FitReport, Prepared, history, plot};
+use geodesic_fit::numeric::observe::{Observer, SharedObserver};
+
+use geodesic_fit::dataset::LoadOptions;
+use geodesic_fit::session::Session;
+use geodesic_fit::{FitOptions, FitReport};
 
 use crate::error::CliError;
 
@@ -141,15 +147,88 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
         max_starts: None,
         profile: false,
         sigma: None,
+        observer: SharedObserver::default(),
     })
 }
 
-/// Loads and prepares a dataset (`strict`: a missing value or a wild sample refused instead
-/// of skipped), mapping errors to exit 2.
-pub fn load(path: &Path, strict: bool) -> Result<Prepared, CliError> {
-    let ds = Dataset::load_with(path, geodesic_fit::dataset::LoadOptions { strict })
-        .map_err(|e| CliError::bad(e.to_string()))?;
-    Ok(Prepared::new(ds))
+/// The environment variable that turns on the fit library's debug lines on standard error
+/// (the multi-start stages, the runs stopped, the null-space tests): read here, by the binary,
+/// never by a library.
+pub const DEBUG_VAR: &str = "GEODESIC_FIT_DEBUG";
+
+/// What the fit commands show while the library works: a spinner task (under the quiet rule of
+/// `crate::progress`) that the library's progress lines and stages update, and the library's
+/// debug lines on standard error when [`DEBUG_VAR`] is set.
+pub struct FitProgress {
+    task: Mutex<Option<crate::progress::Task>>,
+    hook: Option<crate::progress::LineHook>,
+    prefix: String,
+    debug: bool,
+}
+
+impl FitProgress {
+    /// Starts the spinner `label`; a stage the library reports replaces the label by
+    /// `prefix` and the stage.
+    pub fn start(json: bool, label: &str, prefix: &str) -> Arc<FitProgress> {
+        let task = crate::progress::Task::spinner(json, label);
+        Arc::new(FitProgress {
+            hook: task.fit_hook(),
+            task: Mutex::new(Some(task)),
+            prefix: prefix.to_string(),
+            debug: std::env::var_os(DEBUG_VAR).is_some(),
+        })
+    }
+
+    /// The observer to pass in the fit options.
+    pub fn observer(self: &Arc<Self>) -> SharedObserver {
+        SharedObserver::from_arc(self.clone())
+    }
+
+    /// Ends the spinner.
+    pub fn finish(&self) {
+        if let Some(t) = self.task.lock().ok().and_then(|mut t| t.take()) {
+            t.finish();
+        }
+    }
+}
+
+impl Observer for FitProgress {
+    fn progress(&self, line: &str, milestone: bool) {
+        if let Some(h) = &self.hook {
+            h(line, milestone);
+        }
+    }
+
+    fn stage(&self, label: &str) {
+        if let Ok(mut t) = self.task.lock()
+            && let Some(t) = t.as_mut()
+        {
+            t.set_label(&format!("{}{label}", self.prefix));
+        }
+    }
+
+    fn debugging(&self) -> bool {
+        self.debug
+    }
+
+    fn debug(&self, line: &dyn Fn() -> String) {
+        if self.debug {
+            eprintln!("{}", line());
+        }
+    }
+}
+
+/// Opens the identification session of a command: loads and prepares the dataset (`strict`:
+/// a missing value or a wild sample refused instead of skipped) for the model of `effects`,
+/// mapping errors to exit 2.
+pub fn open(
+    path: &Path,
+    strict: bool,
+    effects: &[&str],
+    opts: FitOptions,
+) -> Result<Session, CliError> {
+    Session::open(path, LoadOptions { strict }, effects, opts)
+        .map_err(|e| CliError::bad(e.to_string()))
 }
 
 /// Prints a fit report's warnings on standard error, one line each.
@@ -157,25 +236,6 @@ pub fn warn(r: &FitReport) {
     for w in &r.warnings {
         eprintln!("geodesic: warning: {w}");
     }
-}
-
-/// Writes the SVG of a fit and appends it to the history; returns the SVG path.
-pub fn outputs(
-    prep: &Prepared,
-    pred: &[f64],
-    report: &mut FitReport,
-    out: &Path,
-) -> Result<(), CliError> {
-    let svg = plot::fit_svg(prep, pred, report).map_err(|e| CliError::Io(e.to_string()))?;
-    let path = out.join(format!(
-        "{}.{}.svg",
-        prep.dataset.stem(),
-        report.effects.join("+")
-    ));
-    plot::write_svg(&path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
-    report.svg = Some(path.display().to_string());
-    history::append(out, &prep.dataset.stem(), report).map_err(|e| CliError::Io(e.to_string()))?;
-    Ok(())
 }
 
 /// The effect names of `--effects`, trimmed, empty items dropped.

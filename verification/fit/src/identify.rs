@@ -27,6 +27,8 @@ use geodesic_facility::{Model, Scenario};
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
+use crate::numeric::observe::Observer;
+
 /// Relative change of a direction's curvature, when the difference steps are halved, above
 /// which the curvature is the differences' truncation error (an exact symmetry): resolved
 /// directions of the examples move by under 1 %, exact ones by 75 % or more (the Jacobian of the
@@ -176,7 +178,15 @@ pub fn symmetries(
     width: &[f64],
     names: &[String],
 ) -> NullSpace {
-    symmetries_confirmed(a, a_half, a_half_scale, width, names, &|_: &[f64]| true)
+    symmetries_confirmed(
+        a,
+        a_half,
+        a_half_scale,
+        width,
+        names,
+        &|_: &[f64]| true,
+        &crate::numeric::observe::Silent,
+    )
 }
 
 /// [`symmetries`], with each direction the step test flags (whose curvature is not zero and
@@ -195,9 +205,10 @@ pub fn symmetries_confirmed(
     width: &[f64],
     names: &[String],
     confirm: &dyn Fn(&[f64]) -> bool,
+    obs: &dyn Observer,
 ) -> NullSpace {
     let n = a.nrows();
-    let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
+    let debug = obs.debugging();
     let d: Vec<f64> = (0..n).map(|k| a[(k, k)].max(1e-300).sqrt()).collect();
     let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
     let sh = DMatrix::from_fn(n, n, |i, j| a_half[(i, j)] * a_half_scale / (d[i] * d[j]));
@@ -226,7 +237,7 @@ pub fn symmetries_confirmed(
         };
         (w, sym)
     };
-    found.extend(exact_directions(&s, &sh, max, &to_report, confirm, debug));
+    found.extend(exact_directions(&s, &sh, max, &to_report, confirm, obs));
     let basis = orthonormal_basis(found.iter().map(|(v, _)| v));
     let projector = |basis: &[DVector<f64>]| {
         let mut p = DMatrix::identity(n, n);
@@ -288,15 +299,17 @@ pub fn symmetries_confirmed(
             .filter(|(wi, _)| wi.abs() > WEIGHT)
             .all(|(wi, wd)| (wi * sigma_t).abs() > *wd);
         if debug {
-            eprintln!(
-                "null-space: near test sigma_t {sigma_t:.3e} beyond {beyond}: {:?}",
-                w.iter()
-                    .zip(width)
-                    .enumerate()
-                    .filter(|(_, (wi, _))| wi.abs() > 0.01)
-                    .map(|(i, (wi, wd))| format!("{} {wi:.3} (width {wd:.3e})", names[i]))
-                    .collect::<Vec<_>>()
-            );
+            obs.debug(&|| {
+                format!(
+                    "null-space: near test sigma_t {sigma_t:.3e} beyond {beyond}: {:?}",
+                    w.iter()
+                        .zip(width)
+                        .enumerate()
+                        .filter(|(_, (wi, _))| wi.abs() > 0.01)
+                        .map(|(i, (wi, wd))| format!("{} {wi:.3} (width {wd:.3e})", names[i]))
+                        .collect::<Vec<_>>()
+                )
+            });
         }
         if beyond {
             let sym = Symmetry {
@@ -422,8 +435,9 @@ fn exact_directions(
     max: f64,
     to_report: &ToReport<'_>,
     confirm: &dyn Fn(&[f64]) -> bool,
-    debug: bool,
+    obs: &dyn Observer,
 ) -> Vec<(DVector<f64>, Symmetry)> {
+    let debug = obs.debugging();
     let n = s.nrows();
     let mut found = Vec::new();
     // the generalised problem on a regularised S (a zero column would break its Cholesky)
@@ -444,10 +458,12 @@ fn exact_directions(
                 let curv = (v.transpose() * s * &v)[(0, 0)];
                 let flat = curv <= max * 1e-12 * v.norm_squared();
                 if debug {
-                    eprintln!(
-                        "null-space: half/full curvature {mu:.4}, relative curvature {:.3e}",
-                        curv / (max * v.norm_squared()).max(1e-300)
-                    );
+                    obs.debug(&|| {
+                        format!(
+                            "null-space: half/full curvature {mu:.4}, relative curvature {:.3e}",
+                            curv / (max * v.norm_squared()).max(1e-300)
+                        )
+                    });
                 }
                 if flat || (mu - 1.0).abs() > EXACT_TOLERANCE {
                     let v = v.normalize();
@@ -457,7 +473,9 @@ fn exact_directions(
                     if flat || mu < TRUNCATION_MU || confirm(&w) {
                         found.push((v.clone(), sym));
                     } else if debug {
-                        eprintln!("null-space: refuted: the chi-square rises along the direction");
+                        obs.debug(&|| {
+                            "null-space: refuted: the chi-square rises along the direction".into()
+                        });
                     }
                 }
             }
@@ -642,7 +660,15 @@ mod tests {
             "the matrices alone flag the pair: {:?}",
             flagged.symmetries
         );
-        let refuted = symmetries_confirmed(&full, &half, 1.0, &wide, &names, &|_: &[f64]| false);
+        let refuted = symmetries_confirmed(
+            &full,
+            &half,
+            1.0,
+            &wide,
+            &names,
+            &|_: &[f64]| false,
+            &crate::numeric::observe::Silent,
+        );
         assert!(
             refuted.symmetries.iter().all(|s| s.kind != "exact"),
             "{:?}",

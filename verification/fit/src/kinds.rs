@@ -36,6 +36,7 @@ use serde::{Deserialize, Serialize};
 use crate::coords::{from_u, to_u};
 use crate::estimate::FitOutcome;
 use crate::numeric::lm::LmOptions;
+use crate::numeric::observe::Observer;
 use crate::prepare::Prepared;
 
 mod basis;
@@ -618,15 +619,16 @@ pub fn joint_lm(
     kind: &KindFit,
     from: &[f64],
     max_iter: usize,
+    obs: &dyn Observer,
 ) -> JointEnd {
-    let first = joint_lm_as(prep, o, kind, from, max_iter, false);
+    let first = joint_lm_as(prep, o, kind, from, max_iter, false, obs);
     if !matches!(kind.kind.as_str(), "position" | "velocity") {
         return first;
     }
     // a force on the state to first order (the response to the model's own state) and solved
     // with the state it changes: the one that fits better stands (a strong damping is far from
     // first order; a perturbation added to first order is not a solution of the equation)
-    let solved = joint_lm_as(prep, o, kind, from, max_iter, true);
+    let solved = joint_lm_as(prep, o, kind, from, max_iter, true, obs);
     if solved.0 > first.0 { solved } else { first }
 }
 
@@ -638,10 +640,12 @@ fn joint_lm_as(
     from: &[f64],
     max_iter: usize,
     solved: bool,
+    obs: &dyn Observer,
 ) -> JointEnd {
     let joint = Joint::new(prep, o, kind, from);
     let opts = LmOptions {
         max_iter,
+        observer: obs,
         ..LmOptions::default()
     };
     if kind.kind == "delay" && kind.scan != 0.0 {
@@ -860,15 +864,15 @@ impl<'a> Joint<'a> {
         }
         let r =
             crate::numeric::lm::minimize(&g, &best_u, &self.lo[..nm + 1], &self.hi[..nm + 1], opts);
-        if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-            eprintln!(
+        opts.observer.debug(&|| {
+            format!(
                 "delay joint fit: start {:e} s cost {best_c:.1}, end {:e} s cost {:.1} (model alone {:.1})",
                 best_u[nm] * sd,
                 r.u[nm] * sd,
                 r.cost,
                 o.chi2
-            );
-        }
+            )
+        });
         (
             o.chi2 - r.cost,
             vec![r.u[nm] * sd / self.kind.scan],
@@ -1079,12 +1083,12 @@ pub fn refined_terms_of(
         .par_iter()
         .map(|k| {
             let from = refit_without(prep, o, k, opts)?;
-            let dc = joint_lm(prep, o, k, &from, max_iter);
+            let dc = joint_lm(prep, o, k, &from, max_iter, &*opts.observer);
             Ok((from, dc))
         })
         .collect();
     let joint = joint.into_iter().collect::<Result<Vec<JointFit>, _>>()?;
-    let joint = restart_close(prep, o, &tried, joint, max_iter);
+    let joint = restart_close(prep, o, &tried, joint, max_iter, &*opts.observer);
     for (mut k, j) in tried.into_iter().zip(joint) {
         let penalty = k.delta_bic + k.delta_chi2;
         let (from, (d, c, _)) = j;
@@ -1143,7 +1147,7 @@ pub fn refined_terms_of(
         if let Some((c, _, _)) = basis.score(k.shape.clone()) {
             k.coefs = c;
         }
-        let (d, c, _) = joint_lm(prep, o, &k, &from, max_iter);
+        let (d, c, _) = joint_lm(prep, o, &k, &from, max_iter, &*opts.observer);
         k.coefs = c;
         (d, k)
     };
@@ -1206,6 +1210,7 @@ fn restart_close(
     tried: &[KindFit],
     joint: Vec<JointFit>,
     max_iter: usize,
+    obs: &dyn Observer,
 ) -> Vec<JointFit> {
     let Some(best) = (0..joint.len()).max_by(|&a, &b| joint[a].1.0.total_cmp(&joint[b].1.0)) else {
         return joint;
@@ -1217,7 +1222,7 @@ fn restart_close(
         .map(|(i, k)| {
             let d = joint[i].1.0;
             (i != best && best_d > 0.0 && d >= RESTART_CLOSE * best_d)
-                .then(|| joint_lm(prep, o, k, &best_p, max_iter))
+                .then(|| joint_lm(prep, o, k, &best_p, max_iter, obs))
         })
         .collect();
     joint
@@ -1225,12 +1230,12 @@ fn restart_close(
         .zip(again)
         .map(|((from, first), again)| match again {
             Some(a) if a.0 > first.0 => {
-                if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                    eprintln!(
+                obs.debug(&|| {
+                    format!(
                         "joint fit restarted from the best kind's end: removed {:.1} (was {:.1})",
                         a.0, first.0
-                    );
-                }
+                    )
+                });
                 (best_p.clone(), a)
             }
             _ => (from, first),

@@ -1,24 +1,25 @@
 //! geodesic-fit: confront the facility models with measurements.
 //!
-//! Two layers, each a module tree, the lower never importing the upper (`modules_form_no_cycle`
-//! below checks the whole graph):
+//! Identification on top of the numeric core, the crate `geodesic-numeric` (Levenberg-Marquardt,
+//! linear algebra, noise, sampling and posteriors; it knows no dataset, model, effect or
+//! scenario), re-exported as [`numeric`] because its types are part of this crate's results
+//! ([`numeric::noise::ArNoise`], [`numeric::posterior::Posterior`], ...). The modules use each
+//! other without a cycle (`modules_form_no_cycle` below checks the graph):
 //!
-//! - the numeric core, [`numeric`]: Levenberg-Marquardt ([`lm`]), linear algebra ([`linalg`]),
-//!   noise ([`noise`], [`residual`]), sampling and posteriors ([`ensemble`], [`posterior`]),
-//!   progress ([`progress`]); it knows no dataset, model, effect or scenario;
-//! - identification, on top of it:
-//!   - [`dataset`]: YAML + CSV datasets (interface.md), bad input refused with file and line;
-//!   - [`prepare`]: noise per channel, the smooth tip profile, data-driven guesses;
-//!   - [`coords`]: the fit's coordinates of a parameter, checks of user values and bounds;
-//!   - [`identify`]: symmetries, held values, identifiable combinations;
-//!   - [`estimate`]: data-driven multi-start fits, covariance, profile likelihood;
-//!   - [`report`]: the fit object of interface.md, with [`outliers`] (outliers and stuck
-//!     parameters, said out loud);
-//!   - [`fit`]: the public face of the three above (re-exports only);
-//!   - [`diagnose`], [`kinds`], [`discover`], [`scaffold`]: candidate effects ranked by delta
-//!     BIC, the kinds of term outside the catalogue, the discovery loop, a new effect's code;
-//!   - [`synth`]: synthetic datasets from a truth model built from the same effect code;
-//!   - [`history`], [`plot`], [`campaign`], [`campaign_page`], [`design`], [`spectral`].
+//! - [`dataset`]: YAML + CSV datasets (interface.md), bad input refused with file and line;
+//! - [`prepare`]: noise per channel, the smooth tip profile, data-driven guesses;
+//! - [`coords`]: the fit's coordinates of a parameter, checks of user values and bounds;
+//! - [`identify`]: symmetries, held values, identifiable combinations;
+//! - [`estimate`]: data-driven multi-start fits, covariance, profile likelihood;
+//! - [`report`]: the fit object of interface.md, with [`outliers`] (outliers and stuck
+//!   parameters, said out loud);
+//! - [`fit`]: the public face of the three above (re-exports only);
+//! - [`diagnose`], [`kinds`], [`discover`], [`scaffold`]: candidate effects ranked by delta
+//!   BIC, the kinds of term outside the catalogue, the discovery loop, a new effect's code;
+//! - [`session`]: the identification session a front end calls: a dataset, a model and options
+//!   in, `fit`, `diagnose` or `discover` run with their outputs, typed results out;
+//! - [`synth`]: synthetic datasets from a truth model built from the same effect code;
+//! - [`history`], [`plot`], [`campaign`], [`campaign_page`], [`design`], [`spectral`].
 //!
 //! The engine names no scenario: what differs between scenarios is asked of the scenario's
 //! implementation in the facility crate (`geodesic_facility::scenario`).
@@ -36,13 +37,13 @@ pub mod fit;
 pub mod history;
 pub mod identify;
 pub mod kinds;
-pub mod numeric;
 pub mod plot;
 pub mod prepare;
 pub mod record;
 pub mod report;
 pub mod scaffold;
 pub mod screen;
+pub mod session;
 pub mod spectral;
 pub mod summary;
 pub mod synth;
@@ -50,8 +51,9 @@ pub mod synth;
 pub use dataset::Dataset;
 pub use error::FitError;
 pub use fit::{FitOptions, FitOutcome, FitReport, Prepared, fit};
-// the numeric core's modules under the paths callers have always used
-pub use numeric::{ensemble, linalg, lm, noise, posterior, progress, residual};
+/// The numeric core (the crate `geodesic-numeric`), whose types appear in this crate's results;
+/// the modules here name it `crate::numeric`.
+pub use geodesic_numeric as numeric;
 pub use report::outliers;
 
 #[cfg(test)]
@@ -59,23 +61,11 @@ mod tests {
     use std::collections::{BTreeMap, BTreeSet};
     use std::path::{Path, PathBuf};
 
-    /// The module of a source file: its top-level module, or `numeric::NAME` inside the
-    /// numeric core.
+    /// The module of a source file: its top-level module.
     fn module_of(rel: &Path) -> Option<String> {
-        let mut parts: Vec<String> = rel
-            .with_extension("")
-            .components()
-            .map(|c| c.as_os_str().to_string_lossy().into_owned())
-            .collect();
-        if parts.last().is_some_and(|p| p == "mod") {
-            parts.pop();
-        }
-        match parts.as_slice() {
-            [one] if one == "lib" => None,
-            [n, sub, ..] if n == "numeric" => Some(format!("numeric::{sub}")),
-            [top, ..] => Some(top.clone()),
-            [] => None,
-        }
+        let top = rel.components().next()?.as_os_str().to_string_lossy();
+        let top = top.strip_suffix(".rs").unwrap_or(&top);
+        (top != "lib").then(|| top.to_string())
     }
 
     fn files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -91,9 +81,9 @@ mod tests {
 
     /// The crate's modules use each other without a cycle (issue 34, item 4: the former
     /// `diagnose -> discover -> kinds -> discover` and `noise <-> residual` loops, and the
-    /// engine's own), and the numeric core imports nothing of identification. The graph is read
-    /// from the source: every `crate::MODULE` (or `crate::numeric::MODULE`) a module's files
-    /// name, tests included, comments excluded.
+    /// engine's own). The graph is read from the source: every `crate::MODULE` a module's files
+    /// name, tests included, comments excluded. (The numeric core is a crate of its own,
+    /// `geodesic-numeric`, which does not depend on this one: cargo forbids the edge back.)
     #[test]
     fn modules_form_no_cycle() {
         let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
@@ -115,13 +105,7 @@ mod tests {
                             .take_while(|c| c.is_alphanumeric() || *c == '_')
                             .collect()
                     };
-                    let mut name = word(rest);
-                    if name == "numeric" {
-                        let sub = word(rest.get("numeric::".len()..).unwrap_or(""));
-                        if modules.contains(&format!("numeric::{sub}")) {
-                            name = format!("numeric::{sub}");
-                        }
-                    }
+                    let name = word(rest);
                     if modules.contains(&name) && &name != m {
                         deps.entry(m.clone()).or_default().insert(name);
                     }
@@ -129,20 +113,9 @@ mod tests {
             }
         }
         assert!(
-            deps.get("estimate")
-                .is_some_and(|d| d.contains("numeric::lm")),
-            "the scan sees the known edge estimate -> numeric::lm: {deps:?}"
+            deps.get("estimate").is_some_and(|d| d.contains("prepare")),
+            "the scan sees the known edge estimate -> prepare: {deps:?}"
         );
-        for (m, d) in &deps {
-            if m.starts_with("numeric") {
-                for x in d {
-                    assert!(
-                        x.starts_with("numeric"),
-                        "the numeric core imports {x} ({m})"
-                    );
-                }
-            }
-        }
         fn visit(
             m: &str,
             deps: &BTreeMap<String, BTreeSet<String>>,

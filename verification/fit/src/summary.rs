@@ -180,7 +180,7 @@ fn posterior_lines(r: &FitReport) -> String {
                 flags.push(format!(
                     "NOT-CONVERGED (autocorrelation at least {tau:.0} steps: needs over {:.0} \
                      --posterior-steps)",
-                    (crate::ensemble::CONVERGED_TAUS * tau * 1.5).ceil()
+                    (crate::numeric::ensemble::CONVERGED_TAUS * tau * 1.5).ceil()
                 ));
             }
             s += &format!(

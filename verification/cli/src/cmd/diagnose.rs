@@ -1,12 +1,11 @@
 //! `geodesic diagnose DATASET.yaml --effects a,b`: fits the model, then every candidate effect
 //! of the scenario it lacks, ranks them by delta BIC and names the missing one (interface.md).
-
-use geodesic_fit::fit::FitReport;
+//! Arguments -> [`geodesic_fit::session::Session::diagnose`] -> print.
 
 use geodesic_fit::summary::summary;
 
 use crate::error::{CliError, CmdResult};
-use crate::fitting::{fits_dir, load, outputs, warn};
+use crate::fitting::{FitProgress, fits_dir, open, warn};
 
 /// Flags of `geodesic diagnose`: the same as `geodesic fit` (the model to start from).
 pub use crate::fitting::FitArgs as Args;
@@ -15,32 +14,26 @@ pub use crate::fitting::FitArgs as Args;
 pub fn run(args: Args) -> CmdResult {
     let fits = fits_dir(&args)?;
     let opts = args.model.options()?;
-    let prep = load(&args.dataset, args.strict)?;
     let effects = args.model.effects();
-    let task = crate::progress::Task::spinner(
+    let session = open(&args.dataset, args.strict, &effects, opts)?;
+    let task = FitProgress::start(
         args.json,
         &format!(
             "diagnose: {} samples, model {} and each candidate effect it lacks",
-            prep.dataset.t.len(),
+            session.prepared().dataset.t.len(),
             effects.join("+")
         ),
+        "diagnose: ",
     );
-    geodesic_fit::progress::set_hook(task.fit_hook());
     // wild samples set aside before any decision (the same prepared record for the outputs)
-    let r = geodesic_fit::screen::screen(prep, &effects, &opts, &mut |_| {})
-        .and_then(|prep| {
-            let r = geodesic_fit::diagnose::diagnose(&prep, &effects, &opts)?;
-            Ok((prep, r))
-        })
+    let report = session
+        .with_observer(task.observer())
+        .with_outputs(fits)
+        .diagnose()
         .map_err(|e| CliError::bad(e.to_string()));
-    geodesic_fit::progress::set_hook(None);
     task.finish();
-    let (prep, (mut report, base)) = r?;
-    let mut fr: FitReport = report.fit.clone();
-    geodesic_fit::outliers::flag_user_bounds(&mut fr, &opts.bounds);
-    outputs(&prep, &base.pred, &mut fr, &fits)?;
-    warn(&fr);
-    report.fit = fr;
+    let report = report?;
+    warn(&report.fit);
     if args.json {
         println!(
             "{}",

@@ -3,11 +3,13 @@
 //! removing earlier additions; stop when the residual is noise or nothing is justified; then say
 //! whether the model explains the data and describe what is left. Thin: the loop is in
 //! `geodesic_fit::discover`, its text in `geodesic_fit::discover::text` and `--scaffold` in
-//! `geodesic_fit::discover::new_effect`.
+//! `geodesic_fit::discover::new_effect`: arguments -> [`geodesic_fit::session::Session::discover`]
+//! -> `--scaffold` -> print.
 
 use crate::error::{CliError, CmdResult};
-use crate::fitting::{fits_under, load, outputs, warn};
-use geodesic_fit::discover::{DiscoverOptions, discover_screened, new_effect};
+use crate::fitting::{FitProgress, fits_under, open, warn};
+use geodesic_fit::discover::new_effect;
+use geodesic_fit::session::Discovered;
 use std::path::{Path, PathBuf};
 
 /// Flags of `geodesic discover`.
@@ -55,43 +57,30 @@ pub fn run(args: Args) -> CmdResult {
     }
     let fits = fits_under(&args.reports, None)?;
     let fit = args.model.options()?;
-    let prep = load(&args.dataset, args.strict)?;
     let effects = args.model.effects();
-    let mut task = crate::progress::Task::spinner(
+    let session = open(&args.dataset, args.strict, &effects, fit)?;
+    let task = FitProgress::start(
         args.json,
         &format!(
             "discover: {} samples from {}",
-            prep.dataset.t.len(),
+            session.prepared().dataset.t.len(),
             effects.join("+")
         ),
+        "discover: ",
     );
-    let opts = DiscoverOptions {
-        fit,
-        max_rounds: args.max_rounds,
-    };
-    geodesic_fit::progress::set_hook(task.fit_hook());
-    // wild samples set aside before any decision (the same prepared record for the outputs)
-    let r = discover_screened(prep, &effects, &opts, |m| {
-        task.set_label(&format!("discover: {m}"))
-    })
-    .map_err(|e| CliError::bad(e.to_string()));
-    geodesic_fit::progress::set_hook(None);
-    task.finish();
-    let (prep, mut report, last, all) = r?;
+    // wild samples set aside before any decision (the same prepared record for the outputs);
     // every round's fit into the history and its plot, in order
-    for o in &all {
-        let mut fr = geodesic_fit::FitReport::new(&prep, o);
-        outputs(&prep, &o.pred, &mut fr, &fits)?;
-    }
-    let mut fr = report.final_fit.clone();
-    geodesic_fit::outliers::flag_user_bounds(&mut fr, &opts.fit.bounds);
-    warn(&fr);
-    let svg = geodesic_fit::plot::fit_svg(&prep, &last.pred, &fr)
-        .map_err(|e| CliError::Io(e.to_string()))?;
-    let path = fits.join(format!("{}.discover.svg", prep.dataset.stem()));
-    geodesic_fit::plot::write_svg(&path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
-    fr.svg = Some(path.display().to_string());
-    report.final_fit = fr;
+    let r = session
+        .with_observer(task.observer())
+        .with_outputs(fits)
+        .discover(args.max_rounds)
+        .map_err(|e| CliError::bad(e.to_string()));
+    task.finish();
+    let Discovered {
+        report,
+        prepared: prep,
+    } = r?;
+    warn(&report.final_fit);
     let scaffolded = match &args.scaffold {
         Some(name) => Some(
             new_effect::scaffold(name, root, &args.dataset, &prep, &report)

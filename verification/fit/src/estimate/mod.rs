@@ -39,6 +39,9 @@ pub struct FitOptions {
     /// Noise of the fitted channel to use [SI], overriding the dataset's (diagnose passes the
     /// baseline's estimate to every candidate so that their BICs compare).
     pub sigma: Option<f64>,
+    /// Receives the fit's progress (its stages, the iterations on long records) and debug
+    /// lines (default: silent); it never changes a result.
+    pub observer: crate::numeric::observe::SharedObserver,
 }
 
 /// The raw outcome of a fit.
@@ -417,6 +420,69 @@ mod tests {
         spec.seed = 71;
         spec.noise_in_yaml = false;
         Prepared::new(generate(&spec, "t.yaml").expect("synth"))
+    }
+
+    /// An observer that records every line and asks for the debug lines (so that the fit takes
+    /// its debug branches too).
+    #[derive(Default)]
+    struct Recorder {
+        progress: std::sync::Mutex<Vec<(String, bool)>>,
+        debug: std::sync::Mutex<Vec<String>>,
+    }
+
+    impl crate::numeric::observe::Observer for Recorder {
+        fn progress(&self, line: &str, milestone: bool) {
+            self.progress
+                .lock()
+                .unwrap()
+                .push((line.to_string(), milestone));
+        }
+        fn debugging(&self) -> bool {
+            true
+        }
+        fn debug(&self, line: &dyn Fn() -> String) {
+            self.debug.lock().unwrap().push(line());
+        }
+    }
+
+    /// The observer sees the fit's stages and its debug lines, and never changes a result: the
+    /// report of a fit observed (debug branches taken) is bit for bit that of a fit with none.
+    #[test]
+    fn an_observer_sees_the_milestones_and_changes_no_result() {
+        let prep = retraction();
+        let effects = ["piezo", "voltage_ramp"];
+        let plain = FitOptions {
+            profile: true,
+            ..FitOptions::default()
+        };
+        let rec = std::sync::Arc::new(Recorder::default());
+        let observed = FitOptions {
+            observer: crate::numeric::observe::SharedObserver::from_arc(rec.clone()),
+            ..plain.clone()
+        };
+        let a = fit(&prep, &effects, &plain).expect("fit");
+        let b = fit(&prep, &effects, &observed).expect("fit");
+        // every field (Debug writes each f64 in its shortest form that reads back to its bits)
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        assert_eq!(
+            a.p.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            b.p.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+        );
+        let lines = rec.progress.lock().unwrap();
+        for stage in [
+            "search",
+            "long Levenberg-Marquardt runs",
+            "covariance",
+            "profiles",
+        ] {
+            assert!(
+                lines
+                    .iter()
+                    .any(|(l, m)| *m && l.contains(stage) && l.contains("piezo+voltage_ramp")),
+                "no milestone for {stage}: {lines:?}"
+            );
+        }
+        assert!(!rec.debug.lock().unwrap().is_empty(), "no debug line");
     }
 
     /// A parameter the data cannot constrain (adhesion held where it vanishes: A1 within

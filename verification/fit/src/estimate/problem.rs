@@ -30,6 +30,8 @@ pub(super) struct Problem<'a> {
     pub(super) t: &'a [f64],
     pub(super) data: &'a [f64],
     pub(super) sigma: f64,
+    /// The observer of the fit's options (progress and debug lines).
+    pub(super) obs: &'a dyn crate::numeric::observe::Observer,
 }
 
 impl<'a> Problem<'a> {
@@ -38,7 +40,7 @@ impl<'a> Problem<'a> {
     pub(super) fn new(
         prep: &'a Prepared,
         model: &'a Model,
-        opts: &FitOptions,
+        opts: &'a FitOptions,
     ) -> Result<Self, FitError> {
         let specs = model.specs();
         let names = model.param_names();
@@ -109,6 +111,7 @@ impl<'a> Problem<'a> {
             t: &prep.dataset.t,
             data: prep.data(),
             sigma: prep.sigma,
+            obs: &*opts.observer,
         })
     }
 

@@ -78,7 +78,7 @@ pub(super) fn search(
     let full = |u: &[f64], start: &[f64]| pb.full(u, start);
     let hints = effort(model);
     let (stages, windows, also_full) = (hints.stages, hints.windows, hints.stages_on_whole_record);
-    let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
+    let debug = pb.obs.debugging();
     // sample count of a window: the pre-trigger samples plus a fraction of the record after
     let i0 = t.iter().position(|v| *v >= 0.0).unwrap_or(0);
     let n_window = |frac: f64| -> usize {
@@ -171,8 +171,10 @@ pub(super) fn search(
                 .iter()
                 .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
         {
-            if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                eprintln!("best full-record start {si} {:?}: cost {c:.2}", &starts[si]);
+            if pb.obs.debugging() {
+                pb.obs.debug(&|| {
+                    format!("best full-record start {si} {:?}: cost {c:.2}", &starts[si])
+                });
             }
             // from its own values, not from where the windowed stages moved it
             let u0: Vec<f64> = fidx
@@ -241,6 +243,7 @@ fn run_stages(
         let n_use = n_window(frac);
         let opts_stage = LmOptions {
             max_iter: iters,
+            observer: pb.obs,
             ..LmOptions::default()
         };
         let t0 = std::time::Instant::now();
@@ -268,18 +271,22 @@ fn run_stages(
         };
         first.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
         if debug {
-            eprintln!(
-                "stage {iters} (window {frac}): {nfirst} runs in {:.3} s",
-                t0.elapsed().as_secs_f64()
-            );
+            pb.obs.debug(&|| {
+                format!(
+                    "stage {iters} (window {frac}): {nfirst} runs in {:.3} s",
+                    t0.elapsed().as_secs_f64()
+                )
+            });
         }
         if debug {
             for (si, c, u) in &first {
                 let p = full(u, &starts[*si]);
-                eprintln!(
-                    "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
-                    &starts[*si]
-                );
+                pb.obs.debug(&|| {
+                    format!(
+                        "stage {iters} (window {frac}): start {si} {:?} -> cost {c:.2} at {p:?}",
+                        &starts[*si]
+                    )
+                });
             }
         }
         first.truncate(keep);
@@ -313,6 +320,7 @@ pub(super) fn refine(
     let opts = LmOptions {
         max_iter: long_iter,
         ftol: 1e-9,
+        observer: pb.obs,
         ..LmOptions::default()
     };
     in_rounds(pb, starts, first, &opts, pb.t.len(), 1, ROUND, debug)
@@ -372,13 +380,13 @@ fn in_rounds(
             if reach > bar * 1.01 + 1.0 {
                 r.3 = false;
                 if debug {
-                    eprintln!(
+                    pb.obs.debug(&|| format!(
                         "run from start {} ({} iterations at most) stopped after {} iterations at cost {:.3} (bar {bar:.3})",
                         r.0,
                         opts.max_iter,
                         r.1.iterations(),
                         r.1.cost()
-                    );
+                    ));
                 }
             }
         }
@@ -386,12 +394,14 @@ fn in_rounds(
     runs.into_iter()
         .map(|(si, run, _, _)| {
             if debug {
-                eprintln!(
-                    "run from start {si} ({} iterations at most): {} iterations, cost {:.3}",
-                    opts.max_iter,
-                    run.iterations(),
-                    run.cost()
-                );
+                pb.obs.debug(&|| {
+                    format!(
+                        "run from start {si} ({} iterations at most): {} iterations, cost {:.3}",
+                        opts.max_iter,
+                        run.iterations(),
+                        run.cost()
+                    )
+                });
             }
             let r = run.result();
             (si, r.cost, r.u)
@@ -429,15 +439,18 @@ pub(super) fn canonical_forms(
                 let long = LmOptions {
                     max_iter: long_iter,
                     ftol: 1e-9,
+                    observer: pb.obs,
                     ..LmOptions::default()
                 };
                 let r = minimize(&pb.window(start, pb.t.len()), &ua, lo, hi, &long);
-                if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-                    eprintln!(
-                        "alternative of {}: {alt:?} -> cost {:.2} (best {chi2:.2})",
-                        e.name(),
-                        r.cost
-                    );
+                if pb.obs.debugging() {
+                    pb.obs.debug(&|| {
+                        format!(
+                            "alternative of {}: {alt:?} -> cost {:.2} (best {chi2:.2})",
+                            e.name(),
+                            r.cost
+                        )
+                    });
                 }
                 if r.cost <= chi2 + CANONICAL_TOLERANCE {
                     chi2 = r.cost.min(chi2);

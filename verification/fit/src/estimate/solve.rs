@@ -26,24 +26,26 @@ pub(super) fn fit_model_on(
     depth: usize,
 ) -> Result<FitOutcome, FitError> {
     let clock = std::time::Instant::now();
-    let debug = std::env::var("GEODESIC_FIT_DEBUG").is_ok();
+    let obs = &*opts.observer;
+    let debug = obs.debugging();
     // the model in every progress line: `discover` and `diagnose` fit many side by side
     let label = model.effect_names().join("+");
     let lap = |what: &str| {
-        if debug {
-            eprintln!(
+        obs.debug(&|| {
+            format!(
                 "[{:.2} s] {what} ({} samples)",
                 clock.elapsed().as_secs_f64(),
                 prep.dataset.t.len()
-            );
-        }
-        crate::numeric::progress::note(true, || {
-            format!(
+            )
+        });
+        obs.progress(
+            &format!(
                 "fit of {label} on {} samples: {what} done ({:.1} s)",
                 prep.dataset.t.len(),
                 clock.elapsed().as_secs_f64()
-            )
-        });
+            ),
+            true,
+        );
     };
     // the stages, in order: data and constraints (the noise model is the dataset's:
     // `Prepared`), start values, search, refinement, canonical forms, uncertainty (covariance,
@@ -159,6 +161,7 @@ fn flat_along<F: crate::numeric::lm::Residuals + ?Sized>(
     ratio: f64,
     a: &DMatrix<f64>,
     w: &[f64],
+    obs: &dyn crate::numeric::observe::Observer,
 ) -> bool {
     let n = u.len();
     let curvature: f64 = (0..n)
@@ -190,8 +193,8 @@ fn flat_along<F: crate::numeric::lm::Residuals + ?Sized>(
         .iter()
         .map(|r| chi2(r) - base)
         .collect();
-    if std::env::var("GEODESIC_FIT_DEBUG").is_ok() {
-        eprintln!("null-space: along the direction, chi-square rise at +-s {rise:?}");
+    if obs.debugging() {
+        obs.debug(&|| format!("null-space: along the direction, chi-square rise at +-s {rise:?}"));
     }
     // a rise that is not a number refutes nothing
     rise.iter().all(|r| r.is_nan() || *r < FLAT_RISE)
@@ -257,7 +260,7 @@ fn uncertainty(
     // (crate::identify); the covariance then lives on the resolved directions only
     let widths: Vec<f64> = lo.iter().zip(hi).map(|(l, h)| h - l).collect();
     let free_names: Vec<String> = fidx.iter().map(|&i| pb.names[i].clone()).collect();
-    let confirm = |w: &[f64]| flat_along(&f, u, lo, hi, &r0, ratio, &a, w);
+    let confirm = |w: &[f64]| flat_along(&f, u, lo, hi, &r0, ratio, &a, w, pb.obs);
     let ns = crate::identify::symmetries_confirmed(
         &a,
         &jtj_half,
@@ -265,6 +268,7 @@ fn uncertainty(
         &widths,
         &free_names,
         &confirm,
+        pb.obs,
     );
     let exact_symmetry = ns.symmetries.iter().any(|s| s.kind == "exact");
     let cov = if ns.symmetries.is_empty() {
@@ -379,13 +383,16 @@ fn profiles(ctx: &ProfileContext) -> Profiles {
             .filter(|s| !s.done)
             .for_each(|s| s.advance(ctx));
         n_done += before - sides.iter().filter(|s| !s.done).count();
-        crate::numeric::progress::note(true, || {
-            format!(
-                "profiles of {}: {n_done} of {n_profiled} sides done ({:.1} s)",
-                ctx.pb.model.effect_names().join("+"),
-                ctx.clock.elapsed().as_secs_f64()
-            )
-        });
+        ctx.pb.obs.progress(
+            &{
+                format!(
+                    "profiles of {}: {n_done} of {n_profiled} sides done ({:.1} s)",
+                    ctx.pb.model.effect_names().join("+"),
+                    ctx.clock.elapsed().as_secs_f64()
+                )
+            },
+            true,
+        );
         // the lowest point met below the best fit (the first in parameter and side order
         // among equals)
         let mut lowest: Option<&(f64, Vec<f64>)> = None;
@@ -399,10 +406,12 @@ fn profiles(ctx: &ProfileContext) -> Profiles {
         {
             if ctx.debug {
                 let r2 = ctx.c.ratio * ctx.c.ratio;
-                eprintln!(
-                    "a profile met chi-square {:.3} below the best fit: refining from there",
-                    (ctx.c.chi2 / r2 - c) * r2
-                );
+                ctx.pb.obs.debug(&|| {
+                    format!(
+                        "a profile met chi-square {:.3} below the best fit: refining from there",
+                        (ctx.c.chi2 / r2 - c) * r2
+                    )
+                });
             }
             return Profiles::Lower(w.clone());
         }
@@ -525,27 +534,33 @@ impl Side {
                 PROFILE_ITERATIONS
             },
             atol: 0.01 * target / r2,
+            observer: ctx.pb.obs,
             ..LmOptions::default()
         };
         let r = minimize_with_steps(&f, &self.v0, &lo2, &hi2, &opts_p, Some(&steps2));
         if ctx.debug {
-            eprintln!(
-                "profile {k} side {}: {} iterations, dchi2 {:.3}",
-                self.side,
-                r.iterations,
-                (r.cost - cost_best) * r2
-            );
+            ctx.pb.obs.debug(&|| {
+                format!(
+                    "profile {k} side {}: {} iterations, dchi2 {:.3}",
+                    self.side,
+                    r.iterations,
+                    (r.cost - cost_best) * r2
+                )
+            });
         }
-        crate::numeric::progress::note(false, || {
-            format!(
-                "profile of {} ({}): {} iterations, delta chi2 {:.4e} (target {:.4e})",
-                c.free_names[k],
-                if self.side == 0 { "up" } else { "down" },
-                r.iterations,
-                (r.cost - cost_best) * r2,
-                target
-            )
-        });
+        ctx.pb.obs.progress(
+            &{
+                format!(
+                    "profile of {} ({}): {} iterations, delta chi2 {:.4e} (target {:.4e})",
+                    c.free_names[k],
+                    if self.side == 0 { "up" } else { "down" },
+                    r.iterations,
+                    (r.cost - cost_best) * r2,
+                    target
+                )
+            },
+            false,
+        );
         self.doublings += 1;
         if r.cost < cost_best - 0.01 / r2 && self.lowest.as_ref().is_none_or(|(c, _)| r.cost < *c) {
             let mut w = r.u.clone();
@@ -628,11 +643,13 @@ fn sweep_unresolved(ctx: &ProfileContext) -> Sweep {
     for (k, pts) in ks.iter().zip(swept) {
         for (uk, cost, w) in pts {
             if ctx.debug {
-                eprintln!(
-                    "sweep of {} at u {uk:.4}: delta chi2 {:.3}",
-                    c.free_names[*k],
-                    (cost - cost_best) * r2
-                );
+                pb.obs.debug(&|| {
+                    format!(
+                        "sweep of {} at u {uk:.4}: delta chi2 {:.3}",
+                        c.free_names[*k],
+                        (cost - cost_best) * r2
+                    )
+                });
             }
             all.push((cost, w));
         }
@@ -679,6 +696,7 @@ fn sweep_one(ctx: &ProfileContext, k: usize) -> Vec<(f64, f64, Vec<f64>)> {
     let opts_p = LmOptions {
         max_iter: PROFILE_ITERATIONS,
         atol: 0.01 * target / r2,
+        observer: pb.obs,
         ..LmOptions::default()
     };
     // the others refitted with u_k held, from the free parameters `from`

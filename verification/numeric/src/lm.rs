@@ -8,6 +8,8 @@
 //! the damping, projection and stopping rules in one readable place.
 
 use nalgebra::{DMatrix, DVector};
+
+use crate::observe::{ITERATION_SAMPLES, Observer, Silent};
 use rayon::prelude::*;
 
 /// A residual function of the internal coordinates `u`, with a form for several points at
@@ -41,8 +43,8 @@ impl<F: Fn(&[f64]) -> Vec<f64> + Sync> Residuals for F {
 }
 
 /// Options of [`minimize`].
-#[derive(Debug, Clone, Copy)]
-pub struct LmOptions {
+#[derive(Clone, Copy)]
+pub struct LmOptions<'a> {
     /// Maximum number of Jacobian evaluations.
     pub max_iter: usize,
     /// Stop when the relative decrease of the cost falls below this.
@@ -54,16 +56,31 @@ pub struct LmOptions {
     /// Largest forward-difference step in internal coordinates; each parameter's step is
     /// halved from it until the difference is linear ([`fd_steps`]).
     pub fd_step: f64,
+    /// Receives a progress line per iteration on records of [`ITERATION_SAMPLES`] residuals
+    /// or more (default: [`Silent`]); it never changes the iterates.
+    pub observer: &'a dyn Observer,
 }
 
-impl Default for LmOptions {
+impl Default for LmOptions<'_> {
     fn default() -> Self {
         LmOptions {
             max_iter: 200,
             ftol: 1e-10,
             atol: 0.0,
             fd_step: 1e-3,
+            observer: &Silent,
         }
+    }
+}
+
+impl std::fmt::Debug for LmOptions<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LmOptions")
+            .field("max_iter", &self.max_iter)
+            .field("ftol", &self.ftol)
+            .field("atol", &self.atol)
+            .field("fd_step", &self.fd_step)
+            .finish_non_exhaustive()
     }
 }
 
@@ -460,15 +477,16 @@ impl LmRun {
             if !accepted || self.small >= 2 || self.iterations >= opts.max_iter {
                 self.finished = true;
             }
-            if self.r.len() >= crate::numeric::progress::ITERATION_SAMPLES {
-                crate::numeric::progress::note(false, || {
-                    format!(
+            if self.r.len() >= ITERATION_SAMPLES {
+                opts.observer.progress(
+                    &format!(
                         "Levenberg-Marquardt iteration {}, chi2 {:.6e} ({} samples)",
                         self.iterations,
                         self.cost,
                         self.r.len()
-                    )
-                });
+                    ),
+                    false,
+                );
             }
         }
     }

@@ -1,6 +1,6 @@
 //! `geodesic fit --posterior` (interface.md: `"posterior": {"PARAM": {"median", "lo68", "hi68",
 //! "lo95", "hi95"}}`): the marginal posterior of each free parameter. By default it is sampled
-//! (`crate::numeric::ensemble`); `--posterior-method laplace` gives the approximation below.
+//! (`crate::ensemble`); `--posterior-method laplace` gives the approximation below.
 //!
 //! **Laplace method, stated**: the Laplace approximation at the best fit, in the coordinate the fit
 //! itself works in (the logarithm for the parameters the catalogue fits in log space, the
@@ -9,7 +9,7 @@
 //! widening of the fit) truncated to the range, its quantiles mapped back through the monotone
 //! coordinate. It is exact for a linear model with Gaussian noise and says nothing about
 //! multi-modal posteriors: a fit with a second minimum should be read with its profile. Normal
-//! CDF and quantile from `geodesic_core::normal` (fractional error < 1.2e-7).
+//! CDF and quantile from `geodesic_util::normal` (fractional error < 1.2e-7).
 
 use serde::{Deserialize, Serialize};
 
@@ -44,8 +44,8 @@ pub struct Posterior {
     pub converged: Option<bool>,
 }
 
-impl From<crate::numeric::ensemble::Marginal> for Posterior {
-    fn from(m: crate::numeric::ensemble::Marginal) -> Self {
+impl From<crate::ensemble::Marginal> for Posterior {
+    fn from(m: crate::ensemble::Marginal) -> Self {
         Posterior {
             median: m.median,
             lo68: m.lo68,
@@ -62,12 +62,12 @@ impl From<crate::numeric::ensemble::Marginal> for Posterior {
 
 /// Standard normal CDF.
 pub fn phi(z: f64) -> f64 {
-    geodesic_core::normal::normal_cdf(z)
+    geodesic_util::normal::normal_cdf(z)
 }
 
 /// Inverse standard normal CDF.
 pub fn phi_inv(p: f64) -> f64 {
-    geodesic_core::normal::normal_quantile(p)
+    geodesic_util::normal::normal_quantile(p)
 }
 
 /// The summary of a normal `N(mu, s)` truncated to `[lo, hi]`, mapped through `back` (a

@@ -1,7 +1,7 @@
-//! The numeric core of the fitting engine: what a least-squares identification needs from
-//! numerical analysis and statistics, knowing nothing of datasets, models, effects or scenarios
-//! (it never imports the identification modules of this crate; `modules_form_no_cycle` in
-//! `lib.rs` checks it).
+//! geodesic-numeric: the numeric core of the fitting engine, what a least-squares identification
+//! needs from numerical analysis and statistics. It knows nothing of datasets, models, effects,
+//! scenarios or physics: its dependencies are `nalgebra`, `rand`, `rayon`, `rustfft`, `serde` and
+//! `geodesic-util` (the normal distribution); `geodesic-fit` builds identification on top of it.
 //!
 //! - [`lm`]: bounded Levenberg-Marquardt with finite-difference (or exact) Jacobians.
 //! - [`linalg`]: symmetric eigen-decomposition and pseudo-inverse with stated failure.
@@ -9,12 +9,13 @@
 //! - [`noise`]: coloured (AR) measurement noise, Burg's method, the whitening filter.
 //! - [`ensemble`]: the affine-invariant ensemble sampler, autocorrelation times, marginals.
 //! - [`posterior`]: posterior summaries (truncated normals of the Laplace approximation).
-//! - [`progress`]: the progress hook long computations report to.
+//! - [`observe`]: the [`Observer`](observe::Observer) a caller passes in to see progress and
+//!   debug lines (no global, no environment variable).
 
 pub mod ensemble;
 pub mod linalg;
 pub mod lm;
 pub mod noise;
+pub mod observe;
 pub mod posterior;
-pub mod progress;
 pub mod residual;

@@ -20,8 +20,8 @@
 
 use serde::{Deserialize, Serialize};
 
-pub use crate::numeric::residual::chi2_sf;
-use crate::numeric::residual::ljung_box;
+pub use crate::residual::chi2_sf;
+use crate::residual::ljung_box;
 
 /// An autoregressive noise model `n_i = sum_k a_k n_{i-k} + e_i`, `e ~ N(0, innovation^2)`.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]

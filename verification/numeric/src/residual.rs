@@ -70,7 +70,7 @@ pub fn ljung_box_dof(r: &[f64], p: usize) -> Whiteness {
 pub fn chi2_sf(q: f64, dof: f64) -> f64 {
     let h = 2.0 / (9.0 * dof);
     let z = ((q / dof).cbrt() - (1.0 - h)) / h.sqrt();
-    1.0 - geodesic_core::normal::normal_cdf(z)
+    1.0 - geodesic_util::normal::normal_cdf(z)
 }
 
 /// A time window where the residual leaves the noise band.
