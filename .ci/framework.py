@@ -26,7 +26,7 @@ LAYERS = [
     {"geodesic-release", "geodesic-capture", "geodesic-charge", "geodesic-core"},
     {"geodesic-fit", "geodesic-report", "geodesic-exchange", "geodesic-images"},
     {"geodesic-verify"},
-    {"geodesic-checks"},
+    {"geodesic-checks", "geodesic-campaign"},
     {"geodesic-missions"},
     {"geodesic", "geodesic-benches", "geodesic-fuzz", "xtask"},
 ]

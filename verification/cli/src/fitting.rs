@@ -1,4 +1,4 @@
-//! What the fit commands (`fit`, `diagnose`, `discover`, `campaign`, `history`) share, so that
+//! What the fit commands (`fit`, `diagnose`, `discover`, `history`) share, so that
 //! no command imports another: the flags of `fit` and `diagnose`, the parsing of `--effects`,
 //! `--fix` and `--bound`, the dataset's loading, the fits folder (`--reports DIR` + `fits`),
 //! the outputs of a fit (its SVG and its history entry) and its warnings.
@@ -10,7 +10,7 @@ use geodesic_fit::{Dataset, FitOptions, FitReport, Prepared, history, plot};
 
 use crate::error::CliError;
 
-/// The model flags of `fit`, `diagnose`, `discover` and `campaign`: one declaration, one help
+/// The model flags of `fit`, `diagnose` and `discover`: one declaration, one help
 /// text (flattened into each command's flags).
 #[derive(clap::Args, Debug)]
 pub struct ModelArgs {

@@ -18,13 +18,11 @@
 //!   - [`diagnose`], [`kinds`], [`discover`], [`scaffold`]: candidate effects ranked by delta
 //!     BIC, the kinds of term outside the catalogue, the discovery loop, a new effect's code;
 //!   - [`synth`]: synthetic datasets from a truth model built from the same effect code;
-//!   - [`history`], [`plot`], [`campaign`], [`campaign_page`], [`design`], [`spectral`].
+//!   - [`history`], [`plot`], [`design`], [`spectral`].
 //!
 //! The engine names no scenario: what differs between scenarios is asked of the scenario's
 //! implementation in the facility crate (`geodesic_facility::scenario`).
 
-pub mod campaign;
-pub mod campaign_page;
 pub mod coords;
 pub mod dataset;
 pub mod design;
