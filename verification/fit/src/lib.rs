@@ -15,8 +15,9 @@
 //!   - [`report`]: the fit object of interface.md, with [`outliers`] (outliers and stuck
 //!     parameters, said out loud);
 //!   - [`fit`]: the public face of the three above (re-exports only);
-//!   - [`diagnose`], [`kinds`], [`discover`], [`scaffold`]: candidate effects ranked by delta
-//!     BIC, the kinds of term outside the catalogue, the discovery loop, a new effect's code;
+//!   - [`diagnose`], [`kinds`], [`discover`]: candidate effects ranked by delta BIC, the kinds
+//!     of term outside the catalogue, the discovery loop (a new effect's code is written by
+//!     `geodesic-codegen`);
 //!   - [`synth`]: synthetic datasets from a truth model built from the same effect code;
 //!   - [`history`], [`plot`], [`design`], [`spectral`].
 //!
@@ -39,7 +40,6 @@ pub mod plot;
 pub mod prepare;
 pub mod record;
 pub mod report;
-pub mod scaffold;
 pub mod screen;
 pub mod spectral;
 pub mod summary;
