@@ -10,7 +10,7 @@ use geodesic_plot::prelude::*;
 
 use crate::{CampaignReport, PAIR, Release};
 use geodesic_fit::FitError;
-use geodesic_fit::plot::tick;
+use geodesic_plot::fit::tick;
 
 /// A quantity of the table: key, label on the page, unit, scale to the plotted unit, plotted unit.
 const QUANTITIES: [(&str, &str, &str, f64, &str); 3] = [

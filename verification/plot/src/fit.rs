@@ -1,13 +1,54 @@
-//! SVG plots: data, model and residual with the failure windows shaded; the fit history.
+//! The plots of a fit, from plain data (the fit crate builds it: `geodesic_fit::plot`): data,
+//! model and residual with the failure windows shaded ([`fit_svg`]); residual RMS and reduced
+//! chi-square per model version ([`history_svg`]); a posterior's corner plot ([`corner_svg`]).
 
-use std::path::Path;
+use crate::prelude::*;
 
-use geodesic_plot::prelude::*;
+/// What [`fit_svg`] draws, in SI units (the plot shows nm and ms).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitSeries<'a> {
+    /// The title (dataset, model, reduced chi-square).
+    pub title: String,
+    /// The fitted channel's name (`x`).
+    pub channel: &'a str,
+    /// Sample times [s].
+    pub t_s: &'a [f64],
+    /// The measured channel [m].
+    pub data_m: &'a [f64],
+    /// The model's prediction [m].
+    pub model_m: &'a [f64],
+    /// The channel's 1-sigma noise [m] (the residual's +-3 sigma band).
+    pub sigma_m: f64,
+    /// Failure windows (start, end) [s], shaded.
+    pub failures_s: Vec<(f64, f64)>,
+}
 
-use crate::error::{FitError, write_atomic};
-use crate::history::Entry;
-use crate::prepare::Prepared;
-use crate::report::FitReport;
+/// One model version of [`history_svg`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Version {
+    /// Its name on the axis (`v1 base`, `v2 +tip_adhesion`).
+    pub name: String,
+    /// Residual RMS over the fitted channels [SI].
+    pub rms: f64,
+    /// Reduced chi-square.
+    pub chi2_red: f64,
+    /// RMS of the measurement noise [SI], when kept.
+    pub noise_rms: Option<f64>,
+}
+
+/// One parameter's marginal of [`corner_svg`]: its samples in physical units and the quantiles
+/// drawn, each of the sorted samples (linear interpolation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Marginal {
+    /// The parameter's name (axis label).
+    pub name: String,
+    /// Its samples, in chain order [unit].
+    pub values: Vec<f64>,
+    /// Its 0.1 % and 99.9 % quantiles (the axis range, padded) [unit].
+    pub range: [f64; 2],
+    /// Its 2.5 %, 50 % and 97.5 % quantiles (the marks on the diagonal) [unit].
+    pub marks: [f64; 3],
+}
 
 fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -86,24 +127,18 @@ const FAIL: RGBColor = style::PALE_RED;
 
 /// Renders data and model (top) and the residual with its +-3 sigma band (bottom), failure
 /// windows shaded, as an SVG string. Lengths in nm, time in ms.
-pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<String, FitError> {
-    let t: Vec<f64> = prep.dataset.t.iter().map(|v| v * 1e3).collect();
-    let d: Vec<f64> = prep.data().iter().map(|v| v * 1e9).collect();
-    let m: Vec<f64> = pred.iter().map(|v| v * 1e9).collect();
+pub fn fit_svg(f: &FitSeries<'_>) -> Result<String, PlotError> {
+    let t: Vec<f64> = f.t_s.iter().map(|v| v * 1e3).collect();
+    let d: Vec<f64> = f.data_m.iter().map(|v| v * 1e9).collect();
+    let m: Vec<f64> = f.model_m.iter().map(|v| v * 1e9).collect();
     let r: Vec<f64> = d.iter().zip(&m).map(|(a, b)| a - b).collect();
-    let s3 = 3.0 * prep.marginal_sigma() * 1e9;
+    let s3 = 3.0 * f.sigma_m * 1e9;
     render((1000, 700), |root| {
         let (top, bottom) = root.split_vertically(420);
         let (x0, x1) = range(t.iter().copied());
         let (y0, y1) = range(d.iter().chain(&m).copied());
-        let title = format!(
-            "{}: {} (chi2_red {:.3})",
-            report.dataset,
-            report.effects.join("+"),
-            report.chi2_red
-        );
         let mut c = ChartBuilder::on(&top)
-            .caption(title, font(24))
+            .caption(f.title.as_str(), font(24))
             .margin(12)
             .x_label_area_size(45)
             .y_label_area_size(80)
@@ -111,17 +146,17 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
             .map_err(perr)?;
         c.configure_mesh()
             .x_desc("t [ms]")
-            .y_desc(format!("{} [nm]", prep.channel))
+            .y_desc(format!("{} [nm]", f.channel))
             .label_style(font(18))
             .axis_desc_style(font(19))
             .x_label_formatter(&tick)
             .y_label_formatter(&tick)
             .draw()
             .map_err(perr)?;
-        for (i, f) in report.failures.iter().enumerate() {
+        for (i, (t0, t1)) in f.failures_s.iter().enumerate() {
             let band = c
                 .draw_series(std::iter::once(Rectangle::new(
-                    [(f.t_start * 1e3, y0), (f.t_end * 1e3, y1)],
+                    [(t0 * 1e3, y0), (t1 * 1e3, y1)],
                     FAIL.filled(),
                 )))
                 .map_err(perr)?;
@@ -174,10 +209,10 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
         .map_err(perr)?
         .label(format!("noise band +-3 sigma ({} nm)", tick(&s3)))
         .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 15, y + 6)], noise.filled()));
-        for (i, f) in report.failures.iter().enumerate() {
+        for (i, (t0, t1)) in f.failures_s.iter().enumerate() {
             let band = c2
                 .draw_series(std::iter::once(Rectangle::new(
-                    [(f.t_start * 1e3, ry0), (f.t_end * 1e3, ry1)],
+                    [(t0 * 1e3, ry0), (t1 * 1e3, ry1)],
                     FAIL.mix(0.8).filled(),
                 )))
                 .map_err(perr)?;
@@ -199,28 +234,19 @@ pub fn fit_svg(prep: &Prepared, pred: &[f64], report: &FitReport) -> Result<Stri
             .map_err(perr)?;
         Ok(())
     })
-    .map_err(|e| FitError::input("plot", 0, e.0))
 }
 
 /// Renders RMS and reduced chi-square per model version (log scale) as an SVG string. Versions
 /// are named by the effects they add (`v1 base`, `v2 +tip_adhesion`); the noise floor is drawn
-/// in both panels (the noise RMS, and chi2_red = 1).
-pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
-    let names: Vec<String> = entries
-        .iter()
-        .enumerate()
-        .map(|(i, e)| e.name(i.checked_sub(1).map(|j| &entries[j])))
-        .collect();
-    let base = entries
-        .first()
-        .map_or(String::new(), |e| e.effects.join(", "));
+/// in both panels (the noise RMS, and chi2_red = 1). `dataset` names the record, `base` the
+/// first version's effects (`a, b`).
+pub fn history_svg(dataset: &str, base: &str, entries: &[Version]) -> Result<String, PlotError> {
+    let names: Vec<String> = entries.iter().map(|e| e.name.clone()).collect();
+    let base = base.to_string();
     render((900, 680), |root| {
         let (top, bottom) = root.split_vertically(340);
         let n = entries.len().max(1) as f64;
-        let name = entries
-            .first()
-            .map_or("", |e| e.dataset.as_str())
-            .to_string();
+        let name = dataset.to_string();
         let noise_rms = entries.iter().rev().find_map(|e| e.noise_rms);
         let label = |v: &f64| -> String {
             let k = v.round();
@@ -314,34 +340,31 @@ pub fn history_svg(entries: &[Entry]) -> Result<String, FitError> {
         }
         Ok(())
     })
-    .map_err(|e| FitError::input("plot", 0, e.0))
 }
 
 /// A corner plot of a posterior chain: per free parameter a histogram of its marginal (the
 /// diagonal, median and 95 % interval marked) and, below the diagonal, the pairs' samples
-/// (thinned to at most 1 500 points), in physical units (`back[i]` maps the fit coordinate of
-/// parameter `i` back), as an SVG string.
+/// (thinned to at most 1 500 points), in physical units, as an SVG string.
+/// `samples` is the chain's kept samples, `walkers` its walkers and `acceptance` its fraction of
+/// accepted moves (the title).
 pub fn corner_svg(
-    names: &[String],
-    chain: &crate::numeric::ensemble::Chain,
-    back: &[&dyn Fn(f64) -> f64],
-) -> Result<String, FitError> {
-    let k = names.len();
+    marginals: &[Marginal],
+    samples: usize,
+    walkers: usize,
+    acceptance: f64,
+) -> Result<String, PlotError> {
+    let k = marginals.len();
     let cell = if k <= 3 { 260 } else { (900 / k.max(1)) as u32 }.max(150);
     let size = (cell * k as u32 + 40, cell * k as u32 + 70);
-    let vals: Vec<Vec<f64>> = (0..k)
-        .map(|i| chain.samples.iter().map(|s| back[i](s[i])).collect())
-        .collect();
-    let stride = (chain.samples.len() / 1500).max(1);
+    let vals: Vec<&[f64]> = marginals.iter().map(|m| m.values.as_slice()).collect();
+    let stride = (samples / 1500).max(1);
     render(size, |root| {
         let (title, grid) = root.split_vertically(50);
         title
             .draw(&Text::new(
                 format!(
                     "posterior: {} walkers, {} samples kept, acceptance {:.2}",
-                    chain.walkers,
-                    chain.samples.len(),
-                    chain.acceptance
+                    walkers, samples, acceptance
                 ),
                 (20, 15),
                 font(20),
@@ -354,21 +377,17 @@ pub fn corner_svg(
                 if c > r {
                     continue;
                 }
-                let mut sx = vals[c].clone();
-                sx.sort_by(f64::total_cmp);
-                let (x0, x1) = range(
-                    [
-                        crate::numeric::ensemble::quantile(&sx, 0.001),
-                        crate::numeric::ensemble::quantile(&sx, 0.999),
-                    ]
-                    .into_iter(),
-                );
-                let xl = if r == k - 1 { names[c].as_str() } else { "" };
+                let (x0, x1) = range(marginals[c].range.into_iter());
+                let xl = if r == k - 1 {
+                    marginals[c].name.as_str()
+                } else {
+                    ""
+                };
                 if r == c {
                     let nb = 30;
                     let w = (x1 - x0) / nb as f64;
                     let mut h = vec![0usize; nb];
-                    for v in &vals[c] {
+                    for v in vals[c] {
                         if *v >= x0 && *v < x1 {
                             h[(((v - x0) / w) as usize).min(nb - 1)] += 1;
                         }
@@ -395,12 +414,11 @@ pub fn corner_svg(
                         Rectangle::new([(a, 0.0), (a + w, *n as f64)], BLUE.mix(0.5).filled())
                     }))
                     .map_err(perr)?;
-                    for (q, style) in [
-                        (0.025, RED.stroke_width(1)),
-                        (0.5, RED.stroke_width(2)),
-                        (0.975, RED.stroke_width(1)),
+                    for (x, style) in [
+                        (marginals[c].marks[0], RED.stroke_width(1)),
+                        (marginals[c].marks[1], RED.stroke_width(2)),
+                        (marginals[c].marks[2], RED.stroke_width(1)),
                     ] {
-                        let x = crate::numeric::ensemble::quantile(&sx, q);
                         ch.draw_series(std::iter::once(PathElement::new(
                             vec![(x, 0.0), (x, top)],
                             style,
@@ -408,15 +426,7 @@ pub fn corner_svg(
                         .map_err(perr)?;
                     }
                 } else {
-                    let mut sy = vals[r].clone();
-                    sy.sort_by(f64::total_cmp);
-                    let (y0, y1) = range(
-                        [
-                            crate::numeric::ensemble::quantile(&sy, 0.001),
-                            crate::numeric::ensemble::quantile(&sy, 0.999),
-                        ]
-                        .into_iter(),
-                    );
+                    let (y0, y1) = range(marginals[r].range.into_iter());
                     let mut ch = ChartBuilder::on(area)
                         .margin(6)
                         .x_label_area_size(if r == k - 1 { 40 } else { 18 })
@@ -425,7 +435,11 @@ pub fn corner_svg(
                         .map_err(perr)?;
                     ch.configure_mesh()
                         .x_desc(xl)
-                        .y_desc(if c == 0 { names[r].as_str() } else { "" })
+                        .y_desc(if c == 0 {
+                            marginals[r].name.as_str()
+                        } else {
+                            ""
+                        })
                         .x_labels(3)
                         .y_labels(3)
                         .x_label_formatter(&tick)
@@ -446,51 +460,11 @@ pub fn corner_svg(
         }
         Ok(())
     })
-    .map_err(|e| FitError::input("plot", 0, e.0))
-}
-
-/// Writes an SVG atomically.
-pub fn write_svg(path: &Path, svg: &str) -> Result<(), FitError> {
-    write_atomic(path, svg.as_bytes())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A history of two versions and a fit with failure windows, plotted (moved from
-    /// `history`'s tests so that `history` does not depend on `plot`).
-    #[test]
-    fn plots_a_history_and_a_fit_with_its_failure_windows() {
-        use crate::estimate::{FitOptions, fit};
-        use crate::history::{append, path_for, read};
-        use crate::synth::{SynthSpec, generate};
-        use geodesic_facility::Scenario;
-        let mut spec = SynthSpec::defaults(Scenario::RtRetraction, &["piezo", "voltage_ramp"]);
-        spec.post_s = 2e-4;
-        let prep = Prepared::new(generate(&spec, "h.yaml").unwrap());
-        let tmp = tempfile::tempdir().unwrap();
-        let dir = tmp.path().to_path_buf();
-        for effects in [vec!["piezo"], vec!["piezo", "voltage_ramp"]] {
-            let o = fit(&prep, &effects, &FitOptions::default()).unwrap();
-            append(&dir, "h", &FitReport::new(&prep, &o)).unwrap();
-        }
-        let h = read(&path_for(&dir, "h")).unwrap();
-        let svg = history_svg(&h).unwrap();
-        assert!(svg.starts_with("<svg") && svg.contains("</svg>"));
-        let o = fit(&prep, &["piezo"], &FitOptions::default()).unwrap();
-        let r = FitReport::new(&prep, &o);
-        let fsvg = fit_svg(&prep, &o.pred, &r).unwrap();
-        assert!(!r.failures.is_empty());
-        assert!(
-            fsvg.to_uppercase().contains("#FFC8C8"),
-            "failure windows are shaded"
-        );
-        assert!(
-            fsvg.contains("failure window") && fsvg.contains("noise band"),
-            "every shaded band is in a legend"
-        );
-    }
 
     /// A log axis's keys are its 1-2-5 values inside the range, each once and increasing; over
     /// more than three decades only the powers of ten (the history plot's axis printed 1e-8 twice).
@@ -519,21 +493,14 @@ mod tests {
 
     #[test]
     fn history_names_versions_and_draws_the_noise_floor() {
-        let e = |v: usize, eff: &[&str], rms: f64, chi: f64| Entry {
-            version: v,
-            dataset: "d.yaml".into(),
-            effects: eff.iter().map(|s| s.to_string()).collect(),
-            n_free: 2,
+        let e = |name: &str, rms: f64, chi: f64| Version {
+            name: name.into(),
             rms,
             chi2_red: chi,
-            bic: 0.0,
             noise_rms: Some(1e-9),
         };
-        let h = [
-            e(1, &["a", "b"], 3e-8, 72.0),
-            e(2, &["a", "b", "c"], 1.05e-9, 1.05),
-        ];
-        let svg = history_svg(&h).unwrap();
+        let h = [e("v1 base", 3e-8, 72.0), e("v2 +c", 1.05e-9, 1.05)];
+        let svg = history_svg("d.yaml", "a, b", &h).unwrap();
         for want in [
             "v1 base",
             "v2 +c",
