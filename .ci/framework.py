@@ -24,7 +24,7 @@ LAYERS = [
     {"geodesic-plot", "geodesic-contact", "geodesic-mechanism", "geodesic-housing",
      "geodesic-facility"},
     {"geodesic-release", "geodesic-capture", "geodesic-charge", "geodesic-core"},
-    {"geodesic-codegen"},
+    {"geodesic-codegen", "geodesic-dataset"},
     {"geodesic-fit", "geodesic-report", "geodesic-exchange", "geodesic-images"},
     {"geodesic-verify"},
     {"geodesic-checks", "geodesic-campaign"},

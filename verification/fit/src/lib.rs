@@ -7,9 +7,10 @@
 //!   noise ([`noise`], [`residual`]), sampling and posteriors ([`ensemble`], [`posterior`]),
 //!   progress ([`progress`]); it knows no dataset, model, effect or scenario;
 //! - identification, on top of it:
-//!   - [`dataset`]: YAML + CSV datasets (interface.md), bad input refused with file and line;
+//!   - [`dataset`], [`synth`], [`coords`], [`error`]: the records (YAML + CSV datasets,
+//!     synthetic records), a parameter's fit coordinates and checks, the error type; from
+//!     `geodesic-dataset`, under the paths the engine has always used;
 //!   - [`prepare`]: noise per channel, the smooth tip profile, data-driven guesses;
-//!   - [`coords`]: the fit's coordinates of a parameter, checks of user values and bounds;
 //!   - [`identify`]: symmetries, held values, identifiable combinations;
 //!   - [`estimate`]: data-driven multi-start fits, covariance, profile likelihood;
 //!   - [`report`]: the fit object of interface.md, with [`outliers`] (outliers and stuck
@@ -18,18 +19,17 @@
 //!   - [`diagnose`], [`kinds`], [`discover`]: candidate effects ranked by delta BIC, the kinds
 //!     of term outside the catalogue, the discovery loop (a new effect's code is written by
 //!     `geodesic-codegen`);
-//!   - [`synth`]: synthetic datasets from a truth model built from the same effect code;
-//!   - [`history`], [`plot`], [`design`], [`spectral`].
+//!   - [`history`], [`plot`] (the plain data of the plots `geodesic-plot` draws), [`design`],
+//!     [`spectral`].
 //!
 //! The engine names no scenario: what differs between scenarios is asked of the scenario's
 //! implementation in the facility crate (`geodesic_facility::scenario`).
 
-pub mod coords;
-pub mod dataset;
+// the records and their errors, from geodesic-dataset, under the paths the engine uses
+pub use geodesic_dataset::{coords, dataset, error, synth};
 pub mod design;
 pub mod diagnose;
 pub mod discover;
-pub mod error;
 pub mod estimate;
 pub mod fit;
 pub mod history;
@@ -43,7 +43,6 @@ pub mod report;
 pub mod screen;
 pub mod spectral;
 pub mod summary;
-pub mod synth;
 
 pub use dataset::Dataset;
 pub use error::FitError;
