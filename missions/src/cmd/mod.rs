@@ -1,5 +1,6 @@
 //! The root mission's own commands (LISA Pathfinder's release: the Monte Carlo, the charge,
-//! the capture criterion, the plungers, the tip radius, the sensitivity), added to the `geodesic`
+//! the capture criterion, the plungers, the tip radius, the sensitivity, a campaign of measured
+//! releases), added to the `geodesic`
 //! program beside the framework's commands.
 
 use crate::inputs::ModelInput;
@@ -7,6 +8,7 @@ use clap::{Arg, ArgMatches};
 use geodesic_verify::plugin::{PluginCommand, args};
 use std::path::PathBuf;
 
+pub mod campaign;
 pub mod capture;
 pub mod charge;
 pub mod merge;
@@ -70,6 +72,15 @@ Values may carry units; bare numbers are SI (m, m/s, rad, rad/s)."), |m| {
             a.budget = given(m, ModelInput::budget());
             tipradius::run(a)
         }).reading(ModelInput::budget(), &[]),
+        PluginCommand::of::<campaign::Args>(
+            "campaign",
+            "Fit every release of a campaign, tabulate P_x, F_peak, dt and estimate the adhesion population",
+            Some("Examples:
+  geodesic synth --campaign 30 --out camp --seed 4
+  geodesic campaign camp/campaign.yaml --effects needle_contact,tip_contact,tip_adhesion
+  geodesic campaign camp --effects needle_contact,tip_contact,tip_adhesion --json > campaign.json
+A release that cannot be fitted is listed with its file and cause (exit 2 after the table).
+The page (table, population, releases, histograms, adhesion scatter) is written to DIR/campaign/ (--reports DIR, default reports)."), |m| campaign::run(args(m)?)),
         PluginCommand::of::<sensitivity::Args>(
             "sensitivity",
             "What drives the release velocity: Saltelli/Jansen indices per uncertainty group",

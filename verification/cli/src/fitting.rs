@@ -1,4 +1,4 @@
-//! What the fit commands (`fit`, `diagnose`, `discover`, `campaign`, `history`) share, so that
+//! What the fit commands (`fit`, `diagnose`, `discover`, `history`) share, so that
 //! no command imports another: the flags of `fit` and `diagnose`, the parsing of `--effects`,
 //! `--fix` and `--bound`, the opening of the identification session (which loads the dataset,
 //! runs the stages and writes each fit's plot and history entry), the fits folder
@@ -16,7 +16,7 @@ use geodesic_fit::{FitOptions, FitReport};
 
 use crate::error::CliError;
 
-/// The model flags of `fit`, `diagnose`, `discover` and `campaign`: one declaration, one help
+/// The model flags of `fit`, `diagnose` and `discover`: one declaration, one help
 /// text (flattened into each command's flags).
 #[derive(clap::Args, Debug)]
 pub struct ModelArgs {

@@ -101,8 +101,6 @@ See docs/exchange.md.")]
   geodesic import reqif polarion.reqif --out imported/ --attribute limit=\"Max Value\" --strict
 See docs/exchange.md.")]
     Import(cmd::import::Args),
-    /// Fit every release of a campaign, tabulate P_x, F_peak, dt and estimate the adhesion population
-    Campaign(cmd::campaign::Args),
     /// The discovery loop: diagnose, add the supported effect, refit, until the residual is noise
     Discover(cmd::discover::Args),
     /// The release tip's trajectory from high-speed camera frames (threshold crossings)
@@ -240,7 +238,6 @@ fn run(command: Command) -> error::CmdResult {
         Command::Export(a) => cmd::export::run(a),
         Command::Import(a) => cmd::import::run(a),
         Command::Discover(a) => cmd::discover::run(a),
-        Command::Campaign(a) => cmd::campaign::run(a),
         Command::Tiptrack(a) => cmd::tiptrack::run(a),
         Command::Asd(a) => cmd::asd::run(a),
         Command::Surfaces(a) => cmd::surfaces::run(a),

@@ -6,32 +6,33 @@
 //! ([`numeric::noise::ArNoise`], [`numeric::posterior::Posterior`], ...). The modules use each
 //! other without a cycle (`modules_form_no_cycle` below checks the graph):
 //!
-//! - [`dataset`]: YAML + CSV datasets (interface.md), bad input refused with file and line;
+//! The numeric core (Levenberg-Marquardt, linear algebra, noise, sampling, posteriors) is the
+//! crate `geodesic-numeric`, which knows no dataset, model, effect or scenario. Identification,
+//! on top of it:
+//! - [`dataset`], [`synth`], [`coords`], [`error`]: the records (YAML + CSV datasets,
+//!   synthetic records), a parameter's fit coordinates and checks, the error type; from
+//!   `geodesic-dataset`, under the paths the engine has always used;
 //! - [`prepare`]: noise per channel, the smooth tip profile, data-driven guesses;
-//! - [`coords`]: the fit's coordinates of a parameter, checks of user values and bounds;
 //! - [`identify`]: symmetries, held values, identifiable combinations;
 //! - [`estimate`]: data-driven multi-start fits, covariance, profile likelihood;
 //! - [`report`]: the fit object of interface.md, with [`outliers`] (outliers and stuck
 //!   parameters, said out loud);
 //! - [`fit`]: the public face of the three above (re-exports only);
-//! - [`diagnose`], [`kinds`], [`discover`], [`scaffold`]: candidate effects ranked by delta
-//!   BIC, the kinds of term outside the catalogue, the discovery loop, a new effect's code;
+//! - [`diagnose`], [`kinds`], [`discover`]: candidate effects ranked by delta BIC, the kinds
+//!   of term outside the catalogue, the discovery loop (a new effect's code is written by
+//!   `geodesic-codegen`);
 //! - [`session`]: the identification session a front end calls: a dataset, a model and options
 //!   in, `fit`, `diagnose` or `discover` run with their outputs, typed results out;
-//! - [`synth`]: synthetic datasets from a truth model built from the same effect code;
-//! - [`history`], [`plot`], [`campaign`], [`campaign_page`], [`design`], [`spectral`].
+//! - [`history`], [`plot`] (the plain data of the plots `geodesic-plot` draws), [`design`].
 //!
 //! The engine names no scenario: what differs between scenarios is asked of the scenario's
 //! implementation in the facility crate (`geodesic_facility::scenario`).
 
-pub mod campaign;
-pub mod campaign_page;
-pub mod coords;
-pub mod dataset;
+// the records and their errors, from geodesic-dataset, under the paths the engine uses
+pub use geodesic_dataset::{coords, dataset, error, synth};
 pub mod design;
 pub mod diagnose;
 pub mod discover;
-pub mod error;
 pub mod estimate;
 pub mod fit;
 pub mod history;
@@ -41,12 +42,10 @@ pub mod plot;
 pub mod prepare;
 pub mod record;
 pub mod report;
-pub mod scaffold;
 pub mod screen;
 pub mod session;
 pub mod spectral;
 pub mod summary;
-pub mod synth;
 
 pub use dataset::Dataset;
 pub use error::FitError;

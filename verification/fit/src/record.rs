@@ -342,7 +342,7 @@ pub fn set_aside_text(s: &[SetAside]) -> String {
 mod tests {
     use super::*;
 
-    use crate::dataset::tests::gauss;
+    use geodesic_dataset::noise::gauss;
 
     #[test]
     fn a_declared_figure_off_by_two_is_found_either_way_and_a_right_one_is_not() {

@@ -234,7 +234,7 @@ pub fn with_record_notes(reason: &str, prep: &Prepared) -> String {
 mod tests {
     use super::*;
 
-    use crate::dataset::tests::gauss;
+    use geodesic_dataset::noise::gauss;
 
     #[test]
     fn spikes_are_found_and_a_step_or_a_kink_is_not() {

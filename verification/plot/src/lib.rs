@@ -2,6 +2,8 @@
 //!
 //! - [`style`]: the one style: the font family and sizes, the palette, the legend box.
 //! - [`render`]: a plotters SVG canvas filled white, drawn by a closure, returned as text.
+//! - [`fit`]: the plots of a fit (data, model and residual; the fit history; a posterior's
+//!   corner plot) from plain data, which the fit crate builds.
 //! - [`histogram`]: the hand-written SVG histograms of the release velocities (the release model
 //!   returns the velocities; the CLI and the checks render them here).
 //! - [`log_tick`], [`nice_step`], [`fmt_tick`]: axis helpers.
@@ -10,6 +12,7 @@
 //! plotters (SVG backend only: no font or system library) is re-exported as [`plotters`] so that
 //! every plot uses the same version and features through this crate.
 
+pub mod fit;
 pub mod histogram;
 pub mod style;
 

@@ -1,7 +1,6 @@
 //! One module per `geodesic` command; each owns its clap `Args` and a `run` function.
 
 pub mod asd;
-pub mod campaign;
 pub mod diagnose;
 pub mod discover;
 pub mod effects;

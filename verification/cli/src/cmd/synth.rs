@@ -181,7 +181,7 @@ fn mean_sd(flag: &str, v: &Option<String>, default: (f64, f64)) -> Result<(f64, 
 
 /// `synth --campaign N --out DIR`: N TMMF releases from a known adhesion population.
 fn campaign(args: &Args, n: usize) -> CmdResult {
-    use geodesic_fit::campaign::{CampaignTruth, ReleaseTruth, TruePopulation, draw_release};
+    use geodesic_fit::synth::{CampaignTruth, ReleaseTruth, TruePopulation, draw_release};
     if n == 0 || n > 10_000 {
         return Err(CliError::bad(format!(
             "--campaign {n}: between 1 and 10 000 releases"

@@ -8,7 +8,7 @@ use std::path::Path;
 
 use super::DiscoverReport;
 use crate::prepare::Prepared;
-use crate::scaffold::{self, Conditions, Scaffold, lit};
+use geodesic_codegen::{self as scaffold, Conditions, Scaffold, lit};
 
 /// What [`scaffold`] wrote: lines for the terminal and the `scaffold` object of `--json`.
 pub struct Scaffolded {
@@ -84,7 +84,7 @@ pub fn scaffold(
     let s = Scaffold::from_terms(
         name,
         prep.dataset.scenario,
-        &report.residual.terms,
+        &terms(&report.residual.terms),
         &record,
         &report.residual.indistinguishable,
         &scaffold::today(),
@@ -209,6 +209,27 @@ fn json(name: &str, s: &Scaffold, files: &[String]) -> ScaffoldDoc {
     }
 }
 
+/// Discover's terms as the code generator reads them (plain data).
+fn terms(fitted: &[crate::kinds::KindFit]) -> Vec<geodesic_codegen::Term> {
+    fitted
+        .iter()
+        .map(|k| geodesic_codegen::Term {
+            kind: k.kind.clone(),
+            term: k.term.clone(),
+            parameter: k
+                .parameter
+                .as_ref()
+                .map(|p| geodesic_codegen::TermParameter {
+                    name: p.name.clone(),
+                    value: p.value,
+                    unit: p.unit.clone(),
+                }),
+            coefs: k.coefs.clone(),
+            delta_bic: k.delta_bic,
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -247,7 +268,7 @@ mod tests {
         let s = Scaffold::from_term(
             "visc",
             Scenario::TmmfRelease,
-            &k,
+            &terms(std::slice::from_ref(&k))[0],
             "r.yaml",
             &[],
             "2026-11-28",

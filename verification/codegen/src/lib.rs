@@ -1,6 +1,6 @@
 //! `discover --scaffold NAME` (issue 36): from the leading term outside the catalogue, a new
 //! effect in the catalogue's own form. This module is the one template: [`Scaffold::from_term`]
-//! turns a [`KindFit`] of `discover` into the effect's parameters (units, ranges and starting
+//! turns a [`Term`] of `discover` (a fitted term outside the catalogue, as plain data) into the effect's parameters (units, ranges and starting
 //! values from the fitted term), [`Scaffold::effect_source`] writes its source file,
 //! [`Scaffold::edits`] its registration in `models/facility/src/effects/mod.rs` and its hiding
 //! test and guard-list entry in `verification/fit/tests/hide_each.rs`, and [`write_all`] writes
@@ -23,8 +23,6 @@ use std::path::{Path, PathBuf};
 
 use geodesic_facility::Scenario;
 
-use crate::kinds::KindFit;
-
 /// Every kind `discover` reports, in its order.
 pub const KINDS: [&str; 7] = [
     "position",
@@ -42,6 +40,33 @@ pub const EFFECTS_DIR: &str = "models/facility/src/effects";
 pub const MOD_RS: &str = "models/facility/src/effects/mod.rs";
 /// The hiding tests and the guard list.
 pub const HIDE_EACH: &str = "verification/fit/tests/hide_each.rs";
+
+/// A term outside the catalogue as `discover` fitted it (`geodesic_fit::kinds::KindFit`): what
+/// the effect's code is written from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Term {
+    /// Kind (`position`, `velocity`, `delay`, `creep`, `slip`, `impulse`, `vibration`).
+    pub kind: String,
+    /// The term in words, with its parameter.
+    pub term: String,
+    /// The physical parameter it implies.
+    pub parameter: Option<TermParameter>,
+    /// Its fitted coefficients [SI per unit column] (a vibration's sine and cosine amplitudes).
+    pub coefs: Vec<f64>,
+    /// `-delta_chi2 + k ln N` of the term: negative favours it.
+    pub delta_bic: f64,
+}
+
+/// The physical parameter a [`Term`] implies.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TermParameter {
+    /// Name (`f0`, `gamma`, `delay`, `tau`, `t0`, `f`).
+    pub name: String,
+    /// Value [unit].
+    pub value: f64,
+    /// Unit.
+    pub unit: String,
+}
 
 /// One parameter of the generated effect.
 #[derive(Debug, Clone, PartialEq)]
@@ -231,7 +256,7 @@ fn lin_param(
 }
 
 /// The fitted value of the term's parameter `n` (`delay`, `tau`, ...).
-fn fitted_parameter(k: &KindFit, n: &str) -> Result<f64, String> {
+fn fitted_parameter(k: &Term, n: &str) -> Result<f64, String> {
     k.parameter
         .as_ref()
         .filter(|p| p.name == n && p.value.is_finite())
@@ -245,7 +270,7 @@ fn fitted_parameter(k: &KindFit, n: &str) -> Result<f64, String> {
 }
 
 /// The term's fitted coefficient `j`.
-fn fitted_coef(k: &KindFit, j: usize) -> Result<f64, String> {
+fn fitted_coef(k: &Term, j: usize) -> Result<f64, String> {
     k.coefs
         .get(j)
         .copied()
@@ -260,7 +285,7 @@ fn fitted_coef(k: &KindFit, j: usize) -> Result<f64, String> {
 
 /// A `position` term: a restoring force of frequency `f0` [Hz], with its equilibrium `x_eq`
 /// [m] in a scenario whose force has one. `Err` for an anti-restoring force.
-fn restoring_params(k: &KindFit, scenario: Scenario) -> Result<Vec<GenParam>, String> {
+fn restoring_params(k: &Term, scenario: Scenario) -> Result<Vec<GenParam>, String> {
     if k.coefs.first().is_some_and(|c| *c >= 0.0) || k.parameter.is_none() {
         return Err(format!(
             "the leading term is an anti-restoring force ({}): not a restoring force about an equilibrium, not scaffolded",
@@ -292,7 +317,7 @@ fn restoring_params(k: &KindFit, scenario: Scenario) -> Result<Vec<GenParam>, St
 }
 
 /// A `velocity` term: a damping of rate `gamma` [1/s]. `Err` for a negative damping.
-fn damping_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
+fn damping_params(k: &Term) -> Result<Vec<GenParam>, String> {
     let g = fitted_parameter(k, "gamma")?;
     if g <= 0.0 {
         return Err(format!(
@@ -310,7 +335,7 @@ fn damping_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
 
 /// A `delay` term: the delay [s], bounded by ten times itself or 5 % of the record after the
 /// trigger, `span` [s].
-fn delay_params(k: &KindFit, span: f64) -> Result<Vec<GenParam>, String> {
+fn delay_params(k: &Term, span: f64) -> Result<Vec<GenParam>, String> {
     let d = fitted_parameter(k, "delay")?;
     Ok(vec![lin_param(
         "delay",
@@ -323,7 +348,7 @@ fn delay_params(k: &KindFit, span: f64) -> Result<Vec<GenParam>, String> {
 }
 
 /// A `creep` term: its amplitude `c` [m] and time constant `tau` [s].
-fn creep_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
+fn creep_params(k: &Term) -> Result<Vec<GenParam>, String> {
     let tau = fitted_parameter(k, "tau")?;
     let c = fitted_coef(k, 0)?;
     Ok(vec![
@@ -340,7 +365,7 @@ fn creep_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
 }
 
 /// A `slip` (a jump of the reading [m]) or an `impulse` (a velocity step [m/s]) at `t0` [s].
-fn step_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
+fn step_params(k: &Term) -> Result<Vec<GenParam>, String> {
     let t0 = fitted_parameter(k, "t0")?;
     let a = fitted_coef(k, 0)?;
     let (unit, doc_a) = if k.kind == "slip" {
@@ -362,7 +387,7 @@ fn step_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
 }
 
 /// A `vibration` term: its frequency `f` [Hz] and the amplitudes of its sine and cosine [m].
-fn vibration_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
+fn vibration_params(k: &Term) -> Result<Vec<GenParam>, String> {
     let f = fitted_parameter(k, "f")?;
     let (a_s, a_c) = (fitted_coef(k, 0)?, fitted_coef(k, 1)?);
     let amp = a_s.hypot(a_c).max(1e-15);
@@ -389,7 +414,7 @@ fn vibration_params(k: &KindFit) -> Result<Vec<GenParam>, String> {
 
 /// The generated effect's parameters from the term `k` of a record of `scenario` with
 /// `post_s` [s] after the trigger, every value finite.
-fn params_of(k: &KindFit, scenario: Scenario, post_s: f64) -> Result<Vec<GenParam>, String> {
+fn params_of(k: &Term, scenario: Scenario, post_s: f64) -> Result<Vec<GenParam>, String> {
     let params = match k.kind.as_str() {
         "position" => restoring_params(k, scenario)?,
         "velocity" => damping_params(k)?,
@@ -419,7 +444,7 @@ impl Scaffold {
     pub fn from_term(
         name: &str,
         scenario: Scenario,
-        k: &KindFit,
+        k: &Term,
         record: &str,
         indistinguishable: &[String],
         date: &str,
@@ -455,13 +480,13 @@ impl Scaffold {
     pub fn from_terms(
         name: &str,
         scenario: Scenario,
-        terms: &[KindFit],
+        terms: &[Term],
         record: &str,
         twins: &[String],
         date: &str,
         conditions: Conditions,
     ) -> Result<Scaffold, String> {
-        let make = |k: &KindFit| {
+        let make = |k: &Term| {
             Scaffold::from_term(name, scenario, k, record, twins, date, conditions.clone())
         };
         let Some(lead) = terms.first() else {
@@ -1027,10 +1052,9 @@ pub fn today() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kinds::TermParameter;
 
     /// A term of each kind, as `discover` reports it after its joint fit.
-    pub(crate) fn term(kind: &str) -> KindFit {
+    pub(crate) fn term(kind: &str) -> Term {
         let (par, coefs) = match kind {
             "position" => (("f0", 1.6, "Hz"), vec![-101.06, 3.03e-3]),
             "velocity" => (("gamma", 100.0, "1/s"), vec![-100.0]),
@@ -1040,23 +1064,16 @@ mod tests {
             "impulse" => (("t0", 1.2e-3, "s"), vec![2e-6]),
             _ => (("f", 730.0, "Hz"), vec![3.7e-9, 1.5e-9]),
         };
-        KindFit {
+        Term {
             kind: kind.into(),
-            state: String::new(),
             term: format!("a {kind} term"),
-            coefficient: coefs[0],
-            sigma: 0.1,
-            coefficient_unit: String::new(),
             parameter: Some(TermParameter {
                 name: par.0.into(),
                 value: par.1,
                 unit: par.2.into(),
             }),
-            delta_chi2: 1e4,
             delta_bic: -9990.5,
-            shape: Vec::new(),
             coefs,
-            scan: 0.0,
         }
     }
 

@@ -367,7 +367,7 @@ pub struct SynthCampaignDoc {
     pub campaign: String,
     /// Releases written.
     pub releases: usize,
-    /// The campaign's truth written (`DIR/truth.json`, [`crate::campaign::CampaignTruth`]).
+    /// The campaign's truth written (`DIR/truth.json`, [`CampaignTruth`]).
     pub truth: String,
 }
 
@@ -430,9 +430,125 @@ pub fn write(ds: &Dataset, spec: &SynthSpec, yaml_path: &Path) -> Result<Vec<Pat
     Ok(vec![yaml_path.to_path_buf(), csv_path, truth_path])
 }
 
+/// A population to draw a synthetic campaign from (normal, truncated positive).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+pub struct TruePopulation {
+    /// Mean of A1 [N/m].
+    pub a1_mean: f64,
+    /// Spread of A1 [N/m].
+    pub a1_sd: f64,
+    /// Mean of lambda [m].
+    pub lambda_mean: f64,
+    /// Spread of lambda [m].
+    pub lambda_sd: f64,
+    /// Correlation of A1 and lambda.
+    pub rho: f64,
+}
+
+impl Default for TruePopulation {
+    /// Near the public example's adhesion (A1 1.3e5 N/m, lambda 6e-7 m), a 25 % and 15 % spread.
+    fn default() -> Self {
+        TruePopulation {
+            a1_mean: 1.0e5,
+            a1_sd: 2.5e4,
+            lambda_mean: 6.0e-7,
+            lambda_sd: 0.9e-7,
+            rho: 0.0,
+        }
+    }
+}
+
+/// The truth of a synthetic campaign, `DIR/truth.json` of `geodesic synth --campaign N`: the
+/// population drawn from and each release's drawn values. Fields are declared in byte order of
+/// their keys, the order the file has always had.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct CampaignTruth {
+    /// The population the releases were drawn from.
+    pub population: TruePopulation,
+    /// Each release, in campaign order.
+    pub releases: Vec<ReleaseTruth>,
+    /// The campaign's seed (`--seed`).
+    pub seed: u64,
+}
+
+/// One release of [`CampaignTruth`] ([`draw_release`]), in byte order of its keys.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct ReleaseTruth {
+    /// The release's YAML, in the campaign's folder (`release-001.yaml`).
+    pub file: String,
+    /// Needle preload [N].
+    #[serde(rename = "needle_contact.F_pre")]
+    pub f_pre_n: f64,
+    /// 1-sigma white noise of channel x [m].
+    pub noise_x_m: f64,
+    /// Adhesion strength A1 [N/m].
+    #[serde(rename = "tip_adhesion.A1")]
+    pub a1_n_m: f64,
+    /// Adhesion length lambda [m].
+    #[serde(rename = "tip_adhesion.lambda")]
+    pub lambda_m: f64,
+    /// Tip retraction speed [m/s].
+    pub tip_speed_m_s: f64,
+}
+
+/// Draws release `i` of a synthetic campaign: (A1, lambda, preload F_pre [N], tip speed [m/s],
+/// noise [m]).
+pub fn draw_release(pop: &TruePopulation, seed: u64, i: u64) -> (f64, f64, f64, f64, f64) {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(i);
+    use rand::RngExt;
+    let mut g = || {
+        // Box-Muller from two uniforms (the stream is fixed: no distribution-crate state)
+        let (u1, u2): (f64, f64) = (rng.random_range(1e-12..1.0), rng.random_range(0.0..1.0));
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    };
+    let (z1, z2) = (g(), g());
+    let z2 = pop.rho * z1 + (1.0 - pop.rho * pop.rho).max(0.0).sqrt() * z2;
+    let a1 = (pop.a1_mean + pop.a1_sd * z1).max(0.05 * pop.a1_mean);
+    let lambda = (pop.lambda_mean + pop.lambda_sd * z2).max(0.05 * pop.lambda_mean);
+    let f_pre = 7e-3 * (1.0 + 0.2 * g()).clamp(0.5, 1.5);
+    let v = 3e-3 * (1.0 + 0.15 * g()).clamp(0.5, 1.5);
+    let noise = 8e-10 * (1.0 + 0.3 * g().abs());
+    (a1, lambda, f_pre, v, noise)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn campaign_truth_prints_its_keys_in_byte_order_and_reads_back() {
+        let pop = TruePopulation::default();
+        let (a1, lambda, f_pre, v, noise) = draw_release(&pop, 5, 0);
+        let truth = CampaignTruth {
+            population: pop,
+            releases: vec![ReleaseTruth {
+                file: "release-001.yaml".into(),
+                f_pre_n: f_pre,
+                noise_x_m: noise,
+                a1_n_m: a1,
+                lambda_m: lambda,
+                tip_speed_m_s: v,
+            }],
+            seed: 5,
+        };
+        let printed = serde_json::to_string_pretty(&truth).unwrap();
+        let sorted = serde_json::to_string_pretty(&serde_json::to_value(&truth).unwrap()).unwrap();
+        assert_eq!(printed, sorted);
+        for key in [
+            "needle_contact.F_pre",
+            "noise_x_m",
+            "tip_adhesion.A1",
+            "tip_adhesion.lambda",
+            "tip_speed_m_s",
+        ] {
+            assert!(printed.contains(&format!("\"{key}\"")), "{key}");
+        }
+        assert_eq!(
+            serde_json::from_str::<CampaignTruth>(&printed).unwrap(),
+            truth
+        );
+    }
 
     #[test]
     fn synth_doc_prints_its_keys_in_byte_order_and_reads_back() {

@@ -411,14 +411,7 @@ fn a_wild_sample_is_excluded_named_by_line_or_refused_under_strict() {
     assert!(Dataset::load(&p).unwrap().rows.wild.is_empty());
 }
 
-/// Gaussian noise of unit sigma (deterministic): the test noise of the crate's modules.
-pub(crate) fn gauss(n: usize, seed: u64) -> Vec<f64> {
-    use rand::SeedableRng;
-    use rand_distr::{Distribution, Normal};
-    let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let d = Normal::new(0.0, 1.0).unwrap();
-    (0..n).map(|_| d.sample(&mut r)).collect()
-}
+use crate::noise::gauss;
 
 #[test]
 fn wild_samples_are_glitches_not_signals() {

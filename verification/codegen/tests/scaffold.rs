@@ -4,12 +4,11 @@
 //! generated effect is compiled, linted and run end to end by CI's `.ci/loop.py`, which follows
 //! docs/loop.md on the public example: a full build per kind is minutes, too long for here.)
 
+use geodesic_codegen::{Conditions, KINDS, Scaffold, Term, TermParameter, rustfmt};
 use geodesic_facility::Scenario;
-use geodesic_fit::kinds::{KindFit, TermParameter};
-use geodesic_fit::scaffold::{Conditions, KINDS, Scaffold, rustfmt};
 use std::path::Path;
 
-fn term(kind: &str, scenario: Scenario) -> KindFit {
+fn term(kind: &str, scenario: Scenario) -> Term {
     let tm = scenario == Scenario::TmmfRelease;
     let (par, coefs) = match kind {
         "position" if tm => (("f0", 1.5664, "Hz"), vec![-96.86, 3.03e-3]),
@@ -21,23 +20,16 @@ fn term(kind: &str, scenario: Scenario) -> KindFit {
         "impulse" => (("t0", 1.2e-3, "s"), vec![2e-6]),
         _ => (("f", 729.94, "Hz"), vec![3.7e-9, 1.5e-9]),
     };
-    KindFit {
+    Term {
         kind: kind.into(),
-        state: String::new(),
         term: format!("x: a term of kind {kind}, with \"quotes\" and a \\ backslash"),
-        coefficient: coefs[0],
-        sigma: 0.1,
-        coefficient_unit: String::new(),
         parameter: Some(TermParameter {
             name: par.0.into(),
             value: par.1,
             unit: par.2.into(),
         }),
-        delta_chi2: 1e4,
         delta_bic: -87477.8,
-        shape: Vec::new(),
         coefs,
-        scan: 0.0,
     }
 }
 
@@ -192,7 +184,6 @@ fn an_unphysical_leader_passes_to_its_indistinguishable_twin() {
     let scenario = Scenario::TmmfRelease;
     let mut anti = term("position", scenario);
     anti.coefs = vec![1.04e4, 0.0];
-    anti.coefficient = 1.04e4;
     let damping = term("velocity", scenario);
     let conditions = Conditions {
         fs_hz: 1e5,

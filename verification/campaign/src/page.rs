@@ -8,9 +8,9 @@
 
 use geodesic_plot::prelude::*;
 
-use crate::campaign::{CampaignReport, PAIR, Release};
-use crate::error::FitError;
-use crate::plot::tick;
+use crate::{CampaignReport, PAIR, Release};
+use geodesic_fit::FitError;
+use geodesic_plot::fit::tick;
 
 /// A quantity of the table: key, label on the page, unit, scale to the plotted unit, plotted unit.
 const QUANTITIES: [(&str, &str, &str, f64, &str); 3] = [

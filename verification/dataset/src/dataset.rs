@@ -662,7 +662,7 @@ fn unknown_key_message(msg: &str, what: &str) -> Option<String> {
 
 /// Reads a YAML file (size-limited) into `T`; a read or parse error is `file:line: cause`, an
 /// unknown key names the nearest valid one.
-pub(crate) fn read_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, FitError> {
+pub fn read_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, FitError> {
     let file = path.display().to_string();
     let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
         .map_err(|e| FitError::input(&file, e.line(), format!("{}: check the path", e.cause())))?;
@@ -927,13 +927,14 @@ fn short(s: &str) -> String {
     }
 }
 
-type Columns = (Vec<f64>, BTreeMap<String, Vec<f64>>);
+/// A CSV's time column [s] and its named channels (values as written).
+pub type Columns = (Vec<f64>, BTreeMap<String, Vec<f64>>);
 
 /// Reads the time column and the named channels (scaled by nothing: values as written) of a
 /// CSV, with the dataset format's checks (finite numbers, strictly increasing time, file and
 /// line in every error; an empty cell refused, no comment lines); used by the spectral series
 /// reader.
-pub(crate) fn read_csv_columns(
+pub fn read_csv_columns(
     path: &Path,
     time_col: &str,
     channels: &BTreeMap<String, f64>,
@@ -1828,4 +1829,4 @@ pub fn fmt_sig(v: f64) -> String {
 #[cfg(test)]
 mod daq_tests;
 #[cfg(test)]
-pub(crate) mod tests;
+mod tests;

@@ -1,26 +1,31 @@
 //! `geodesic campaign DIR|CAMPAIGN.yaml --effects E`: fits every release of a campaign in
 //! parallel, tabulates P_x, F_peak and dt as a campaign report does, and estimates the adhesion
-//! population with the measurement errors deconvolved (issue 14; interface.md). Thin: the work
-//! is in `geodesic_fit::campaign`.
+//! population with the measurement errors deconvolved (issue 14; interface.md). A command of
+//! LISA Pathfinder (the campaign's adhesion population feeds its release budget). Thin: the
+//! work is in `geodesic_campaign`.
 
 use crate::error::{CliError, CmdResult};
+use geodesic_verify::progress;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// Flags of `geodesic campaign`.
 #[derive(clap::Args, Debug)]
-#[command(
-    after_help = "Examples:\n  geodesic synth --campaign 30 --out camp --seed 4\n  geodesic campaign camp/campaign.yaml --effects needle_contact,tip_contact,tip_adhesion\n  geodesic campaign camp --effects needle_contact,tip_contact,tip_adhesion --json > campaign.json\n\
-A release that cannot be fitted is listed with its file and cause (exit 2 after the table).\n\
-The page (table, population, releases, histograms, adhesion scatter) is written to DIR/campaign/ (--reports DIR, default reports)."
-)]
 pub struct Args {
     /// A folder of release datasets (every YAML with `scenario:`) or a campaign YAML with
     /// `releases: [file, ...]`.
     #[arg(value_name = "DIR_OR_LIST")]
     pub campaign: PathBuf,
-    /// The model fitted to every release: --effects, --fix, --bound.
-    #[command(flatten)]
-    pub model: crate::fitting::ModelArgs,
+    /// Effects of the model, comma separated (e.g. needle_contact,tip_contact; `geodesic
+    /// effects` lists them).
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub effects: Vec<String>,
+    /// Hold a parameter fixed: effect.param=VALUE (SI or with a unit), repeatable.
+    #[arg(long = "fix", value_name = "NAME=VALUE")]
+    pub fix: Vec<String>,
+    /// Bound a parameter: effect.param=LO:HI (SI or with a unit), repeatable.
+    #[arg(long = "bound", value_name = "NAME=LO:HI")]
+    pub bound: Vec<String>,
     /// Seed of the bootstrap of the A1-lambda correlation's interval.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -38,7 +43,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
-    let opts = args.model.options()?;
+    let opts = options(&args.fix, &args.bound)?;
     if let Some(o) = &args.out {
         return Err(CliError::bad(format!(
             "--out {}: in geodesic --out names one output file; the campaign's page goes under \
@@ -51,11 +56,15 @@ pub fn run(args: Args) -> CmdResult {
     let staging = geodesic_report::write::Staging::new(&page_dir)
         .map_err(|e| CliError::bad(format!("--reports: {e}")))?;
     let files =
-        geodesic_fit::campaign::list(&args.campaign).map_err(|e| CliError::bad(e.to_string()))?;
-    let effects = args.model.effects();
-    let task =
-        crate::progress::Task::counter(args.json, "campaign: releases fitted", files.len() as u64);
-    let r = geodesic_fit::campaign::run(&files, &effects, &opts, args.seed, &|| task.inc(1));
+        geodesic_campaign::list(&args.campaign).map_err(|e| CliError::bad(e.to_string()))?;
+    let effects: Vec<&str> = args
+        .effects
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty())
+        .collect();
+    let task = progress::Task::counter(args.json, "campaign: releases fitted", files.len() as u64);
+    let r = geodesic_campaign::run(&files, &effects, &opts, args.seed, &|| task.inc(1));
     task.finish();
     let json = serde_json::to_string(&r).map_err(|e| CliError::Io(e.to_string()))?;
     let mut plots = vec!["histograms.svg"];
@@ -63,18 +72,18 @@ pub fn run(args: Args) -> CmdResult {
     staging
         .write(
             "histograms.svg",
-            geodesic_fit::campaign_page::histograms_svg(&r)
+            geodesic_campaign::page::histograms_svg(&r)
                 .map_err(io)?
                 .as_bytes(),
         )
         .map_err(|e| CliError::Io(e.to_string()))?;
-    if let Some(svg) = geodesic_fit::campaign_page::adhesion_svg(&r).map_err(io)? {
+    if let Some(svg) = geodesic_campaign::page::adhesion_svg(&r).map_err(io)? {
         staging
             .write("adhesion.svg", svg.as_bytes())
             .map_err(|e| CliError::Io(e.to_string()))?;
         plots.push("adhesion.svg");
     }
-    let md = geodesic_fit::campaign_page::markdown(
+    let md = geodesic_campaign::page::markdown(
         &r,
         &args.campaign.display().to_string(),
         &effects,
@@ -125,8 +134,8 @@ pub fn run(args: Args) -> CmdResult {
             for (k, v) in obj {
                 if k == "correlation" {
                     match (
-                        v.get(geodesic_fit::campaign::PAIR).and_then(|x| x.as_f64()),
-                        r.correlation_ci95.get(geodesic_fit::campaign::PAIR),
+                        v.get(geodesic_campaign::PAIR).and_then(|x| x.as_f64()),
+                        r.correlation_ci95.get(geodesic_campaign::PAIR),
                     ) {
                         (Some(x), Some([lo, hi])) => println!(
                             "population correlation A1-lambda: {x:+.3} (95 % bootstrap [{lo:+.3}, {hi:+.3}])"
@@ -153,4 +162,55 @@ pub fn run(args: Args) -> CmdResult {
         );
     }
     Ok(if r.failed.is_empty() { 0 } else { 2 })
+}
+
+/// The fit options of `--fix` and `--bound`, each value SI or with the unit of its parameter in
+/// the effect catalogue (as the framework's fit commands read them).
+fn options(fix: &[String], bound: &[String]) -> Result<geodesic_fit::FitOptions, CliError> {
+    use geodesic_verify::quantity::{pair, value_of};
+    let mut fixed = BTreeMap::new();
+    for f in fix {
+        let (k, v) = pair(f, "fix", param_dim)?;
+        fixed.insert(k, v);
+    }
+    let mut bounds = BTreeMap::new();
+    for b in bound {
+        let (k, r) = b
+            .split_once('=')
+            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected NAME=LO:HI")))?;
+        let k = k.trim();
+        let (lo, hi) = r
+            .split_once(':')
+            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected LO:HI")))?;
+        let dim = param_dim(k);
+        let lo = value_of(lo.trim(), dim)
+            .map_err(|e| CliError::bad(format!("--bound {k}: lower bound {e}")))?;
+        let hi = value_of(hi.trim(), dim)
+            .map_err(|e| CliError::bad(format!("--bound {k}: upper bound {e}")))?;
+        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+            return Err(CliError::bad(format!(
+                "--bound `{b}`: lower bound not below upper bound"
+            )));
+        }
+        bounds.insert(k.to_string(), (lo, hi));
+    }
+    Ok(geodesic_fit::FitOptions {
+        fixed,
+        bounds,
+        max_starts: None,
+        profile: false,
+        sigma: None,
+        observer: Default::default(),
+    })
+}
+
+/// The dimension of an effect parameter (`tip_adhesion.A1`) from the catalogue's unit, if the
+/// parameter is known and its unit parses.
+fn param_dim(name: &str) -> Option<geodesic_core::units::Dim> {
+    let (effect, param) = name.split_once('.')?;
+    let e = geodesic_facility::effects::catalogue()
+        .iter()
+        .find(|e| e.name() == effect)?;
+    let p = e.params().iter().find(|p| p.name == param)?;
+    geodesic_core::units::parse_unit(p.unit).ok().map(|u| u.dim)
 }
