@@ -40,7 +40,7 @@ use crate::prepare::Prepared;
 use crate::report::FitReport;
 
 /// One fitted release.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Release {
     /// Dataset YAML.
     pub file: String,
@@ -61,7 +61,7 @@ pub struct Release {
 }
 
 /// A failed release.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Failed {
     /// Dataset YAML.
     pub file: String,
@@ -70,7 +70,7 @@ pub struct Failed {
 }
 
 /// Statistics of a quantity over the releases.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Stats {
     /// Mean.
     pub mean: f64,
@@ -106,7 +106,7 @@ pub fn stats(v: &[f64]) -> Option<Stats> {
 }
 
 /// A population parameter (interface.md `population.PARAM`).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct PopParam {
     /// Population mean [SI].
     pub mean: f64,
@@ -273,7 +273,7 @@ pub fn population_param(x: &[f64], s: &[f64]) -> PopParam {
 }
 
 /// The campaign result (interface.md).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct CampaignReport {
     /// Fitted releases.
     pub releases: Vec<Release>,
@@ -558,7 +558,7 @@ fn bootstrap_rho_ci95(p: &[Pair], seed: u64) -> [f64; 2] {
 }
 
 /// A population to draw a synthetic campaign from (normal, truncated positive).
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct TruePopulation {
     /// Mean of A1 [N/m].
     pub a1_mean: f64,
@@ -588,7 +588,7 @@ impl Default for TruePopulation {
 /// The truth of a synthetic campaign, `DIR/truth.json` of `geodesic synth --campaign N`: the
 /// population drawn from and each release's drawn values. Fields are declared in byte order of
 /// their keys, the order the file has always had.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct CampaignTruth {
     /// The population the releases were drawn from.
     pub population: TruePopulation,
@@ -599,7 +599,7 @@ pub struct CampaignTruth {
 }
 
 /// One release of [`CampaignTruth`] ([`draw_release`]), in byte order of its keys.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct ReleaseTruth {
     /// The release's YAML, in the campaign's folder (`release-001.yaml`).
     pub file: String,

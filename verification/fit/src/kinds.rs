@@ -43,7 +43,7 @@ pub use basis::Basis;
 use basis::dot;
 
 /// A spectral peak of the residual.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Peak {
     /// Channel.
     pub channel: String,
@@ -56,7 +56,7 @@ pub struct Peak {
 }
 
 /// Correlation of the residual with a state of the model.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct StateCorrelation {
     /// The state.
     pub state: String,
@@ -65,7 +65,7 @@ pub struct StateCorrelation {
 }
 
 /// The scanned or derived parameter of a term.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct TermParameter {
     /// Name (`f0`, `gamma`, `delay`, `tau`, `t0`, `f`).
     pub name: String,
@@ -76,7 +76,7 @@ pub struct TermParameter {
 }
 
 /// A kind of missing physics fitted to the residual.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct KindFit {
     /// Kind (`position`, `velocity`, `delay`, `creep`, `slip`, `impulse`, `vibration`).
     pub kind: String,
