@@ -42,6 +42,11 @@ pub fn commands() -> Vec<geodesic_verify::plugin::PluginCommand> {
     cmd::commands()
 }
 
+/// The JSON Schema of each of those commands' `--json` document (`geodesic schema`).
+pub fn schemas() -> Vec<geodesic_verify::schema::Entry> {
+    cmd::schemas()
+}
+
 /// Checks a time series (the spectral check's input) before anything runs.
 pub(crate) fn series(p: &std::path::Path) -> Result<(), String> {
     geodesic_fit::spectral::Series::load(p)

@@ -3,6 +3,7 @@
 //! program beside the framework's commands.
 
 use geodesic_verify::plugin::{PluginCommand, args};
+use geodesic_verify::schema::Entry;
 
 pub mod capture;
 pub mod charge;
@@ -11,6 +12,21 @@ pub mod montecarlo;
 pub mod plunger;
 pub mod sensitivity;
 pub mod tipradius;
+
+/// The schema of each command's `--json` document (`geodesic schema`), from the typed document
+/// it prints.
+pub fn schemas() -> Vec<Entry> {
+    type Input = geodesic_core::check::InputFile;
+    vec![
+        Entry::of::<geodesic_capture::report::CaptureReport<Input>>("capture"),
+        Entry::of::<geodesic_charge::report::ChargeReport<Input>>("charge"),
+        Entry::of::<geodesic_release::report::McReport>("montecarlo"),
+        Entry::of::<geodesic_release::report::McReport>("merge"),
+        Entry::of::<geodesic_checks::plunger::PlungerReport>("plunger"),
+        Entry::of::<geodesic_checks::tipradius::TradeOff>("tip-radius"),
+        Entry::of::<sensitivity::SensitivityDoc>("sensitivity"),
+    ]
+}
 
 /// The commands, each with its help and examples.
 pub fn commands() -> Vec<PluginCommand> {
