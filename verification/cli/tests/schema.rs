@@ -92,7 +92,7 @@ fn check(
     .iter()
     .any(|k| s.contains_key(*k));
     let mut declared: Option<BTreeSet<String>> = says_keys.then(BTreeSet::new);
-    let mut merge = |d: &mut Option<BTreeSet<String>>, more: Option<BTreeSet<String>>| match more {
+    let merge = |d: &mut Option<BTreeSet<String>>, more: Option<BTreeSet<String>>| match more {
         None => *d = None,
         Some(m) => {
             if let Some(d) = d {
@@ -114,20 +114,20 @@ fn check(
             errs.push(format!("{path}: {v} is not of type {t}"));
         }
     }
-    if let Some(c) = s.get("const") {
-        if c != v {
-            errs.push(format!("{path}: {v} is not the constant {c}"));
-        }
+    if let Some(c) = s.get("const")
+        && c != v
+    {
+        errs.push(format!("{path}: {v} is not the constant {c}"));
     }
-    if let Some(e) = s.get("enum").and_then(Value::as_array) {
-        if !e.contains(v) {
-            errs.push(format!("{path}: {v} is not one of {e:?}"));
-        }
+    if let Some(e) = s.get("enum").and_then(Value::as_array)
+        && !e.contains(v)
+    {
+        errs.push(format!("{path}: {v} is not one of {e:?}"));
     }
-    if let Some(min) = s.get("minimum").and_then(Value::as_f64) {
-        if v.as_f64().is_some_and(|x| x < min) {
-            errs.push(format!("{path}: {v} is below the minimum {min}"));
-        }
+    if let Some(min) = s.get("minimum").and_then(Value::as_f64)
+        && v.as_f64().is_some_and(|x| x < min)
+    {
+        errs.push(format!("{path}: {v} is below the minimum {min}"));
     }
     for a in s
         .get("allOf")
@@ -180,48 +180,58 @@ fn check(
                 if let Some(d) = &mut declared {
                     d.insert(k.clone());
                 }
-            } else if let Some(extra) = s.get("additionalProperties") {
-                if extra != &Value::Bool(false) {
-                    check(extra, val, root, &p, true, errs);
-                    declared = None;
-                }
+            } else if let Some(extra) = s.get("additionalProperties")
+                && extra != &Value::Bool(false)
+            {
+                check(extra, val, root, &p, true, errs);
+                declared = None;
             }
         }
-        if strict {
-            if let Some(d) = &declared {
-                for k in obj.keys().filter(|k| !d.contains(*k)) {
-                    errs.push(format!("{path}/{k}: not declared by the schema"));
-                }
+        if strict && let Some(d) = &declared {
+            for k in obj.keys().filter(|k| !d.contains(*k)) {
+                errs.push(format!("{path}/{k}: not declared by the schema"));
             }
         }
     }
     if let Some(arr) = v.as_array() {
-        let prefix = s.get("prefixItems").and_then(Value::as_array);
-        for (i, item) in arr.iter().enumerate() {
-            let p = format!("{path}/{i}");
-            match prefix.and_then(|pi| pi.get(i)) {
-                Some(ps) => {
-                    check(ps, item, root, &p, true, errs);
-                }
-                None => {
-                    if let Some(items) = s.get("items") {
-                        check(items, item, root, &p, true, errs);
-                    }
-                }
+        check_items(s, arr, root, path, errs);
+    }
+    declared
+}
+
+/// The items of an array `arr` at `path` against schema `s`: `prefixItems` (a tuple), then
+/// `items`, `minItems`, `maxItems`.
+fn check_items(
+    s: &serde_json::Map<String, Value>,
+    arr: &[Value],
+    root: &Value,
+    path: &str,
+    errs: &mut Vec<String>,
+) {
+    let prefix = s.get("prefixItems").and_then(Value::as_array);
+    for (i, item) in arr.iter().enumerate() {
+        let p = format!("{path}/{i}");
+        match prefix.and_then(|pi| pi.get(i)) {
+            Some(ps) => {
+                check(ps, item, root, &p, true, errs);
             }
-        }
-        if let Some(n) = s.get("minItems").and_then(Value::as_u64) {
-            if (arr.len() as u64) < n {
-                errs.push(format!("{path}: fewer than {n} items"));
-            }
-        }
-        if let Some(n) = s.get("maxItems").and_then(Value::as_u64) {
-            if (arr.len() as u64) > n {
-                errs.push(format!("{path}: more than {n} items"));
+            None => {
+                if let Some(items) = s.get("items") {
+                    check(items, item, root, &p, true, errs);
+                }
             }
         }
     }
-    declared
+    if let Some(n) = s.get("minItems").and_then(Value::as_u64)
+        && (arr.len() as u64) < n
+    {
+        errs.push(format!("{path}: fewer than {n} items"));
+    }
+    if let Some(n) = s.get("maxItems").and_then(Value::as_u64)
+        && (arr.len() as u64) > n
+    {
+        errs.push(format!("{path}: more than {n} items"));
+    }
 }
 
 /// Every violation of `doc` against `schema`.

@@ -559,7 +559,7 @@ pub enum RequirementsDoc {
     /// `requirements list --json`.
     List(ListDoc<'static>),
     /// `requirements show ID --json`.
-    Show(ShowDoc<'static>),
+    Show(Box<ShowDoc<'static>>),
 }
 
 /// What `requirements check --json` prints: the set is valid (an invalid one is exit 2).

@@ -34,7 +34,7 @@ pub struct Args {
 #[allow(dead_code)]
 enum SynthJson {
     /// `geodesic synth --out X.yaml --json`: the record written.
-    Record(geodesic_fit::synth::SynthDoc),
+    Record(Box<geodesic_fit::synth::SynthDoc>),
     /// `geodesic synth --campaign N --out DIR --json`: the campaign written.
     Campaign(geodesic_fit::synth::SynthCampaignDoc),
 }
@@ -45,7 +45,7 @@ enum SynthJson {
 #[allow(dead_code)]
 enum ExportJson {
     /// `geodesic export reqif --json`.
-    Reqif(geodesic_exchange::reqif::ExportDoc),
+    Reqif(Box<geodesic_exchange::reqif::ExportDoc>),
     /// `geodesic export needs --json`.
     Needs(geodesic_exchange::needs::Summary),
 }
