@@ -3,6 +3,8 @@
 
   clients.py junit JUNIT.xml junit-10.xsd   xmlschema, junitparser, xunitparser
   clients.py vcd vcd.csv vcd.xlsx            pandas (read_csv, read_excel), openpyxl
+  clients.py schema DIR                      jsonschema: DIR/<command>.json against
+                                             DIR/<command>.schema.json, for each command
 
 Exit 1 with the reasons on the first file a client cannot read as it should.
 """
@@ -93,10 +95,46 @@ def vcd(csv_path, xlsx_path):
     print(f"vcd: {xlsx_path}: openpyxl reads value, limit and margin as number cells")
 
 
+def schema(folder):
+    """Each recorded `geodesic COMMAND --json` document in `folder` (COMMAND.json) against the
+    schema `geodesic schema COMMAND` printed (COMMAND.schema.json), draft 2020-12, with the
+    `jsonschema` package: the schema itself checked against the draft's metaschema, then the
+    document; each error named by command, JSON path and cause."""
+    import json
+    import os
+    import jsonschema
+
+    docs = sorted(f[: -len(".json")] for f in os.listdir(folder)
+                  if f.endswith(".json") and not f.endswith(".schema.json"))
+    if not docs:
+        fail(f"{folder}: no recorded document")
+    bad = 0
+    for name in docs:
+        command = name.split(".")[0]
+        with open(os.path.join(folder, f"{command}.schema.json")) as f:
+            sch = json.load(f)
+        with open(os.path.join(folder, f"{name}.json")) as f:
+            doc = json.load(f)
+        jsonschema.Draft202012Validator.check_schema(sch)
+        errors = sorted(jsonschema.Draft202012Validator(sch).iter_errors(doc),
+                        key=lambda e: list(e.absolute_path))
+        for e in errors[:10]:
+            print(f"  {command}: {e.json_path}: {e.message[:300]}")
+        if errors:
+            bad += 1
+            print(f"schema: {name}.json: {len(errors)} error(s) against `geodesic schema {command}`")
+        else:
+            print(f"schema: {name}.json valid against `geodesic schema {command}` (draft 2020-12)")
+    if bad:
+        fail(f"{bad} of {len(docs)} recorded documents do not match their command's schema")
+
+
 if __name__ == "__main__":
     if len(sys.argv) == 4 and sys.argv[1] == "junit":
         junit(sys.argv[2], sys.argv[3])
     elif len(sys.argv) == 4 and sys.argv[1] == "vcd":
         vcd(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) == 3 and sys.argv[1] == "schema":
+        schema(sys.argv[2])
     else:
         fail(__doc__)

@@ -2,7 +2,10 @@
 # The files geodesic writes, read by the programs their users already have, each run as its
 # users run it (issue 52): the JUnit file validated against the Jenkins xUnit plugin's
 # junit-10.xsd with xmlschema and parsed with junitparser and xunitparser; vcd.csv and vcd.xlsx
-# read with pandas and openpyxl, their value, limit and margin columns numbers. Pinned
+# read with pandas and openpyxl, their value, limit and margin columns numbers; every recorded
+# --json document (the gate's compliance.json, fit, diagnose and discover on the public
+# examples, effects) validated with `jsonschema` against `geodesic schema COMMAND`, and a field
+# renamed in the recorded compliance.json shown to fail that check. Pinned
 # versions from PyPI in a venv under target/ (reused while the pins are unchanged).
 # junit-10.xsd is the copy pytest's source distribution ships (testing/example_scripts/), the
 # same bytes as the plugin's (src/main/resources/.../model/xsd/junit-10.xsd, MIT licence):
@@ -19,7 +22,7 @@ junit=$(realpath "${2:?$usage}")
 bin=$(realpath "${3:?$usage}")
 here=$(cd "$(dirname "$0")" && pwd)
 venv="$here/../target/clients-venv"
-pins="xmlschema==4.3.2 elementpath==5.1.4 junitparser==5.0.3 xunitparser==1.3.4 pandas==3.1.1 numpy==2.4.6 python-dateutil==4.0.0 tzdata==2026.6 openpyxl==3.1.5 et_xmlfile==2.0.0"
+pins="xmlschema==4.3.2 elementpath==5.1.4 junitparser==5.0.3 xunitparser==1.3.4 pandas==3.1.1 numpy==2.4.6 python-dateutil==4.0.0 tzdata==2026.6 openpyxl==3.1.5 et_xmlfile==2.0.0 jsonschema==4.26.0 jsonschema-specifications==2025.9.1 referencing==0.37.0 rpds-py==2026.9.1 attrs==26.1.0 typing-extensions==4.16.0"
 xsd_from="pytest==8.3.4"
 xsd_sha256=a1a816f58d1bf95ebabf371994df0b9246dee66ea9572fbec4f9296f1b2c0ff6
 if ! { [ -x "$venv/bin/python" ] && [ "$(cat "$venv/.pins" 2>/dev/null)" = "$pins $xsd_from" ]; }; then
@@ -102,4 +105,38 @@ PY
       || { tail -5 sphinx.log; echo "clients: sphinx-needs does not load needs.json"; exit 1; }
   n=$(grep -o 'needs_amount": [0-9]*' sphinx/needs.json | grep -o '[0-9]*$')
   echo "sphinx-needs: sphinx-build -W loads needs.json ($n needs) into a page with a needtable"
+)
+
+# the --json documents against their schemas (`geodesic schema COMMAND`, draft 2020-12)
+(
+  mkdir "$work/schemas" && cd "$work/schemas"
+  examples="$here/../data/examples"
+  cp "$reports/compliance.json" verify.json
+  # OUT ARGS...: `geodesic ARGS` into OUT, its warnings into runs.log (shown if it fails)
+  run() {
+    local out=$1; shift
+    "$bin" "$@" > "$out" 2>>runs.log || { tail -5 runs.log; echo "clients: geodesic $* failed"; exit 1; }
+  }
+  run fit.json fit "$examples/tmmf-adhesion.yaml" --effects needle_contact,tip_contact,tip_adhesion \
+      --reports r --json -q
+  for pair in tmmf-adhesion:needle_contact,tip_contact rt-plunger:piezo; do
+    ex=${pair%%:*}; base=${pair#*:}
+    run "diagnose.$ex.json" diagnose "$examples/$ex.yaml" --effects "$base" --reports r --json -q
+    run "discover.$ex.json" discover "$examples/$ex.yaml" --effects "$base" --reports r --json -q
+  done
+  run effects.json effects --json
+  rm -rf r
+  for c in verify fit diagnose discover effects; do run "$c.schema.json" schema "$c"; done
+  "$venv/bin/python" "$here/clients.py" schema .
+  # the check can fail: the recorded compliance.json with `summary` renamed is refused (exit 1)
+  mkdir mutated
+  cp verify.schema.json mutated/
+  sed 's/^  "summary": {/  "summary_renamed": {/' verify.json > mutated/verify.json
+  cmp -s verify.json mutated/verify.json && { echo "clients: the mutation did not apply"; exit 1; }
+  if "$venv/bin/python" "$here/clients.py" schema mutated > mutated.log; then
+    echo "clients: a renamed field in compliance.json passed the schema check"; exit 1
+  fi
+  grep -q "verify: \$: 'summary' is a required property" mutated.log \
+    || { cat mutated.log; echo "clients: the schema check did not name the renamed field"; exit 1; }
+  echo "schema: compliance.json with summary renamed is refused: $(grep -m1 'verify: ' mutated.log)"
 )

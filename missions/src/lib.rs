@@ -43,3 +43,8 @@ pub fn all() -> Vec<Mission> {
 pub fn commands() -> Vec<geodesic_verify::plugin::PluginCommand> {
     cmd::commands()
 }
+
+/// The JSON Schema of each of those commands' `--json` document (`geodesic schema`).
+pub fn schemas() -> Vec<geodesic_verify::schema::Entry> {
+    cmd::schemas()
+}

@@ -7,6 +7,7 @@ use crate::inputs::ModelInput;
 use clap::{Arg, ArgMatches};
 use geodesic_verify::plugin::{PluginCommand, args};
 use std::path::PathBuf;
+use geodesic_verify::schema::Entry;
 
 pub mod campaign;
 pub mod capture;
@@ -16,6 +17,22 @@ pub mod montecarlo;
 pub mod plunger;
 pub mod sensitivity;
 pub mod tipradius;
+
+/// The schema of each command's `--json` document (`geodesic schema`), from the typed document
+/// it prints.
+pub fn schemas() -> Vec<Entry> {
+    type Input = geodesic_core::check::InputFile;
+    vec![
+        Entry::of::<geodesic_capture::report::CaptureReport<Input>>("capture"),
+        Entry::of::<geodesic_charge::report::ChargeReport<Input>>("charge"),
+        Entry::of::<geodesic_release::report::McReport>("montecarlo"),
+        Entry::of::<geodesic_release::report::McReport>("merge"),
+        Entry::of::<geodesic_checks::plunger::PlungerReport>("plunger"),
+        Entry::of::<geodesic_checks::tipradius::TradeOff>("tip-radius"),
+        Entry::of::<sensitivity::SensitivityDoc>("sensitivity"),
+        Entry::of::<geodesic_campaign::CampaignReport>("campaign"),
+    ]
+}
 
 /// The commands, each with its help and examples.
 pub fn commands() -> Vec<PluginCommand> {

@@ -124,7 +124,7 @@ pub fn run(args: Args) -> CmdResult {
 
 /// The JSON document of `geodesic sensitivity --json` (interface.md). Fields are declared in
 /// byte order of their keys, the order the document has always printed.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct SensitivityDoc {
     /// Sobol indices per input group.
     pub groups: Vec<GroupDoc>,
@@ -145,7 +145,7 @@ pub struct SensitivityDoc {
 }
 
 /// One group of [`SensitivityDoc`], in byte order of its keys.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct GroupDoc {
     /// First-order Sobol index (dimensionless).
     pub first: f64,
@@ -162,14 +162,14 @@ pub struct GroupDoc {
 }
 
 /// The inputs of [`SensitivityDoc`].
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct SensitivityInputs {
     /// The release budget read.
     pub budget: InputDoc,
 }
 
 /// A model input file as the JSON documents name it, in byte order of its keys.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct InputDoc {
     /// Path as given (or `<built-in>/...` for the copy embedded in the binary).
     pub label: String,

@@ -22,7 +22,7 @@ fn per_state(values: &[f64; 12]) -> PerState {
 }
 
 /// `geodesic capture`'s document; `F` names the capture inputs file (label, SHA-256, origin).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct CaptureReport<F: Serialize> {
     /// `sum_i (x_i / xlim_i)^4`.
     pub quartic_sum: f64,
@@ -58,7 +58,7 @@ pub struct CaptureReport<F: Serialize> {
 }
 
 /// A dominant term of the sum.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct DominantTerm {
     /// State name.
     pub state: &'static str,
@@ -73,7 +73,7 @@ pub struct DominantTerm {
 }
 
 /// The capture probability and where the other states' distribution comes from.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct ProbabilityRow {
     /// Releases.
     pub n: usize,

@@ -24,7 +24,7 @@ pub struct CRt {
 
 /// `geodesic charge`'s document; `F` is how the charge inputs file is named (its label,
 /// SHA-256 and origin).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct ChargeReport<F: Serialize> {
     /// `C_RT` used [pF].
     pub c_rt_pf: f64,
@@ -57,7 +57,7 @@ pub struct ChargeReport<F: Serialize> {
 }
 
 /// The charge Monte Carlo's figures.
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
 pub struct McFigures {
     /// Draws.
     pub n: usize,
@@ -74,7 +74,7 @@ pub struct McFigures {
 }
 
 /// Time to neutralise a charge by positive charging.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct Neutralise {
     /// Charging rate [e/s].
     pub rate_e_s: f64,
@@ -91,7 +91,7 @@ pub struct Neutralise {
 }
 
 /// The inputs used.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct UsedInputs<F: Serialize> {
     /// Capacitance TM-electrode housing [pF].
     pub c_eh_pf: f64,
@@ -118,7 +118,7 @@ pub struct UsedInputs<F: Serialize> {
 }
 
 /// The thesis's values (ch. 7).
-#[derive(Debug, Clone, Copy, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize, schemars::JsonSchema)]
 pub struct Thesis {
     /// `C_RT` [pF].
     pub c_rt_pf: f64,

@@ -6,7 +6,9 @@
 //! `t1 = sqrt(2 v / j)`), then constant speed. `y = 0` for `t <= 0`.
 
 /// Constant-jerk-then-constant-speed tip retraction.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 pub struct TipProfile {
     /// Jerk of the first phase [m/s^3].
     pub jerk_m_s3: f64,

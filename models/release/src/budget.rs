@@ -46,7 +46,7 @@ pub enum BudgetError {
 }
 
 /// A probability distribution of one scalar input.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Dist {
     /// Always the same value.
@@ -270,7 +270,7 @@ impl fmt::Display for Dist {
 }
 
 /// Mechanism parameter distributions (per mechanism).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 #[allow(non_snake_case)]
 pub struct MechanismBudget {
     /// `R` [ohm].
@@ -322,7 +322,7 @@ impl MechanismBudget {
 }
 
 /// Adhesion distributions (per contact).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 #[allow(non_snake_case)]
 pub struct AdhesionBudget {
     /// `A1` [N/m].
@@ -353,7 +353,7 @@ impl AdhesionBudget {
 }
 
 /// A checked uncertainty budget.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Budget {
     /// Free text naming the assumptions.
     pub description: String,

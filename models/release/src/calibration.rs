@@ -32,7 +32,7 @@ use serde::Serialize;
 
 /// One row of a TMMF table, each figure as printed in the thesis (the text keeps the printed
 /// precision, from which the number of releases is bounded: see [`TmmfCampaign::releases`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Row {
     /// Mean.
     pub mean: &'static str,
@@ -58,7 +58,7 @@ fn val(s: &str) -> f64 {
 }
 
 /// One TMMF campaign table of the thesis, ch. 5.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TmmfCampaign {
     /// LaTeX label of the table.
     pub label: &'static str,
@@ -273,7 +273,7 @@ pub fn max_of_n(sorted: &[f64], n: usize, x: f64) -> (f64, f64, f64) {
 }
 
 /// One statistic, simulated against a campaign.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Statistic {
     /// Simulated value [mN] (for the maximum: the mean of the maximum of `n` draws).
     pub simulated: f64,
@@ -288,7 +288,7 @@ pub struct Statistic {
 }
 
 /// The peak pull-off distribution of an adhesion budget against one campaign.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Comparison {
     /// The campaign's table label.
     pub campaign: &'static str,

@@ -21,7 +21,7 @@ use serde::Serialize;
 pub const V_RT_DISTANCE_M: f64 = 7.0e-6;
 
 /// Kinematic figures of one unloaded retraction (no contact force).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Retraction {
     /// Static tip extension at the initial voltage, free (`T E / k`) [um].
     pub static_extension_um: f64,
@@ -105,7 +105,7 @@ pub fn v_rt_spread(
 }
 
 /// One point of the energy-relation grid.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct EnergyPoint {
     /// `A1` [N/m].
     pub a1_n_m: f64,
@@ -118,7 +118,7 @@ pub struct EnergyPoint {
 }
 
 /// The fitted energy relation `v_TM = dU / (M v_RT)`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct EnergyFit {
     /// Least-squares `v_RT` [mm/s].
     pub v_rt_mm_s: f64,
@@ -175,7 +175,7 @@ pub fn energy_fit(n: usize) -> Result<EnergyFit, IntegrateError> {
 }
 
 /// All mechanism figures of the fidelity table.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct MechanismFigures {
     /// Nominal unloaded retraction.
     pub retraction: Retraction,

@@ -84,7 +84,7 @@ pub enum IntegrateError {
 }
 
 /// Integration statistics.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, schemars::JsonSchema)]
 pub struct Stats {
     /// Accepted steps.
     pub accepted: u64,

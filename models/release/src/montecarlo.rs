@@ -33,7 +33,7 @@ pub const MAX_N: usize = 10_000_000;
 pub const MAX_SHARDS: usize = 100_000;
 
 /// Which uncertainties a run samples (interface.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum Case {
     /// Every effect of the budget.
@@ -228,7 +228,7 @@ pub fn shard_range(n: usize, index: usize, count: usize) -> Result<Range<usize>,
 
 /// The budget file a run read: its label (path, or `<built-in>/...`) and origin (`given`,
 /// `repository`, `built-in`).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct BudgetSource {
     /// Path as given, or `<built-in>/models/release/budget.yaml`.
     pub label: String,
@@ -237,7 +237,7 @@ pub struct BudgetSource {
 }
 
 /// The values of a run (or of one shard of it).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct McResult {
     /// Draws of the whole run.
     pub n: usize,
@@ -259,7 +259,9 @@ pub struct McResult {
     /// First draw index held.
     pub start: usize,
     /// Signed final TM velocities `X'` [m/s] of draws `start..start + len`, in draw order.
+    /// In JSON: each the IEEE-754 bit pattern of the f64 (an exact round trip).
     #[serde(with = "f64_bits")]
+    #[schemars(with = "Vec<u64>")]
     pub v_m_s: Vec<f64>,
     /// Draws ended by the fallback stopping rule (see [`crate::model`]).
     pub fallback_stops: u64,
@@ -283,7 +285,7 @@ mod f64_bits {
 }
 
 /// Summary statistics of a run (interface.md `geodesic montecarlo --json`, without `seconds`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Summary {
     /// Draws.
     pub n: usize,

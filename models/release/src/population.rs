@@ -18,7 +18,7 @@ use rand::Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 /// One population parameter with its identification uncertainty [SI].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct PopParam {
     /// Population mean.
     pub mean: f64,
@@ -31,7 +31,7 @@ pub struct PopParam {
 }
 
 /// The adhesion population of a campaign.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct AdhesionPopulation {
     /// `A1` [N/m].
     pub a1: PopParam,
@@ -205,7 +205,7 @@ impl AdhesionPopulation {
 
 /// The 99.73 % points of Monte Carlo runs whose adhesion populations are drawn from a
 /// campaign's identification uncertainty.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, schemars::JsonSchema)]
 pub struct Identification {
     /// 99.73 % point of each run [um/s].
     pub p9973_um_s: Vec<f64>,

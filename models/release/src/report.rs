@@ -10,7 +10,7 @@ use crate::stats::{probability_quantile_below, quantile_interval_sorted};
 use serde::Serialize;
 
 /// The report of a run or of the merge of its shards.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct McReport {
     /// The run's statistics (interface.md keys).
     #[serde(flatten)]
@@ -44,14 +44,14 @@ pub struct McReport {
 }
 
 /// The inputs a run read.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct RunInputs {
     /// The release budget.
     pub budget: BudgetRead,
 }
 
 /// A budget file read: as every command names it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct BudgetRead {
     /// Path as given, or `<built-in>/models/release/budget.yaml`.
     pub label: String,
@@ -62,7 +62,7 @@ pub struct BudgetRead {
 }
 
 /// The campaign population of a run and the identification-uncertainty draws made from it.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct AdhesionFrom {
     /// The campaign result the population was read from.
     pub source: String,

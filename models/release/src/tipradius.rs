@@ -77,7 +77,7 @@ pub fn jerk_over_m_s3(params: PiezoParams, command: VoltageCommand, distance_m: 
 }
 
 /// One estimate's inputs (the thesis's bottom or upper limit).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Estimate {
     /// Name.
     pub name: &'static str,
@@ -102,7 +102,7 @@ pub const ESTIMATES: [Estimate; 2] = [
 ];
 
 /// The fixed inputs of the simple model.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct SimpleInputs {
     /// Effective modulus [Pa].
     pub e_star_pa: f64,
@@ -117,7 +117,7 @@ pub struct SimpleInputs {
 }
 
 /// The two terms and their sum at one radius [m/s].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Worst {
     /// Tip radius [m].
     pub radius_m: f64,
@@ -166,7 +166,7 @@ pub fn optimum_radius_m(i: &SimpleInputs, e: &Estimate) -> f64 {
 }
 
 /// The Monte Carlo cross-check at one radius.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct McPoint {
     /// Mean tip radius [m].
     pub radius_m: f64,

@@ -47,7 +47,7 @@ use geodesic_fit::prepare::Prepared;
 use geodesic_fit::report::FitReport;
 
 /// One fitted release.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Release {
     /// Dataset YAML.
     pub file: String,
@@ -68,7 +68,7 @@ pub struct Release {
 }
 
 /// A failed release.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Failed {
     /// Dataset YAML.
     pub file: String,
@@ -77,7 +77,7 @@ pub struct Failed {
 }
 
 /// Statistics of a quantity over the releases.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Stats {
     /// Mean.
     pub mean: f64,
@@ -113,7 +113,7 @@ pub fn stats(v: &[f64]) -> Option<Stats> {
 }
 
 /// A population parameter (interface.md `population.PARAM`).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct PopParam {
     /// Population mean [SI].
     pub mean: f64,
@@ -280,7 +280,7 @@ pub fn population_param(x: &[f64], s: &[f64]) -> PopParam {
 }
 
 /// The campaign result (interface.md).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct CampaignReport {
     /// Fitted releases.
     pub releases: Vec<Release>,

@@ -56,7 +56,7 @@ pub fn checks() -> Vec<Box<dyn Check>> {
 }
 
 /// How the synthetic truth departs from the fitted model.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct TruthModel {
     /// Sub-samples per sample (and RK4 step divisor) of the truth.
     pub oversample: usize,
@@ -129,7 +129,7 @@ pub fn synthetic_release_with(
 
 /// One release of the coverage study: truth, fit, and the discrepancies in reported sigmas
 /// (infinite when the fit failed or gave no usable sigma).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct CoverageRelease {
     /// Release index (= ChaCha8 stream).
     pub index: usize,

@@ -355,7 +355,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
 /// One case of `geodesic plunger`: a retraction procedure at a TM voltage. A run that touched
 /// a plunger stops there: what it did not reach (a number that is not finite) is absent
 /// (docs/outputs.md); `touched_at_s` is null when the TM never touched.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct CaseRow {
     /// Retraction procedure.
     pub retraction: String,
@@ -406,7 +406,7 @@ impl CaseRow {
 }
 
 /// The document of `geodesic plunger --json`.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct PlungerReport {
     /// The plunger capacitance model.
     pub capacitance: String,

@@ -148,7 +148,7 @@ impl Check for TipRadius {
 /// The document of `geodesic tip-radius`: the simple model's inputs, each estimate with its
 /// optimum and curve, and the Monte Carlo cross-check. Its JSON keys are those the command has
 /// always printed (printed through `serde_json::Value`: alphabetical order).
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct TradeOff {
     /// The budget's mean tip radius [mm].
     pub budget_radius_mm: f64,
@@ -181,7 +181,7 @@ pub struct TradeOff {
 }
 
 /// One estimate of the simple model.
-#[derive(Debug, Clone, serde::Serialize)]
+#[derive(Debug, Clone, serde::Serialize, schemars::JsonSchema)]
 pub struct EstimateRow {
     /// Name (`bottom`, `upper`).
     pub estimate: &'static str,
@@ -204,7 +204,7 @@ pub struct EstimateRow {
 }
 
 /// A point of an estimate's curve.
-#[derive(Debug, Clone, Copy, serde::Serialize)]
+#[derive(Debug, Clone, Copy, serde::Serialize, schemars::JsonSchema)]
 pub struct CurvePoint {
     /// Tip radius [mm].
     pub radius_mm: f64,
@@ -217,7 +217,7 @@ pub struct CurvePoint {
 }
 
 /// A Monte Carlo point of the cross-check.
-#[derive(Debug, Clone, Copy, serde::Serialize)]
+#[derive(Debug, Clone, Copy, serde::Serialize, schemars::JsonSchema)]
 pub struct McRow {
     /// Mean tip radius [mm].
     pub radius_mm: f64,

@@ -121,6 +121,8 @@ See docs/exchange.md.")]
   cd ../cubesat-hinge && cargo run -- verify --reports reports && cargo test
 See docs/guide-mission.md.")]
     New(cmd::new::Args),
+    /// Print the JSON Schema (draft 2020-12) of a command's --json document, the machine-readable contract
+    Schema(cmd::schema::Args),
 }
 
 /// Restores the default action of SIGPIPE so that `geodesic ... | head` ends quietly, as Unix
@@ -243,5 +245,6 @@ fn run(command: Command) -> error::CmdResult {
         Command::Surfaces(a) => cmd::surfaces::run(a),
         Command::Requirements(a) => cmd::requirements::run(a),
         Command::New(a) => cmd::new::run(a),
+        Command::Schema(a) => cmd::schema::run(a),
     }
 }

@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 /// One factor's level and why.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 pub struct Factor {
     /// 0 (no evidence, or contradicted) to 4 (the strongest the rubric knows).
     pub level: u8,
@@ -14,7 +14,7 @@ pub struct Factor {
 }
 
 /// The credibility of one row's verdict.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 pub struct Credibility {
     /// The row's level: its weakest factor's.
     pub level: u8,

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 /// Model crates parse [`InputFile::text`] themselves (core depends on no model crate); the
 /// reports name [`InputFile::label`] and [`InputFile::sha256`] so that an auditor can tell which
 /// inputs produced a verdict.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct InputFile {
     /// Path as given (or `<built-in>/...` for the copy embedded in the binary).
     pub label: String,
@@ -45,7 +45,7 @@ pub struct InputFile {
 /// Where a model input file came from (`geodesic` resolves every model input the same way:
 /// the file given with its flag, else the repository's copy when run from the repository's
 /// root, else the copy built into the binary).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum InputOrigin {
     /// Given with its flag (`--design FILE.yaml`, ...).
@@ -113,7 +113,7 @@ impl InputFile {
 /// with its text, where it came from and its SHA-256, and the time series a spectral check
 /// judges. The framework knows no input by name: a mission declares its inputs (name, words,
 /// default path, built-in copy) and its checks read them with [`Inputs::file`].
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, schemars::JsonSchema)]
 pub struct Inputs {
     /// The declared input files by name (in JSON, one key per input).
     #[serde(flatten)]
@@ -193,7 +193,7 @@ impl CheckContext {
 }
 
 /// The result a check gives for one requirement.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Outcome {
     /// A value, in SI with its dimension, to compare with the requirement's limit.
@@ -207,7 +207,9 @@ pub enum Outcome {
 /// Only [`Basis::Model`], [`Basis::FlowDown`] and [`Basis::Measurement`] evidence can make a
 /// requirement plainly compliant; [`Basis::Accepted`] gives a verdict that reads "accepted" everywhere, and
 /// [`Basis::Illustration`] is shown beside the row but never decides it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Basis {
     /// Computed by a model from inputs that a model change can move.
@@ -262,7 +264,7 @@ impl std::fmt::Display for Basis {
 }
 
 /// Evidence for one requirement.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Evidence {
     /// Requirement ID the evidence is for.
     pub requirement: String,
@@ -390,7 +392,9 @@ impl Evidence {
 }
 
 /// What a sampled value is a statistic of.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum SampleStatistic {
     /// The `probability` quantile of a sample (order statistics bound it).
@@ -403,7 +407,7 @@ pub enum SampleStatistic {
 /// The compliance matrix decides with the bounds, never with the estimate: an upper limit is
 /// met when the upper bound meets it, violated when the lower bound violates it, and otherwise
 /// (the interval straddles the limit, or the sample cannot give the bound) not verified.
-#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct Sampling {
     /// Quantile or proportion.
     pub statistic: SampleStatistic,
@@ -560,7 +564,7 @@ pub trait Check: Send + Sync {
 
 /// One row of a comparison with a reference (e.g. a reference document's figures): stated in the reports next to
 /// the compliance matrix, with the assumptions that produced it.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct ReferenceRow {
     /// What is compared (with its definition).
     pub figure: String,

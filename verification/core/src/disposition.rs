@@ -23,7 +23,7 @@ use serde_saphyr::Spanned;
 use std::path::{Path, PathBuf};
 
 /// Kind of disposition.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub enum DispositionKind {
     /// Non-conformance report.
     #[serde(rename = "NCR")]
@@ -48,7 +48,7 @@ impl DispositionKind {
 }
 
 /// A checked disposition.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Disposition {
     /// Requirement it applies to.
     #[serde(skip_serializing, default)]

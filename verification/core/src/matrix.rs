@@ -25,7 +25,7 @@ use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Compliance status of a requirement.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, PartialOrd, Ord, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Status {
     /// Verified and met.
@@ -59,7 +59,7 @@ pub fn qualitative_reason(method: crate::requirement::Method) -> String {
 }
 
 /// One piece of evidence as shown in the matrix.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct EvidenceEntry {
     /// Name of the check that produced it.
     pub check: String,
@@ -94,7 +94,7 @@ pub struct EvidenceEntry {
 }
 
 /// A test that traces to a requirement, with its recorded result.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct TestRef {
     /// Test name (`crate::module::function`).
     pub test: String,
@@ -141,7 +141,7 @@ impl TestRef {
 }
 
 /// The state of a requirement's traced tests in the recorded run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum TestsStatus {
     /// At least one traced test passed asserting the limit or a reference, and none failed,
@@ -176,7 +176,7 @@ impl TestsStatus {
 }
 
 /// One row of the matrix.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Row {
     /// Requirement ID.
     pub id: String,
@@ -276,7 +276,7 @@ pub struct Row {
 }
 
 /// Why a row is in a partial run (`verify --only`).
-#[derive(Clone, Debug, Serialize, PartialEq, Eq)]
+#[derive(Clone, Debug, Serialize, PartialEq, Eq, schemars::JsonSchema)]
 pub struct Selection {
     /// `chosen` (named by `--only`) or `dependency` (a chosen row depends on it).
     pub role: String,
@@ -295,7 +295,7 @@ impl Row {
 }
 
 /// A check whose evidence names a requirement that is not loaded.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Orphan {
     /// Check name.
     pub check: String,
@@ -336,7 +336,7 @@ fn summarise(rows: &[Row], tests: String) -> Summary {
 }
 
 /// Counts by status, and the compliant rows by what they rest on.
-#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq, schemars::JsonSchema)]
 pub struct Summary {
     /// Number of requirements.
     pub total: usize,
@@ -419,7 +419,7 @@ impl Summary {
 }
 
 /// The compliance matrix.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Matrix {
     /// Rows, in requirement order.
     pub requirements: Vec<Row>,
@@ -432,7 +432,7 @@ pub struct Matrix {
 }
 
 /// Where the test results come from.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct TestRunInfo {
     /// File read.
     pub file: String,

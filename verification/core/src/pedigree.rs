@@ -31,7 +31,9 @@ use serde_saphyr::Spanned;
 use std::collections::BTreeMap;
 
 /// Where a parameter's value comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Kind {
     /// Measured on the hardware (or its qualification model).
@@ -75,7 +77,7 @@ pub struct Range {
 }
 
 /// A range the input file sets in place of the mission's, with its reason.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RangeOverride {
     /// Smallest accepted value.
@@ -87,7 +89,7 @@ pub struct RangeOverride {
 }
 
 /// One parameter's pedigree as its file states it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Entry {
     /// Measured, calibrated, cited, design or assumed.
@@ -104,7 +106,7 @@ pub struct Entry {
 }
 
 /// One parameter of an input file, questioned.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Param {
     /// Its value as written (a distribution in flow style).
     pub value: String,

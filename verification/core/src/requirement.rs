@@ -23,7 +23,9 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 /// A checked requirement identifier: upper-case words and digits joined by `-` (`REL-GPRM-VEL`).
-#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[derive(
+    Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(transparent)]
 pub struct ReqId(String);
 
@@ -65,7 +67,7 @@ impl fmt::Display for ReqId {
 }
 
 /// Verification method (ECSS-E-ST-10-02C section 5.2.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// Verification by test.
@@ -90,7 +92,7 @@ impl fmt::Display for Method {
 }
 
 /// How a value is compared with the limit.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub enum Op {
     /// value <= limit
     #[serde(rename = "<=")]
@@ -139,7 +141,7 @@ impl Op {
 
 /// Verification level (ECSS-E-ST-10-02C section 4.2.3: the level of decomposition at which a
 /// requirement is verified).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Level {
     /// Equipment (a unit: the release mechanism, a facility's instrument).
@@ -179,7 +181,7 @@ impl Level {
 
 /// Verification stage (ECSS-E-ST-10-02C section 4.2.4: when in the programme the requirement is
 /// verified).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Stage {
     /// Qualification: the design meets the requirement with margin (analysis, qualification tests).
@@ -296,7 +298,7 @@ struct RawParent {
 }
 
 /// Where something was written: file, line and column (1-based).
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 pub struct Origin {
     /// File path.
     pub file: PathBuf,
@@ -314,7 +316,7 @@ impl fmt::Display for Origin {
 }
 
 /// The quantitative limit of a requirement: `value <op> limit` in a dimension.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Limit {
     /// Dimension of the quantity (that of the limit).
     pub dim: Dim,
@@ -400,7 +402,7 @@ pub fn parse_probability(text: &str) -> Result<(f64, Option<f64>), String> {
 }
 
 /// A requirement loaded and checked.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Requirement {
     /// Identifier.
     pub id: ReqId,
@@ -473,7 +475,7 @@ pub(crate) fn origin_of<T>(file: &Path, s: &Spanned<T>) -> Origin {
 }
 
 /// All requirements of a directory, in file then entry order.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, schemars::JsonSchema)]
 pub struct Requirements {
     /// The requirements.
     pub items: Vec<Requirement>,

@@ -24,7 +24,7 @@ use crate::units::{Dim, parse_quantity};
 use serde::Serialize;
 
 /// One term of a shape: `coef x (f / f_ref)^exponent` (`f_ref = 0`: the constant `coef`).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Term {
     /// Coefficient [-].
     pub coef: f64,
@@ -35,7 +35,7 @@ pub struct Term {
 }
 
 /// The band and shape of a spectral limit.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct Spectrum {
     /// Band `[f_min, f_max]` [Hz] over which the limit applies.
     pub band_hz: [f64; 2],

@@ -13,7 +13,9 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Result of one test in a recorded run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum TestResult {
     /// Ran and passed.
@@ -39,7 +41,9 @@ impl TestResult {
 }
 
 /// What a traced test asserted about the requirement (recorded at run time).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, schemars::JsonSchema,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Assertion {
     /// The requirement's own limit, read from the requirement set (`trace::assert_limit`).
@@ -62,7 +66,7 @@ impl Assertion {
 }
 
 /// One test of a recorded run.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct RecordedTest {
     /// Crate of the test binary (`geodesic_checks`, `verification`, ...).
     pub krate: String,
@@ -118,7 +122,7 @@ impl RecordedTest {
 
 /// What one test recorded at run time (one file per test in the trace directory, written by
 /// [`crate::trace`] while `GEODESIC_TRACE_DIR` is set and read by `cargo xtask test`).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TraceRecord {
     /// Crate of the `verifies!` call (`CARGO_CRATE_NAME` at the call site; empty if none ran).
     pub krate: String,
@@ -133,7 +137,7 @@ pub struct TraceRecord {
 }
 
 /// One `verifies!` call site as executed by a test.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TraceCall {
     /// `file:line` of the call.
     pub location: String,
@@ -144,7 +148,9 @@ pub struct TraceCall {
 }
 
 /// One assertion recorded by a test.
-#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[derive(
+    Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize, schemars::JsonSchema,
+)]
 pub struct TraceAssertion {
     /// Requirement ID.
     pub requirement: String,
@@ -153,7 +159,7 @@ pub struct TraceAssertion {
 }
 
 /// A recorded test run.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TestRun {
     /// Git commit the tests ran on (`unknown` outside a repository).
     pub commit: String,
@@ -284,7 +290,7 @@ pub fn tree_state(dir: &Path) -> Result<TreeState, String> {
 }
 
 /// Whether a recorded test run is evidence for the tree a verdict is computed on.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(tag = "state", rename_all = "kebab-case")]
 pub enum Freshness {
     /// Same commit and the same content fingerprint: the tests ran on these sources.

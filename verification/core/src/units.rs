@@ -17,7 +17,9 @@ use std::fmt;
 pub const ELEMENTARY_CHARGE_C: f64 = 1.602_176_634e-19;
 
 /// Exponents of the base dimensions: metre, kilogram, second, ampere, kelvin, radian.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default, schemars::JsonSchema,
+)]
 pub struct Dim(pub [i8; 6]);
 
 impl Dim {
@@ -133,7 +135,7 @@ impl fmt::Display for Dim {
 }
 
 /// A unit: the factor that converts a value in this unit to SI, and its dimension.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Unit {
     /// Multiply a value in this unit by `scale` to get SI.
     pub scale: f64,
@@ -435,7 +437,7 @@ pub fn parse_unit(text: &str) -> Result<Unit, UnitError> {
 }
 
 /// A value in SI units with its dimension.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Quantity {
     /// Value in SI units.
     pub value: f64,

@@ -73,7 +73,7 @@ pub struct Rows {
 }
 
 /// A row skipped because a cell the dataset uses is empty.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Skipped {
     /// CSV line (1-based).
     pub line: usize,
@@ -82,7 +82,7 @@ pub struct Skipped {
 }
 
 /// A sample excluded from the record because it lies far outside its neighbours.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct WildSample {
     /// CSV line (1-based).
     pub line: usize,

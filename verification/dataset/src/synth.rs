@@ -19,7 +19,7 @@ use crate::dataset::Dataset;
 use crate::error::{FitError, write_atomic};
 
 /// What to synthesise.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct SynthSpec {
     /// Scenario.
     pub scenario: String,
@@ -316,7 +316,7 @@ pub fn generate(spec: &SynthSpec, name: &str) -> Result<Dataset, FitError> {
 
 /// The JSON document of `geodesic synth --json` (docs/spec/interface.md). Fields are declared
 /// in byte order of their keys, the order the document has always printed.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct SynthDoc {
     /// The CSV written (the record's samples).
     pub csv: String,
@@ -361,7 +361,7 @@ fn keys_in_byte_order<T: Serialize, S: serde::Serializer>(v: &T, s: S) -> Result
 }
 
 /// The JSON document of `geodesic synth --campaign N --json`, in byte order of its keys.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Eq, schemars::JsonSchema)]
 pub struct SynthCampaignDoc {
     /// The campaign file written (`DIR/campaign.yaml`, the list of releases).
     pub campaign: String,
@@ -431,7 +431,7 @@ pub fn write(ds: &Dataset, spec: &SynthSpec, yaml_path: &Path) -> Result<Vec<Pat
 }
 
 /// A population to draw a synthetic campaign from (normal, truncated positive).
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct TruePopulation {
     /// Mean of A1 [N/m].
     pub a1_mean: f64,
@@ -461,7 +461,7 @@ impl Default for TruePopulation {
 /// The truth of a synthetic campaign, `DIR/truth.json` of `geodesic synth --campaign N`: the
 /// population drawn from and each release's drawn values. Fields are declared in byte order of
 /// their keys, the order the file has always had.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct CampaignTruth {
     /// The population the releases were drawn from.
     pub population: TruePopulation,
@@ -472,7 +472,7 @@ pub struct CampaignTruth {
 }
 
 /// One release of [`CampaignTruth`] ([`draw_release`]), in byte order of its keys.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct ReleaseTruth {
     /// The release's YAML, in the campaign's folder (`release-001.yaml`).
     pub file: String,

@@ -33,7 +33,7 @@ pub const EXTRA_OPTIONS: &[&str] = &[
 ];
 
 /// What `geodesic export needs --json` prints.
-#[derive(Debug, serde::Serialize)]
+#[derive(Debug, serde::Serialize, schemars::JsonSchema)]
 pub struct Summary {
     /// The file written.
     pub out: String,

@@ -27,7 +27,7 @@ use crate::estimate::{FitOptions, FitOutcome, fit_model};
 use crate::prepare::Prepared;
 
 /// One measurement variant and the delta BIC it is expected to give between the candidates.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct DesignOption {
     /// The change of the measurement.
     pub change: String,
@@ -42,7 +42,7 @@ pub struct DesignOption {
 }
 
 /// Advice for two close candidates.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct DesignAdvice {
     /// The first candidate (the better by delta BIC on this record).
     pub first: String,

@@ -23,7 +23,7 @@ use crate::report::FitReport;
 pub const DELTA_BIC_STRONG: f64 = -10.0;
 
 /// One candidate effect, fitted.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Candidate {
     /// Effect added to the model.
     pub effect: String,
@@ -44,7 +44,7 @@ pub struct Candidate {
 }
 
 /// The diagnose object of interface.md.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct DiagnoseReport {
     /// Dataset YAML file name.
     pub dataset: String,

@@ -45,7 +45,7 @@ mod thresholds;
 pub use thresholds::{CurvePoint, Threshold, thresholds, thresholds_with};
 
 /// One round of the ledger (interface.md `rounds[]`).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Round {
     /// The model's effects after this round.
     pub effects: Vec<String>,
@@ -72,7 +72,7 @@ pub struct Round {
 }
 
 /// A candidate that lowers BIC without explaining the residual.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Improvement {
     /// The effect.
     pub effect: String,
@@ -83,7 +83,7 @@ pub struct Improvement {
 }
 
 /// What the residual still holds.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, Default, schemars::JsonSchema)]
 pub struct Description {
     /// Windows where the residual leaves the noise band, with their phase (`pre-trigger`,
     /// `early` = first tenth of the record after the trigger, `late`).
@@ -107,7 +107,7 @@ pub struct Description {
 }
 
 /// A failure window with its phase.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Window {
     /// The window.
     #[serde(flatten)]
@@ -117,7 +117,7 @@ pub struct Window {
 }
 
 /// The discover object of interface.md.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct DiscoverReport {
     /// Dataset YAML file name.
     pub dataset: String,
@@ -148,6 +148,18 @@ pub struct DiscoverReport {
     /// tails, with their size ([`crate::record::Finding`]); absent when none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub record_shows: Vec<crate::record::Finding>,
+}
+
+/// The document `geodesic discover --json` prints: the discover object of interface.md, and with
+/// `--scaffold NAME` what the scaffold wrote.
+#[derive(Serialize, schemars::JsonSchema)]
+pub struct DiscoverDoc<'a> {
+    /// The discovery.
+    #[serde(flatten)]
+    pub report: &'a DiscoverReport,
+    /// With `--scaffold NAME`: the effect written into the catalogue.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scaffold: Option<&'a new_effect::ScaffoldDoc>,
 }
 
 /// Options of [`discover`].

@@ -15,7 +15,7 @@ use crate::error::FitError;
 use crate::report::FitReport;
 
 /// One fit of a dataset.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Entry {
     /// 1-based version number (order of the fits).
     pub version: usize,
@@ -69,7 +69,7 @@ impl Entry {
 
 /// The JSON document of `geodesic history --json` (interface.md). Fields are declared in byte
 /// order of their keys, the order the document has always printed.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct HistoryDoc {
     /// The dataset's stem.
     pub dataset: String,
@@ -83,7 +83,7 @@ pub struct HistoryDoc {
 
 /// An [`Entry`] as `geodesic history --json` prints it: the same fields, declared in byte
 /// order of their keys (the history file keeps [`Entry`]'s own order).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct EntryDoc {
     /// BIC (dimensionless).
     pub bic: f64,

@@ -54,7 +54,7 @@ pub const WEIGHT: f64 = 0.1;
 /// A parameter a fit holds at a stated value because the record cannot tell it (issue 33),
 /// with the value's own uncertainty, which is propagated to the parameters the fit moves to
 /// compensate it ([`propagate_held`]).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Held {
     /// The parameter held.
     pub param: String,
@@ -129,7 +129,7 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// A direction of parameters the record does not resolve.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Symmetry {
     /// `exact` (the curvature is the differences' truncation error) or `near` (its 1-sigma
     /// reaches beyond the parameters' ranges).
@@ -504,7 +504,7 @@ fn orthonormal_basis<'a>(vectors: impl Iterator<Item = &'a DVector<f64>>) -> Vec
 }
 
 /// A combination of parameters that the retraction's scaling leaves unchanged.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Combination {
     /// Value [unit].
     pub value: f64,

@@ -44,7 +44,7 @@ pub use basis::Basis;
 use basis::dot;
 
 /// A spectral peak of the residual.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Peak {
     /// Channel.
     pub channel: String,
@@ -57,7 +57,7 @@ pub struct Peak {
 }
 
 /// Correlation of the residual with a state of the model.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct StateCorrelation {
     /// The state.
     pub state: String,
@@ -66,7 +66,7 @@ pub struct StateCorrelation {
 }
 
 /// The scanned or derived parameter of a term.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct TermParameter {
     /// Name (`f0`, `gamma`, `delay`, `tau`, `t0`, `f`).
     pub name: String,
@@ -77,7 +77,7 @@ pub struct TermParameter {
 }
 
 /// A kind of missing physics fitted to the residual.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct KindFit {
     /// Kind (`position`, `velocity`, `delay`, `creep`, `slip`, `impulse`, `vibration`).
     pub kind: String,

@@ -46,7 +46,7 @@ pub struct Prepared {
 }
 
 /// The tip retraction profile fitted to the measured `y` (constant jerk, then constant speed).
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct ProfileFit {
     /// Jerk [m/s^3].
     pub jerk_m_s3: f64,

@@ -39,7 +39,7 @@ const NOISE_BAND_FLOOR: f64 = 0.223_143_551_314_209_8;
 const MAD_SE: f64 = 1.166;
 
 /// A sample left out of the record before any decision.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct SetAside {
     /// Channel.
     pub channel: String,
@@ -58,7 +58,7 @@ pub struct SetAside {
 }
 
 /// A channel's declared noise figure tested against the record.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct NoiseCheck {
     /// Channel.
     pub channel: String,
@@ -84,7 +84,7 @@ pub struct NoiseCheck {
 
 /// Something the record shows about its own quality (issue 50, item 6): `gaps`, `irregular
 /// sampling`, `quantisation`, `heavy tails`, with its size.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Finding {
     /// What it is: `gaps`, `irregular sampling`, `quantisation` or `heavy tails`.
     pub kind: String,

@@ -54,7 +54,7 @@ pub struct Series {
 }
 
 /// What a series declares itself to be (`origin:` in its YAML).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum SeriesOrigin {
     /// Measured data, with its provenance: evidence on basis `measurement`.
@@ -193,7 +193,7 @@ impl Series {
 }
 
 /// Welch's settings.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
 pub struct WelchOptions {
     /// Samples per segment.
     pub nperseg: usize,
@@ -202,7 +202,7 @@ pub struct WelchOptions {
 }
 
 /// A one-sided ASD estimate.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct Asd {
     /// Frequencies [Hz] (bin 0 is DC).
     pub f_hz: Vec<f64>,
@@ -324,7 +324,7 @@ pub fn default_nperseg(len: usize, fs_hz: f64, f_min_hz: f64) -> usize {
 }
 
 /// The judgement of an ASD against a spectral limit.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct Judgement {
     /// Worst `ASD / L` over the band [-].
     pub worst_ratio: f64,
@@ -351,7 +351,7 @@ pub struct Judgement {
 /// judged against a spectral requirement. Fields are declared in byte order of their keys, the
 /// order the document has always printed. "the unit" below is `unit`, the requirement's
 /// limit unit (an ASD unit, per sqrt(Hz)).
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct AsdDoc {
     /// The ASD per frequency bin, in the unit.
     pub asd: Vec<f64>,

@@ -299,7 +299,7 @@ pub struct Registration {
 
 /// The JSON document of `geodesic surfaces` (interface.md): the registration of AFTER on BEFORE.
 /// Fields are declared in byte order of their keys, the order the document has always printed.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SurfacesDoc {
     /// The AFTER map's YAML, as given on the command line.
     pub after: String,

@@ -301,7 +301,7 @@ pub fn run(file: &Path) -> Result<(Config, Trajectory), ImageError> {
 /// `DIR/images/STEM.tiptrack.json` (docs/spec/interface.md). Fields are declared in byte order
 /// of their keys, the order the document has always printed; a frame where a coordinate was
 /// not found has `null` there.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, Deserialize, schemars::JsonSchema)]
 pub struct TiptrackDoc {
     /// Frame rate [Hz].
     pub fps: f64,
@@ -330,7 +330,7 @@ pub struct TiptrackDoc {
 }
 
 /// The verdict of [`TiptrackDoc::validity`], in byte order of its keys.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ValidityDoc {
     /// Where the largest shear occurs [s].
     pub at_s: f64,

@@ -223,7 +223,7 @@ pub fn autocorr_time(chain: &Chain, i: usize) -> f64 {
 }
 
 /// The marginal summary of one parameter from the chain [SI].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Marginal {
     /// Median.
     pub median: f64,

@@ -24,7 +24,7 @@ pub use crate::residual::chi2_sf;
 use crate::residual::ljung_box;
 
 /// An autoregressive noise model `n_i = sum_k a_k n_{i-k} + e_i`, `e ~ N(0, innovation^2)`.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct ArNoise {
     /// `a_1 .. a_p`.
     pub coefficients: Vec<f64>,

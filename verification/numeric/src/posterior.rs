@@ -14,7 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 /// The marginal posterior summary of one parameter [SI].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct Posterior {
     /// Median.
     pub median: f64,

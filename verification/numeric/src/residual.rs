@@ -17,7 +17,7 @@ pub fn noise_from_differences(v: &[f64]) -> Option<f64> {
 }
 
 /// Ljung-Box portmanteau test of whiteness on normalised residuals.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Whiteness {
     /// Statistic `Q = N(N+2) sum_k rho_k^2/(N-k)`.
     pub q: f64,
@@ -74,7 +74,7 @@ pub fn chi2_sf(q: f64, dof: f64) -> f64 {
 }
 
 /// A time window where the residual leaves the noise band.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Failure {
     /// Channel.
     pub channel: String,

@@ -116,7 +116,7 @@ struct OldDisposition {
 pub struct BaselineError(pub String);
 
 /// What changed for one requirement.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Change {
     /// Requirement ID.
     pub id: String,
@@ -133,7 +133,7 @@ pub struct Change {
 }
 
 /// Evidence of a check for a requirement whose value or inputs changed.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Suspect {
     /// Requirement ID.
     pub id: String,
@@ -144,7 +144,7 @@ pub struct Suspect {
 }
 
 /// The change impact of a run against a baseline.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Diff {
     /// Baseline file.
     pub baseline: String,

@@ -30,7 +30,7 @@ use serde::Serialize;
 /// content: two runs of the same commit and inputs give the same values apart from `date` and
 /// `timings` (the wall time of each check, which differs run to run: no comparison, baseline
 /// diff or determinism check reads it).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct RunInfo {
     /// The document's identifier, issue, title and project (`verification/document.yaml`).
     pub document: geodesic_core::document::Document,
@@ -109,7 +109,7 @@ impl Default for ReferenceHeading {
 }
 
 /// What a partial run (`verify --only ID,...`) ran.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Partial {
     /// The requirement IDs given to `--only`.
     pub only: Vec<String>,
@@ -123,7 +123,7 @@ pub struct Partial {
 }
 
 /// A dependency of a partial run.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct PartialDependency {
     /// Requirement ID.
     pub id: String,
@@ -132,7 +132,7 @@ pub struct PartialDependency {
 }
 
 /// Wall times of a run [s] (not controlled content: they differ run to run).
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, schemars::JsonSchema)]
 pub struct Timings {
     /// Wall time of every check and of the fidelity table together [s].
     pub total_s: f64,
@@ -141,7 +141,7 @@ pub struct Timings {
 }
 
 /// The wall time of one check [s].
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct CheckTiming {
     /// Check name (or `fidelity table`).
     pub check: String,
@@ -166,7 +166,7 @@ pub fn timings_line(t: &Timings) -> String {
 }
 
 /// One check that ran.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct CheckRun {
     /// Check name.
     pub name: String,
@@ -176,7 +176,7 @@ pub struct CheckRun {
 
 /// The compliance report: the matrix and how it was produced. Serialises to the JSON of
 /// `geodesic verify --json` (`{"requirements": [...], "summary": ..., "run": ...}`).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct Report {
     /// Matrix rows, summary and orphan checks (flattened).
     #[serde(flatten)]

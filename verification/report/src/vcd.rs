@@ -17,7 +17,7 @@ use geodesic_core::units::fmt_num;
 use serde::Serialize;
 
 /// One VCD line (one requirement).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, schemars::JsonSchema)]
 pub struct VcdLine {
     /// Requirement ID.
     pub id: String,

@@ -22,6 +22,7 @@ pub mod progress;
 pub mod quantity;
 pub mod requirements;
 pub mod scaffold;
+pub mod schema;
 pub mod usage;
 
 pub use error::Error;

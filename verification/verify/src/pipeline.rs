@@ -749,10 +749,12 @@ fn finish(
     if let Some(d) = &diff {
         report.reverify = geodesic_report::vcd::reverify_from(d);
     }
-    let mut doc = serde_json::to_value(&report).map_err(|e| Error::Io(e.to_string()))?;
-    if let Some(d) = &diff {
-        doc["baseline_diff"] = serde_json::to_value(d).map_err(|e| Error::Io(e.to_string()))?;
-    }
+    // through serde_json::Value: keys in alphabetical order, as the reports have always had them
+    let doc = serde_json::to_value(crate::schema::VerifyDoc {
+        report: &report,
+        baseline_diff: diff.as_ref(),
+    })
+    .map_err(|e| Error::Io(e.to_string()))?;
     let json = serde_json::to_string_pretty(&doc).map_err(|e| Error::Io(e.to_string()))?;
     let io = |e: geodesic_report::write::WriteError| Error::Io(e.to_string());
     let input = geodesic_report::formats::RenderInput {

@@ -9,7 +9,9 @@ use crate::ids::unknown_id;
 use crate::mission::Mission;
 use geodesic_core::Requirements;
 use geodesic_core::matrix::{Matrix, Row};
-use serde_json::{Value, json};
+use schemars::JsonSchema;
+use serde::Serialize;
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// Flags of `geodesic requirements`.
@@ -122,17 +124,15 @@ fn check(mission: &Mission, c: Common) -> CmdResult {
         .map(|r| r.origin.file.display().to_string())
         .collect();
     if c.json {
-        println!(
-            "{}",
-            json!({
-                "valid": true,
-                "source": source,
-                "requirements_hash": hash,
-                "requirements": reqs.items.len(),
-                "families": reqs.families.len(),
-                "files": files,
-            })
-        );
+        let doc = CheckDoc {
+            valid: true,
+            source: &source,
+            requirements_hash: &hash,
+            requirements: reqs.items.len(),
+            families: reqs.families.len(),
+            files: &files,
+        };
+        println!("{}", to_value(&doc)?);
     } else {
         println!(
             "{} requirements in {} files, {} families ({source}): valid (sha256 {hash})",
@@ -185,16 +185,18 @@ impl LastRun {
         !self.doc["run"]["partial"].is_null()
     }
 
-    /// What the last run is, in JSON, with whether it ran on the same requirement files.
-    fn info(&self, hash: &str) -> Value {
+    /// What the last run is, with whether it ran on the same requirement files (`row`: the
+    /// row of the requirement `show` shows).
+    fn info(&self, hash: &str, row: Option<Value>) -> LastRunDoc {
         let run = &self.doc["run"];
-        json!({
-            "file": self.file.display().to_string(),
-            "date": run["date"],
-            "commit": run["commit"],
-            "partial": self.partial(),
-            "same_requirements": run["requirements_hash"] == hash,
-        })
+        LastRunDoc {
+            file: self.file.display().to_string(),
+            date: run["date"].clone(),
+            commit: run["commit"].clone(),
+            partial: self.partial(),
+            same_requirements: run["requirements_hash"] == hash,
+            row,
+        }
     }
 
     /// One line saying which run the statuses come from, and whether they may not apply.
@@ -271,26 +273,26 @@ fn list(mission: &Mission, a: ListArgs) -> CmdResult {
         })
         .collect();
     if a.common.json {
-        let doc = json!({
-            "source": source,
-            "requirements_hash": hash,
-            "last_run": last.as_ref().map(|l| l.info(&hash)),
-            "requirements": rows.iter().map(|(r, status, verdict)| json!({
-                "id": r.id,
-                "title": r.title,
-                "family": r.family,
-                "level": r.level,
-                "method": r.method,
-                "limit": geodesic_report::fmt_limit(r),
-                "probability": r.probability,
-                "status": status,
-                "verdict": verdict,
-            })).collect::<Vec<_>>(),
-        });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?
-        );
+        let doc = ListDoc {
+            source: &source,
+            requirements_hash: &hash,
+            last_run: last.as_ref().map(|l| l.info(&hash, None)),
+            requirements: rows
+                .iter()
+                .map(|(r, status, verdict)| ListRow {
+                    id: &r.id,
+                    title: &r.title,
+                    family: &r.family,
+                    level: &r.level,
+                    method: &r.method,
+                    limit: geodesic_report::fmt_limit(r),
+                    probability: r.probability.as_deref(),
+                    status: status.as_deref(),
+                    verdict,
+                })
+                .collect(),
+        };
+        println!("{}", pretty(&doc)?);
         return Ok(0);
     }
     let table: Vec<[String; 6]> = rows
@@ -378,45 +380,40 @@ fn show(mission: &Mission, a: ShowArgs) -> CmdResult {
         .iter()
         .map(|c| c.to_string())
         .collect();
-    let parent = req
-        .parent
-        .as_ref()
-        .map(|(p, margin)| json!({"id": p.to_string(), "margin": margin}));
+    let parent = req.parent.as_ref().map(|(p, margin)| ParentDoc {
+        id: p.to_string(),
+        margin: *margin,
+    });
     let fresh = freshness.as_ref().is_some_and(|f| f.is_fresh());
     let last_row = last.as_ref().and_then(|l| l.row(req.id.as_str()));
-    let doc = json!({
-        "id": req.id.to_string(),
-        "title": req.title,
-        "text": req.text,
-        "family": req.family,
-        "source": req.source,
-        "quantity": req.quantity,
-        "limit": geodesic_report::fmt_limit(row),
-        "probability": req.probability,
-        "method": row.method,
-        "level": row.level,
-        "stage": row.stage,
-        "activity": req.activity,
-        "check": req.check,
-        "note": req.note,
-        "defined_at": row.defined_at,
-        "parent": parent,
-        "children": children,
-        "tests": row.tests,
-        "test_run": tests_label.as_ref().map(|f| json!({"file": f, "fresh": fresh})),
-        "requirements": source,
-        "requirements_hash": hash,
-        "last_run": last.as_ref().map(|l| {
-            let mut v = l.info(&hash);
-            v["row"] = last_row.cloned().unwrap_or(Value::Null);
-            v
-        }),
-    });
+    let doc = ShowDoc {
+        id: req.id.to_string(),
+        title: &req.title,
+        text: &req.text,
+        family: &req.family,
+        source: &req.source,
+        quantity: &req.quantity,
+        limit: geodesic_report::fmt_limit(row),
+        probability: req.probability.as_deref(),
+        method: &row.method,
+        level: &row.level,
+        stage: &row.stage,
+        activity: &req.activity,
+        check: req.check.as_deref(),
+        note: req.note.as_deref(),
+        defined_at: &row.defined_at,
+        parent,
+        children: &children,
+        tests: &row.tests,
+        test_run: tests_label.as_ref().map(|f| TestRunDoc { file: f, fresh }),
+        requirements: &source,
+        requirements_hash: &hash,
+        last_run: last
+            .as_ref()
+            .map(|l| l.info(&hash, Some(last_row.cloned().unwrap_or(Value::Null)))),
+    };
     if a.common.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?
-        );
+        println!("{}", pretty(&doc)?);
         return Ok(0);
     }
     println!("{}  {}", req.id, req.title);
@@ -539,6 +536,171 @@ fn print_last_run(last: Option<&LastRun>, last_row: Option<&Value>, reports: &Pa
             }
         }
     }
+}
+
+/// A document through `serde_json::Value`: its keys in alphabetical order, as these documents
+/// have always printed.
+fn to_value<T: Serialize>(doc: &T) -> Result<Value, CliError> {
+    serde_json::to_value(doc).map_err(|e| CliError::Io(e.to_string()))
+}
+
+/// [`to_value`], pretty-printed.
+fn pretty<T: Serialize>(doc: &T) -> Result<String, CliError> {
+    serde_json::to_string_pretty(&to_value(doc)?).map_err(|e| CliError::Io(e.to_string()))
+}
+
+/// The documents of `requirements check | list | show ID --json`, one for each action (for the
+/// schema: `geodesic schema requirements`).
+#[derive(JsonSchema)]
+#[serde(untagged)]
+pub enum RequirementsDoc {
+    /// `requirements check --json`.
+    Check(CheckDoc<'static>),
+    /// `requirements list --json`.
+    List(ListDoc<'static>),
+    /// `requirements show ID --json`.
+    Show(Box<ShowDoc<'static>>),
+}
+
+/// What `requirements check --json` prints: the set is valid (an invalid one is exit 2).
+#[derive(Serialize, JsonSchema)]
+pub struct CheckDoc<'a> {
+    /// Always `true` (an invalid set is refused with exit 2 and its `file:line:column`).
+    pub valid: bool,
+    /// Where the set was read from (a folder, or the copy built into the binary).
+    pub source: &'a str,
+    /// SHA-256 of the requirement files (hex), as `verify` records it.
+    pub requirements_hash: &'a str,
+    /// Requirements in the set.
+    pub requirements: usize,
+    /// Families in the set.
+    pub families: usize,
+    /// The requirement files read.
+    pub files: &'a std::collections::BTreeSet<String>,
+}
+
+/// The last run whose statuses `requirements list | show` report (`compliance.json` under
+/// `--reports`).
+#[derive(Serialize, JsonSchema)]
+pub struct LastRunDoc {
+    /// Its `compliance.json`.
+    pub file: String,
+    /// Its `run.date`, as the file has it.
+    pub date: Value,
+    /// Its `run.commit`, as the file has it.
+    pub commit: Value,
+    /// Whether it was a partial run (`verify --only`): other rows did not run.
+    pub partial: bool,
+    /// Whether it ran on the same requirement files (the same SHA-256).
+    pub same_requirements: bool,
+    /// `show` only: the requirement's row in it, as the file has it (`geodesic schema verify`,
+    /// `requirements[]`), `null` when the run has none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub row: Option<Value>,
+}
+
+/// What `requirements list --json` prints.
+#[derive(Serialize, JsonSchema)]
+pub struct ListDoc<'a> {
+    /// Where the set was read from.
+    pub source: &'a str,
+    /// SHA-256 of the requirement files (hex).
+    pub requirements_hash: &'a str,
+    /// The last run the statuses come from, `null` when there is none.
+    pub last_run: Option<LastRunDoc>,
+    /// One row a requirement.
+    pub requirements: Vec<ListRow<'a>>,
+}
+
+/// A requirement of `requirements list --json`.
+#[derive(Serialize, JsonSchema)]
+pub struct ListRow<'a> {
+    /// Requirement ID.
+    pub id: &'a str,
+    /// Title.
+    pub title: &'a str,
+    /// Family.
+    pub family: &'a str,
+    /// Level (as every report writes it).
+    pub level: &'a str,
+    /// ECSS verification method.
+    pub method: &'a str,
+    /// The limit as written, with its unit (`<= 7.5 um/s`).
+    pub limit: String,
+    /// Probability the limit holds with (`99.73 %`), `null` when none.
+    pub probability: Option<&'a str>,
+    /// Its status in the last run, `null` without one or when the run has no row for it.
+    pub status: Option<&'a str>,
+    /// Its verdict in the last run, or why there is none.
+    pub verdict: &'a str,
+}
+
+/// What `requirements show ID --json` prints.
+#[derive(Serialize, JsonSchema)]
+pub struct ShowDoc<'a> {
+    /// Requirement ID.
+    pub id: String,
+    /// Title.
+    pub title: &'a str,
+    /// Text.
+    pub text: &'a str,
+    /// Family.
+    pub family: &'a str,
+    /// Source (document, section).
+    pub source: &'a str,
+    /// The quantity the limit bounds.
+    pub quantity: &'a str,
+    /// The limit as written, with its unit.
+    pub limit: String,
+    /// Probability the limit holds with, `null` when none.
+    pub probability: Option<&'a str>,
+    /// ECSS verification method.
+    pub method: &'a str,
+    /// Level.
+    pub level: &'a str,
+    /// Verification stage.
+    pub stage: &'a str,
+    /// Verification activity.
+    pub activity: &'a str,
+    /// The check that provides its evidence, `null` when none.
+    pub check: Option<&'a str>,
+    /// Note, `null` when none.
+    pub note: Option<&'a str>,
+    /// `file:line` where it is defined.
+    pub defined_at: &'a str,
+    /// Its parent with the derivation margin, `null` for a top-level requirement.
+    pub parent: Option<ParentDoc>,
+    /// Requirements derived from it.
+    pub children: &'a [String],
+    /// Traced tests (`verifies!`) with their recorded results.
+    pub tests: &'a [geodesic_core::matrix::TestRef],
+    /// The recorded test run read, `null` when none.
+    pub test_run: Option<TestRunDoc<'a>>,
+    /// Where the set was read from.
+    pub requirements: &'a str,
+    /// SHA-256 of the requirement files (hex).
+    pub requirements_hash: &'a str,
+    /// The last run, with the requirement's row in it; `null` when there is none.
+    pub last_run: Option<LastRunDoc>,
+}
+
+/// A requirement's parent.
+#[derive(Serialize, JsonSchema)]
+pub struct ParentDoc {
+    /// Parent requirement ID.
+    pub id: String,
+    /// Derivation margin as the requirement file states it: this limit = margin x the
+    /// parent's limit [-].
+    pub margin: f64,
+}
+
+/// The recorded test run `requirements show` read.
+#[derive(Serialize, JsonSchema)]
+pub struct TestRunDoc<'a> {
+    /// Its file.
+    pub file: &'a str,
+    /// Whether it is a run of this work tree.
+    pub fresh: bool,
 }
 
 #[cfg(test)]

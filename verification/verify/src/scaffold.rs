@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 
 /// The JSON document of `geodesic new mission --json`. Fields are declared in byte order of
 /// their keys, the order the document has always printed.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 pub struct NewMissionDoc {
     /// The files written, in the order [`write`] returns them (paths under `path`).
     pub files: Vec<String>,

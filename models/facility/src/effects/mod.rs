@@ -55,7 +55,7 @@ impl EffectKind {
 }
 
 /// The JSON document of `geodesic effects --json` (interface.md, docs/outputs.md).
-#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct EffectsDoc {
     /// The effects listed, in catalogue order.
     pub effects: Vec<EffectDoc>,
@@ -63,7 +63,7 @@ pub struct EffectsDoc {
 
 /// One effect of [`EffectsDoc`]. Fields are declared in byte order of their keys, the order
 /// the document has always printed.
-#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct EffectDoc {
     /// One-line summary.
     pub description: String,
@@ -79,7 +79,7 @@ pub struct EffectDoc {
 
 /// One parameter of [`EffectDoc`], in byte order of its keys. `min` and `max` are in `unit`
 /// and absent on an unbounded side.
-#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct ParamDoc {
     /// Physical upper bound [unit]; absent when unbounded.
     #[serde(default, skip_serializing_if = "Option::is_none")]

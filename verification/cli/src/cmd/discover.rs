@@ -89,11 +89,12 @@ pub fn run(args: Args) -> CmdResult {
         None => None,
     };
     if args.json {
-        let mut v = serde_json::to_value(&report).map_err(|e| CliError::Io(e.to_string()))?;
-        if let (Some(s), Some(obj)) = (&scaffolded, v.as_object_mut()) {
-            let doc = serde_json::to_value(&s.json).map_err(|e| CliError::Io(e.to_string()))?;
-            obj.insert("scaffold".into(), doc);
-        }
+        // through serde_json::Value: keys in alphabetical order, as the document always had
+        let v = serde_json::to_value(geodesic_fit::discover::DiscoverDoc {
+            report: &report,
+            scaffold: scaffolded.as_ref().map(|s| &s.json),
+        })
+        .map_err(|e| CliError::Io(e.to_string()))?;
         println!(
             "{}",
             serde_json::to_string(&v).map_err(|e| CliError::Io(e.to_string()))?

@@ -10,6 +10,7 @@ pub mod history;
 pub mod import;
 pub mod new;
 pub mod requirements;
+pub mod schema;
 pub mod surfaces;
 pub mod synth;
 pub mod tiptrack;

@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// The summary of `geodesic export reqif --json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ExportDoc {
     /// The header's `CREATION-TIME` (xsd:dateTime, UTC; `SOURCE_DATE_EPOCH` fixes it).
     pub creation_time: String,
@@ -52,7 +52,7 @@ impl ExportDoc {
 
 /// The summary of `geodesic import reqif --json`: what was imported, left out and warned
 /// about, and which attribute supplied each field.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct ImportDoc {
     /// The document read: the file, or `ARCHIVE!DOCUMENT` for a `.reqifz`.
     pub document: String,
@@ -92,7 +92,7 @@ pub struct ImportDoc {
 }
 
 /// One family of [`ImportDoc`].
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct FamilyDoc {
     /// Family name.
     pub family: String,
@@ -103,7 +103,7 @@ pub struct FamilyDoc {
 }
 
 /// One requirement left out ([`ImportDoc::skipped`]).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct SkippedDoc {
     /// The geodesic ID it would have had.
     pub id: String,
@@ -114,7 +114,7 @@ pub struct SkippedDoc {
 }
 
 /// One problem of the file ([`ImportDoc::warnings`]).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct WarningDoc {
     /// One-line cause and what was done about it.
     pub cause: String,
@@ -123,7 +123,7 @@ pub struct WarningDoc {
 }
 
 /// One source of a field's values ([`ImportDoc::mapping`]).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct MappingSourceDoc {
     /// Requirements whose value came from it.
     pub requirements: usize,
@@ -132,7 +132,7 @@ pub struct MappingSourceDoc {
 }
 
 /// An attribute no field took ([`ImportDoc::unmapped`]).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct UnmappedDoc {
     /// The attribute's LONG-NAME.
     pub attribute: String,

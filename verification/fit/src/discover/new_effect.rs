@@ -20,7 +20,7 @@ pub struct Scaffolded {
 
 /// The `scaffold` object of `discover --scaffold NAME --json` (docs/outputs.md). Fields in byte
 /// order: the document prints as the `json!` object it replaced did.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct ScaffoldDoc {
     /// The term's delta BIC (its joint fit against the model without it).
     pub delta_bic: f64,
@@ -38,7 +38,7 @@ pub struct ScaffoldDoc {
 }
 
 /// A parameter of [`ScaffoldDoc`], in SI units (`unit`).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema)]
 pub struct ScaffoldParam {
     /// Lower end of its range [unit].
     pub lower: f64,

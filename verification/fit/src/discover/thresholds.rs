@@ -13,7 +13,7 @@ use crate::estimate::FitOutcome;
 use crate::prepare::Prepared;
 
 /// The smallest amplitude of an undetected candidate's main parameter this record would detect.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Threshold {
     /// The effect.
     pub effect: String,
@@ -40,7 +40,7 @@ pub struct Threshold {
 }
 
 /// One point of a threshold curve.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct CurvePoint {
     /// The other parameter's full name and value [SI].
     #[serde(flatten)]

@@ -12,7 +12,7 @@ use crate::numeric::residual::{Failure, Whiteness, failures, ljung_box};
 use crate::prepare::{Prepared, ProfileFit};
 
 /// One fitted parameter in the JSON report.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct ParamOut {
     /// Value [SI].
     pub value: f64,
@@ -44,7 +44,7 @@ fn is_true(b: &bool) -> bool {
 }
 
 /// A strongly correlated pair of parameters.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Correlation {
     /// First parameter.
     pub a: String,
@@ -55,7 +55,7 @@ pub struct Correlation {
 }
 
 /// A free parameter whose covariance sigma the data do not resolve ([`FitOutcome::unresolved`]).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Unresolved {
     /// Parameter.
     pub param: String,
@@ -77,7 +77,7 @@ fn not_finite(v: &f64) -> bool {
 }
 
 /// The fit object of interface.md (`geodesic fit --json`), extended.
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct FitReport {
     /// Dataset YAML file name.
     pub dataset: String,
@@ -170,7 +170,7 @@ pub struct FitReport {
 }
 
 /// How `fit --posterior` obtained the posterior (`posterior_method` in the fit report).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(untagged)]
 pub enum PosteriorMethod {
     /// Sampled by the affine-invariant ensemble.
@@ -180,7 +180,7 @@ pub enum PosteriorMethod {
 }
 
 /// The name of a posterior method, the `method` key.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum MethodName {
     /// `ensemble`.
@@ -190,7 +190,7 @@ pub enum MethodName {
 }
 
 /// The Laplace approximation: `{"method": "laplace"}`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct LaplaceMethod {
     /// Always [`MethodName::Laplace`].
     pub method: MethodName,
@@ -198,7 +198,7 @@ pub struct LaplaceMethod {
 
 /// The ensemble sampler's run. Fields are declared in byte order of their keys, the order the
 /// report has always printed.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 pub struct EnsembleMethod {
     /// Mean acceptance fraction of the moves (dimensionless).
     pub acceptance: f64,

@@ -46,7 +46,7 @@ pub use crate::estimate::CHI2_RED_ASTRONOMICAL;
 const AT_TOLERANCE: f64 = 1e-9;
 
 /// A sample far off the model (or far outside its neighbours, when the loader excluded it).
-#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
 pub struct Outlier {
     /// Channel.
     pub channel: String,
