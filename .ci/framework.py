@@ -24,14 +24,14 @@ LAYERS = [
     {"geodesic-plot", "geodesic-contact", "geodesic-mechanism", "geodesic-housing",
      "geodesic-facility"},
     {"geodesic-release", "geodesic-capture", "geodesic-charge", "geodesic-core"},
-    {"geodesic-fit", "geodesic-report", "geodesic-exchange", "geodesic-images"},
+    {"geodesic-fit", "geodesic-report", "geodesic-exchange", "geodesic-images", "geodesic-testrun"},
     {"geodesic-verify"},
     {"geodesic-checks"},
     {"geodesic-missions"},
     {"geodesic", "geodesic-benches", "geodesic-fuzz", "xtask"},
 ]
 FRAMEWORK_CRATES = {"geodesic-util", "geodesic-plot", "geodesic-core", "geodesic-report",
-                    "geodesic-verify", "geodesic-exchange"}
+                    "geodesic-verify", "geodesic-exchange", "geodesic-testrun"}
 MAX_FN_LINES = 150
 MAX_CLI_LINES = 2500
 

@@ -27,7 +27,7 @@ pub enum Action {
     /// 2 with file:line:column and the cause.
     #[command(after_help = "Examples:
   geodesic requirements check
-  geodesic requirements check --requirements missions/drag-free-cubesat/requirements --json")]
+  geodesic requirements check --requirements missions/NAME/requirements --json")]
     Check(Common),
     /// List every requirement (ID, title, level, method, limit) with its status from the last
     /// run (the compliance.json under --reports).
@@ -357,7 +357,7 @@ fn show(mission: &Mission, a: ShowArgs) -> CmdResult {
     };
     let freshness = test_run
         .as_ref()
-        .map(|t| t.freshness(&geodesic_core::testrun::tree_state(Path::new("."))));
+        .map(|t| t.freshness(&geodesic_core::testrun::tree_state_any(Path::new("."))));
     let tests_label = tests_path.as_ref().map(|p| p.display().to_string());
     let m = bare_rows(
         &reqs,
