@@ -40,6 +40,10 @@ fi
 run() { cargo run --release --offline --quiet -- "$@"; }
 bin="$CARGO_TARGET_DIR/release/demo-arm"
 
+# before any run, `requirements show` names the project's own command, not cargo xtask
+run requirements show DEMO-ARM-DEFL > "$work/show.txt" || fail "requirements show: not 0"
+grep -q 'no recorded test run (`cargo run -- test`' "$work/show.txt" || { cat "$work/show.txt"; fail "requirements show does not name cargo run -- test"; }
+
 # as generated: its own test command, then verify --require-tests, exit 0, tests column filled
 run test > "$work/test.log" 2>&1 || { tail -30 "$work/test.log"; fail "cargo run -- test as generated: not 0"; }
 grep -E "^recorded|^test result" "$work/test.log"

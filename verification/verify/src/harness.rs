@@ -302,7 +302,7 @@ pub fn main(mission: Mission) -> ExitCode {
     let res = match m.subcommand() {
         Some(("requirements", sub)) => {
             match <crate::requirements::Args as clap::FromArgMatches>::from_arg_matches(sub) {
-                Ok(a) => crate::requirements::run(&mission, a),
+                Ok(a) => crate::requirements::run_for(&mission, a, &test_command(&program)),
                 Err(e) => Err(Error::bad(e.to_string())),
             }
         }
