@@ -24,7 +24,7 @@ use std::process::ExitCode;
     about = "Verify a system against its requirements and confront its physics models with measurements",
     after_help = "Examples:
   geodesic verify                                   # every requirement; reports/compliance.{md,json}, the VCD
-  geodesic verify --mission drag-free-cubesat        # another mission of this repository
+  geodesic verify --mission NAME                    # another mission of this repository
   geodesic new mission my-arm --path ../my-arm       # a project of your own, verified the same way
   geodesic fit data/examples/tmmf-adhesion.yaml --effects needle_contact,tip_contact,tip_adhesion
   geodesic import reqif from-doors.reqif --out imported/ && geodesic verify --requirements imported/
@@ -51,7 +51,7 @@ enum Command {
     #[command(after_help = "Examples:
   geodesic verify                                   # every requirement, built-in models; reports/ 
   geodesic verify --mc-n 20000 --no-fidelity        # a quicker look
-  geodesic verify --mission drag-free-cubesat --design my-design.yaml --reports out/
+  geodesic verify --mission NAME --design my-design.yaml --reports out/
   geodesic verify --baseline verification/baseline/compliance.json --require-tests --junit reports/junit.xml
   geodesic verify --json | jq '.requirements[] | select(.status != \"compliant\") | .id'
   geodesic verify --only CHG-V,TMS-X-POS            # those rows and what they depend on (a partial run)
@@ -117,8 +117,8 @@ See docs/exchange.md.")]
     Requirements(cmd::requirements::Args),
     /// Scaffold a project outside this repository that verifies its own system with geodesic
     #[command(after_help = "Examples:
-  geodesic new mission cubesat-hinge --path ../cubesat-hinge
-  cd ../cubesat-hinge && cargo run -- verify --reports reports && cargo test
+  geodesic new mission solar-hinge --path ../solar-hinge
+  cd ../solar-hinge && cargo run -- test && cargo run -- verify --require-tests
 See docs/guide-mission.md.")]
     New(cmd::new::Args),
     /// Print the JSON Schema (draft 2020-12) of a command's --json document, the machine-readable contract

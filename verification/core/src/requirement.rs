@@ -146,11 +146,11 @@ impl Op {
 pub enum Level {
     /// Equipment (a unit: the release mechanism, a facility's instrument).
     Equipment,
-    /// Subsystem (the GRS with its release mechanism, the charge management).
+    /// Subsystem (a sensor with its mechanisms, a power or thermal subsystem).
     Subsystem,
     /// Element (a payload or an instrument package).
     Element,
-    /// System (the spacecraft with its DFACS).
+    /// System (the spacecraft with its attitude and orbit control).
     System,
 }
 

@@ -1,6 +1,6 @@
 //! Requirements whose limit is a curve over frequency: an amplitude spectral density (ASD) bound
 //! `L(f) = level x shape(f)` over a band (e.g. a mission's
-//! `3e-14 (1 + (f / 3 mHz)^2) m s^-2 Hz^-1/2` over 1-30 mHz; ch. 8: the Drag-Free CubeSat's
+//! `3e-14 (1 + (f / 3 mHz)^2) m s^-2 Hz^-1/2` over 1-30 mHz, or a temperature stability
 //! `1e-3 (1 mHz / f)^(1/3) K Hz^-1/2`).
 //!
 //! In YAML the `limit` states the level with its ASD unit and `spectrum` the band and shape:

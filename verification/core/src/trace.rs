@@ -5,7 +5,7 @@
 //!
 //! ```no_run
 //! # fn main() {
-//! geodesic_core::verifies!("REL-GPRM-VEL", "REL-DFACS-VEL");
+//! geodesic_core::verifies!("REL-GPRM-VEL", "REL-SYS-VEL");
 //! let v_m_s = 1.3e-6;
 //! geodesic_core::trace::assert_limit("REL-GPRM-VEL", v_m_s);
 //! # }

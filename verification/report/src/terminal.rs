@@ -6,6 +6,12 @@ use geodesic_core::matrix::{Matrix, Status};
 
 /// Renders the matrix as an aligned text table with a summary line.
 pub fn table(m: &Matrix, color: bool) -> String {
+    table_for(m, color, geodesic_core::testrun::RECORD_COMMAND)
+}
+
+/// [`table`], naming `record_command` as the command that records the traced tests (a
+/// project's own `cargo run -- test`).
+pub fn table_for(m: &Matrix, color: bool, record_command: &str) -> String {
     let head = [
         "ID",
         "status",
@@ -69,9 +75,9 @@ pub fn table(m: &Matrix, color: bool) -> String {
     out.push('\n');
     match &m.test_run {
         Some(_) => out.push_str(&format!("test results: {}\n", crate::test_run_line(m))),
-        None => out.push_str(
-            "test results: none recorded (run `cargo xtask test` to record the traced tests)\n",
-        ),
+        None => out.push_str(&format!(
+            "test results: none recorded (run `{record_command}` to record the traced tests)\n"
+        )),
     }
     out
 }

@@ -1,5 +1,5 @@
 //! The standard normal distribution: CDF and quantile, hand-written because these are all the
-//! project needs of a statistics crate (used by the release budget's truncated normals and the
+//! project needs of a statistics crate (used by the missions' truncated normals and the
 //! fit's posterior summaries).
 
 /// Complementary error function, Numerical Recipes `erfcc` (fractional error < 1.2e-7).

@@ -10,9 +10,12 @@
 //! and its program runs the verification (`verify`, or no command at all) with the flags
 //! `geodesic verify` has (`--reports DIR`, `--json`, `--baseline OLD.json`, `--require-tests`,
 //! `--junit FILE`, `--mc-n`, `--seed`, `--only`, `--NAME FILE` for each declared input), lists,
-//! checks and shows its requirements (`requirements check|list|show ID`), and exports them as ReqIF
-//! (`export-reqif --out FILE [--matrix compliance.json]`). Its traced tests (`verifies!`) are
-//! recorded by `cargo test` with `GEODESIC_TEST_RECORD` set (see [`geodesic_core::testrun`]).
+//! checks and shows its requirements (`requirements check|list|show ID`), exports them as ReqIF
+//! (`export reqif --out FILE [--matrix compliance.json]`, as `geodesic export reqif`; the older
+//! `export-reqif` still works), and records its traced tests (`test [ARGS]`: `cargo test ARGS`
+//! in the project, in the profile the program was built with, recorded by [`geodesic_testrun::record`] into
+//! `target/geodesic/test-run.json`, which `verify --require-tests` reads). `verify` names the
+//! project's own command (`cargo run -- test`) when the run is missing or stale.
 
 use crate::error::Error;
 use crate::mission::Mission;
@@ -140,7 +143,7 @@ pub fn print(program: &str, opts: &Options, out: &crate::Outcome) -> u8 {
         let color = std::io::stdout().is_terminal();
         print!(
             "{}",
-            geodesic_report::terminal::table(&out.report.matrix, color)
+            geodesic_report::terminal::table_for(&out.report.matrix, color, &opts.test_command)
         );
         let names: Vec<String> = out
             .written
@@ -231,8 +234,8 @@ fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
     Ok(0)
 }
 
-/// The program of a project verified with geodesic: `verify` (the default), `requirements
-/// list|check`, `export-reqif`. Exit status: 0 compliant (with `--baseline`: nothing
+/// The program of a project verified with geodesic: `verify` (the default), `test`,
+/// `requirements list|check|show`, `export reqif`. Exit status: 0 compliant (with `--baseline`: nothing
 /// regressed), 1 non-compliant or regressed, 2 bad input with a one-line cause.
 pub fn main(mission: Mission) -> ExitCode {
     let program = std::env::args()
@@ -269,22 +272,24 @@ pub fn main(mission: Mission) -> ExitCode {
                     .about("Validate, list and show the requirements (status and evidence from the last run)"),
             )
             .subcommand(
-                Command::new("export-reqif")
-                    .about("Export the requirements (and the VCD status) as ReqIF 1.2")
-                    .arg(req_arg())
+                Command::new("test")
+                    .about("Run the traced tests (`cargo test` in the project, in this program's profile, ARGS passed through) and record their run in target/geodesic/test-run.json for `verify`")
                     .arg(
-                        Arg::new("out")
-                            .long("out")
-                            .value_name("FILE.reqif")
-                            .value_parser(clap::value_parser!(PathBuf)),
-                    )
-                    .arg(
-                        Arg::new("matrix")
-                            .long("matrix")
-                            .value_name("compliance.json")
-                            .value_parser(clap::value_parser!(PathBuf)),
+                        Arg::new("args")
+                            .value_name("ARGS")
+                            .num_args(0..)
+                            .trailing_var_arg(true)
+                            .allow_hyphen_values(true),
                     ),
-            ),
+            )
+            .subcommand(
+                Command::new("export")
+                    .about("Export the requirements to an exchange format")
+                    .subcommand_required(true)
+                    .subcommand(reqif_args(Command::new("reqif"), req_arg())),
+            )
+            // the name of earlier generated projects' scripts
+            .subcommand(reqif_args(Command::new("export-reqif"), req_arg()).hide(true)),
         &[&mission],
     );
     let m = match cmd.try_get_matches() {
@@ -297,11 +302,16 @@ pub fn main(mission: Mission) -> ExitCode {
     let res = match m.subcommand() {
         Some(("requirements", sub)) => {
             match <crate::requirements::Args as clap::FromArgMatches>::from_arg_matches(sub) {
-                Ok(a) => crate::requirements::run(&mission, a),
+                Ok(a) => crate::requirements::run_for(&mission, a, &test_command(&program)),
                 Err(e) => Err(Error::bad(e.to_string())),
             }
         }
         Some(("export-reqif", sub)) => export_reqif(&mission, sub),
+        Some(("export", sub)) => match sub.subcommand() {
+            Some(("reqif", sub)) => export_reqif(&mission, sub),
+            _ => Err(Error::bad("export: give a format (`export reqif`)")),
+        },
+        Some(("test", sub)) => record_tests(&program, sub),
         Some((_, sub)) => run_verify(&program, &mission, sub),
         None => run_verify(&program, &mission, &m),
     };
@@ -314,8 +324,89 @@ pub fn main(mission: Mission) -> ExitCode {
     }
 }
 
+/// `export reqif` (and its older spelling `export-reqif`): the flags.
+fn reqif_args(cmd: Command, requirements: Arg) -> Command {
+    cmd.about("Export the requirements (and the VCD status) as ReqIF 1.2")
+        .arg(requirements)
+        .arg(
+            Arg::new("out")
+                .long("out")
+                .value_name("FILE.reqif")
+                .value_parser(clap::value_parser!(PathBuf)),
+        )
+        .arg(
+            Arg::new("matrix")
+                .long("matrix")
+                .value_name("compliance.json")
+                .value_parser(clap::value_parser!(PathBuf)),
+        )
+}
+
+/// The command that records a project's traced tests: `cargo run -- test` when cargo runs the
+/// program (it sets `CARGO`), else the program itself.
+fn test_command(program: &str) -> String {
+    if std::env::var_os("CARGO").is_some() {
+        "cargo run -- test".into()
+    } else {
+        format!("{program} test")
+    }
+}
+
+/// The project's root: the folder of `cargo locate-project --workspace` from here, else the
+/// current folder.
+fn project_root() -> PathBuf {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    std::process::Command::new(cargo)
+        .args(["locate-project", "--workspace", "--message-format", "plain"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .and_then(|o| {
+            PathBuf::from(String::from_utf8_lossy(&o.stdout).trim())
+                .parent()
+                .map(PathBuf::from)
+        })
+        .unwrap_or_else(|| PathBuf::from("."))
+}
+
+/// `test [ARGS]`: `cargo test ARGS` in the project (`--release` when this program was built in
+/// the release profile), recorded as `cargo xtask test` records this repository's
+/// ([`geodesic_testrun::record`]). Exit status: cargo's.
+fn record_tests(program: &str, m: &ArgMatches) -> Result<u8, Error> {
+    let extra: Vec<String> = m
+        .get_many::<String>("args")
+        .map(|v| v.cloned().collect())
+        .unwrap_or_default();
+    let mut command = test_command(program);
+    for a in &extra {
+        command.push(' ');
+        command.push_str(a);
+    }
+    let root = project_root();
+    let r = geodesic_testrun::Recording {
+        // where `verify` reads it (`./target/geodesic/test-run.json`), whatever
+        // CARGO_TARGET_DIR says: a project built in a shared target folder keeps its own run
+        out_dir: root.join("target/geodesic"),
+        root,
+        // the profile this program was built with: `cargo run -- test` builds the tests in the
+        // dev profile and `cargo run --release -- test` in release, each sharing every compiled
+        // crate with the program's own build (the first build compiles the framework once)
+        cargo_args: if cfg!(debug_assertions) {
+            Vec::new()
+        } else {
+            vec!["--release".into()]
+        },
+        extra,
+        command,
+        prefix: format!("{program} test"),
+        fresh_build: None,
+    };
+    geodesic_testrun::record(&r).map_err(Error::Io)
+}
+
 fn run_verify(program: &str, mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
-    let opts = options(m);
+    let mut opts = options(m);
+    opts.test_command = test_command(program);
     crate::progress::set_mode(crate::progress::Mode::Auto);
     let out = pipeline::run(mission, &opts)?;
     Ok(print(program, &opts, &out))

@@ -63,6 +63,9 @@ pub struct Options {
     /// The commit the running binary was built from (the command line's `build.rs`), when
     /// known; the run says when it is not the commit of the tree it judges.
     pub build_commit: Option<String>,
+    /// The command that records the traced tests' run, named when there is none or it is stale
+    /// (`cargo xtask test` here; a project's harness: `cargo run -- test`).
+    pub test_command: String,
 }
 
 impl Default for Options {
@@ -88,6 +91,7 @@ impl Default for Options {
             tool_version: env!("CARGO_PKG_VERSION").to_string(),
             command: std::env::args().collect::<Vec<_>>().join(" "),
             build_commit: None,
+            test_command: geodesic_core::testrun::RECORD_COMMAND.to_string(),
         }
     }
 }
@@ -434,9 +438,9 @@ fn load(mission: &Mission, opts: &Options, names: &[&str]) -> Result<Loaded, Err
     };
     // the recorded run counts only for the tree it ran on (same commit, same content), each
     // record only where that tree holds its call, and only if what verify reads is in it
-    let tree = geodesic_core::testrun::tree_state(Path::new("."));
+    let tree = geodesic_core::testrun::tree_state_any(Path::new("."));
     let freshness = test_run.as_mut().map(|t| {
-        let f = t.freshness(&tree);
+        let f = t.freshness_for(&tree, &opts.test_command);
         let Ok(tree) = &tree else { return f };
         geodesic_core::testrun::check_records(t, tree);
         let hidden = geodesic_core::testrun::uncovered(tree, &read_files(&source, &inputs, &disp_path, &document_file));
@@ -795,7 +799,8 @@ fn finish(
     if let Some(d) = &diff {
         gate_messages(d, &report, &mut messages);
     }
-    let tests_fail = opts.require_tests && require_tests(&report.matrix, &mut messages);
+    let tests_fail =
+        opts.require_tests && require_tests(&report.matrix, &opts.test_command, &mut messages);
     // With a baseline the gate is the regression count; without one, the verdict.
     let code = match &diff {
         Some(d) => u8::from(d.regressions > 0),
@@ -841,12 +846,14 @@ fn gate_messages(d: &geodesic_report::baseline::Diff, report: &Report, out: &mut
 }
 
 /// `--require-tests`: whether the test evidence fails the run, with why.
-fn require_tests(m: &Matrix, out: &mut Vec<String>) -> bool {
+fn require_tests(m: &Matrix, test_command: &str, out: &mut Vec<String>) -> bool {
     let mut fail = false;
     match &m.test_run {
         None => {
             fail = true;
-            out.push("--require-tests: no recorded test run (run `cargo xtask test`)".into());
+            out.push(format!(
+                "--require-tests: no recorded test run (run `{test_command}`)"
+            ));
         }
         Some(t) if !t.fresh => {
             fail = true;

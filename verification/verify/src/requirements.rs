@@ -29,7 +29,7 @@ pub enum Action {
     /// 2 with file:line:column and the cause.
     #[command(after_help = "Examples:
   geodesic requirements check
-  geodesic requirements check --requirements missions/drag-free-cubesat/requirements --json")]
+  geodesic requirements check --requirements missions/NAME/requirements --json")]
     Check(Common),
     /// List every requirement (ID, title, level, method, limit) with its status from the last
     /// run (the compliance.json under --reports).
@@ -97,10 +97,16 @@ impl Args {
 
 /// Runs the command for `mission`.
 pub fn run(mission: &Mission, args: Args) -> CmdResult {
+    run_for(mission, args, geodesic_core::testrun::RECORD_COMMAND)
+}
+
+/// [`run`], naming `test_command` as the command that records the traced tests (a project's
+/// own `cargo run -- test`).
+pub fn run_for(mission: &Mission, args: Args, test_command: &str) -> CmdResult {
     match args.action {
         Action::Check(c) => check(mission, c),
         Action::List(a) => list(mission, a),
-        Action::Show(a) => show(mission, a),
+        Action::Show(a) => show(mission, a, test_command),
     }
 }
 
@@ -343,7 +349,7 @@ fn list(mission: &Mission, a: ListArgs) -> CmdResult {
     Ok(0)
 }
 
-fn show(mission: &Mission, a: ShowArgs) -> CmdResult {
+fn show(mission: &Mission, a: ShowArgs, test_command: &str) -> CmdResult {
     let (reqs, source, hash) = load(mission, a.common.requirements.as_ref())?;
     let Some(req) = reqs.get(a.id.trim()) else {
         return Err(unknown_id("", a.id.trim(), &reqs));
@@ -357,9 +363,12 @@ fn show(mission: &Mission, a: ShowArgs) -> CmdResult {
         Some(p) => Some(geodesic_core::testrun::TestRun::load(p).map_err(CliError::bad)?),
         None => None,
     };
-    let freshness = test_run
-        .as_ref()
-        .map(|t| t.freshness(&geodesic_core::testrun::tree_state(Path::new("."))));
+    let freshness = test_run.as_ref().map(|t| {
+        t.freshness_for(
+            &geodesic_core::testrun::tree_state_any(Path::new(".")),
+            test_command,
+        )
+    });
     let tests_label = tests_path.as_ref().map(|p| p.display().to_string());
     let m = bare_rows(
         &reqs,
@@ -452,16 +461,21 @@ fn show(mission: &Mission, a: ShowArgs) -> CmdResult {
     if let Some(n) = &req.note {
         println!("  note         {n}");
     }
-    print_tests(tests_label.as_deref(), &row.tests, fresh);
+    print_tests(tests_label.as_deref(), &row.tests, fresh, test_command);
     print_last_run(last.as_ref(), last_row, &a.reports, &hash);
     Ok(0)
 }
 
 /// Prints the traced tests of a requirement from the recorded test run `tests_label`.
-fn print_tests(tests_label: Option<&str>, tests: &[geodesic_core::matrix::TestRef], fresh: bool) {
+fn print_tests(
+    tests_label: Option<&str>,
+    tests: &[geodesic_core::matrix::TestRef],
+    fresh: bool,
+    test_command: &str,
+) {
     match (tests_label, tests.is_empty()) {
         (None, _) => println!(
-            "  traced tests no recorded test run (`cargo xtask test` writes target/geodesic/test-run.json)"
+            "  traced tests no recorded test run (`{test_command}` writes target/geodesic/test-run.json)"
         ),
         (Some(f), true) => println!(
             "  traced tests none in {f}{}",

@@ -1,7 +1,14 @@
 //! `geodesic new mission NAME --path DIR`: a project outside the framework's repository that
 //! verifies its own system with geodesic: a descriptor, one requirement, one input file, one
 //! check with a small model (a cantilever's tip deflection), a traced test, and a `main` that
-//! is the harness ([`crate::harness::main`]). It builds and verifies as generated.
+//! is the harness ([`crate::harness::main`]). It builds, records its traced tests (`cargo run
+//! -- test`) and verifies as generated.
+//!
+//! Its `Cargo.toml` names no absolute path: it depends on geodesic by git (`git = URL, rev =
+//! COMMIT`) when the generating checkout has a shareable remote (`git remote get-url origin` of
+//! a network kind: `https://`, `ssh://`, `git://`, `git@`) or when `--geodesic-git URL` is given,
+//! else by the relative path from the project to the checkout, with a note on standard error
+//! ([`Dependency`]).
 
 use crate::error::Error;
 use std::path::{Path, PathBuf};
@@ -36,9 +43,130 @@ pub struct NewMission {
     pub name: String,
     /// The project's folder (must not exist, or be empty).
     pub path: PathBuf,
-    /// The framework's repository (the folder holding `verification/core`), for the path
-    /// dependencies.
+    /// The framework's repository (the folder holding `verification/core`): its remote and
+    /// commit give the git dependency, or its relative path the path dependency.
     pub framework: PathBuf,
+    /// The git URL to depend on (`--geodesic-git`) instead of the checkout's remote.
+    pub git: Option<String>,
+    /// The commit (or tag) of the git dependency (`--geodesic-rev`) instead of the checkout's
+    /// `HEAD`.
+    pub rev: Option<String>,
+}
+
+/// How the generated project depends on geodesic's framework crates.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Dependency {
+    /// `{ git = url, rev = rev }`.
+    Git {
+        /// The repository's URL.
+        url: String,
+        /// The commit (or tag) pinned.
+        rev: String,
+    },
+    /// `{ path = "<relative>/verification/core" }`, relative to the project's folder.
+    Path(PathBuf),
+}
+
+impl Dependency {
+    /// The TOML value of the dependency on the framework crate in `dir` (`verification/core`).
+    pub fn toml(&self, dir: &str) -> String {
+        match self {
+            Dependency::Git { url, rev } => format!("{{ git = {url:?}, rev = {rev:?} }}"),
+            Dependency::Path(p) => {
+                let p = p.display().to_string().replace('\\', "/");
+                format!("{{ path = {:?} }}", format!("{p}/{dir}"))
+            }
+        }
+    }
+
+    /// Where the README says geodesic is.
+    fn where_(&self) -> String {
+        match self {
+            Dependency::Git { url, rev } => format!("[geodesic]({url}) at commit `{rev}`"),
+            Dependency::Path(p) => format!(
+                "geodesic (the checkout at `{}`, relative to this folder)",
+                p.display()
+            ),
+        }
+    }
+}
+
+/// Whether a remote URL can be fetched from another machine (not a local path or `file://`).
+pub fn is_network_url(url: &str) -> bool {
+    ["https://", "http://", "ssh://", "git://", "git@"]
+        .iter()
+        .any(|p| url.starts_with(p))
+        // scp-like `user@host:path`
+        || (url.contains('@') && url.contains(':') && !url.contains("://"))
+}
+
+/// `to` relative to `from` (both absolute): `../geodesic`.
+pub fn relative(from: &Path, to: &Path) -> PathBuf {
+    let f: Vec<_> = from.components().collect();
+    let t: Vec<_> = to.components().collect();
+    let common = f.iter().zip(&t).take_while(|(a, b)| a == b).count();
+    let mut out = PathBuf::new();
+    for _ in common..f.len() {
+        out.push("..");
+    }
+    for c in &t[common..] {
+        out.push(c.as_os_str());
+    }
+    if out.as_os_str().is_empty() {
+        out.push(".");
+    }
+    out
+}
+
+fn git_out(dir: &Path, args: &[&str]) -> Option<String> {
+    std::process::Command::new("git")
+        .arg("-C")
+        .arg(dir)
+        .args(args)
+        .stderr(std::process::Stdio::null())
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .filter(|s| !s.is_empty())
+}
+
+/// The dependency of a project in `project` (absolute) on the checkout `framework` (absolute),
+/// and the note to print when it is a path (why, and how to share the project).
+pub fn dependency(
+    n: &NewMission,
+    framework: &Path,
+    project: &Path,
+) -> Result<(Dependency, Option<String>), Error> {
+    let rev = || {
+        n.rev
+            .clone()
+            .or_else(|| git_out(framework, &["rev-parse", "HEAD"]))
+    };
+    let remote = git_out(framework, &["remote", "get-url", "origin"]);
+    if let Some(url) = n.git.clone() {
+        let rev = rev().ok_or_else(|| {
+            Error::bad(format!(
+                "--geodesic-git {url}: {} is not a git checkout with a commit; give --geodesic-rev COMMIT",
+                framework.display()
+            ))
+        })?;
+        return Ok((Dependency::Git { url, rev }, None));
+    }
+    if let (Some(url), Some(rev)) = (remote.clone().filter(|u| is_network_url(u)), rev()) {
+        return Ok((Dependency::Git { url, rev }, None));
+    }
+    let rel = relative(project, framework);
+    let why = match remote {
+        Some(u) => format!("its remote `origin` is {u}, not a network URL"),
+        None => "no remote `origin`".to_string(),
+    };
+    let note = format!(
+        "the project depends on geodesic by the relative path {} ({}: {why}): move them together, or give --geodesic-git URL (and --geodesic-rev COMMIT) to share it",
+        rel.display(),
+        framework.display()
+    );
+    Ok((Dependency::Path(rel), Some(note)))
 }
 
 /// The requirement ID prefix of a mission name (`my-widget` -> `MY-WIDGET`).
@@ -57,21 +185,22 @@ fn check_name(name: &str) -> Result<(), Error> {
         Ok(())
     } else {
         Err(Error::bad(format!(
-            "new mission {name}: a name of lower-case letters, digits and `-`, starting with a letter (e.g. `cubesat-hinge`)"
+            "new mission {name}: a name of lower-case letters, digits and `-`, starting with a letter (e.g. `solar-hinge`)"
         )))
     }
 }
 
 /// The files of the project: `(path relative to the project, text)`.
-pub fn files(name: &str, framework: &Path) -> Vec<(String, String)> {
+pub fn files(name: &str, dep: &Dependency) -> Vec<(String, String)> {
     let krate = name.replace('-', "_");
     let id = format!("{}-DEFL", id_prefix(name));
-    let fw = framework.display().to_string();
     let subst = |t: &str| {
         t.replace("@NAME@", name)
             .replace("@CRATE@", &krate)
             .replace("@ID@", &id)
-            .replace("@FW@", &fw)
+            .replace("@CORE@", &dep.toml("verification/core"))
+            .replace("@VERIFY@", &dep.toml("verification/verify"))
+            .replace("@WHERE@", &dep.where_())
     };
     TEMPLATES
         .iter()
@@ -80,8 +209,9 @@ pub fn files(name: &str, framework: &Path) -> Vec<(String, String)> {
 }
 
 /// Writes the project (nothing is written when a file cannot be: the folder is created whole
-/// in a sibling and renamed). Returns the files written.
-pub fn write(n: &NewMission) -> Result<Vec<PathBuf>, Error> {
+/// in a sibling and renamed). Returns the files written, and the note to print on standard
+/// error when the project depends on geodesic by a relative path ([`dependency`]).
+pub fn write(n: &NewMission) -> Result<(Vec<PathBuf>, Option<String>), Error> {
     check_name(&n.name)?;
     if !n.framework.join("verification/core/Cargo.toml").is_file() {
         return Err(Error::bad(format!(
@@ -109,6 +239,11 @@ pub fn write(n: &NewMission) -> Result<Vec<PathBuf>, Error> {
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     std::fs::create_dir_all(parent).map_err(|e| Error::Io(format!("{}: {e}", parent.display())))?;
+    let project = parent
+        .canonicalize()
+        .map_err(|e| Error::Io(format!("{}: {e}", parent.display())))?
+        .join(n.path.file_name().unwrap_or(n.path.as_os_str()));
+    let (dep, note) = dependency(n, &framework, &project)?;
     let stage = parent.join(format!(
         ".{}.new-{}",
         n.path
@@ -118,7 +253,7 @@ pub fn write(n: &NewMission) -> Result<Vec<PathBuf>, Error> {
     ));
     let result = (|| -> Result<Vec<PathBuf>, Error> {
         let mut written = Vec::new();
-        for (rel, text) in files(&n.name, &framework) {
+        for (rel, text) in files(&n.name, &dep) {
             let p = stage.join(&rel);
             if let Some(d) = p.parent() {
                 std::fs::create_dir_all(d)
@@ -146,7 +281,7 @@ pub fn write(n: &NewMission) -> Result<Vec<PathBuf>, Error> {
     if result.is_err() {
         let _ = std::fs::remove_dir_all(&stage);
     }
-    result
+    result.map(|w| (w, note))
 }
 
 const TEMPLATES: &[(&str, &str)] = &[
@@ -163,8 +298,10 @@ publish = false
 
 [dependencies]
 # geodesic's framework: requirements, checks, the matrix, the reports, the gate, ReqIF
-geodesic-core = { path = "@FW@/verification/core" }
-geodesic-verify = { path = "@FW@/verification/verify" }
+# (a git dependency pinned to a commit, or a path relative to this folder: geodesic new
+# mission chose; docs/guide-mission.md of geodesic says how to change it)
+geodesic-core = @CORE@
+geodesic-verify = @VERIFY@
 serde = { version = "1", features = ["derive"] }
 serde-saphyr = "2.1"
 
@@ -328,8 +465,9 @@ pub fn mission() -> Mission {
     ),
     (
         "src/main.rs",
-        r#"//! `cargo run -- verify --reports reports` (or no command): verifies @NAME@ against its
-//! requirements; `--baseline OLD.json` gates; `export-reqif --out FILE` exports ReqIF.
+        r#"//! `cargo run -- test` records the traced tests; `cargo run -- verify --reports reports` (or
+//! no command) verifies @NAME@ against its requirements; `--baseline OLD.json` gates; `export
+//! reqif --out FILE` exports ReqIF.
 
 fn main() -> std::process::ExitCode {
     geodesic_verify::harness::main(@CRATE@::mission())
@@ -368,14 +506,24 @@ fn the_model_matches_a_hand_calculation() {
         "README.md",
         r#"# @NAME@
 
-Verified with [geodesic](@FW@): requirements in `requirements/`, inputs in `design.yaml`, the
-check and its model in `src/lib.rs`, traced tests in `tests/traced.rs`.
+Verified with @WHERE@: requirements in `requirements/`, inputs in `design.yaml`, the check
+and its model in `src/lib.rs`, traced tests in `tests/traced.rs`.
+
+The two commands:
 
 ```sh
-cargo run -- verify --reports reports        # the matrix, the VCD, JUnit, index.html in reports/
+cargo run -- test                                       # run the traced tests, record their run
+cargo run -- verify --require-tests --reports reports   # verify: the matrix, the VCD, index.html
+```
+
+`test` runs `cargo test` (arguments after it are passed through) and writes
+`target/geodesic/test-run.json`; `verify --require-tests` fails when that run is missing, stale
+(a source, requirement or input changed since) or a traced test failed. More:
+
+```sh
 cargo run -- verify --baseline reports/compliance.json --reports reports-new   # the gate
-cargo run -- export-reqif --out reports/requirements.reqif --matrix reports/compliance.json
-cargo test                                   # the traced tests
+cargo run -- export reqif --out reports/requirements.reqif --matrix reports/compliance.json
+cargo run -- requirements list
 ```
 
 Edit the limit in `requirements/structure.yaml` or a dimension in `design.yaml` and verify
@@ -405,18 +553,78 @@ mod tests {
         for bad in ["", "Widget", "9lives", "a b", "x-"] {
             assert!(super::check_name(bad).is_err(), "{bad}");
         }
-        for good in ["widget", "cubesat-hinge", "m2_arm"] {
+        for good in ["widget", "solar-hinge", "m2_arm"] {
             assert!(super::check_name(good).is_ok(), "{good}");
         }
     }
 
     #[test]
     fn every_placeholder_is_filled() {
-        for (p, t) in super::files("my-widget", std::path::Path::new("/fw")) {
+        let dep = super::Dependency::Path("../fw".into());
+        for (p, t) in super::files("my-widget", &dep) {
             assert!(
-                !t.contains("@NAME@") && !t.contains("@ID@") && !t.contains("@CRATE@"),
+                !t.contains("@NAME@")
+                    && !t.contains("@ID@")
+                    && !t.contains("@CRATE@")
+                    && !t.contains("@CORE@")
+                    && !t.contains("@VERIFY@")
+                    && !t.contains("@WHERE@"),
                 "{p}"
             );
+        }
+    }
+
+    /// The git case: the manifest pins the URL and the commit, names no path.
+    #[test]
+    fn a_git_dependency_names_the_url_and_the_commit() {
+        let dep = super::Dependency::Git {
+            url: "https://example.org/geodesic.git".into(),
+            rev: "0123abcd".into(),
+        };
+        let files = super::files("my-widget", &dep);
+        let toml = &files.iter().find(|(p, _)| p == "Cargo.toml").unwrap().1;
+        assert!(
+            toml.contains(
+                r#"geodesic-core = { git = "https://example.org/geodesic.git", rev = "0123abcd" }"#
+            ),
+            "{toml}"
+        );
+        assert!(
+            toml.contains(r#"geodesic-verify = { git = "https://example.org/geodesic.git", rev = "0123abcd" }"#),
+            "{toml}"
+        );
+        assert!(!toml.contains("path ="), "{toml}");
+        let readme = &files.iter().find(|(p, _)| p == "README.md").unwrap().1;
+        assert!(readme.contains("cargo run -- test") && readme.contains("verify --require-tests"));
+    }
+
+    #[test]
+    fn a_path_dependency_is_relative() {
+        let dep = super::Dependency::Path(super::relative(
+            std::path::Path::new("/work/projects/widget"),
+            std::path::Path::new("/work/geodesic"),
+        ));
+        assert_eq!(dep, super::Dependency::Path("../../geodesic".into()));
+        let files = super::files("widget", &dep);
+        let toml = &files.iter().find(|(p, _)| p == "Cargo.toml").unwrap().1;
+        assert!(
+            toml.contains(r#"geodesic-core = { path = "../../geodesic/verification/core" }"#),
+            "{toml}"
+        );
+    }
+
+    #[test]
+    fn network_urls_are_told_from_local_ones() {
+        for u in [
+            "https://github.com/a/b.git",
+            "ssh://git@host/b",
+            "git@github.com:a/b.git",
+            "git://host/b",
+        ] {
+            assert!(super::is_network_url(u), "{u}");
+        }
+        for u in ["/srv/git/geodesic", "../geodesic", "file:///srv/geodesic"] {
+            assert!(!super::is_network_url(u), "{u}");
         }
     }
 }

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 /// Flags of `geodesic asd`.
 #[derive(clap::Args, Debug)]
 #[command(after_help = "Examples:
-  geodesic asd series.yaml --requirement DFC-ACC-ASD --requirements missions/drag-free-cubesat/requirements --json
+  geodesic asd series.yaml --requirement ID --requirements missions/NAME/requirements --json
 SERIES.yaml: `data` (CSV beside it), `time_column` (default t, seconds, uniformly sampled),
 `channel` (the CSV column) and its `unit`; see docs/spectra.md.")]
 pub struct Args {

@@ -20,7 +20,7 @@ enum Format {
     /// Write the requirement set as ReqIF 1.2 (OMG), with the VCD status when --matrix is given.
     #[command(after_help = "Examples:
   geodesic export reqif                                  # ./requirements (or the built-in set) -> reports/requirements.reqif
-  geodesic export reqif --requirements missions/drag-free-cubesat/requirements --out cubesat.reqif
+  geodesic export reqif --requirements missions/NAME/requirements --out NAME.reqif
   geodesic verify && geodesic export reqif --matrix reports/compliance.json --out status.reqif
   geodesic export reqif --json | jq .sha256
 Deterministic: the same requirements give the same file apart from CREATION-TIME

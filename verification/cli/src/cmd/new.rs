@@ -16,10 +16,12 @@ enum What {
     /// A mission project: a requirement, an input file, one check with a small model, a traced
     /// test and a `main` that runs the verification.
     #[command(after_help = "Examples:
-  geodesic new mission cubesat-hinge --path ../cubesat-hinge
-  cd ../cubesat-hinge && cargo run -- verify --reports reports && cargo test
-The project depends on this geodesic checkout's framework crates by path (--geodesic names
-another checkout) and copies its Cargo.lock, so it builds offline with the tested versions.")]
+  geodesic new mission solar-hinge --path ../solar-hinge
+  cd ../solar-hinge && cargo run -- test && cargo run -- verify --require-tests
+The project depends on geodesic's framework crates by git (the checkout's remote `origin` at its
+commit, or --geodesic-git URL --geodesic-rev COMMIT) when the checkout has a network remote,
+else by the relative path to the checkout (--geodesic names another one); it copies the
+checkout's Cargo.lock, so it builds with the tested versions.")]
     Mission(MissionArgs),
 }
 
@@ -36,6 +38,13 @@ pub struct MissionArgs {
     /// from].
     #[arg(long, value_name = "DIR")]
     pub geodesic: Option<PathBuf>,
+    /// Depend on geodesic by this git URL [default: the checkout's remote `origin` when it is a
+    /// network URL, else a relative path].
+    #[arg(long, value_name = "URL")]
+    pub geodesic_git: Option<String>,
+    /// The commit (or tag) of the git dependency [default: the checkout's HEAD].
+    #[arg(long, value_name = "COMMIT")]
+    pub geodesic_rev: Option<String>,
     /// Print `{"path", "files"}` as JSON.
     #[arg(long)]
     pub json: bool,
@@ -48,11 +57,16 @@ pub fn run(args: Args) -> CmdResult {
         .geodesic
         .clone()
         .unwrap_or_else(|| PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")));
-    let files = geodesic_verify::scaffold::write(&geodesic_verify::scaffold::NewMission {
+    let (files, note) = geodesic_verify::scaffold::write(&geodesic_verify::scaffold::NewMission {
         name: a.name.clone(),
         path: a.path.clone(),
         framework,
+        git: a.geodesic_git.clone(),
+        rev: a.geodesic_rev.clone(),
     })?;
+    if let Some(note) = note {
+        eprintln!("geodesic: note: {note}");
+    }
     if a.json {
         println!(
             "{}",
@@ -66,7 +80,7 @@ pub fn run(args: Args) -> CmdResult {
             println!("wrote {}", f.display());
         }
         println!(
-            "next: cd {} && cargo run -- verify --reports reports && cargo test",
+            "next: cd {} && cargo run -- test && cargo run -- verify --require-tests",
             a.path.display()
         );
     }

@@ -119,7 +119,7 @@ const REQ_ATTRS: &[Attr] = &[
         "geodesic-ad-req-source",
         "geodesic.Source",
         Kind::String,
-        "where the requirement comes from (thesis table or section)",
+        "where the requirement comes from (a source document's table or section)",
     ),
     attr(
         "geodesic-ad-req-quantity",

@@ -1937,7 +1937,7 @@ fn families(
         }
         let (name, desc) = p.family.clone();
         // a family's requirements in files of at most MAX_PER_FILE (the YAML loader's node
-        // budget holds about 20 000 entries per file)
+        // limit holds about 20 000 entries per file)
         match fams
             .iter_mut()
             .rev()

@@ -8,7 +8,7 @@ use geodesic_core::testrun::TestResult;
 pub struct Listed {
     /// Crate of the test binary (`geodesic_checks`, `verification`).
     pub krate: String,
-    /// Test name (`capture::tests::criterion`), without libtest's ` - should panic` mode.
+    /// Test name (`hinge::tests::torque`), without libtest's ` - should panic` mode.
     pub test: String,
     /// `passed`, `failed` or `ignored`.
     pub result: TestResult,

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 pub struct Declared {
     /// Crate the file belongs to (`verification`, `geodesic_checks`).
     pub krate: String,
-    /// Test name as libtest would print it (`capture::criterion_is_symmetric_in_sign`).
+    /// Test name as libtest would print it (`hinge::torque_is_symmetric_in_sign`).
     pub test: String,
     /// The enclosing function's name.
     pub function: String,
@@ -230,13 +230,14 @@ fn attributes_before(code: &str, at: usize) -> Vec<String> {
             "pub" | "async" | "unsafe" | "const" | "extern" => continue,
             _ => {
                 // `pub(crate)`
-                if word_end == k && k > 0 && b[k - 1] == b')' {
-                    if let Some(open) = code[..k].rfind('(') {
-                        if code[..open].trim_end().ends_with("pub") {
-                            k = open;
-                            continue;
-                        }
-                    }
+                if word_end == k
+                    && k > 0
+                    && b[k - 1] == b')'
+                    && let Some(open) = code[..k].rfind('(')
+                    && code[..open].trim_end().ends_with("pub")
+                {
+                    k = open;
+                    continue;
                 }
                 return out;
             }
@@ -420,13 +421,11 @@ fn package_of(file: &Path, root: &Path) -> Option<(String, PathBuf)> {
                 let t = line.trim();
                 if t.starts_with('[') {
                     in_package = t == "[package]";
-                } else if in_package {
-                    if let Some(v) = t.strip_prefix("name") {
-                        let v = v.trim_start();
-                        if let Some(v) = v.strip_prefix('=') {
-                            return Some((v.trim().trim_matches('"').to_string(), dir.into()));
-                        }
-                    }
+                } else if in_package
+                    && let Some(v) = t.strip_prefix("name")
+                    && let Some(v) = v.trim_start().strip_prefix('=')
+                {
+                    return Some((v.trim().trim_matches('"').to_string(), dir.into()));
                 }
             }
         }
@@ -473,7 +472,7 @@ mod tests {
     /// naming the same requirements; so a record of a real traced test is never rejected.
     #[test]
     fn every_traced_call_of_the_workspace_reads_back_from_its_location() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
         let declared = scan(&root);
         assert!(declared.len() > 20, "{}", declared.len());
         for d in &declared {

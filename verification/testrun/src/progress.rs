@@ -1,4 +1,4 @@
-//! How `cargo xtask test` runs the build and shows its progress (issue 37, item 6): cargo's
+//! How a recorded test run (`cargo xtask test`, a project's `cargo run -- test`) runs the build and shows its progress (issue 37, item 6): cargo's
 //! output is streamed as it comes, and a status says what is happening while cargo is silent
 //! (a large crate compiling, a long test binary running). On a terminal the status is a line
 //! redrawn every second under the output (`[3 min 12 s] building: 180 compiled, now
@@ -101,7 +101,8 @@ impl State {
     }
 
     /// The closing summary: build and test durations, the slowest binaries.
-    pub fn summary(&self, start: Instant, end: Instant) -> String {
+    /// `prefix` names the program (`xtask test`).
+    pub fn summary(&self, prefix: &str, start: Instant, end: Instant) -> String {
         let build = self.tests_started.map_or(end - start, |t| t - start);
         let tests = self.tests_started.map_or(Duration::ZERO, |t| end - t);
         let mut slow: Vec<&(String, Duration)> = self.binaries.iter().collect();
@@ -112,7 +113,7 @@ impl State {
             .map(|(n, d)| format!("{n} {}", fmt_duration(*d)))
             .collect();
         format!(
-            "xtask test: build {} ({} crates compiled), tests {}; slowest test binaries: {}",
+            "{prefix}: build {} ({} crates compiled), tests {}; slowest test binaries: {}",
             fmt_duration(build),
             self.compiled,
             fmt_duration(tests),
@@ -149,8 +150,9 @@ fn binary_name(t: &str) -> Option<String> {
 
 /// Runs cargo with stdout and stderr into one pipe (so that cargo's `Running` lines and the
 /// tests' output stay in order), copies it to our stdout as it comes with the status of
-/// [`State`], and returns cargo's text and exit status.
-pub fn run_streamed(mut cmd: Command) -> std::io::Result<(String, ExitStatus)> {
+/// [`State`], and returns cargo's text and exit status. `prefix` names the program on the
+/// status lines (`xtask test`).
+pub fn run_streamed(mut cmd: Command, prefix: &str) -> std::io::Result<(String, ExitStatus)> {
     let start = Instant::now();
     let (mut reader, writer) = std::io::pipe()?;
     cmd.stdout(writer.try_clone()?).stderr(writer);
@@ -208,7 +210,7 @@ pub fn run_streamed(mut cmd: Command) -> std::io::Result<(String, ExitStatus)> {
                     let _ = write!(out, "\r\x1b[K{}", state.status(start.elapsed()));
                     shown = true;
                 } else if !tty && last_output.elapsed() >= HEARTBEAT {
-                    let _ = writeln!(out, "xtask test: {}", state.status(start.elapsed()));
+                    let _ = writeln!(out, "{prefix}: {}", state.status(start.elapsed()));
                     last_output = Instant::now();
                 }
             }
@@ -223,7 +225,7 @@ pub fn run_streamed(mut cmd: Command) -> std::io::Result<(String, ExitStatus)> {
     let status = child.wait()?;
     let end = Instant::now();
     state.finish_binary(end);
-    let _ = writeln!(out, "{}", state.summary(start, end));
+    let _ = writeln!(out, "{}", state.summary(prefix, start, end));
     let _ = out.flush();
     Ok((String::from_utf8_lossy(&text).into_owned(), status))
 }
@@ -274,7 +276,7 @@ mod tests {
                 "doc-tests geodesic_core"
             ]
         );
-        let sum = s.summary(t0, t1 + Duration::from_secs(101));
+        let sum = s.summary("xtask test", t0, t1 + Duration::from_secs(101));
         assert!(
             sum.contains("build 5 min 0 s (2 crates compiled), tests 1 min 41 s")
                 && sum.contains("slowest test binaries: hide_each 1 min 30 s"),
