@@ -6,8 +6,8 @@
 use crate::inputs::ModelInput;
 use clap::{Arg, ArgMatches};
 use geodesic_verify::plugin::{PluginCommand, args};
-use std::path::PathBuf;
 use geodesic_verify::schema::Entry;
+use std::path::PathBuf;
 
 pub mod campaign;
 pub mod capture;

@@ -1,6 +1,8 @@
 //! `interferometer_cyclic`: cyclic non-linearity of the interferometer (physics.md section 4).
 
-use super::{DistortionEffect, Effect, FitHints, GuessContext, ParamSpec, Role, Scenario};
+use super::{
+    DistortionEffect, Effect, FitHints, GuessContext, ParamSpec, RecordStats, Role, Scenario,
+};
 
 /// Laser wavelength of the TMMF interferometer [m].
 pub const LASER_WAVELENGTH_M: f64 = 632.8e-9;
@@ -73,6 +75,31 @@ impl FitHints for InterferometerCyclic {
             Vec::new()
         }
     }
+    /// A cyclic error is a small distortion of the reading: the reading stays monotone in the
+    /// true position (its slope `1 + (2 pi / L) (a1 cos + 2 a2 cos)` positive, i.e.
+    /// `a1 + 2 a2 < L / (2 pi)`, 50 nm at `L` = 316 nm: a larger one would fold the fringe
+    /// count), and it is smaller than the motion it distorts (`a1 + a2` below half the
+    /// peak-to-peak of the fitted reading). `a_n = hypot(b_n, c_n)` [m].
+    fn plausible(&self, p: &[f64], r: &RecordStats) -> Result<(), String> {
+        let a1 = p[1].hypot(p[2]);
+        let a2 = p[3].hypot(p[4]);
+        let fold = p[0] / std::f64::consts::TAU;
+        if a1 + 2.0 * a2 >= fold {
+            return Err(format!(
+                "its amplitudes a1 {a1:.3e} m + 2 a2 {a2:.3e} m reach L / (2 pi) = {fold:.3e} m \
+                 (L {:.3e} m): a reading that folds back on itself, not a cyclic error",
+                p[0]
+            ));
+        }
+        if a1 + a2 >= 0.5 * r.motion_pp_m {
+            return Err(format!(
+                "its amplitudes a1 {a1:.3e} m + a2 {a2:.3e} m reach half the motion it distorts \
+                 (the fitted reading spans {:.3e} m peak to peak)",
+                r.motion_pp_m
+            ));
+        }
+        Ok(())
+    }
     /// The period has many local minima: scan the sub-multiples `632.8 nm / n`, n = 1..8, with
     /// small in-phase and quadrature amplitudes, before refining.
     fn starts(&self, g: &GuessContext) -> Vec<Vec<f64>> {
@@ -86,6 +113,38 @@ impl FitHints for InterferometerCyclic {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cyclic_error_larger_than_the_fringe_or_the_motion_is_implausible() {
+        let r = RecordStats {
+            motion_pp_m: 374e-9,
+            span_s: 0.02,
+        };
+        // issue 50: c1 = 205 nm on a TM that moves 374 nm, L = 316 nm
+        let e = InterferometerCyclic
+            .plausible(&[316.4e-9, 0.0, 205e-9, 0.0, 0.0], &r)
+            .unwrap_err();
+        assert!(e.contains("folds"), "{e}");
+        // 30 nm is below L / (2 pi) = 50 nm but above half of a 50 nm motion
+        let small = RecordStats {
+            motion_pp_m: 50e-9,
+            ..r
+        };
+        let e = InterferometerCyclic
+            .plausible(&[316.4e-9, 30e-9, 0.0, 0.0, 0.0], &small)
+            .unwrap_err();
+        assert!(e.contains("half the motion"), "{e}");
+        // a 1.5 nm error on a micron of motion is what the thesis measures
+        let ok = RecordStats {
+            motion_pp_m: 2e-6,
+            ..r
+        };
+        assert!(
+            InterferometerCyclic
+                .plausible(&[316.4e-9, 1.5e-9, 0.8e-9, 0.0, 0.0], &ok)
+                .is_ok()
+        );
+    }
 
     #[test]
     fn second_harmonic_form_is_re_expressed_with_half_the_period() {

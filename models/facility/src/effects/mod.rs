@@ -576,6 +576,24 @@ pub trait FitHints: Effect {
     fn starts(&self, _g: &GuessContext) -> Vec<Vec<f64>> {
         vec![self.params().iter().map(|p| p.nominal).collect()]
     }
+    /// Whether the fitted parameters `p` are physically plausible on a record showing `r`,
+    /// beyond the ranges of [`Effect::params`] (which the fit already holds): relations to the
+    /// record, such as a distortion smaller than the motion it distorts. `Err` says which
+    /// parameter, its value and the bound, in one sentence (issue 50: `discover` adds an effect
+    /// only when this holds). The default: no relation.
+    fn plausible(&self, _p: &[f64], _r: &RecordStats) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// What a record shows that an effect's plausibility may depend on ([`FitHints::plausible`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RecordStats {
+    /// Peak-to-peak of the fitted channel's model prediction [m] (the motion the reading
+    /// follows).
+    pub motion_pp_m: f64,
+    /// Duration of the record [s].
+    pub span_s: f64,
 }
 
 /// The catalogue: every effect of every scenario, in interface.md order.

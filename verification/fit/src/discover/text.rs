@@ -15,6 +15,13 @@ pub fn text(report: &DiscoverReport) -> String {
     for f in &report.record_shows {
         let _ = writeln!(s, "the record shows: {}", f.text);
     }
+    for r in &report.refused {
+        let _ = writeln!(
+            s,
+            "  {} refused at round {} (delta BIC {:.1}): {}",
+            r.effect, r.round, r.delta_bic, r.why
+        );
+    }
     for i in &report.improves {
         let _ = writeln!(
             s,
@@ -103,6 +110,17 @@ fn residual(d: &Description) -> String {
             s,
             "  indistinguishable on this record: {} (joint fits within 10 in BIC of {a}'s)",
             d.indistinguishable.join(", ")
+        );
+    }
+    for (i, t) in d.separate_terms.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "  unknown term {} of {}: [{}] {} (delta BIC {})",
+            i + 1,
+            d.separate_terms.len(),
+            t.kind,
+            t.term,
+            fmt_sig(t.delta_bic)
         );
     }
     s

@@ -121,15 +121,46 @@ impl FitOutcome {
 impl FitOutcome {
     /// Re-expresses chi-square and parameter errors for another noise figure `sigma` [SI] (the
     /// best-fit parameters do not depend on a constant noise figure).
+    ///
+    /// The same noise figure changes nothing (the sigmas are kept as the fit left them, with
+    /// the held values' spread folded in and any profile widening). A held value's sigma is
+    /// its stated spread, which no noise figure moves; a free parameter keeps the variance the
+    /// held values add to it (`sigma_p^2 - (sigma_cov inflate)^2` before) on top of its data
+    /// part at the new noise figure. (Before, the held values' sigmas came out 0 and the free
+    /// parameters lost the held part when a fit with held values was rescaled.)
     pub fn rescale(&mut self, sigma: f64, source: &str) {
+        self.sigma_source = source.to_string();
+        if sigma == self.sigma {
+            return;
+        }
         let r = self.sigma / sigma;
+        let inflate_old = self.chi2_red().max(1.0).sqrt();
         self.chi2 *= r * r;
         self.sigma = sigma;
-        self.sigma_source = source.to_string();
         let inflate = self.chi2_red().max(1.0).sqrt();
-        for (sp, sc) in self.sigma_p.iter_mut().zip(self.sigma_cov.iter_mut()) {
+        let held: Vec<usize> = self
+            .held
+            .iter()
+            .filter_map(|h| self.model.index(&h.param))
+            .collect();
+        for (i, (sp, sc)) in self
+            .sigma_p
+            .iter_mut()
+            .zip(self.sigma_cov.iter_mut())
+            .enumerate()
+        {
+            let data_old = *sc * inflate_old;
             *sc /= r;
-            *sp = *sc * inflate;
+            if held.contains(&i) {
+                continue;
+            }
+            let extra = if held.is_empty() {
+                0.0
+            } else {
+                (*sp * *sp - data_old * data_old).max(0.0)
+            };
+            let data = *sc * inflate;
+            *sp = (data * data + extra).sqrt();
         }
         // C scales with sigma^2: ln det C moves by -2 k ln r
         if let Some(h) = self.half_log_det_2pi_cov.as_mut() {
@@ -442,6 +473,45 @@ mod tests {
         }
         fn debug(&self, line: &dyn Fn() -> String) {
             self.debug.lock().unwrap().push(line());
+        }
+    }
+
+    /// Rescaling a fit whose model holds values (the retraction's scale, issue 50's restart and
+    /// noise figures) keeps the held values' stated spread: at the same noise figure nothing
+    /// moves, at another the held values' sigmas are unchanged (they were 0 before this test)
+    /// and each free parameter keeps at least the held part of its variance.
+    #[test]
+    fn rescaling_keeps_the_held_values_spread() {
+        let prep = retraction();
+        let o = fit(&prep, &["piezo"], &FitOptions::default()).expect("fit");
+        assert!(!o.held.is_empty(), "the retraction holds its scale");
+        let held: Vec<usize> = o
+            .held
+            .iter()
+            .filter_map(|h| o.model.index(&h.param))
+            .collect();
+        for &i in &held {
+            assert!(o.sigma_p[i] > 0.0, "held {} has sigma {}", i, o.sigma_p[i]);
+        }
+        let mut same = o.clone();
+        same.rescale(o.sigma, &o.sigma_source);
+        assert_eq!(format!("{:?}", same.sigma_p), format!("{:?}", o.sigma_p));
+        let mut twice = o.clone();
+        twice.rescale(2.0 * o.sigma, "given");
+        for &i in &held {
+            assert_eq!(twice.sigma_p[i].to_bits(), o.sigma_p[i].to_bits());
+        }
+        for i in (0..o.p.len()).filter(|&i| o.free[i]) {
+            let data_old = o.sigma_cov[i] * o.chi2_red().max(1.0).sqrt();
+            let held_part = (o.sigma_p[i].powi(2) - data_old.powi(2)).max(0.0).sqrt();
+            assert!(
+                twice.sigma_p[i] >= held_part * (1.0 - 1e-12),
+                "{}: {} below the held part {}",
+                i,
+                twice.sigma_p[i],
+                held_part
+            );
+            assert!(twice.sigma_p[i].is_finite() && twice.sigma_p[i] > 0.0);
         }
     }
 

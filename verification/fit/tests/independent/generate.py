@@ -319,12 +319,13 @@ RT_NOM = {"R": 371.2, "m": 9e-4, "Ca": 2.3e-7, "k": 4.91e7, "b": 9.77, "T": 5.73
 
 def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy=3e-9, m=M_MID,
                 ar=None, noise_in_yaml=True, delay=0.0, description="", spikes=None,
-                declared=None, tail_y=None, gaps=None):
+                declared=None, tail_y=None, gaps=None, ar_y=None):
     """A TMMF release record; `delay` [s]: the trigger (t = 0) fires that long before the tip and
     the TM move (both channels shifted). With `m_nd` in `p`, the needles are a body. `spikes`:
     {channel: fraction} of samples made wild (`add_spikes`); returns their CSV lines per channel
     as a third value when given. `declared`: {channel: factor} the YAML's noise figure is the
-    true one times (a mis-stated figure)."""
+    true one times (a mis-stated figure). `ar_y`: AR coefficients of the tip channel's noise
+    (white without)."""
     rng = np.random.Generator(np.random.PCG64(seed))
     t = times(fs, pre, post)
     if "m_nd" in p:
@@ -340,7 +341,7 @@ def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy
         rt_ = np.random.Generator(np.random.PCG64(seed + 60000))
         yn = y + rt_.standard_t(tail_y, len(t)) * sy / math.sqrt(tail_y / (tail_y - 2.0))
     else:
-        yn = y + noise(rng, len(t), sy)
+        yn = y + noise(rng, len(t), sy, ar_y)
     chans = {"x": xn, "y": yn}
     lines = add_spikes(seed, chans, {"x": sx, "y": sy}, spikes) if spikes else None
     yaml_noise = {"x": sx, "y": sy}
@@ -361,10 +362,13 @@ def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy
 
 
 def rt_record(out, name, seed, q, *, em=None, fs=1e6, pre=2e-5, post=1e-3, sy=1e-9, ar=None,
-              noise_in_yaml=True, delay=0.0, e0=120.0, description="", spikes=None):
+              noise_in_yaml=True, delay=0.0, e0=120.0, description="", spikes=None,
+              drift=0.0):
+    """A retraction record; `drift` [m/s]: a linear drift of the reading over the whole record
+    (zero at the trigger), a sensor defect outside the catalogue."""
     rng = np.random.Generator(np.random.PCG64(seed))
     t = times(fs, pre, post)
-    y = rt_truth(t - delay, q, e0, em)
+    y = rt_truth(t - delay, q, e0, em) + drift * t
     yn = y + noise(rng, len(t), sy, ar)
     chans = {"y": yn}
     lines = add_spikes(seed, chans, {"y": sy}, spikes) if spikes else None
@@ -496,6 +500,31 @@ def oracle_adhesion(t, x_true_with, p_base, m, sigma, n):
     chi2 = float(np.sum((d - J @ coef) ** 2))
     price = 2.0 * math.log(n) + 10.0
     return chi2, price, chi2 > price
+
+
+def oracle_drift(t, p_base, m, sigma, rate):
+    """Independent oracle of a marginal drift `rate` [m/s] of the TMMF reading (the catalogue's
+    `drift`, p1 t, three parameters): the chi-square that the baseline (k_nd, F_pre, k_c) leaves
+    of it, to first order (the drift projected out of the baseline's sensitivities at the truth,
+    central differences in the logs, numpy.linalg.lstsq; the pre-trigger samples included, where
+    the baseline predicts 0), against the price of adding it with strong evidence,
+    3 ln N + 10. Returns (chi2 left, price)."""
+    def sim(pb):
+        return tmmf_truth(t, pb, m, JERK, V_TIP)
+
+    d = rate * t / sigma
+    cols = []
+    for key in ["k_nd", "F_pre", "k_c"]:
+        h = 1e-4
+        up = dict(p_base)
+        dn = dict(p_base)
+        up[key] *= math.exp(h)
+        dn[key] *= math.exp(-h)
+        cols.append((sim(up) - sim(dn)) / (2 * h * sigma))
+    J = np.array(cols).T
+    coef, *_ = np.linalg.lstsq(J, d, rcond=None)
+    chi2 = float(np.sum((d - J @ coef) ** 2))
+    return chi2, 3.0 * math.log(len(t)) + 10.0
 
 
 def main():
@@ -776,6 +805,72 @@ def main():
                          "expect": {"explained": True, "added": ["plunger_compliance"],
                                     "set_aside": lines},
                          "truth": rt_params(q), "combinations": combinations(q, 120.0)})
+
+    # ---- class 8 (issue 50, items 3 and 4): two terms outside the catalogue, a sensor drift,
+    # coloured noise with a short pre-trigger and on both channels, a marginal drift
+    if want("two-outside-tmmf"):
+        # 50 Hz mains pickup of 4 nm on the reading and a viscous damping force gamma = 40 1/s:
+        # neither is in the catalogue; over 20 ms the record holds one cycle of the pickup
+        gamma = 40.0
+        p = dict(TMMF_BASE, c_damp=gamma * M_MID, vibration=(4e-9, 50.0, 0.7))
+        tmmf_record(out, "two-outside-tmmf", 1111, p, fs=1e5, pre=1e-3, post=2e-2,
+                    description="TMMF: 50 Hz pickup (4 nm) and viscous damping gamma = 40 1/s (both outside the catalogue)")
+        expected.append({"name": "two-outside-tmmf", "class": "two-outside",
+                         "baseline": tmmf_base_names,
+                         "expect": {"explained": False, "added": [],
+                                    "terms": {"vibration": {"f": [50.0, 0.05]},
+                                              "velocity": {"gamma": [gamma, 0.25]}}},
+                         "truth": {"gamma": gamma, "f": 50.0, "amplitude": 4e-9}})
+    if want("sensor-drift-rt"):
+        # the reading drifts 30 nm per ms (a sensor defect: the retraction's catalogue has no
+        # drift); every catalogue effect of the record is in the baseline. The shape is a ramp:
+        # a velocity step at the start (`impulse`, t0 at the first samples) or `creep` with a
+        # time constant far beyond the record (ln(1 + t/tau) ~ t/tau)
+        q = dict(RT_NOM, Mg=0.021, Kg=2.0e6)
+        rt_record(out, "sensor-drift-rt", 1112, q, post=1e-3, drift=3e-5,
+                  description="retraction: the reading drifts 3e-5 m/s (outside the catalogue)")
+        expected.append({"name": "sensor-drift-rt", "class": "sensor-drift",
+                         "baseline": ["piezo", "plunger_compliance"],
+                         "expect": {"explained": False, "added": [],
+                                    "ramp_kinds": ["impulse", "creep"]},
+                         "truth": dict(rt_params(q), drift=3e-5)})
+    if want("ar1-rt-ramp-short"):
+        # AR(1) rho 0.95 and a 20-sample pre-trigger (below the 32 samples a noise estimate
+        # from the pre-trigger needs), no noise figure, the voltage ramp hidden
+        q = dict(RT_NOM, Mg=0.02, Kg=2.0e6)
+        rt_record(out, "ar1-rt-ramp-short", 1113, q, em=6e7, pre=2e-5, post=2e-3, ar=[0.95],
+                  noise_in_yaml=False,
+                  description="retraction: AR(1) 0.95 noise, a 20-sample pre-trigger, the voltage ramp hidden")
+        expected.append({"name": "ar1-rt-ramp-short", "class": "coloured-short",
+                         "baseline": ["piezo", "plunger_compliance"],
+                         "expect": {"explained": True, "added": ["voltage_ramp"]},
+                         "truth": rt_params(q, 6e7), "combinations": combinations(q, 120.0, 6e7)})
+    if want("ar1-tmmf-both"):
+        # nothing hidden; AR(1) noise on both channels: x rho 0.98, the tip channel rho 0.9
+        tmmf_record(out, "ar1-tmmf-both", 1114, dict(TMMF_BASE), ar=[0.98], ar_y=[0.9],
+                    noise_in_yaml=False,
+                    description="TMMF: nothing hidden, AR(1) noise 0.98 on x and 0.9 on the tip channel")
+        expected.append({"name": "ar1-tmmf-both", "class": "coloured-both",
+                         "baseline": tmmf_base_names,
+                         "expect": {"explained": True, "added": []},
+                         "truth": {"ar_x": [0.98], "ar_y": [0.9]}})
+    if want("marginal-drift"):
+        # a drift of the reading whose first-order chi-square after the baseline is 12 (with
+        # the 3 the noise gives its three parameters, delta BIC about +7 at the optimum): below
+        # the price of adding the three-parameter drift with strong evidence (3 ln N + 10 =
+        # 32.8 for 2 001 samples), so the best baseline explains the record without it
+        t = times(2e5, 1e-3, 9e-3)
+        unit, price = oracle_drift(t, TMMF_BASE, M_MID, 8e-10, 1.0)
+        rate = math.sqrt(12.0 / unit)
+        chi2, price = oracle_drift(t, TMMF_BASE, M_MID, 8e-10, rate)
+        p = dict(TMMF_BASE, drift=(0.0, rate, 0.0))
+        tmmf_record(out, "marginal-drift", 1115, p,
+                    description=f"TMMF: a marginal drift of the reading, {rate:.3e} m/s")
+        expected.append({"name": "marginal-drift", "class": "marginal",
+                         "baseline": tmmf_base_names,
+                         "expect": {"explained": True, "added": [] if chi2 < price else ["drift"]},
+                         "truth": {"drift.p1": rate},
+                         "oracle": {"chi2_without": chi2, "bic_price": price}})
 
     if args.large:
         p = dict(TMMF_BASE, A1=1.3e5, **{"lambda": 6e-7}, drift=(0.0, 2e-6, 0.0))
