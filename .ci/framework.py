@@ -252,6 +252,15 @@ def main():
     for m in members():
         name, ds = deps(ROOT / m / "Cargo.toml")
         names[name] = (m, ds)
+    # every framework and generic crate documents its public surface (issue 51, item 4):
+    # `#![warn(missing_docs)]` at its root, which CI's clippy -D warnings turns into an error
+    for name, (m, _) in sorted(names.items()):
+        if name not in GENERIC_CRATES and m not in FRAMEWORK:
+            continue
+        roots = [ROOT / m / "src" / f for f in ("lib.rs", "main.rs") if (ROOT / m / "src" / f).is_file()]
+        for r in roots:
+            if not re.search(r"^#!\[(warn|deny)\(missing_docs\)\]", r.read_text(), re.M):
+                bad.append(f"{r.relative_to(ROOT)}: no #![warn(missing_docs)] at the crate's root")
     rows = doc_layers()
     row_of = {name: rows.get(m) for name, (m, _) in names.items()}
     for name, (m, ds) in names.items():

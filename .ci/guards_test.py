@@ -7,7 +7,8 @@ non-zero naming what was planted:
 - .ci/framework.py: a mission's name in a framework crate's code (a word of a mission.yaml's
   title), in a framework crate's Cargo.toml description, a framework crate embedding a
   mission's file (include_str! of the root mission's requirement folder), and a new upward
-  dependency (a generic crate on a mission's checks);
+  dependency (a generic crate on a mission's checks), a framework crate without
+  `#![warn(missing_docs)]`;
 - .ci/unused_deps.py: a declared dependency no code uses, and one only the tests use;
 - .ci/sizes.py --check: a size typed by hand in docs/architecture.md.
 
@@ -105,6 +106,10 @@ def main():
                      lambda r: edit(r / "verification/cli/Cargo.toml", "[dependencies]\n",
                                     "[dependencies]\ntempfile.workspace = true\n"),
                      "unused_deps.py", [], ["declares tempfile (dependencies)", "a dev-dependency"]),
+            mutation("a framework crate without #![warn(missing_docs)]", root,
+                     ["verification/util/src/lib.rs"],
+                     lambda r: edit(r / "verification/util/src/lib.rs", "#![warn(missing_docs)]\n", ""),
+                     "framework.py", [], ["verification/util/src/lib.rs:", "missing_docs"]),
             mutation("a size typed by hand", root,
                      ["docs/architecture.md"],
                      lambda r: edit(r / "docs/architecture.md", "non-test lines (under",

@@ -6,6 +6,7 @@
 //! success, 1 a verdict of non-compliance (`verify`), 2 bad input or usage with a one-line cause
 //! on standard error.
 
+#![warn(missing_docs)]
 mod cmd;
 mod error;
 mod fitting;

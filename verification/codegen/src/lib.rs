@@ -18,6 +18,7 @@
 //! | `impulse` | reading `+ a (t - t0)+` | the same | `a` [m/s], `t0` [s] |
 //! | `vibration` | reading `+ a_s sin(2 pi f t) + a_c cos(2 pi f t)` | the same | `f` [Hz], `a_s`, `a_c` [m] |
 
+#![warn(missing_docs)]
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 

@@ -8,6 +8,7 @@
 //!
 //! This crate depends on no model crate: models <- framework <- CLI.
 
+#![warn(missing_docs)]
 pub mod cas;
 pub mod check;
 pub mod credibility;

@@ -12,6 +12,7 @@
 //! It names no scenario: what differs between scenarios is asked of the facility crate
 //! (`geodesic_facility::scenario`).
 
+#![warn(missing_docs)]
 pub mod coords;
 pub mod dataset;
 pub mod error;

@@ -28,6 +28,7 @@
 //! a small escaping writer ([`xml`]) as the project writes its HTML and JUnit; a writer crate
 //! would add a dependency for `&lt;` and indentation.
 
+#![warn(missing_docs)]
 pub mod needs;
 pub mod reqif;
 pub mod status;

@@ -29,6 +29,7 @@
 //! implementation in the facility crate (`geodesic_facility::scenario`).
 
 // the records and their errors, from geodesic-dataset, under the paths the engine uses
+#![warn(missing_docs)]
 pub use geodesic_dataset::{coords, dataset, error, synth};
 pub mod design;
 pub mod diagnose;

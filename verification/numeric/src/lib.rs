@@ -12,6 +12,7 @@
 //! - [`observe`]: the [`Observer`](observe::Observer) a caller passes in to see progress and
 //!   debug lines (no global, no environment variable).
 
+#![warn(missing_docs)]
 pub mod ensemble;
 pub mod linalg;
 pub mod lm;

@@ -12,6 +12,7 @@
 //! plotters (SVG backend only: no font or system library) is re-exported as [`plotters`] so that
 //! every plot uses the same version and features through this crate.
 
+#![warn(missing_docs)]
 pub mod fit;
 pub mod histogram;
 pub mod style;

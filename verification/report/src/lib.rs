@@ -13,6 +13,7 @@
 //!
 //! The JSON form is the [`geodesic_core::matrix::Matrix`] itself, wrapped in [`Report`].
 
+#![warn(missing_docs)]
 pub mod baseline;
 pub mod formats;
 pub mod html;

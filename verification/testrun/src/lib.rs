@@ -12,6 +12,7 @@
 //!
 //! The crate names no mission.
 
+#![warn(missing_docs)]
 pub mod join;
 pub mod output;
 pub mod progress;

@@ -11,6 +11,7 @@
 //! - [`yaml`]: the position and one-line cause of a YAML error.
 //! - [`escape`]: XML, HTML and SVG escaping, one implementation.
 
+#![warn(missing_docs)]
 pub mod escape;
 pub mod fsio;
 pub mod hash;

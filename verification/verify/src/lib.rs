@@ -10,6 +10,7 @@
 //!
 //! The crate names no mission.
 
+#![warn(missing_docs)]
 pub mod error;
 pub mod harness;
 pub mod ids;

@@ -61,6 +61,7 @@ pub struct Common {
 /// Flags of `requirements list`.
 #[derive(clap::Args, Debug)]
 pub struct ListArgs {
+    /// The flags every `requirements` subcommand takes.
     #[command(flatten)]
     pub common: Common,
     /// Directory of the last run's reports (its compliance.json gives the statuses).
@@ -73,6 +74,7 @@ pub struct ListArgs {
 pub struct ShowArgs {
     /// Requirement ID.
     pub id: String,
+    /// The flags every `requirements` subcommand takes.
     #[command(flatten)]
     pub common: Common,
     /// Directory of the last run's reports (its compliance.json gives the evidence).
