@@ -151,7 +151,7 @@ pub fn run_one(t: &Target, ctx: &Ctx, data: &[u8]) -> Result<Outcome, String> {
 
 /// The first 16 hex digits of the SHA-256 of `data`.
 pub fn short_hash(data: &[u8]) -> String {
-    geodesic_core::hash::sha256_hex(data)[..16].to_string()
+    geodesic_util::hash::sha256_hex(data)[..16].to_string()
 }
 
 /// Writes a failing input to `dir/<target>-<hash>`.

@@ -1021,7 +1021,7 @@ fn run_merge_part(_ctx: &Ctx, data: &[u8]) -> Outcome {
     let Ok(body) = serde_json::to_vec(&v) else {
         return raw;
     };
-    v[CHECKSUM_KEY] = serde_json::json!(geodesic_core::hash::sha256_hex(&body));
+    v[CHECKSUM_KEY] = serde_json::json!(geodesic_util::hash::sha256_hex(&body));
     part_and_merge(&v.to_string())
 }
 

@@ -108,7 +108,7 @@ impl ModelInput {
 /// Resolves a model input: `given` (its flag) if set, else the repository's copy when it exists
 /// relative to the current directory, else the built-in copy (as `verify` resolves it:
 /// [`geodesic_verify::pipeline::resolve_file`]). The file is read whole (at most
-/// [`geodesic_core::fsio::MAX_YAML_BYTES`], UTF-8); the error is one line naming the flag and
+/// [`geodesic_util::fsio::MAX_YAML_BYTES`], UTF-8); the error is one line naming the flag and
 /// the file. Every parameter's pedigree and plausible range are questioned
 /// ([`crate::ranges`]): a value outside its range is one line `file:line: cause`.
 pub fn resolve(input: ModelInput, given: Option<&Path>) -> Result<InputFile, CliError> {
@@ -180,12 +180,12 @@ mod tests {
             assert_eq!(given.origin, Some(InputOrigin::Given));
             assert_eq!(
                 given.sha256,
-                geodesic_core::hash::sha256_hex(&bytes),
+                geodesic_util::hash::sha256_hex(&bytes),
                 "{}",
                 m.repository_path()
             );
             assert_eq!(
-                geodesic_core::hash::sha256_hex(m.builtin().as_bytes()),
+                geodesic_util::hash::sha256_hex(m.builtin().as_bytes()),
                 given.sha256,
                 "{}: the built-in copy differs from the file (rebuild)",
                 m.repository_path()

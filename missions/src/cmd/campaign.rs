@@ -102,7 +102,7 @@ pub fn run(args: Args) -> CmdResult {
         eprintln!(
             "geodesic: {}: not fitted: {}",
             f.file,
-            geodesic_core::text::one_line(&f.cause)
+            geodesic_util::text::one_line(&f.cause)
         );
     }
     if args.json {

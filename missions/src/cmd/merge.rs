@@ -27,7 +27,7 @@ pub struct Args {
 /// exactly what `montecarlo --shard` wrote ([`parts::parse_part`]). Errors name the file.
 fn read_part(p: &Path) -> Result<McResult, CliError> {
     let file = p.display().to_string();
-    let text = geodesic_core::fsio::read_text(p, MAX_PART_BYTES)
+    let text = geodesic_util::fsio::read_text(p, MAX_PART_BYTES)
         .map_err(|e| CliError::bad(format!("{file}: {e}")))?;
     parts::parse_part(&file, &text).map_err(CliError::bad)
 }

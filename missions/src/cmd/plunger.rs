@@ -118,7 +118,7 @@ pub fn run(args: Args) -> CmdResult {
         )));
     }
     if let Some(p) = &args.plot {
-        geodesic_core::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
+        geodesic_util::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
     }
     let cap = capacitance(&args.capacitance)?;
     let procs: Vec<(String, Retraction)> = args

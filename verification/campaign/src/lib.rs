@@ -190,7 +190,7 @@ pub fn t_quantile(nu: usize, p: f64) -> f64 {
 /// Poisson and normal series (Abramowitz & Stegun 26.4.4-5), exact to rounding; Wilson-Hilferty
 /// above 200 degrees of freedom (relative error of the quantiles below 1e-4 there).
 fn chi2_sf(x: f64, nu: usize) -> f64 {
-    use geodesic_core::normal::normal_cdf;
+    use geodesic_util::normal::normal_cdf;
     if x <= 0.0 {
         return 1.0;
     }
@@ -250,7 +250,7 @@ pub fn population_param(x: &[f64], s: &[f64]) -> PopParam {
     let n = x.len();
     let k = n as f64;
     let mean = x.iter().sum::<f64>() / k;
-    let z = geodesic_core::normal::normal_quantile(0.975);
+    let z = geodesic_util::normal::normal_quantile(0.975);
     if n < 2 {
         return PopParam {
             mean,

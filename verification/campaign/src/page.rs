@@ -427,7 +427,7 @@ pub fn markdown(r: &CampaignReport, source: &str, effects: &[&str], plots: &[&st
             m.push_str(&format!(
                 "- {}: {}\n",
                 f.file,
-                geodesic_core::text::one_line(&f.cause)
+                geodesic_util::text::one_line(&f.cause)
             ));
         }
     }

@@ -296,7 +296,7 @@ impl CaptureCriterion {
                             "the predicted state needs the upper {} bound of the release Monte Carlo's 99.73 % |vz|, which N = {} cannot give (N >= {})",
                             geodesic_core::units::fmt_pct(confidence),
                             r.vz_m_s.len(),
-                            geodesic_core::stats::min_n(0.9973, confidence)
+                            geodesic_util::stats::min_n(0.9973, confidence)
                         ),
                         "Quartic sum at the predicted TM state.",
                     )

@@ -35,7 +35,7 @@ pub fn charge_of(ctx: &CheckContext) -> Result<ChargeFile, CheckError> {
 /// point `Phi^-1((1 + p) / 2)`: `|X|` of a zero-mean normal is below `k` sigma with
 /// probability `p`.
 pub fn sigmas_for(probability: f64, sigma: Option<f64>) -> f64 {
-    sigma.unwrap_or_else(|| geodesic_core::normal::normal_quantile(0.5 * (1.0 + probability)))
+    sigma.unwrap_or_else(|| geodesic_util::normal::normal_quantile(0.5 * (1.0 + probability)))
 }
 
 impl ChargeAnalysis {

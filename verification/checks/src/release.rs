@@ -455,7 +455,7 @@ impl Check for MechanismFigures {
             .map_err(|e| CheckError(format!("{}: {e}", ctx.reports_dir.display())))?;
         let path = ctx.reports_dir.join("mechanism-figures.json");
         let text = serde_json::to_string_pretty(&f).map_err(|e| CheckError(e.to_string()))?;
-        geodesic_core::output::write_atomic(&path, text.as_bytes())
+        geodesic_util::output::write_atomic(&path, text.as_bytes())
             .map_err(|e| CheckError(e.to_string()))?;
         Ok(Vec::new())
     }

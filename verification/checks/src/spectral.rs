@@ -182,7 +182,7 @@ fn csv_sha(series_yaml: &Path) -> String {
         Some(d) => {
             let p = series_yaml.parent().unwrap_or(Path::new(".")).join(d);
             std::fs::read(&p)
-                .map(|b| geodesic_core::hash::sha256_hex(&b))
+                .map(|b| geodesic_util::hash::sha256_hex(&b))
                 .unwrap_or_default()
         }
         None => String::new(),

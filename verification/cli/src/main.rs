@@ -154,7 +154,7 @@ fn keep_freed_memory() {
 }
 
 /// Handles SIGINT, SIGTERM and SIGHUP on a thread of their own: it removes the temporary files
-/// and staged report sets the run registered (`geodesic_core::output`), waiting for a commit in
+/// and staged report sets the run registered (`geodesic_util::output`), waiting for a commit in
 /// progress to finish, then exits with 128 + the signal number, as a shell reports it. The
 /// signals are blocked in every other thread (the mask is inherited by the threads spawned
 /// later, rayon's included), so only this thread receives them.
@@ -177,7 +177,7 @@ fn handle_interrupts() {
                 let mut sig: libc::c_int = 0;
                 // SAFETY: `set` is a valid, initialised signal set owned by this closure.
                 while libc::sigwait(&set, &mut sig) != 0 {}
-                geodesic_core::output::remove_registered();
+                geodesic_util::output::remove_registered();
                 eprintln!("geodesic: interrupted (signal {sig}); no partial output left");
                 std::process::exit(128 + sig);
             })

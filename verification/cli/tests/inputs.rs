@@ -103,7 +103,7 @@ fn every_command_reads_hashes_and_moves_with_the_repository_budget() {
     let dir = copy_models("repo");
     let budget = dir.join("models/release/budget.yaml");
     let bytes = std::fs::read(&budget).unwrap();
-    let sha = geodesic_core::hash::sha256_hex(&bytes);
+    let sha = geodesic_util::hash::sha256_hex(&bytes);
     let before = run_all(&dir);
     for (cmd, s) in &before {
         assert_eq!(s.input["sha256"], sha.as_str(), "{cmd}");
@@ -123,7 +123,7 @@ fn every_command_reads_hashes_and_moves_with_the_repository_budget() {
         );
     assert_ne!(edited, text, "the budget's TM mass line moved");
     std::fs::write(&budget, &edited).unwrap();
-    let sha_edited = geodesic_core::hash::sha256_hex(edited.as_bytes());
+    let sha_edited = geodesic_util::hash::sha256_hex(edited.as_bytes());
     let after = run_all(&dir);
     for ((cmd, b), (_, a)) in before.iter().zip(&after) {
         assert_eq!(a.input["sha256"], sha_edited.as_str(), "{cmd}");
@@ -143,7 +143,7 @@ fn every_command_reads_hashes_and_moves_with_the_repository_budget() {
 fn outside_the_repository_the_built_in_copy_and_a_given_file() {
     let empty = scratch("elsewhere");
     let original = std::fs::read(workspace().join("models/release/budget.yaml")).unwrap();
-    let sha = geodesic_core::hash::sha256_hex(&original);
+    let sha = geodesic_util::hash::sha256_hex(&original);
     let mc = json_of(&["montecarlo", "--n", "2000", "--json"], &empty);
     assert_eq!(mc["inputs"]["budget"]["origin"], "built-in");
     assert_eq!(mc["inputs"]["budget"]["sha256"], sha.as_str());
@@ -183,7 +183,7 @@ fn outside_the_repository_the_built_in_copy_and_a_given_file() {
 fn capture_and_charge_say_which_file_they_read() {
     let dir = copy_models("repo-cc");
     let cap = json_of(&["capture", "--vz", "3um/s", "--json"], &dir);
-    let cap_sha = geodesic_core::hash::sha256_hex(
+    let cap_sha = geodesic_util::hash::sha256_hex(
         &std::fs::read(dir.join("models/capture/capture.yaml")).unwrap(),
     );
     assert_eq!(cap["inputs"]["capture"]["sha256"], cap_sha.as_str());
@@ -205,7 +205,7 @@ fn capture_and_charge_say_which_file_they_read() {
     let after = q(&dir);
     assert_eq!(
         after["inputs"]["charge"]["sha256"],
-        geodesic_core::hash::sha256_hex(edited.as_bytes()).as_str()
+        geodesic_util::hash::sha256_hex(edited.as_bytes()).as_str()
     );
     let (b, a) = (
         before["q_2sigma_e"].as_f64().unwrap(),

@@ -73,7 +73,7 @@ impl InputFile {
         let text = text.into();
         InputFile {
             label: label.into(),
-            sha256: crate::hash::sha256_hex(text.as_bytes()),
+            sha256: geodesic_util::hash::sha256_hex(text.as_bytes()),
             text,
             origin: None,
             parameters: BTreeMap::new(),
@@ -403,7 +403,7 @@ pub enum SampleStatistic {
     Proportion,
 }
 
-/// A value computed from a sample, with its exact confidence bounds (see [`crate::stats`]).
+/// A value computed from a sample, with its exact confidence bounds (see [`geodesic_util::stats`]).
 /// The compliance matrix decides with the bounds, never with the estimate: an upper limit is
 /// met when the upper bound meets it, violated when the lower bound violates it, and otherwise
 /// (the interval straddles the limit, or the sample cannot give the bound) not verified.
@@ -445,7 +445,7 @@ impl Sampling {
     /// order-statistic bounds at `confidence`. `scale` multiplies every value (a quantity
     /// derived monotonically from the sample, e.g. a drift over 15 s).
     pub fn quantile(sorted: &[f64], probability: f64, confidence: f64) -> Sampling {
-        use crate::stats;
+        use geodesic_util::stats;
         let n = sorted.len() as u64;
         let at = |k: Option<u64>| k.map(|k| sorted[(k - 1) as usize]);
         let est_rank = ((probability * n as f64).ceil() as u64).clamp(1, n.max(1));
@@ -474,7 +474,7 @@ impl Sampling {
     /// A probability from `successes` of `n` with its Clopper-Pearson bounds at `confidence`;
     /// `probability` is what the requirement asks it to show.
     pub fn proportion(successes: u64, n: u64, probability: f64, confidence: f64) -> Sampling {
-        use crate::stats;
+        use geodesic_util::stats;
         Sampling {
             statistic: SampleStatistic::Proportion,
             probability,

@@ -22,9 +22,6 @@ pub mod testrun;
 pub mod trace;
 pub mod units;
 
-// low-level helpers now in the bottom layer geodesic-util, re-exported at their old paths
-pub use geodesic_util::{fsio, hash, normal, output, stats, text};
-
 pub use check::{Basis, Check, CheckContext, CheckError, Evidence, Outcome};
 pub use requirement::{ReqId, Requirement, Requirements};
 pub use units::{Dim, Quantity};

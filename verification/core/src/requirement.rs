@@ -310,7 +310,7 @@ pub struct Origin {
 
 impl fmt::Display for Origin {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let file = crate::text::one_line(&self.file.display().to_string());
+        let file = geodesic_util::text::one_line(&self.file.display().to_string());
         write!(f, "{file}:{}:{}", self.line, self.column)
     }
 }
@@ -385,7 +385,7 @@ pub fn parse_probability(text: &str) -> Result<(f64, Option<f64>), String> {
     match sigma {
         None => Ok((p, None)),
         Some(k) => {
-            let exact = 1.0 - crate::normal::erfc(k / std::f64::consts::SQRT_2);
+            let exact = 1.0 - geodesic_util::normal::erfc(k / std::f64::consts::SQRT_2);
             // the percentage as written carries its own digits: 95.45 % is good to 0.005 %
             let decimals = num.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
             let half_ulp = 0.5 * 10f64.powi(-decimals) * if pct { 0.01 } else { 1.0 };
@@ -458,7 +458,7 @@ pub struct Requirement {
 
 /// Why a requirements directory was refused. Display is one line: `file:line:column: cause`.
 #[derive(Debug, Clone, thiserror::Error)]
-#[error("{origin}: {}", crate::text::one_line(.cause))]
+#[error("{origin}: {}", geodesic_util::text::one_line(.cause))]
 pub struct LoadError {
     /// Where.
     pub origin: Origin,
@@ -506,8 +506,8 @@ impl Requirements {
         }
         let mut sources = Vec::new();
         for f in files {
-            let text =
-                crate::fsio::read_text(&f, crate::fsio::MAX_YAML_BYTES).map_err(|e| LoadError {
+            let text = geodesic_util::fsio::read_text(&f, geodesic_util::fsio::MAX_YAML_BYTES)
+                .map_err(|e| LoadError {
                     origin: Origin {
                         file: f.clone(),
                         line: e.line().max(1) as u64,

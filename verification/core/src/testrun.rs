@@ -283,7 +283,7 @@ pub fn tree_state_any(dir: &Path) -> Result<TreeState, String> {
         ));
     }
     let tree_sha256 =
-        crate::hash::sha256_parts(parts.iter().map(|(n, b)| (n.as_str(), b.as_slice())));
+        geodesic_util::hash::sha256_parts(parts.iter().map(|(n, b)| (n.as_str(), b.as_slice())));
     Ok(TreeState {
         commit: "unknown".into(),
         tree_sha256,
@@ -351,7 +351,7 @@ pub fn tree_state(dir: &Path) -> Result<TreeState, String> {
         parts.push((rel, bytes));
     }
     let tree_sha256 =
-        crate::hash::sha256_parts(parts.iter().map(|(n, b)| (n.as_str(), b.as_slice())));
+        geodesic_util::hash::sha256_parts(parts.iter().map(|(n, b)| (n.as_str(), b.as_slice())));
     let dirty = !git(&top, &["status", "--porcelain"])?.is_empty();
     let files = parts.into_iter().map(|(n, _)| n).collect();
     Ok(TreeState {
@@ -399,10 +399,10 @@ impl TestRun {
             // serde quotes the offending input, which may hold a line break: keep one line
             format!(
                 "{}:{}:{}: not a recorded test run: {}",
-                crate::text::one_line(&path.display().to_string()),
+                geodesic_util::text::one_line(&path.display().to_string()),
                 e.line(),
                 e.column(),
-                crate::text::clip(&e.to_string(), 300)
+                geodesic_util::text::clip(&e.to_string(), 300)
             )
         })
     }

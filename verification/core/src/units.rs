@@ -9,7 +9,7 @@
 //! its dimension. The radian is kept as its own base dimension so that `2 mrad` cannot be
 //! compared with `2 mm`.
 
-use crate::text::one_line;
+use geodesic_util::text::one_line;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 

@@ -1,7 +1,7 @@
-//! geodesic_core::stats against reference values computed independently with SciPy
+//! geodesic_util::stats against reference values computed independently with SciPy
 //! (`stats_reference.py` beside this file wrote `stats_reference.json`).
 
-use geodesic_core::stats::{
+use geodesic_util::stats::{
     binomial_cdf, binomial_sf, clopper_pearson_lower, clopper_pearson_upper, quantile_lower_rank,
     quantile_upper_rank,
 };

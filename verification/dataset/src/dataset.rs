@@ -236,7 +236,7 @@ impl Number {
         {
             return Err(format!(
                 "`{}` is of dimension {}, expected {d}",
-                geodesic_core::text::clip(text, 40),
+                geodesic_util::text::clip(text, 40),
                 q.dim
             ));
         }
@@ -290,12 +290,12 @@ fn channel_columns(file: &str, meta: &Meta, scenario: Scenario) -> Result<Vec<Co
                 format!(
                     "channel `{}` is not one of scenario {} ({}){}; the CSV column goes under \
                      the channel: `{}: {{column: \"{}\", unit: ...}}`",
-                    geodesic_core::text::clip(ch, 60),
+                    geodesic_util::text::clip(ch, 60),
                     scenario.name(),
                     known_channels.join(", "),
                     did_you_mean(ch, known_channels.iter().copied()),
                     nearest(ch, known_channels.iter().copied()).unwrap_or(known_channels[0]),
-                    geodesic_core::text::clip(ch, 60)
+                    geodesic_util::text::clip(ch, 60)
                 ),
             ));
         }
@@ -330,7 +330,7 @@ fn channel_columns(file: &str, meta: &Meta, scenario: Scenario) -> Result<Vec<Co
                 line,
                 format!(
                     "channel `{ch}` has unit `{}` of dimension {}, expected {d}: write {}",
-                    geodesic_core::text::clip(u, 40),
+                    geodesic_util::text::clip(u, 40),
                     unit.dim,
                     channel_hint(ch)
                 ),
@@ -393,7 +393,7 @@ fn known_constants(
                 line_of(v),
                 format!(
                     "known constant `{}` is not one scenario {} uses ({}){}",
-                    geodesic_core::text::clip(k, 60),
+                    geodesic_util::text::clip(k, 60),
                     scenario.name(),
                     wanted.join(", "),
                     match nearest(k, wanted.iter().copied()).or_else(|| {
@@ -473,7 +473,7 @@ fn noise_figures(
                 line_of(v),
                 format!(
                     "noise given for undeclared channel `{}` (channels: {}){}",
-                    geodesic_core::text::clip(ch, 60),
+                    geodesic_util::text::clip(ch, 60),
                     declared.join(", "),
                     match nearest(ch, declared.iter().copied()) {
                         Some(n) => format!(": did you mean `{n}`?"),
@@ -529,7 +529,7 @@ fn time_unit(file: &str, meta: &Meta) -> Result<Option<(String, f64)>, FitError>
                     line_of(u),
                     format!(
                         "time_unit `{}` is of dimension {}, not a time: write s, ms or us",
-                        geodesic_core::text::clip(&u.value, 40),
+                        geodesic_util::text::clip(&u.value, 40),
                         unit.dim
                     ),
                 ));
@@ -649,12 +649,12 @@ fn unknown_key_message(msg: &str, what: &str) -> Option<String> {
     Some(match hint {
         Some(n) => format!(
             "unknown key `{}` in {what}: did you mean `{n}`? (valid keys: {})",
-            geodesic_core::text::clip(key, 60),
+            geodesic_util::text::clip(key, 60),
             expected.join(", ")
         ),
         None => format!(
             "unknown key `{}` in {what}: remove it (valid keys: {})",
-            geodesic_core::text::clip(key, 60),
+            geodesic_util::text::clip(key, 60),
             expected.join(", ")
         ),
     })
@@ -664,7 +664,7 @@ fn unknown_key_message(msg: &str, what: &str) -> Option<String> {
 /// unknown key names the nearest valid one.
 pub fn read_yaml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, FitError> {
     let file = path.display().to_string();
-    let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_YAML_BYTES)
+    let text = geodesic_util::fsio::read_text(path, geodesic_util::fsio::MAX_YAML_BYTES)
         .map_err(|e| FitError::input(&file, e.line(), format!("{}: check the path", e.cause())))?;
     let text = plain_text(text);
     if text
@@ -793,7 +793,7 @@ impl Dataset {
                 line_of(&meta.scenario),
                 format!(
                     "unknown scenario `{}`{}: write {}",
-                    geodesic_core::text::clip(&meta.scenario.value, 60),
+                    geodesic_util::text::clip(&meta.scenario.value, 60),
                     did_you_mean(&meta.scenario.value, geodesic_facility::scenario::names()),
                     geodesic_facility::scenario::names()
                         .iter()
@@ -860,7 +860,7 @@ impl Dataset {
                  fill the cells in, or pass --strict to refuse such a record",
                 first.line,
                 if n == 1 { "" } else { "s" },
-                geodesic_core::text::clip(&first.column, 60)
+                geodesic_util::text::clip(&first.column, 60)
             ));
         }
         let name = path
@@ -1135,7 +1135,7 @@ fn detect_delimiter(
 
 /// The CSV's text, a read error naming the file (or the YAML's `data:` line that names it).
 fn read_csv_text(path: &Path, spec: &TableSpec, file: &str) -> Result<String, FitError> {
-    geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_CSV_BYTES).map_err(|e| {
+    geodesic_util::fsio::read_text(path, geodesic_util::fsio::MAX_CSV_BYTES).map_err(|e| {
         if spec.yaml.is_empty() {
             FitError::input(file, e.line(), format!("data file: {}", e.cause()))
         } else {
@@ -1144,7 +1144,7 @@ fn read_csv_text(path: &Path, spec: &TableSpec, file: &str) -> Result<String, Fi
                 spec.data_line,
                 format!(
                     "data file {}: {}: `data:` is a path relative to the YAML file",
-                    geodesic_core::text::clip(file, 120),
+                    geodesic_util::text::clip(file, 120),
                     e.cause()
                 ),
             )
@@ -1247,7 +1247,7 @@ impl Header<'_> {
                     format!(
                         "the header is one column ({}): its names are separated by {seen}, \
                          not `{}`: write `delimiter: {yaml}` in the dataset YAML{}",
-                        geodesic_core::text::clip(names[0], 80),
+                        geodesic_util::text::clip(names[0], 80),
                         if used == '\t' {
                             "\\t".to_string()
                         } else {
@@ -1293,8 +1293,8 @@ impl Header<'_> {
                 self.line,
                 format!(
                     "no column `{}` in the header ({}): {fix}",
-                    geodesic_core::text::clip(&c.header, 80),
-                    geodesic_core::text::clip(&names.join(","), 200)
+                    geodesic_util::text::clip(&c.header, 80),
+                    geodesic_util::text::clip(&names.join(","), 200)
                 ),
             )
         })

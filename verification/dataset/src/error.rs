@@ -1,6 +1,6 @@
 //! Errors of dataset loading, fitting and report writing, each naming file and line.
 
-use geodesic_core::text::one_line;
+use geodesic_util::text::one_line;
 
 /// A failure of the fit crate, with the data a user needs to fix the input.
 #[derive(Debug, thiserror::Error)]
@@ -47,10 +47,10 @@ impl FitError {
 }
 
 /// Writes `bytes` to `path` whole or not at all, creating the folder if needed
-/// ([`geodesic_core::output::write_whole`]: a temporary file beside it, then a rename; the
+/// ([`geodesic_util::output::write_whole`]: a temporary file beside it, then a rename; the
 /// temporary file is removed on failure or interruption).
 pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> Result<(), FitError> {
-    geodesic_core::output::write_whole(path, bytes)
+    geodesic_util::output::write_whole(path, bytes)
         .map(|_| ())
         .map_err(|e| FitError::Write {
             path: path.display().to_string(),

@@ -72,7 +72,7 @@ impl StatusSet {
             err(format!(
                 "line {}: not a JSON compliance matrix: {}",
                 e.line(),
-                geodesic_core::text::clip(&e.to_string(), 300)
+                geodesic_util::text::clip(&e.to_string(), 300)
             ))
         })?;
         let rows = v

@@ -159,7 +159,7 @@ fn read_rows(path: &Path) -> Result<Vec<Entry>, FitError> {
     if !path.exists() {
         return Ok(Vec::new());
     }
-    let text = geodesic_core::fsio::read_text(path, geodesic_core::fsio::MAX_CSV_BYTES)
+    let text = geodesic_util::fsio::read_text(path, geodesic_util::fsio::MAX_CSV_BYTES)
         .map_err(|e| FitError::input(path.display().to_string(), e.line(), e.cause()))?;
     text.lines()
         .enumerate()

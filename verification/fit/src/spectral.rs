@@ -118,7 +118,7 @@ impl Series {
                         line(o),
                         format!(
                             "origin `{}`: write measurement, simulation or synthetic",
-                            geodesic_core::text::clip(other, 40)
+                            geodesic_util::text::clip(other, 40)
                         ),
                     ));
                 }

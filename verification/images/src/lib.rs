@@ -20,7 +20,7 @@ pub mod render;
 pub mod surfaces;
 pub mod tiptrack;
 
-use geodesic_core::text::one_line;
+use geodesic_util::text::one_line;
 use std::path::Path;
 
 /// Bad input or an analysis that cannot run: `file[:line]: cause`, one line.

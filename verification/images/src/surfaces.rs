@@ -217,7 +217,7 @@ fn read_grid(csv: &Path) -> Result<(usize, usize, Vec<f64>), ImageError> {
                         format!(
                             "column {}: `{}` is not a height in m",
                             j + 1,
-                            geodesic_core::text::clip(s, 40)
+                            geodesic_util::text::clip(s, 40)
                         ),
                     )
                 })?;

@@ -206,7 +206,7 @@ pub fn sampling_tolerance(
     new_limit: f64,
 ) -> f64 {
     let sd = |s: &geodesic_core::check::Sampling, limit: f64| {
-        let z = geodesic_core::normal::normal_quantile(s.confidence);
+        let z = geodesic_util::normal::normal_quantile(s.confidence);
         let w = [s.lower, s.upper]
             .iter()
             .flatten()
@@ -253,10 +253,10 @@ fn parse_old(text: &str, label: &str) -> Result<OldReport, BaselineError> {
     serde_json::from_str(text).map_err(|e| {
         BaselineError(format!(
             "{}:{}:{}: not a geodesic compliance.json: {}",
-            geodesic_core::text::one_line(label),
+            geodesic_util::text::one_line(label),
             e.line(),
             e.column(),
-            geodesic_core::text::clip(&e.to_string(), 300)
+            geodesic_util::text::clip(&e.to_string(), 300)
         ))
     })
 }
@@ -417,7 +417,7 @@ fn compare(r: &Row, o: &OldRow, tolerance: f64, tests_compared: bool) -> Change 
 /// The requirement itself: any edit of what it asks (limit, probability, method, quantity,
 /// text) is reviewed, whichever direction (`None` when nothing was edited).
 fn requirement_edits(r: &Row, o: &OldRow) -> Option<String> {
-    let q = |s: &str| format!("`{}`", geodesic_core::text::clip(s, 120));
+    let q = |s: &str| format!("`{}`", geodesic_util::text::clip(s, 120));
     let edits: Vec<String> = [
         (
             "limit",

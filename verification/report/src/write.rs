@@ -24,8 +24,8 @@
 
 use std::path::{Path, PathBuf};
 
-pub use geodesic_core::output::WriteError;
-use geodesic_core::output::{critical, register, unregister};
+pub use geodesic_util::output::WriteError;
+use geodesic_util::output::{critical, register, unregister};
 
 /// Hidden folder holding the sets inside a reports directory.
 pub const SETS_ROOT: &str = ".geodesic";

@@ -185,7 +185,7 @@ pub fn record(r: &Recording) -> Result<u8, String> {
     };
     let path = out_dir.join("test-run.json");
     let json = serde_json::to_string_pretty(&run).map_err(|e| e.to_string())?;
-    geodesic_core::output::write_atomic(&path, (json + "\n").as_bytes())
+    geodesic_util::output::write_atomic(&path, (json + "\n").as_bytes())
         .map_err(|e| e.to_string())?;
     let _ = std::fs::remove_dir_all(&trace_dir);
 

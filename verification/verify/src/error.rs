@@ -38,8 +38,8 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
-impl From<geodesic_core::output::WriteError> for Error {
-    fn from(e: geodesic_core::output::WriteError) -> Self {
+impl From<geodesic_util::output::WriteError> for Error {
+    fn from(e: geodesic_util::output::WriteError) -> Self {
         Error::Io(e.to_string())
     }
 }

@@ -204,7 +204,7 @@ fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
     let (reqs, _, _) = pipeline::load_requirements(mission, m.get_one::<PathBuf>("requirements"))?;
     let status = match m.get_one::<PathBuf>("matrix") {
         Some(p) => {
-            let text = geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_YAML_BYTES)
+            let text = geodesic_util::fsio::read_text(p, geodesic_util::fsio::MAX_YAML_BYTES)
                 .map_err(|e| Error::bad(format!("{}: {e}", p.display())))?;
             let s = geodesic_exchange::status::StatusSet::parse(p, &text)
                 .map_err(|e| Error::bad(e.to_string()))?;
@@ -224,7 +224,7 @@ fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
             status: status.as_ref(),
         },
     );
-    geodesic_core::output::write_atomic(&out, doc.as_bytes())
+    geodesic_util::output::write_atomic(&out, doc.as_bytes())
         .map_err(|e| Error::Io(format!("--out {e}")))?;
     println!(
         "wrote {} ({} requirements)",

@@ -151,7 +151,7 @@ pub fn load_requirements(
                     std::fs::read(f).map_err(|e| Error::bad(format!("{}: {e}", f.display())))?;
                 parts.push((name, bytes));
             }
-            let hash = geodesic_core::hash::sha256_parts(
+            let hash = geodesic_util::hash::sha256_parts(
                 parts.iter().map(|(n, b)| (n.as_str(), b.as_slice())),
             );
             Ok((reqs, d.display().to_string(), hash))
@@ -171,7 +171,7 @@ pub fn load_requirements(
                 .map(|(n, t)| (PathBuf::from(format!("<built-in>/{n}")), t.to_string()))
                 .collect();
             let hash =
-                geodesic_core::hash::sha256_parts(builtin.iter().map(|(n, t)| (*n, t.as_bytes())));
+                geodesic_util::hash::sha256_parts(builtin.iter().map(|(n, t)| (*n, t.as_bytes())));
             Ok((
                 Requirements::from_sources(&src).map_err(|e| Error::bad(e.to_string()))?,
                 "built-in".into(),
@@ -190,7 +190,7 @@ pub fn resolve_file(
     flag: &str,
 ) -> Result<Option<InputFile>, Error> {
     let read = |p: &Path, origin: InputOrigin| -> Result<InputFile, Error> {
-        let text = geodesic_core::fsio::read_text(p, geodesic_core::fsio::MAX_YAML_BYTES).map_err(
+        let text = geodesic_util::fsio::read_text(p, geodesic_util::fsio::MAX_YAML_BYTES).map_err(
             |e| {
                 let at = match e.line() {
                     0 => String::new(),
@@ -777,7 +777,7 @@ fn finish(
     // set is switched, and nothing is left behind
     let junit_pending = match &opts.junit {
         Some(j) => Some(
-            geodesic_core::output::PendingFile::prepare(j, junit.as_bytes())
+            geodesic_util::output::PendingFile::prepare(j, junit.as_bytes())
                 .map_err(|e| Error::Io(format!("--junit {e}")))?,
         ),
         None => None,

@@ -72,7 +72,7 @@ pub fn out_dir(flag: &str, dir: &Path) -> Result<(), CliError> {
 
 /// `flag FILE` names one output file: not a folder, in a writable folder that exists.
 pub fn out_file(flag: &str, file: &Path) -> Result<(), CliError> {
-    geodesic_core::output::check_target(file).map_err(|e| CliError::bad(format!("{flag} {e}")))?;
+    geodesic_util::output::check_target(file).map_err(|e| CliError::bad(format!("{flag} {e}")))?;
     let dir = file
         .parent()
         .filter(|d| !d.as_os_str().is_empty())

@@ -164,7 +164,7 @@ impl LastRun {
         if !file.is_file() {
             return Ok(None);
         }
-        let text = geodesic_core::fsio::read_text(&file, 1 << 30)
+        let text = geodesic_util::fsio::read_text(&file, 1 << 30)
             .map_err(|e| CliError::bad(format!("{}: {}", file.display(), e.cause())))?;
         let doc: Value = serde_json::from_str(&text).map_err(|e| {
             CliError::bad(format!(

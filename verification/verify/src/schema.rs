@@ -69,7 +69,7 @@ pub fn write_all(entries: &[Entry], dir: &Path) -> Result<Vec<std::path::PathBuf
     let mut written = Vec::new();
     for e in entries {
         let path = dir.join(format!("{}.schema.json", e.command));
-        geodesic_core::output::write_whole(&path, e.text().as_bytes())
+        geodesic_util::output::write_whole(&path, e.text().as_bytes())
             .map_err(|err| format!("{}: {err}", path.display()))?;
         written.push(path);
     }

@@ -119,7 +119,7 @@ pub fn line(e: &clap::Error, program: &str, path: &str) -> String {
     };
     format!(
         "{program}: usage: {} (see {path} --help)",
-        geodesic_core::text::one_line(&cause)
+        geodesic_util::text::one_line(&cause)
     )
 }
 

@@ -55,7 +55,7 @@ pub fn run(args: Args) -> CmdResult {
         )));
     };
     if let Some(p) = &args.plot {
-        geodesic_core::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
+        geodesic_util::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
     }
     let series = Series::load(&args.series).map_err(|e| CliError::bad(e.to_string()))?;
     if series.dim != lim.dim {

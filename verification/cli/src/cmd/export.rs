@@ -95,7 +95,7 @@ fn matrix_status(
     let Some(m) = m else {
         return Ok(None);
     };
-    let text = geodesic_core::fsio::read_text(m, geodesic_core::fsio::MAX_YAML_BYTES)
+    let text = geodesic_util::fsio::read_text(m, geodesic_util::fsio::MAX_YAML_BYTES)
         .map_err(|e| CliError::bad(format!("{}: {e}", m.display())))?;
     let s = StatusSet::parse(m, &text).map_err(|e| CliError::bad(e.to_string()))?;
     s.check_against(m, reqs)

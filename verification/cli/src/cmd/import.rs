@@ -76,7 +76,7 @@ const MAX_PRINTED_WARNINGS: usize = 100;
 fn reqif(a: ReqifArgs) -> CmdResult {
     crate::preflight::out_dir("--out", &a.out)?;
     let opts = options(&a)?;
-    let bytes = geodesic_core::fsio::read_bytes(&a.file, MAX_REQIF_BYTES).map_err(|e| {
+    let bytes = geodesic_util::fsio::read_bytes(&a.file, MAX_REQIF_BYTES).map_err(|e| {
         CliError::bad(format!(
             "{}:{}: {}",
             a.file.display(),

@@ -262,14 +262,14 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
             .map(|n| format!("  - {n}\n"))
             .collect::<String>()
     );
-    geodesic_core::output::write_atomic(&dir.join("campaign.yaml"), list.as_bytes())?;
+    geodesic_util::output::write_atomic(&dir.join("campaign.yaml"), list.as_bytes())?;
     let doc = CampaignTruth {
         population: pop,
         releases: truth,
         seed: args.seed,
     };
     let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
-    geodesic_core::output::write_atomic(&dir.join("truth.json"), text.as_bytes())?;
+    geodesic_util::output::write_atomic(&dir.join("truth.json"), text.as_bytes())?;
     if args.json {
         println!(
             "{}",

@@ -41,7 +41,7 @@ pub fn import_file(
         cause,
     };
     if !is_archive(bytes) {
-        let text = geodesic_core::fsio::utf8(bytes.to_vec()).map_err(|e| ImportError {
+        let text = geodesic_util::fsio::utf8(bytes.to_vec()).map_err(|e| ImportError {
             file: fname.clone(),
             line: e.line().max(1) as u32,
             cause: e.cause(),
@@ -91,7 +91,7 @@ pub fn import_file(
             MAX_DOCUMENT_BYTES >> 20
         )));
     }
-    let text = geodesic_core::fsio::utf8(data).map_err(|e| ImportError {
+    let text = geodesic_util::fsio::utf8(data).map_err(|e| ImportError {
         file: inner.clone(),
         line: e.line().max(1) as u32,
         cause: e.cause(),

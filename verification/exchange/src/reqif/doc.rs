@@ -44,7 +44,7 @@ impl ExportDoc {
             relations: reqs.items.iter().filter(|r| r.parent.is_some()).count(),
             requirements: reqs.items.len(),
             requirements_source: requirements_source.to_string(),
-            sha256: geodesic_core::hash::sha256_hex(reqif.as_bytes()),
+            sha256: geodesic_util::hash::sha256_hex(reqif.as_bytes()),
             with_status: opts.status.is_some(),
         }
     }

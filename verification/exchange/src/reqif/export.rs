@@ -775,7 +775,7 @@ fn write_specification(b: &mut Writer, chapters: &[Chapter]) {
 /// The document's start up to `REQ-IF-CONTENT`: the header, identified by the SHA-256 of
 /// `body` (the content).
 fn header(reqs: &Requirements, chapters: &[Chapter], opts: &ExportOptions, body: &str) -> String {
-    let content_hash = geodesic_core::hash::sha256_hex(body.as_bytes());
+    let content_hash = geodesic_util::hash::sha256_hex(body.as_bytes());
     let mut w = Writer::new();
     w.open(
         "REQ-IF",

@@ -261,7 +261,7 @@ pub fn method_of(s: &str) -> Result<&'static str, String> {
         _ => {
             return Err(format!(
                 "verification method `{}` is none of test, analysis, review-of-design, inspection (ECSS-E-ST-10-02C)",
-                geodesic_core::text::clip(first, 80)
+                geodesic_util::text::clip(first, 80)
             ));
         }
     })
@@ -330,7 +330,7 @@ fn parse_limit_exact(t: &str) -> Result<(Quantity, String), String> {
             // quantity whose spectrum is bounded
             let stripped = geodesic_core::spectrum::strip_asd_unit(rest.trim());
             let rest = stripped.as_deref().unwrap_or(rest);
-            let clipped = geodesic_core::text::clip(t, 80);
+            let clipped = geodesic_util::text::clip(t, 80);
             let (q, _) =
                 parse_quantity(rest.trim()).map_err(|e| format!("limit `{clipped}`: {e}"))?;
             let dim = q.dim.name().ok_or_else(|| {
@@ -341,7 +341,7 @@ fn parse_limit_exact(t: &str) -> Result<(Quantity, String), String> {
     }
     Err(format!(
         "limit `{}` must start with <=, <, >= or > (e.g. `<= 5 um/s`)",
-        geodesic_core::text::clip(t, 80)
+        geodesic_util::text::clip(t, 80)
     ))
 }
 

@@ -33,8 +33,8 @@ pub use super::read::Warning;
 use super::read::{AttrValue, Kind, Model, Object, child, elements, ref_in};
 use super::yaml;
 use geodesic_core::Requirements;
-use geodesic_core::text::clip;
 use geodesic_core::units::Quantity;
+use geodesic_util::text::clip;
 use roxmltree::{Document, Node, ParsingOptions};
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -45,7 +45,7 @@ pub const MAX_NODES: u32 = 20_000_000;
 
 /// Why a ReqIF file was refused. Display is one line: `file:line: cause`.
 #[derive(Debug, Clone, thiserror::Error)]
-#[error("{file}:{line}: {}", geodesic_core::text::one_line(.cause))]
+#[error("{file}:{line}: {}", geodesic_util::text::one_line(.cause))]
 pub struct ImportError {
     /// The ReqIF file.
     pub file: String,

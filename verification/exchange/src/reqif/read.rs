@@ -3,7 +3,7 @@
 
 use super::fields::norm;
 use super::xhtml::{xhtml_objects, xhtml_to_text};
-use geodesic_core::text::clip;
+use geodesic_util::text::clip;
 use roxmltree::{Document, Node};
 use std::collections::HashMap;
 
@@ -55,7 +55,7 @@ impl Problems {
     pub fn warn(&mut self, line: u32, cause: impl Into<String>) {
         self.list.push(Warning {
             line,
-            cause: geodesic_core::text::one_line(&cause.into()),
+            cause: geodesic_util::text::one_line(&cause.into()),
         });
     }
 
