@@ -167,7 +167,8 @@ pub fn run(args: Args) -> CmdResult {
 /// The fit options of `--fix` and `--bound`, each value SI or with the unit of its parameter in
 /// the effect catalogue (as the framework's fit commands read them).
 fn options(fix: &[String], bound: &[String]) -> Result<geodesic_fit::FitOptions, CliError> {
-    use geodesic_verify::quantity::{pair, value_of};
+    use geodesic_fit::session::param_dim;
+    use geodesic_verify::quantity::pair;
     let mut fixed = BTreeMap::new();
     for f in fix {
         let (k, v) = pair(f, "fix", param_dim)?;
@@ -175,24 +176,8 @@ fn options(fix: &[String], bound: &[String]) -> Result<geodesic_fit::FitOptions,
     }
     let mut bounds = BTreeMap::new();
     for b in bound {
-        let (k, r) = b
-            .split_once('=')
-            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected NAME=LO:HI")))?;
-        let k = k.trim();
-        let (lo, hi) = r
-            .split_once(':')
-            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected LO:HI")))?;
-        let dim = param_dim(k);
-        let lo = value_of(lo.trim(), dim)
-            .map_err(|e| CliError::bad(format!("--bound {k}: lower bound {e}")))?;
-        let hi = value_of(hi.trim(), dim)
-            .map_err(|e| CliError::bad(format!("--bound {k}: upper bound {e}")))?;
-        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
-            return Err(CliError::bad(format!(
-                "--bound `{b}`: lower bound not below upper bound"
-            )));
-        }
-        bounds.insert(k.to_string(), (lo, hi));
+        let (k, r) = geodesic_verify::quantity::bound(b, param_dim)?;
+        bounds.insert(k, r);
     }
     Ok(geodesic_fit::FitOptions {
         fixed,
@@ -202,15 +187,4 @@ fn options(fix: &[String], bound: &[String]) -> Result<geodesic_fit::FitOptions,
         sigma: None,
         observer: Default::default(),
     })
-}
-
-/// The dimension of an effect parameter (`tip_adhesion.A1`) from the catalogue's unit, if the
-/// parameter is known and its unit parses.
-fn param_dim(name: &str) -> Option<geodesic_core::units::Dim> {
-    let (effect, param) = name.split_once('.')?;
-    let e = geodesic_facility::effects::catalogue()
-        .iter()
-        .find(|e| e.name() == effect)?;
-    let p = e.params().iter().find(|p| p.name == param)?;
-    geodesic_core::units::parse_unit(p.unit).ok().map(|u| u.dim)
 }

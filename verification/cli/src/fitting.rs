@@ -114,7 +114,7 @@ pub fn fits_under(reports: &Path, out: Option<&PathBuf>) -> Result<PathBuf, CliE
 
 /// Parses `--fix` and `--bound` into fit options.
 pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError> {
-    use crate::quantity::{pair, param_dim, value_of};
+    use crate::quantity::{pair, param_dim};
     let mut fixed = BTreeMap::new();
     for f in fix {
         let (k, v) = pair(f, "fix", param_dim)?;
@@ -122,24 +122,8 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
     }
     let mut bounds = BTreeMap::new();
     for b in bound {
-        let (k, r) = b
-            .split_once('=')
-            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected NAME=LO:HI")))?;
-        let k = k.trim();
-        let (lo, hi) = r
-            .split_once(':')
-            .ok_or_else(|| CliError::bad(format!("--bound `{b}`: expected LO:HI")))?;
-        let dim = param_dim(k);
-        let lo = value_of(lo.trim(), dim)
-            .map_err(|e| CliError::bad(format!("--bound {k}: lower bound {e}")))?;
-        let hi = value_of(hi.trim(), dim)
-            .map_err(|e| CliError::bad(format!("--bound {k}: upper bound {e}")))?;
-        if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
-            return Err(CliError::bad(format!(
-                "--bound `{b}`: lower bound not below upper bound"
-            )));
-        }
-        bounds.insert(k.to_string(), (lo, hi));
+        let (k, r) = crate::quantity::bound(b, param_dim)?;
+        bounds.insert(k, r);
     }
     Ok(FitOptions {
         fixed,

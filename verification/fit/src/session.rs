@@ -285,6 +285,18 @@ fn record_to(
     Ok(())
 }
 
+/// The dimension of an effect parameter (`tip_adhesion.A1`) from the catalogue's unit, if the
+/// parameter is known and its unit parses: what a front end needs to read `--fix` and `--bound`
+/// values with units.
+pub fn param_dim(name: &str) -> Option<geodesic_core::units::Dim> {
+    let (effect, param) = name.split_once('.')?;
+    let e = geodesic_facility::effects::catalogue()
+        .iter()
+        .find(|e| e.name() == effect)?;
+    let p = e.params().iter().find(|p| p.name == param)?;
+    geodesic_core::units::parse_unit(p.unit).ok().map(|u| u.dim)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

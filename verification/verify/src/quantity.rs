@@ -106,6 +106,32 @@ pub fn pair(
     Ok((k.to_string(), value))
 }
 
+/// Parses `NAME=LO:HI` (`--bound`), each end with a unit of the dimension `dim_of(NAME)` (a
+/// bare number when it is unknown); the lower end must be below the upper.
+pub fn bound(
+    text: &str,
+    dim_of: impl Fn(&str) -> Option<Dim>,
+) -> Result<(String, (f64, f64)), CliError> {
+    let (k, r) = text
+        .split_once('=')
+        .ok_or_else(|| CliError::bad(format!("--bound `{text}`: expected NAME=LO:HI")))?;
+    let k = k.trim();
+    let (lo, hi) = r
+        .split_once(':')
+        .ok_or_else(|| CliError::bad(format!("--bound `{text}`: expected LO:HI")))?;
+    let dim = dim_of(k);
+    let lo = value_of(lo.trim(), dim)
+        .map_err(|e| CliError::bad(format!("--bound {k}: lower bound {e}")))?;
+    let hi = value_of(hi.trim(), dim)
+        .map_err(|e| CliError::bad(format!("--bound {k}: upper bound {e}")))?;
+    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+        return Err(CliError::bad(format!(
+            "--bound `{text}`: lower bound not below upper bound"
+        )));
+    }
+    Ok((k.to_string(), (lo, hi)))
+}
+
 /// A value for a quantity of dimension `dim` (or a bare number when `dim` is unknown).
 pub fn value_of(text: &str, dim: Option<Dim>) -> Result<f64, String> {
     match dim {
@@ -146,6 +172,33 @@ mod tests {
         assert_eq!(v, 1e5);
         assert!(pair("nosuch.p=nan", "fix", dim).is_err());
         assert!(pair("novalue", "fix", dim).is_err());
+        let (k, (lo, hi)) = bound("a.len=1 nm:2 um", dim).unwrap();
+        assert_eq!(k, "a.len");
+        assert!((lo - 1e-9).abs() < 1e-21 && (hi - 2e-6).abs() < 1e-18);
+        assert!(
+            bound("a.len=2:1", dim)
+                .unwrap_err()
+                .to_string()
+                .contains("not below")
+        );
+        assert!(
+            bound("a.len=1 V:2", dim)
+                .unwrap_err()
+                .to_string()
+                .contains("lower bound")
+        );
+        assert!(
+            bound("a.len", dim)
+                .unwrap_err()
+                .to_string()
+                .contains("NAME=LO:HI")
+        );
+        assert!(
+            bound("a.len=1", dim)
+                .unwrap_err()
+                .to_string()
+                .contains("LO:HI")
+        );
         let fs = positive(frequency(), "a sampling frequency");
         assert_eq!(fs("1kHz").unwrap(), 1e3);
         assert!(
