@@ -7,26 +7,6 @@ use crate::housing::thickness_for;
 use geodesic_core::check::ReferenceRow;
 use geodesic_core::{CheckContext, CheckError};
 
-fn pct(value: f64, reference: f64) -> String {
-    format!("{:+.0} %", 100.0 * (value - reference) / reference)
-}
-
-fn row(
-    figure: &str,
-    value: String,
-    reference: String,
-    difference: String,
-    note: &str,
-) -> ReferenceRow {
-    ReferenceRow {
-        figure: figure.into(),
-        value,
-        reference,
-        difference,
-        note: note.into(),
-    }
-}
-
 /// The housing's figures against the thesis (ch. 8), from the run's design file (issue 16,
 /// item 4).
 pub fn table(ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
@@ -36,11 +16,11 @@ pub fn table(ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
     for (material, thesis) in [("Al6061-T6", 11.0), ("Al7075-T6", 16.5)] {
         if let Some(sf) = d.yield_safety_factor(material) {
             let y = d.materials[material].yield_mpa;
-            rows.push(row(
+            rows.push(ReferenceRow::new(
                 &format!("yield safety factor of {material} at the caging load"),
                 format!("{sf:.2} (yield {y:.0} MPa / {:.1} MPa)", d.von_mises_pa() * 1e-6),
                 format!("{thesis} (thesis ch. 8)"),
-                pct(sf, thesis),
+                ReferenceRow::percent(sf, thesis),
                 &format!(
                     "{note}; the thesis's factor implies a strength of {:.1} MPa: other material data than the design file's (e.g. 6061-T6 ultimate 310 MPa, 7075-T73 yield 435-455 MPa)",
                     thesis * d.fe_von_mises_mpa
@@ -54,11 +34,11 @@ pub fn table(ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
         .iter()
         .copied()
         .fold(f64::INFINITY, f64::min);
-    rows.push(row(
+    rows.push(ReferenceRow::new(
         "first mode of the housing mounted in the spacecraft",
         format!("{first:.0} Hz (accepted: the FE table of the design file)"),
         "227 Hz (thesis ch. 8, FE)".into(),
-        pct(first, 227.0),
+        ReferenceRow::percent(first, 227.0),
         "no geodesic model: cited FE result",
     ));
     let a = d.equivalent_radius_m();
@@ -78,7 +58,7 @@ pub fn table(ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
             None => format!("{m}: not reachable"),
         });
     }
-    rows.push(row(
+    rows.push(ReferenceRow::new(
         &format!("shield thickness for a shielding factor {target}"),
         needs.join("; "),
         "2714A: thinner than 0.1 mm; 10x better than mu-metal (thesis ch. 8, FE)".into(),

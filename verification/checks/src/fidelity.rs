@@ -8,47 +8,27 @@ use geodesic_core::{CheckContext, CheckError};
 use geodesic_release::figures::mechanism_figures;
 use geodesic_release::montecarlo::{self, Case};
 
-fn pct(value: f64, reference: f64) -> String {
-    format!("{:+.0} %", 100.0 * (value - reference) / reference)
-}
-
-fn row(
-    figure: &str,
-    value: String,
-    reference: String,
-    difference: String,
-    note: &str,
-) -> ReferenceRow {
-    ReferenceRow {
-        figure: figure.into(),
-        value,
-        reference,
-        difference,
-        note: note.into(),
-    }
-}
-
 /// Computes the table: static extension, `v_RT`, energy-fit `v_RT` and the 99.73 % velocity of
 /// the three Monte Carlo cases (case `all` is the shared run of the checks).
 pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
     let f = mechanism_figures(10).map_err(|e| CheckError(format!("mechanism figures: {e}")))?;
     let r = f.retraction;
     let mut rows = vec![
-        row(
+        ReferenceRow::new(
             "static tip extension at 120 V, free (T E / k)",
             format!("{:.2} um", r.static_extension_um),
             "about 15 um (thesis ch. 7); 14.0 um (physics.md check)".into(),
-            pct(r.static_extension_um, 15.0),
+            ReferenceRow::percent(r.static_extension_um, 15.0),
             "nominal parameters of the thesis table",
         ),
-        row(
+        ReferenceRow::new(
             "unloaded v_RT: mean retraction speed over the first 7 um",
             format!("{:.1} mm/s", r.v_rt_mean_7um_mm_s),
             "33.9 mm/s measured, sd 4.7 (thesis ch. 6)".into(),
-            pct(r.v_rt_mean_7um_mm_s, 33.9),
+            ReferenceRow::percent(r.v_rt_mean_7um_mm_s, 33.9),
             "our kinematic definition (the thesis: about 7 um in 200 us); peak speed and initial slope d0/tau are not usable v_RT (ringing at 73 kHz)",
         ),
-        row(
+        ReferenceRow::new(
             "energy-fit v_RT of v_TM = dU / (M v_RT), A1 x lambda grid 10 x 10, adhesion on one side",
             format!(
                 "{:.2} mm/s (residuals <= {:.2} % of max)",
@@ -56,7 +36,7 @@ pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceR
                 100.0 * f.energy.max_residual_rel
             ),
             "34.3 mm/s, residuals < 2.5 % (thesis ch. 6)".into(),
-            pct(f.energy.v_rt_mm_s, 34.3),
+            ReferenceRow::percent(f.energy.v_rt_mm_s, 34.3),
             "A1 in (0, 1.5e5] N/m, lambda in (0, 8e-7] m, everything else nominal",
         ),
     ];
@@ -93,11 +73,11 @@ pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceR
                 .summary()
                 .p9973_um_s
         };
-        rows.push(row(
+        rows.push(ReferenceRow::new(
             &format!("99.73 % of |X'|, case {}", case.as_str()),
             format!("{p:.3} um/s"),
             format!("{thesis:.2} um/s (thesis ch. 6, 100 000 releases)"),
-            pct(p, thesis),
+            ReferenceRow::percent(p, thesis),
             &format!("{note}{extra}"),
         ));
     }
@@ -122,23 +102,23 @@ fn contact_rows(budget: &geodesic_release::budget::Budget) -> Vec<ReferenceRow> 
         inputs.e_star_pa * 1e-9
     );
     vec![
-        row(
+        ReferenceRow::new(
             "JKR pull-off 1.5 pi gamma R",
             format!("{:.4} N", f.jkr_pull_off_n),
             "0.135 N (thesis ch. 4, read from its JKR figure)".into(),
-            pct(f.jkr_pull_off_n, 0.135),
+            ReferenceRow::percent(f.jkr_pull_off_n, 0.135),
             &format!(
                 "{basis}; the formula gives 0.132 N at the thesis's inputs, the thesis quotes the figure's peak"
             ),
         ),
-        row(
+        ReferenceRow::new(
             "DMT pull-off 2 pi gamma R",
             format!("{:.4} N", f.dmt_pull_off_n),
             "formula only (thesis ch. 4)".into(),
             "-".into(),
             &format!("{basis}; 4/3 of the JKR value by construction"),
         ),
-        row(
+        ReferenceRow::new(
             "Tabor parameter (R gamma^2 / (E*^2 z0^3))^(1/3)",
             format!(
                 "{:.0} (the thesis's expression without the cube root: {:.2e})",
@@ -151,7 +131,7 @@ fn contact_rows(budget: &geodesic_release::budget::Budget) -> Vec<ReferenceRow> 
                 inputs.z0_m * 1e9
             ),
         ),
-        row(
+        ReferenceRow::new(
             "Hertz contact radius and indentation at the flight preload",
             format!(
                 "a = {:.1} um, d = {:.0} nm, mean pressure {:.0} MPa",
@@ -163,7 +143,7 @@ fn contact_rows(budget: &geodesic_release::budget::Budget) -> Vec<ReferenceRow> 
             "-".into(),
             &format!("{basis}, preload {:.3} N (budget mean)", inputs.preload_n),
         ),
-        row(
+        ReferenceRow::new(
             "JKR pull-off after a plastic indentation (tip in a recess of radius -11 mm)",
             format!(
                 "{:.2} N (R_eff = {:.0} mm)",
@@ -171,20 +151,20 @@ fn contact_rows(budget: &geodesic_release::budget::Budget) -> Vec<ReferenceRow> 
                 f.plastic_effective_radius_m * 1e3
             ),
             "as high as 1.5 N (thesis ch. 4)".into(),
-            pct(f.plastic_jkr_pull_off_n, 1.5),
+            ReferenceRow::percent(f.plastic_jkr_pull_off_n, 1.5),
             &format!("{basis}; R_eff = R R_p / (R + R_p)"),
         ),
-        row(
+        ReferenceRow::new(
             "gold rupture strength over the Hertz contact area",
             format!("{:.2} N", f.gold_rupture_pull_off_n),
             "about 0.4 N (thesis ch. 4)".into(),
-            pct(f.gold_rupture_pull_off_n, 0.4),
+            ReferenceRow::percent(f.gold_rupture_pull_off_n, 0.4),
             &format!(
                 "UTS of gold {:.0} MPa (ASSUMPTION: annealed, handbook), contact area at the preload",
                 inputs.gold_uts_pa * 1e-6
             ),
         ),
-        row(
+        ReferenceRow::new(
             "adhesion bond energy at the experimental bounds (A1 = 1.5e5 N/m, lambda = 0.8 um)",
             format!(
                 "{:.4e} J by Simpson quadrature of A1 e exp(-e/lambda)",
@@ -194,7 +174,7 @@ fn contact_rows(budget: &geodesic_release::budget::Budget) -> Vec<ReferenceRow> 
                 "dU = A1 lambda^2 = {:.4e} J (thesis ch. 6)",
                 f.adhesion_energy_closed_form_j
             ),
-            pct(
+            ReferenceRow::percent(
                 f.adhesion_energy_integrated_j,
                 f.adhesion_energy_closed_form_j,
             ),
@@ -228,7 +208,7 @@ fn plunger_rows(ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
     let r2s = get("revised", v2s);
     let b2 = get("baseline", 2.0);
     Ok(vec![
-        row(
+        ReferenceRow::new(
             "plunger attraction, baseline retraction, 1 V: extra TM velocity over 25 s",
             format!(
                 "{:.3} um/s ({:.1} % of v0)",
@@ -241,7 +221,7 @@ fn plunger_rows(ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
                 "{note}; our linear retraction opens the gap at 32 um/s from t = 0, faster than the TM closes it, so the smallest gap is the initial 15 um"
             ),
         ),
-        row(
+        ReferenceRow::new(
             &format!(
                 "revised retraction, {v2s:.2} V (2 sigma): extra velocity; force < 1 % of 5e-7 N after"
             ),
@@ -254,7 +234,7 @@ fn plunger_rows(ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
             "-".into(),
             "both within the thesis's figures; the 4.3 s depends on the retraction's timing, which the thesis does not give",
         ),
-        row(
+        ReferenceRow::new(
             "baseline retraction, 2 V: does the TM touch a plunger?",
             match b2.touched_at_s {
                 Some(t) => format!("touches at {t:.2} s"),
@@ -286,7 +266,7 @@ fn tip_radius_rows(
     let n = (ctx.mc_n / 5).max(1000);
     let mc = |mm: f64| mc_at(budget, radius_m(mm), n, ctx.seed).map(|p| p.p9973_um_s);
     let (m1, m10) = (mc(1.0)?, mc(10.0)?);
-    Ok(vec![row(
+    Ok(vec![ReferenceRow::new(
         "optimum tip radius of the simple worst-case estimates (bottom 0.2 N, 180 mm/s; upper 0.4 N, 45 mm/s)",
         format!(
             "bottom {:.2} mm, upper {:.2} mm; Monte Carlo 99.73 %: {m1:.3} um/s at 1 mm, {m10:.3} um/s at 10 mm",
@@ -294,7 +274,7 @@ fn tip_radius_rows(
             u * 1e3
         ),
         "about 1 mm, against today's 10 mm (thesis ch. 6)".into(),
-        pct(b * 1e3, 1.0),
+        ReferenceRow::percent(b * 1e3, 1.0),
         &format!(
             "jerk {:.3e} m/s^3 from the mechanism model (not printed in the thesis); gold 120 MPa and bond 0.8 um ASSUMED; Monte Carlo {n} draws per radius with A1 scaled as the contact area (R / 10 mm)^(2/3)",
             i.jerk_m_s3

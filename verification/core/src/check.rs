@@ -577,3 +577,29 @@ pub struct ReferenceRow {
     /// Assumptions or why it differs.
     pub note: String,
 }
+
+impl ReferenceRow {
+    /// A row: the figure compared, geodesic's value, the reference, their difference and the
+    /// note (the assumptions, or why it differs).
+    pub fn new(
+        figure: &str,
+        value: String,
+        reference: String,
+        difference: String,
+        note: &str,
+    ) -> ReferenceRow {
+        ReferenceRow {
+            figure: figure.into(),
+            value,
+            reference,
+            difference,
+            note: note.into(),
+        }
+    }
+
+    /// The relative difference of `value` from `reference` (same unit), as the table writes it:
+    /// `+12 %`, `-3 %`.
+    pub fn percent(value: f64, reference: f64) -> String {
+        format!("{:+.0} %", 100.0 * (value - reference) / reference)
+    }
+}
