@@ -185,6 +185,7 @@ fn options(fix: &[String], bound: &[String]) -> Result<geodesic_fit::FitOptions,
         max_starts: None,
         profile: false,
         sigma: None,
+        sigma_source: None,
         observer: Default::default(),
     })
 }

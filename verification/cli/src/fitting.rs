@@ -131,6 +131,7 @@ pub fn options(fix: &[String], bound: &[String]) -> Result<FitOptions, CliError>
         max_starts: None,
         profile: false,
         sigma: None,
+        sigma_source: None,
         observer: SharedObserver::default(),
     })
 }

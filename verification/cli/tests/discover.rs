@@ -45,6 +45,13 @@ fn discover_adds_the_plunger_and_explains_the_retraction_example() {
     for key in ["windows", "peaks", "correlations", "terms"] {
         assert!(doc["residual"][key].is_array(), "residual.{key}");
     }
+    // the noise figure is the YAML's in every round, and the final fit says so (it said
+    // `given` once: the figure discover holds for every round lost its source)
+    assert_eq!(
+        doc["final"]["noise_source"]["y"], "yaml",
+        "{}",
+        doc["final"]["noise_source"]
+    );
     let rounds = doc["rounds"].as_array().unwrap();
     assert_eq!(rounds.len(), 2, "{rounds:?}");
     assert_eq!(rounds[0]["added"], Value::Null);

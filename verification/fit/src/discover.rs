@@ -393,6 +393,7 @@ impl<'a> Ledger<'a> {
         // one noise figure for the whole ledger, so that BICs compare across rounds
         if self.fit_opts.sigma.is_none() {
             self.fit_opts.sigma = Some(base.sigma);
+            self.fit_opts.sigma_source = Some(base.sigma_source.clone());
         }
         if k == 0 {
             self.rounds.push(round_of(prep, &base, None, None));

@@ -39,6 +39,10 @@ pub struct FitOptions {
     /// Noise of the fitted channel to use [SI], overriding the dataset's (diagnose passes the
     /// baseline's estimate to every candidate so that their BICs compare).
     pub sigma: Option<f64>,
+    /// Where [`FitOptions::sigma`] comes from, said in the fit's `noise_source` (`None`:
+    /// `given`). `discover` holds round 0's figure for every round and passes its source on, so
+    /// that a figure estimated from the record is not reported as given.
+    pub sigma_source: Option<String>,
     /// Receives the fit's progress (its stages, the iterations on long records) and debug
     /// lines (default: silent); it never changes a result.
     pub observer: crate::numeric::observe::SharedObserver,

@@ -235,13 +235,15 @@ fn uncertainty(
     let (jtj_half, _) = normal_equations(&jacobian_columns_central(&f, u, &r0, lo, hi, &half), &r0);
     let raw: Vec<f64> = data.iter().zip(&pred).map(|(d, m)| d - m).collect();
     let (sig, sigma_source) = match opts.sigma {
-        Some(s) => match &prep.ar {
+        Some(s) => match (&opts.sigma_source, &prep.ar) {
+            // a figure passed on with its source (discover's round 0) says it as it was
+            (Some(src), _) => (s, src.clone()),
             // the whitening stays the dataset's: say so
-            Some(m) => (
+            (None, Some(m)) => (
                 s,
                 format!("given, whitened by pre-trigger AR({})", m.order()),
             ),
-            None => (s, "given".to_string()),
+            (None, None) => (s, "given".to_string()),
         },
         None => effective_sigma(prep, &raw),
     };
