@@ -1199,8 +1199,8 @@ requirements:
         assert!(e.starts_with("r.yaml:9:") && e.contains("subnormal"), "{e}");
         let e = err_of(&GOOD.replace("<= 5 um/s", "<= 1e400 m/s"));
         assert!(e.starts_with("r.yaml:9:"), "{e}");
-        let dir = std::env::temp_dir().join(format!("geodesic-req-robust-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().to_path_buf();
         std::fs::write(dir.join("a.yaml"), "family: x\nrequirements: []\n").unwrap();
         let e = Requirements::load_dir(&dir).unwrap_err().to_string();
         assert!(e.contains("no requirements"), "{e}");
@@ -1210,7 +1210,6 @@ requirements:
         std::fs::write(dir.join("a.yaml"), &bytes).unwrap();
         let e = Requirements::load_dir(&dir).unwrap_err().to_string();
         assert!(e.contains("a.yaml:15:") && e.contains("UTF-8"), "{e}");
-        let _ = std::fs::remove_dir_all(&dir);
     }
 
     const QUAL: &str = "  - id: REL-G

@@ -278,18 +278,16 @@ mod tests {
 
     #[test]
     fn a_non_utf8_history_is_an_error_naming_the_file() {
-        let dir =
-            std::env::temp_dir().join(format!("geodesic-history-utf8-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = path_for(&dir, "h");
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        let p = path_for(dir, "h");
         std::fs::write(&p, b"{\"version\":1}\n\xff\xfe\n").unwrap();
         let e = read(&p).unwrap_err().to_string();
         assert!(
             e.contains("h.history.jsonl:2:") && e.contains("UTF-8"),
             "{e}"
         );
-        assert!(read(&path_for(&dir, "none")).unwrap().is_empty());
-        let _ = std::fs::remove_dir_all(&dir);
+        assert!(read(&path_for(dir, "none")).unwrap().is_empty());
     }
 
     #[test]
