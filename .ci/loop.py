@@ -102,7 +102,7 @@ def main():
         # 2. the scaffold wrote its three files
         out = next(o for c, o in runs if " --scaffold " in c)
         for f in [f"models/facility/src/effects/{name}.rs", "models/facility/src/effects/mod.rs",
-                  "verification/fit/tests/hide_each.rs"]:
+                  "verification/discover/tests/hide_each.rs"]:
             if f"wrote {f}" not in out:
                 fail(f"the scaffold did not write {f}:\n{out[-1500:]}")
         # 3. git status shows them

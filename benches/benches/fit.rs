@@ -17,11 +17,11 @@ use std::time::Duration;
 use criterion::{
     BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
 };
+use geodesic_dataset::synth::{SynthSpec, generate};
+use geodesic_discover::diagnose::diagnose;
+use geodesic_discover::discover::{DiscoverOptions, discover};
 use geodesic_facility::{Model, Scenario, TipProfile};
-use geodesic_fit::diagnose::diagnose;
-use geodesic_fit::discover::{DiscoverOptions, discover};
 use geodesic_fit::fit::{FitOptions, Prepared, fit};
-use geodesic_fit::synth::{SynthSpec, generate};
 
 const TMMF: [&str; 3] = ["needle_contact", "tip_contact", "tip_adhesion"];
 const TMMF_BASE: [&str; 2] = ["needle_contact", "tip_contact"];

@@ -12,8 +12,8 @@ use std::time::Duration;
 use criterion::{
     BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
 };
+use geodesic_dataset::{Dataset, dataset::LoadOptions};
 use geodesic_fit::fit::{FitOptions, Prepared, fit};
-use geodesic_fit::{Dataset, dataset::LoadOptions};
 
 fn long_retraction(c: &mut Criterion) {
     let n = 1_000_000;

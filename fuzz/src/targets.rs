@@ -176,7 +176,7 @@ pub static TARGETS: &[Target] = &[
     },
     Target {
         name: "dataset-yaml",
-        about: "dataset YAML (geodesic_fit::dataset::Dataset::load) with the real CSVs beside it",
+        about: "dataset YAML (geodesic_dataset::dataset::Dataset::load) with the real CSVs beside it",
         seeds: |r| {
             files(
                 r,
@@ -191,7 +191,7 @@ pub static TARGETS: &[Target] = &[
     },
     Target {
         name: "dataset-csv",
-        about: "dataset CSV (geodesic_fit::dataset::Dataset::load) under both example YAMLs",
+        about: "dataset CSV (geodesic_dataset::dataset::Dataset::load) under both example YAMLs",
         seeds: seeds_csv,
         dict: CSV,
         run: run_dataset_csv,
@@ -930,7 +930,7 @@ fn run_dataset_yaml(ctx: &Ctx, data: &[u8]) -> Outcome {
     }
     let y = dir.join("fuzz.yaml");
     write(&y, data);
-    match geodesic_fit::dataset::Dataset::load(&y) {
+    match geodesic_dataset::dataset::Dataset::load(&y) {
         // the CSV named by `data:` may be any file: its errors name it instead of the YAML
         Err(e) if e.to_string().contains(": data file: ") => refused(e.to_string(), None),
         r => checked(r, Some(&dir.display().to_string())),
@@ -960,7 +960,7 @@ fn run_dataset_csv(ctx: &Ctx, data: &[u8]) -> Outcome {
             write(&y, s.as_bytes());
         }
         let o = checked(
-            geodesic_fit::dataset::Dataset::load(&y),
+            geodesic_dataset::dataset::Dataset::load(&y),
             Some(&dir.display().to_string()),
         );
         if let Outcome::Violation(_) = o {

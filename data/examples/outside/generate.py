@@ -2,7 +2,7 @@
 """Public example of physics outside the catalogue (issue 36): a TMMF release whose TM mock-up
 feels a viscous damping force -c dx/dt, c = m gamma, which no effect of the catalogue holds.
 
-Written by the independent generator of verification/fit/tests/independent/generate.py (NumPy and
+Written by the independent generator of verification/discover/tests/independent/generate.py (NumPy and
 SciPy from the equations of docs/spec/physics.md; it shares no code with geodesic's `synth` or
 its effects): this script only calls it with the example's values and writes the answer file
 `NAME.truth.json` in the form of the other public examples (data/examples/*.truth.json), with
@@ -62,7 +62,7 @@ def main():
         "sampling": {"fs_hz": FS, "pre_trigger_s": PRE, "post_trigger_s": POST},
         "tip_profile": {"v": g.V_TIP, "t1": (2.0 * g.V_TIP / g.JERK) ** 0.5, "jerk": g.JERK},
         "seed": SEED,
-        "generator": "verification/fit/tests/independent/generate.py (tmmf_record), via data/examples/outside/generate.py",
+        "generator": "verification/discover/tests/independent/generate.py (tmmf_record), via data/examples/outside/generate.py",
         "note": "physics outside the catalogue: diagnose names no catalogue effect; "
                 "discover --scaffold writes the damping effect (docs/loop.md)",
     }

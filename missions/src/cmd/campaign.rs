@@ -167,7 +167,7 @@ pub fn run(args: Args) -> CmdResult {
 /// The fit options of `--fix` and `--bound`, each value SI or with the unit of its parameter in
 /// the effect catalogue (as the framework's fit commands read them).
 fn options(fix: &[String], bound: &[String]) -> Result<geodesic_fit::FitOptions, CliError> {
-    use geodesic_fit::session::param_dim;
+    use geodesic_discover::session::param_dim;
     use geodesic_verify::quantity::pair;
     let mut fixed = BTreeMap::new();
     for f in fix {

@@ -399,7 +399,7 @@ pub fn run(
                 cause,
             };
             let out = (|| {
-                let ds = geodesic_fit::Dataset::load(f).map_err(|e| fail(e.to_string()))?;
+                let ds = geodesic_dataset::Dataset::load(f).map_err(|e| fail(e.to_string()))?;
                 let prep = Prepared::new(ds);
                 let o = geodesic_fit::estimate::fit(&prep, effects, opts)
                     .map_err(|e| fail(e.to_string()))?;

@@ -26,10 +26,10 @@
 //! interferometer reading.
 
 use geodesic_core::{Check, CheckContext, CheckError, Dim, Evidence, Quantity};
+use geodesic_dataset::synth::{SynthSpec, generate};
+use geodesic_discover::diagnose::diagnose;
 use geodesic_facility::{Scenario, TipProfile};
-use geodesic_fit::diagnose::diagnose;
 use geodesic_fit::fit::{FitOptions, FitOutcome, FitReport, Prepared, fit};
-use geodesic_fit::synth::{SynthSpec, generate};
 use geodesic_fit::{history, plot};
 use geodesic_release::budget::AdhesionBudget;
 use rand::{Rng, SeedableRng};

@@ -10,8 +10,8 @@ use std::sync::{Arc, Mutex};
 
 use geodesic_fit::numeric::observe::{Observer, SharedObserver};
 
-use geodesic_fit::dataset::LoadOptions;
-use geodesic_fit::session::Session;
+use geodesic_dataset::dataset::LoadOptions;
+use geodesic_discover::session::Session;
 use geodesic_fit::{FitOptions, FitReport};
 
 use crate::error::CliError;

@@ -4,7 +4,7 @@
 use geodesic_core::units::Dim;
 pub use geodesic_verify::quantity::*;
 
-pub use geodesic_fit::session::param_dim;
+pub use geodesic_discover::session::param_dim;
 
 /// The dimension of a dataset channel (`x`, `y`: m; `E`: V) or `known` constant (`m`: kg;
 /// `E0`: V).

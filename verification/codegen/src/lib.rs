@@ -3,7 +3,7 @@
 //! turns a [`Term`] of `discover` (a fitted term outside the catalogue, as plain data) into the effect's parameters (units, ranges and starting
 //! values from the fitted term), [`Scaffold::effect_source`] writes its source file,
 //! [`Scaffold::edits`] its registration in `models/facility/src/effects/mod.rs` and its hiding
-//! test and guard-list entry in `verification/fit/tests/hide_each.rs`, and [`write_all`] writes
+//! test and guard-list entry in `verification/discover/tests/hide_each.rs`, and [`write_all`] writes
 //! every file or none.
 //!
 //! What each kind becomes (`x` the fitted channel, `t` the time since the trigger):
@@ -40,9 +40,9 @@ pub const EFFECTS_DIR: &str = "models/facility/src/effects";
 /// The catalogue's registration file.
 pub const MOD_RS: &str = "models/facility/src/effects/mod.rs";
 /// The hiding tests and the guard list.
-pub const HIDE_EACH: &str = "verification/fit/tests/hide_each.rs";
+pub const HIDE_EACH: &str = "verification/discover/tests/hide_each.rs";
 
-/// A term outside the catalogue as `discover` fitted it (`geodesic_fit::kinds::KindFit`): what
+/// A term outside the catalogue as `discover` fitted it (`geodesic_discover::kinds::KindFit`): what
 /// the effect's code is written from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Term {

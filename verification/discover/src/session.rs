@@ -7,8 +7,9 @@
 //! observer of the options ([`FitOptions::observer`]); the session prints nothing.
 //!
 //! ```no_run
-//! use geodesic_fit::session::{Session, FitRequest};
-//! use geodesic_fit::{FitOptions, dataset::LoadOptions};
+//! use geodesic_discover::session::{FitRequest, Session};
+//! use geodesic_fit::FitOptions;
+//! use geodesic_dataset::dataset::LoadOptions;
 //! let s = Session::open(
 //!     std::path::Path::new("data/examples/tmmf-adhesion.yaml"),
 //!     LoadOptions::default(),

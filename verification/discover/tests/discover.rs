@@ -12,13 +12,13 @@
 //! * with coloured (AR(1)) noise and no noise figure, nothing is invented and a missing effect
 //!   is still found.
 
+use geodesic_dataset::synth::{SynthSpec, generate};
+use geodesic_discover::diagnose::DELTA_BIC_STRONG;
+use geodesic_discover::discover::{DiscoverOptions, discover};
 use geodesic_facility::effects::Scenario;
-use geodesic_fit::diagnose::DELTA_BIC_STRONG;
-use geodesic_fit::discover::{DiscoverOptions, discover};
 use geodesic_fit::fit::{FitOptions, Prepared};
-use geodesic_fit::synth::{SynthSpec, generate};
 
-fn record(truth: &[&str], params: &[(&str, f64)], seed: u64) -> geodesic_fit::Dataset {
+fn record(truth: &[&str], params: &[(&str, f64)], seed: u64) -> geodesic_dataset::Dataset {
     let mut spec = SynthSpec::defaults(Scenario::RtRetraction, truth);
     for (k, v) in params {
         spec.params.insert(k.to_string(), *v);
@@ -163,7 +163,7 @@ fn a_too_weak_effect_is_not_named_and_its_threshold_lies_above_it() {
 
 /// A TMMF record (the public example's sampling: 200 pre-trigger samples) with AR(1) noise of
 /// coefficient `phi` and 0.8 nm, no noise figure in the YAML.
-fn coloured(truth: &[&str], phi: f64, seed: u64) -> geodesic_fit::Dataset {
+fn coloured(truth: &[&str], phi: f64, seed: u64) -> geodesic_dataset::Dataset {
     let mut spec = SynthSpec::defaults(Scenario::TmmfRelease, truth);
     spec.noise.insert("x".into(), 0.8e-9);
     spec.noise_ar.insert("x".into(), phi);
@@ -212,7 +212,7 @@ fn coloured_noise_neither_invents_effects_nor_loses_the_real_one() {
 fn fit_and_discover_report_the_same_sigmas() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../data/examples/rt-plunger.yaml");
-    let prep = Prepared::new(geodesic_fit::Dataset::load(&path).expect("example"));
+    let prep = Prepared::new(geodesic_dataset::Dataset::load(&path).expect("example"));
     let (r, _, _) = discover(&prep, &["piezo"], &opts(), |_| {}).expect("discover");
     assert_eq!(r.final_fit.effects, ["piezo", "plunger_compliance"]);
     let effects = ["piezo", "plunger_compliance"];
@@ -273,7 +273,7 @@ fn a_threshold_without_a_linear_response_separates_what_hides_from_what_shows() 
     let base = ["needle_contact", "tip_contact", "tip_adhesion"];
     let prep = needle_record(None);
     let o = geodesic_fit::fit::fit(&prep, &base, &FitOptions::default()).expect("fit");
-    let ts = geodesic_fit::discover::thresholds(&prep, &o, &base).expect("thresholds");
+    let ts = geodesic_discover::discover::thresholds(&prep, &o, &base).expect("thresholds");
     let t = ts
         .iter()
         .find(|t| t.effect == "needle_adhesion")
@@ -293,7 +293,7 @@ fn a_threshold_without_a_linear_response_separates_what_hides_from_what_shows() 
         );
     }
     let delta = |a1: f64| -> f64 {
-        let (r, _) = geodesic_fit::diagnose::diagnose(
+        let (r, _) = geodesic_discover::diagnose::diagnose(
             &needle_record(Some(a1)),
             &base,
             &FitOptions::default(),

@@ -2,11 +2,11 @@
 //! code, and check that `diagnose` names it, that adding it brings chi-square to about 1, and
 //! that a noise-only residual names nothing. Small datasets keep the whole file fast.
 
+use geodesic_dataset::synth::{SynthSpec, generate};
+use geodesic_discover::diagnose::diagnose;
 use geodesic_facility::effects::of_scenario;
 use geodesic_facility::{Scenario, TipProfile};
-use geodesic_fit::diagnose::diagnose;
 use geodesic_fit::fit::{FitOptions, Prepared, fit};
-use geodesic_fit::synth::{SynthSpec, generate};
 
 struct Case {
     scenario: Scenario,

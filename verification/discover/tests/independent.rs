@@ -27,15 +27,15 @@
 //!
 //! These runs take 5 to 60 s each in the release profile; in the test profile (opt-level 1)
 //! the TMMF ones take minutes, so they are `#[ignore]`d there and CI runs them in release
-//! (`cargo test --release -p geodesic-fit --test independent -- --include-ignored`, .ci/run).
+//! (`cargo test --release -p geodesic-discover --test independent -- --include-ignored`, .ci/run).
 
 use std::path::PathBuf;
 
+use geodesic_discover::discover::{DiscoverOptions, discover};
 use geodesic_facility::effects::{
     Effect, FitHints, ForceEffect, GuessContext, ParamSpec, Role, TmState,
 };
 use geodesic_facility::{Model, Scenario};
-use geodesic_fit::discover::{DiscoverOptions, discover};
 use geodesic_fit::fit::{FitOptions, FitReport, MAX_STARTS, Prepared};
 use serde_json::Value;
 
@@ -57,7 +57,7 @@ fn expected(name: &str) -> Value {
 }
 
 fn prepared(name: &str) -> Prepared {
-    let ds = geodesic_fit::Dataset::load(&dir().join(format!("{name}.yaml"))).expect("dataset");
+    let ds = geodesic_dataset::Dataset::load(&dir().join(format!("{name}.yaml"))).expect("dataset");
     Prepared::new(ds)
 }
 

@@ -8,11 +8,11 @@
 //!   its parameter (frequency, damping rate, delay, time constant, time of the jump) near the
 //!   injected one.
 
+use geodesic_dataset::Dataset;
+use geodesic_dataset::synth::{SynthSpec, generate};
+use geodesic_discover::discover::{DiscoverOptions, DiscoverReport, discover};
 use geodesic_facility::effects::Scenario;
-use geodesic_fit::Dataset;
-use geodesic_fit::discover::{DiscoverOptions, DiscoverReport, discover};
 use geodesic_fit::fit::{FitOptions, Prepared};
-use geodesic_fit::synth::{SynthSpec, generate};
 
 const TMMF: [&str; 3] = ["needle_contact", "tip_contact", "tip_adhesion"];
 const RT: [&str; 2] = ["piezo", "plunger_compliance"];

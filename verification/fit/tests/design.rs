@@ -8,10 +8,10 @@
 //! * a finer sampling of the same span does not separate them less (more samples of the same
 //!   signal), and the options come best first.
 
+use geodesic_dataset::synth::{SynthSpec, generate};
 use geodesic_facility::effects::Scenario;
 use geodesic_fit::design::advise;
 use geodesic_fit::fit::{FitOptions, Prepared, fit};
-use geodesic_fit::synth::{SynthSpec, generate};
 
 #[test]
 fn expected_separation_matches_the_record_and_scales_as_it_should() {

@@ -7,10 +7,10 @@
 use geodesic_checks::facility::{
     FULL, TruthModel, coverage, coverages, peak_pull_off, synthetic_release_with,
 };
+use geodesic_dataset::synth::{SynthSpec, generate};
+use geodesic_discover::diagnose::diagnose;
 use geodesic_facility::Scenario;
-use geodesic_fit::diagnose::diagnose;
 use geodesic_fit::fit::{FitOptions, Prepared, fit};
-use geodesic_fit::synth::{SynthSpec, generate};
 use geodesic_release::budget::Budget;
 
 /// Releases of the test's coverage study (the check uses 32).

@@ -2,14 +2,14 @@
 //! interface.md): round after round, diagnose, add the effect the evidence supports, refit, test
 //! removing earlier additions; stop when the residual is noise or nothing is justified; then say
 //! whether the model explains the data and describe what is left. Thin: the loop is in
-//! `geodesic_fit::discover`, its text in `geodesic_fit::discover::text` and `--scaffold` in
-//! `geodesic_fit::discover::new_effect`: arguments -> [`geodesic_fit::session::Session::discover`]
+//! `geodesic_fit::discover`, its text in `geodesic_discover::discover::text` and `--scaffold` in
+//! `geodesic_discover::discover::new_effect`: arguments -> [`geodesic_discover::session::Session::discover`]
 //! -> `--scaffold` -> print.
 
 use crate::error::{CliError, CmdResult};
 use crate::fitting::{FitProgress, fits_under, open, warn};
-use geodesic_fit::discover::new_effect;
-use geodesic_fit::session::Discovered;
+use geodesic_discover::discover::new_effect;
+use geodesic_discover::session::Discovered;
 use std::path::{Path, PathBuf};
 
 /// Flags of `geodesic discover`.
@@ -90,7 +90,7 @@ pub fn run(args: Args) -> CmdResult {
     };
     if args.json {
         // through serde_json::Value: keys in alphabetical order, as the document always had
-        let v = serde_json::to_value(geodesic_fit::discover::DiscoverDoc {
+        let v = serde_json::to_value(geodesic_discover::discover::DiscoverDoc {
             report: &report,
             scaffold: scaffolded.as_ref().map(|s| &s.json),
         })
@@ -101,7 +101,7 @@ pub fn run(args: Args) -> CmdResult {
         );
         return Ok(0);
     }
-    print!("{}", geodesic_fit::discover::text::text(&report));
+    print!("{}", geodesic_discover::discover::text::text(&report));
     if let Some(s) = &scaffolded {
         print!("{}", s.text);
     }

@@ -2,10 +2,10 @@
 //!
 //! Writes `<stem>.<effects>.svg` (data, model, residual, failure windows) and appends the fit to
 //! `<stem>.history.jsonl` under `--reports DIR` in `DIR/fits/` (default `reports/fits/`).
-//! Arguments -> [`geodesic_fit::session::Session::fit`] -> print.
+//! Arguments -> [`geodesic_discover::session::Session::fit`] -> print.
 
+use geodesic_discover::session::{FitRequest, PosteriorRequest};
 use geodesic_fit::numeric::ensemble::EnsembleOptions;
-use geodesic_fit::session::{FitRequest, PosteriorRequest};
 use geodesic_fit::summary::summary;
 
 use crate::error::{CliError, CmdResult};

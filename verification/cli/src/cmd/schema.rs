@@ -34,9 +34,9 @@ pub struct Args {
 #[allow(dead_code)]
 enum SynthJson {
     /// `geodesic synth --out X.yaml --json`: the record written.
-    Record(Box<geodesic_fit::synth::SynthDoc>),
+    Record(Box<geodesic_dataset::synth::SynthDoc>),
     /// `geodesic synth --campaign N --out DIR --json`: the campaign written.
-    Campaign(geodesic_fit::synth::SynthCampaignDoc),
+    Campaign(geodesic_dataset::synth::SynthCampaignDoc),
 }
 
 /// A schema-only view of `export --json`: `export reqif`'s summary or `export needs`'.
@@ -56,8 +56,8 @@ pub fn entries() -> Vec<Entry> {
     let mut v = vec![
         Entry::of::<VerifyDoc>("verify"),
         Entry::of::<geodesic_fit::FitReport>("fit"),
-        Entry::of::<geodesic_fit::diagnose::DiagnoseReport>("diagnose"),
-        Entry::of::<geodesic_fit::discover::DiscoverDoc>("discover"),
+        Entry::of::<geodesic_discover::diagnose::DiagnoseReport>("diagnose"),
+        Entry::of::<geodesic_discover::discover::DiscoverDoc>("discover"),
         Entry::of::<SynthJson>("synth"),
         Entry::of::<geodesic_fit::history::HistoryDoc>("history"),
         Entry::of::<geodesic_verify::requirements::RequirementsDoc>("requirements"),

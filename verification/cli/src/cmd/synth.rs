@@ -4,8 +4,8 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+use geodesic_dataset::synth::{SynthSpec, generate, write};
 use geodesic_facility::{Scenario, TipProfile};
-use geodesic_fit::synth::{SynthSpec, generate, write};
 
 use crate::error::{CliError, CmdResult};
 
@@ -144,8 +144,9 @@ pub fn run(args: Args) -> CmdResult {
     let ds = ds?;
     let files = write(&ds, &spec, &args.out).map_err(|e| CliError::Io(e.to_string()))?;
     if args.json {
-        let doc = serde_json::to_string(&geodesic_fit::synth::SynthDoc::new(&ds, &spec, &files))
-            .map_err(|e| CliError::Io(e.to_string()))?;
+        let doc =
+            serde_json::to_string(&geodesic_dataset::synth::SynthDoc::new(&ds, &spec, &files))
+                .map_err(|e| CliError::Io(e.to_string()))?;
         println!("{doc}");
     } else {
         println!(
@@ -181,7 +182,7 @@ fn mean_sd(flag: &str, v: &Option<String>, default: (f64, f64)) -> Result<(f64, 
 
 /// `synth --campaign N --out DIR`: N TMMF releases from a known adhesion population.
 fn campaign(args: &Args, n: usize) -> CmdResult {
-    use geodesic_fit::synth::{CampaignTruth, ReleaseTruth, TruePopulation, draw_release};
+    use geodesic_dataset::synth::{CampaignTruth, ReleaseTruth, TruePopulation, draw_release};
     if n == 0 || n > 10_000 {
         return Err(CliError::bad(format!(
             "--campaign {n}: between 1 and 10 000 releases"
@@ -273,7 +274,7 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
     if args.json {
         println!(
             "{}",
-            serde_json::to_string(&geodesic_fit::synth::SynthCampaignDoc {
+            serde_json::to_string(&geodesic_dataset::synth::SynthCampaignDoc {
                 campaign: dir.join("campaign.yaml").display().to_string(),
                 releases: n,
                 truth: dir.join("truth.json").display().to_string(),

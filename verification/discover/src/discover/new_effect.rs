@@ -178,7 +178,7 @@ fn text(name: &str, s: &Scaffold, files: &[String], record: &str, baseline: &str
         text.push_str(&format!("  wrote {f}\n"));
     }
     text.push_str(&format!(
-        "next: cargo build --release -p geodesic; geodesic discover {record} --effects {baseline}; cargo test --release -p geodesic-fit --test hide_each hidden_{name}\n"
+        "next: cargo build --release -p geodesic; geodesic discover {record} --effects {baseline}; cargo test --release -p geodesic-discover --test hide_each hidden_{name}\n"
     ));
     text
 }

@@ -884,7 +884,7 @@ def main():
         if args.large:
             expected = [e for e in expected if e["class"] == "large"]
         with open(path, "w") as f:
-            json.dump({"generator": "verification/fit/tests/independent/generate.py",
+            json.dump({"generator": "verification/discover/tests/independent/generate.py",
                        "numpy": np.__version__,
                        "scipy": __import__("scipy").__version__,
                        "records": expected}, f, indent=1, sort_keys=True)

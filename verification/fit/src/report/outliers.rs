@@ -299,7 +299,7 @@ mod tests {
     use geodesic_facility::Scenario;
 
     /// A short tip retraction with the plunger's compliance, white noise of 1 nm (stated).
-    fn record() -> crate::Dataset {
+    fn record() -> crate::dataset::Dataset {
         let mut spec =
             SynthSpec::defaults(Scenario::RtRetraction, &["piezo", "plunger_compliance"]);
         spec.post_s = 3e-4;
@@ -307,7 +307,7 @@ mod tests {
         generate(&spec, "o.yaml").unwrap()
     }
 
-    fn report(ds: crate::Dataset, effects: &[&str]) -> (FitReport, FitOutcome, Prepared) {
+    fn report(ds: crate::dataset::Dataset, effects: &[&str]) -> (FitReport, FitOutcome, Prepared) {
         let prep = Prepared::new(ds);
         let o = fit(&prep, effects, &FitOptions::default()).unwrap();
         (FitReport::new(&prep, &o), o, prep)
