@@ -9,6 +9,8 @@
 //! - [`noise`]: coloured (AR) measurement noise, Burg's method, the whitening filter.
 //! - [`ensemble`]: the affine-invariant ensemble sampler, autocorrelation times, marginals.
 //! - [`posterior`]: posterior summaries (truncated normals of the Laplace approximation).
+//! - [`spectral`]: the amplitude spectral density of a sampled series (Welch, Hann window), its
+//!   degrees of freedom and 95 % band.
 //! - [`observe`]: the [`Observer`](observe::Observer) a caller passes in to see progress and
 //!   debug lines (no global, no environment variable).
 
@@ -20,3 +22,4 @@ pub mod noise;
 pub mod observe;
 pub mod posterior;
 pub mod residual;
+pub mod spectral;
