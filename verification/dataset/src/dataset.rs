@@ -269,7 +269,7 @@ fn channel_dim(name: &str) -> Option<Dim> {
 }
 
 /// The channels a scenario reads (interface.md): those it needs, then the optional ones.
-pub fn scenario_channels(s: Scenario) -> &'static [&'static str] {
+pub(crate) fn scenario_channels(s: Scenario) -> &'static [&'static str] {
     s.channels()
 }
 

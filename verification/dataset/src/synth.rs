@@ -87,7 +87,7 @@ impl SynthSpec {
 }
 
 /// The truth parameter vector of a spec: nominal values overridden by `spec.params`.
-pub fn truth_params(model: &Model, spec: &SynthSpec) -> Result<Vec<f64>, FitError> {
+pub(crate) fn truth_params(model: &Model, spec: &SynthSpec) -> Result<Vec<f64>, FitError> {
     let mut p = model.nominal();
     for (k, v) in &spec.params {
         let i = model.index(k).ok_or_else(|| {

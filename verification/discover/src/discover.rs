@@ -237,7 +237,7 @@ fn round_of(
 /// A progress line of [`discover`]: what it is doing and the time since it started [s]
 /// (`round 1: candidate 3 of 5 fitted (drift) (12 s)`). The callback given to [`discover`]
 /// decides where it goes (the CLI: standard error when it is a terminal or with `--progress`).
-pub fn progress_line(what: &str, elapsed_s: f64) -> String {
+pub(crate) fn progress_line(what: &str, elapsed_s: f64) -> String {
     format!("{what} ({elapsed_s:.0} s)")
 }
 
@@ -262,7 +262,7 @@ pub fn discover(
 /// was; after the loop, the samples that the last model's residual shows wild (those the
 /// baseline's misfit hid: a spike in the ringing of a retraction the baseline does not
 /// describe) are set aside too and the loop run again on the cleaned record, once.
-pub fn discover_screened(
+pub(crate) fn discover_screened(
     prep: Prepared,
     baseline: &[&str],
     opts: &DiscoverOptions,
@@ -852,7 +852,10 @@ fn profile_final(
 /// parameter's fitted 2-sigma interval, is raised to that bound when it is lower, and `raised`
 /// says so. A candidate whose main parameter the fit does not resolve (no sigma) leaves the
 /// first-order figure with a note.
-pub fn raise_to_the_fit(thresholds: &mut [Threshold], candidates: &[crate::diagnose::Candidate]) {
+pub(crate) fn raise_to_the_fit(
+    thresholds: &mut [Threshold],
+    candidates: &[crate::diagnose::Candidate],
+) {
     for t in thresholds.iter_mut() {
         let Some(c) = candidates.iter().find(|c| c.effect == t.effect) else {
             continue;

@@ -192,7 +192,12 @@ pub fn kinds<'a>(prep: &'a Prepared, o: &FitOutcome, peaks: &[Peak]) -> (Vec<Kin
 
 /// [`kinds`] on the basis of `o` already made ([`Basis::new`]`(prep, o)`: its Jacobian is most
 /// of the cost on a long record, issue 33 item 6), the same bits.
-pub fn kinds_of(basis: &Basis, prep: &Prepared, o: &FitOutcome, peaks: &[Peak]) -> Vec<KindFit> {
+pub(crate) fn kinds_of(
+    basis: &Basis,
+    prep: &Prepared,
+    o: &FitOutcome,
+    peaks: &[Peak],
+) -> Vec<KindFit> {
     let t = &prep.dataset.t;
     let n = t.len();
     if n < 16 {
@@ -550,7 +555,7 @@ impl KindScan<'_, '_> {
 /// The model refitted, from `o`'s optimum and from its default starts, to the data less the
 /// term `kind` at its score-test coefficients (what the term would be if the model had not
 /// absorbed part of it): the start of [`joint_lm`]. Returns the parameters.
-pub fn refit_without(
+pub(crate) fn refit_without(
     prep: &Prepared,
     o: &FitOutcome,
     kind: &KindFit,
@@ -613,7 +618,7 @@ pub fn refit_without(
 /// model's free parameters (from `from`) and the term's coefficients (from `kind.coefs`), at
 /// most `max_iter` Jacobians. Returns the chi-square removed from `o.chi2` (at `o.sigma`), the
 /// coefficients and the model's parameters where the run ended.
-pub fn joint_lm(
+pub(crate) fn joint_lm(
     prep: &Prepared,
     o: &FitOutcome,
     kind: &KindFit,
@@ -1058,7 +1063,7 @@ pub fn refined_terms(
 
 /// [`refined_terms`] from the kinds `all` that [`kinds_of`] found on `basis` (the basis of
 /// `o`), without making them again: the same bits.
-pub fn refined_terms_of(
+pub(crate) fn refined_terms_of(
     prep: &Prepared,
     o: &FitOutcome,
     all: &[KindFit],
@@ -1276,7 +1281,7 @@ fn term_text(kind: &str, c: f64, v: f64) -> String {
 
 /// Correlation of the residual with the response to a force proportional to each state (double
 /// integral from the trigger, projected out of the fit's span), strongest first.
-pub fn state_correlations(
+pub(crate) fn state_correlations(
     basis: &Basis<'_>,
     states: &[(String, Vec<f64>)],
 ) -> Vec<StateCorrelation> {

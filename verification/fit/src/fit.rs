@@ -4,7 +4,6 @@
 //! the names callers have always used (`geodesic_fit::fit::FitReport`, ...). No module of this
 //! crate imports this one: it only re-exports.
 
-pub use crate::coords::{check_bound, check_value};
 pub use crate::estimate::{
     FitOptions, FitOutcome, MAX_STARTS, SEARCH_SAMPLES, STEP_RATIO_TOLERANCE, SampledPosterior,
     default_starts, effective_sigma, fit, fit_model, model_for, posterior_of_fit, sample_posterior,

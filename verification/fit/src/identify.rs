@@ -198,7 +198,7 @@ pub fn symmetries(
 /// record, 1.30 and 0.765 on a TMMF adhesion record) that the matrices alone cannot tell from a
 /// truncation error, while the chi-square rises by about 1 along either, as a resolved
 /// direction does.
-pub fn symmetries_confirmed(
+pub(crate) fn symmetries_confirmed(
     a: &DMatrix<f64>,
     a_half: &DMatrix<f64>,
     a_half_scale: f64,

@@ -107,7 +107,7 @@ const GAP_STEPS: f64 = 1.5;
 const JITTER_FRACTION: f64 = 1e-3;
 
 /// Gaps and irregular sampling of the time stamps `t` [s].
-pub fn sampling_findings(t: &[f64]) -> Vec<Finding> {
+pub(crate) fn sampling_findings(t: &[f64]) -> Vec<Finding> {
     let dts: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     if dts.len() < 8 {
         return Vec::new();
@@ -169,7 +169,7 @@ pub fn sampling_findings(t: &[f64]) -> Vec<Finding> {
 /// Quantisation of channel `ch`'s values `v` [SI] against its noise figure `noise` [SI]: the
 /// values lie on a grid of their smallest step (99 % of them within a hundredth of a step),
 /// a step above a hundredth of the noise.
-pub fn quantisation_finding(ch: &str, v: &[f64], noise: f64) -> Option<Finding> {
+pub(crate) fn quantisation_finding(ch: &str, v: &[f64], noise: f64) -> Option<Finding> {
     if v.len() < 16 {
         return None;
     }
@@ -252,7 +252,7 @@ fn pre_trigger_figure(pre: &[f64]) -> Option<(f64, bool)> {
 /// Tests the declared figure `declared` [SI] of `channel` against its pre-trigger samples `pre`
 /// (see the module documentation); `None` when the pre-trigger cannot test it (too short, or
 /// coloured).
-pub fn check_noise(channel: &str, declared: f64, pre: &[f64]) -> Option<NoiseCheck> {
+pub(crate) fn check_noise(channel: &str, declared: f64, pre: &[f64]) -> Option<NoiseCheck> {
     let (measured, white) = pre_trigger_figure(pre)?;
     if !white || measured.is_nan() || measured <= 0.0 || declared.is_nan() || declared <= 0.0 {
         return None;
@@ -299,7 +299,7 @@ pub fn check_noise(channel: &str, declared: f64, pre: &[f64]) -> Option<NoiseChe
 }
 
 /// One sentence on the samples set aside, for a report's reason; empty when none.
-pub fn set_aside_text(s: &[SetAside]) -> String {
+pub(crate) fn set_aside_text(s: &[SetAside]) -> String {
     if s.is_empty() {
         return String::new();
     }

@@ -25,7 +25,7 @@ pub struct Refusal {
 
 /// What the record shows that the effects' relations need: the peak-to-peak of `pred` (the
 /// fitted channel's model prediction [m]) and the record's duration [s].
-pub fn record_stats(prep: &Prepared, pred: &[f64]) -> RecordStats {
+pub(crate) fn record_stats(prep: &Prepared, pred: &[f64]) -> RecordStats {
     let (lo, hi) = pred
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
@@ -39,7 +39,7 @@ pub fn record_stats(prep: &Prepared, pred: &[f64]) -> RecordStats {
 }
 
 /// `Ok` when candidate `c` may be added on a record showing `stats`; else why not.
-pub fn vet(c: &Candidate, stats: &RecordStats) -> Result<(), String> {
+pub(crate) fn vet(c: &Candidate, stats: &RecordStats) -> Result<(), String> {
     let effect = geodesic_facility::by_name(&c.effect)
         .ok_or_else(|| format!("{} is not in the catalogue", c.effect))?;
     let mut values = Vec::with_capacity(effect.params().len());

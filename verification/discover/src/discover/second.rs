@@ -38,7 +38,7 @@ fn contribution(lead: &KindFit, n: usize) -> Option<Vec<f64>> {
 /// and when that residual is still not noise, the best of its terms fitted jointly with the
 /// model, if its delta BIC is below `DELTA_BIC_STRONG` and it is not `lead`'s own kind at the
 /// same parameter. `None` otherwise.
-pub fn second_term(
+pub(crate) fn second_term(
     prep: &Prepared,
     o: &FitOutcome,
     lead: &KindFit,

@@ -66,7 +66,7 @@ pub struct Outlier {
 }
 
 /// The outliers of the fitted channel's residual `resid` (data - model, SI), in time order.
-pub fn residual_outliers(prep: &Prepared, resid: &[f64]) -> Vec<Outlier> {
+pub(crate) fn residual_outliers(prep: &Prepared, resid: &[f64]) -> Vec<Outlier> {
     let dev = local_deviation(resid);
     if dev.is_empty() {
         return Vec::new();
@@ -98,7 +98,7 @@ fn at(u: f64, v: f64) -> bool {
 
 /// The flag of each free parameter of `o` left at a start value or on a bound of its range:
 /// `name -> "start" | "lower bound" | "upper bound"`.
-pub fn stuck_parameters(prep: &Prepared, o: &FitOutcome) -> BTreeMap<String, &'static str> {
+pub(crate) fn stuck_parameters(prep: &Prepared, o: &FitOutcome) -> BTreeMap<String, &'static str> {
     let specs = o.model.specs();
     let names = o.model.param_names();
     let starts = default_starts(&o.model, &prep.guess, crate::estimate::MAX_STARTS);
