@@ -1,6 +1,6 @@
 //! `geodesic diagnose DATASET.yaml --effects a,b`: fits the model, then every candidate effect
 //! of the scenario it lacks, ranks them by delta BIC and names the missing one (interface.md).
-//! Arguments -> [`geodesic_fit::session::Session::diagnose`] -> print.
+//! Arguments -> [`geodesic_discover::session::Session::diagnose`] -> print.
 
 use geodesic_fit::summary::summary;
 

@@ -2,9 +2,9 @@
 //! interface.md): round after round, diagnose, add the effect the evidence supports, refit, test
 //! removing earlier additions; stop when the residual is noise or nothing is justified; then say
 //! whether the model explains the data and describe what is left. Thin: the loop is in
-//! `geodesic_fit::discover`, its text in `geodesic_discover::discover::text` and `--scaffold` in
-//! `geodesic_discover::discover::new_effect`: arguments -> [`geodesic_discover::session::Session::discover`]
-//! -> `--scaffold` -> print.
+//! `geodesic_discover::discover`, its text in `geodesic_discover::discover::text` and
+//! `--scaffold` in `geodesic_discover::discover::new_effect`: arguments ->
+//! [`geodesic_discover::session::Session::discover`] -> `--scaffold` -> print.
 
 use crate::error::{CliError, CmdResult};
 use crate::fitting::{FitProgress, fits_under, open, warn};
