@@ -118,9 +118,12 @@ pub fn resolve(input: ModelInput, given: Option<&Path>) -> Result<InputFile, Cli
         given,
         &input.flag(),
     )?
-    .ok_or_else(|| CliError::bad(format!("{}: not found", input.repository_path())))?;
+    .ok_or_else(|| {
+        CliError::unreadable(format!("{}: not found", input.repository_path()))
+            .in_file(input.repository_path(), 0)
+    })?;
     crate::ranges::question(&f.text, &f.label, crate::ranges::of(input.name()))
-        .map_err(CliError::bad)?;
+        .map_err(|e| CliError::invalid(e).in_file(&f.label, 0))?;
     Ok(f)
 }
 

@@ -8,7 +8,7 @@ pub const MAX_THREADS: usize = 1024;
 /// Checks `--threads`: 1..=[`MAX_THREADS`].
 pub fn check_threads(t: Option<usize>) -> Result<(), CliError> {
     match t {
-        Some(t) if t == 0 || t > MAX_THREADS => Err(CliError::bad(format!(
+        Some(t) if t == 0 || t > MAX_THREADS => Err(CliError::usage(format!(
             "--threads {t}: must be 1 to {MAX_THREADS}"
         ))),
         _ => Ok(()),
@@ -25,7 +25,7 @@ pub fn with_threads<R: Send>(
         Some(t) => rayon::ThreadPoolBuilder::new()
             .num_threads(t)
             .build()
-            .map_err(|e| CliError::bad(format!("--threads: {e}")))?
+            .map_err(|e| CliError::usage(format!("--threads: {e}")))?
             .install(go),
         None => go(),
     })

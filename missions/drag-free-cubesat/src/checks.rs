@@ -21,7 +21,8 @@ pub fn checks() -> Vec<Box<dyn Check>> {
 pub fn design_of(ctx: &CheckContext) -> Result<(Design, String, String), CheckError> {
     match ctx.inputs.get("design") {
         Some(f) => Ok((
-            Design::from_yaml(&f.text, &f.label).map_err(CheckError)?,
+            Design::from_yaml(&f.text, &f.label)
+                .map_err(|e| CheckError::input(e).in_file(&f.label, 0))?,
             f.label.clone(),
             f.sha256.clone(),
         )),

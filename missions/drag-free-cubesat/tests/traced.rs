@@ -105,3 +105,13 @@ proptest! {
         prop_assert!(shell_shielding_factor(k * 2e5, a, 1e-4) < shell_shielding_factor(2e5, a, 1e-4));
     }
 }
+
+#[test]
+fn a_malformed_design_is_an_input_error_of_the_design_file() {
+    let (ctx, _d) = dfc_context(Some("shield: [\n"));
+    let e = MagneticShield.run(&ctx).unwrap_err();
+    assert!(
+        matches!(&e, geodesic_core::CheckError::Input { file: Some(f), .. } if f == "design.yaml"),
+        "{e:?}"
+    );
+}

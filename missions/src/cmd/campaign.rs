@@ -45,7 +45,7 @@ pub struct Args {
 pub fn run(args: Args) -> CmdResult {
     let opts = options(&args.fix, &args.bound)?;
     if let Some(o) = &args.out {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--out {}: in geodesic --out names one output file; the campaign's page goes under \
              --reports DIR (into DIR/campaign/)",
             o.display()
@@ -54,9 +54,9 @@ pub fn run(args: Args) -> CmdResult {
     let page_dir = args.reports.join("campaign");
     // a bad reports folder fails now, not after the fits
     let staging = geodesic_report::write::Staging::new(&page_dir)
-        .map_err(|e| CliError::bad(format!("--reports: {e}")))?;
-    let files =
-        geodesic_campaign::list(&args.campaign).map_err(|e| CliError::bad(e.to_string()))?;
+        .map_err(|e| CliError::usage(format!("--reports: {e}")))?;
+    let files = geodesic_campaign::list(&args.campaign)
+        .map_err(|e| CliError::unreadable(e.to_string()).in_file(&args.campaign, 0))?;
     let effects: Vec<&str> = args
         .effects
         .iter()
@@ -66,9 +66,9 @@ pub fn run(args: Args) -> CmdResult {
     let task = progress::Task::counter(args.json, "campaign: releases fitted", files.len() as u64);
     let r = geodesic_campaign::run(&files, &effects, &opts, args.seed, &|| task.inc(1));
     task.finish();
-    let json = serde_json::to_string(&r).map_err(|e| CliError::Io(e.to_string()))?;
+    let json = serde_json::to_string(&r).map_err(CliError::io)?;
     let mut plots = vec!["histograms.svg"];
-    let io = |e: geodesic_fit::FitError| CliError::Io(e.to_string());
+    let io = |e: geodesic_fit::FitError| CliError::io(e);
     staging
         .write(
             "histograms.svg",
@@ -76,11 +76,11 @@ pub fn run(args: Args) -> CmdResult {
                 .map_err(io)?
                 .as_bytes(),
         )
-        .map_err(|e| CliError::Io(e.to_string()))?;
+        .map_err(CliError::io)?;
     if let Some(svg) = geodesic_campaign::page::adhesion_svg(&r).map_err(io)? {
         staging
             .write("adhesion.svg", svg.as_bytes())
-            .map_err(|e| CliError::Io(e.to_string()))?;
+            .map_err(CliError::io)?;
         plots.push("adhesion.svg");
     }
     let md = geodesic_campaign::page::markdown(
@@ -93,11 +93,9 @@ pub fn run(args: Args) -> CmdResult {
         ("campaign.md", md.as_bytes()),
         ("campaign.json", json.as_bytes()),
     ] {
-        staging
-            .write(name, bytes)
-            .map_err(|e| CliError::Io(e.to_string()))?;
+        staging.write(name, bytes).map_err(CliError::io)?;
     }
-    staging.commit().map_err(|e| CliError::Io(e.to_string()))?;
+    staging.commit().map_err(CliError::io)?;
     for f in &r.failed {
         eprintln!(
             "geodesic: {}: not fitted: {}",

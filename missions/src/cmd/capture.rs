@@ -101,7 +101,7 @@ pub fn run(args: Args) -> CmdResult {
     )?;
     crate::inputs::announce(args.json, crate::inputs::ModelInput::capture(), &file);
     let inputs = CaptureInputs::from_yaml_str(&file.text, &file.label)
-        .map_err(|e| CliError::bad(e.to_string()))?;
+        .map_err(|e| CliError::malformed(e.to_string()).in_file(&file.label, 0))?;
     let (reqs, _, _) = crate::missions::load_requirements(args.requirements.as_ref())?;
     let ctx = geodesic_checks::context(
         reqs,
@@ -112,16 +112,18 @@ pub fn run(args: Args) -> CmdResult {
         geodesic_checks::DEFAULT_CONFIDENCE,
         true,
     );
-    let req = geodesic_checks::capture::requirement_box(&ctx).map_err(CliError::bad)?;
+    let req = geodesic_checks::capture::requirement_box(&ctx).map_err(CliError::evidence)?;
     let xlim = inputs.xlim(req);
     let mut state = match &args.state {
-        Some(p) => TmState::load(p).map_err(|e| CliError::bad(e.to_string()))?,
+        Some(p) => {
+            TmState::load(p).map_err(|e| CliError::malformed(e.to_string()).in_file(p, 0))?
+        }
         None => TmState::zero(),
     };
     for (name, v) in args.flag_values() {
         if let Some(v) = v {
             if !v.is_finite() {
-                return Err(CliError::bad(format!("--{name} {v}: must be finite")));
+                return Err(CliError::usage(format!("--{name} {v}: must be finite")));
             }
             state.set(name, v);
         }
@@ -140,7 +142,7 @@ pub fn run(args: Args) -> CmdResult {
     };
     if args.json {
         let doc = CaptureReport::new(&xlim, &state, &eval, prob.as_ref(), &file);
-        let doc = serde_json::to_value(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+        let doc = serde_json::to_value(&doc).map_err(CliError::io)?;
         println!("{doc}");
     } else {
         print_text(&xlim, &eval, prob.as_ref());
@@ -156,7 +158,8 @@ pub fn run(args: Args) -> CmdResult {
 /// Reads one velocity per line [m/s]; blank lines and `#` comments are skipped.
 fn read_samples(path: &std::path::Path) -> Result<Vec<f64>, CliError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| CliError::bad(format!("{file}: {e}")))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| CliError::unreadable(format!("{file}: {e}")).in_file(path, 0))?;
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let t = line.split('#').next().unwrap_or("").trim();
@@ -164,18 +167,19 @@ fn read_samples(path: &std::path::Path) -> Result<Vec<f64>, CliError> {
             continue;
         }
         let v: f64 = t.parse().map_err(|_| {
-            CliError::bad(format!("{file}:{}: `{t}` is not a velocity in m/s", i + 1))
+            CliError::malformed(format!("{file}:{}: `{t}` is not a velocity in m/s", i + 1))
+                .in_file(path, i + 1)
         })?;
         if !v.is_finite() {
-            return Err(CliError::bad(format!(
-                "{file}:{}: `{t}` is not finite",
-                i + 1
-            )));
+            return Err(
+                CliError::not_finite(format!("{file}:{}: `{t}` is not finite", i + 1))
+                    .in_file(path, i + 1),
+            );
         }
         out.push(v);
     }
     if out.is_empty() {
-        return Err(CliError::bad(format!("{file}: no velocity samples")));
+        return Err(CliError::malformed(format!("{file}: no velocity samples")).in_file(path, 0));
     }
     Ok(out)
 }

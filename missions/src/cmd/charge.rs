@@ -72,7 +72,7 @@ fn positive(flag: &str, v: f64) -> Result<f64, CliError> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(CliError::bad(format!(
+        Err(CliError::usage(format!(
             "--{flag} {v}: must be finite and positive"
         )))
     }
@@ -92,7 +92,7 @@ pub fn run(args: Args) -> CmdResult {
     let charge_file = crate::inputs::resolve(ModelInput::charge(), args.charge.as_deref())?;
     crate::inputs::announce(args.json, ModelInput::charge(), &charge_file);
     let file = geodesic_charge::ChargeFile::from_yaml_str(&charge_file.text, &charge_file.label)
-        .map_err(|e| CliError::bad(e.to_string()))?;
+        .map_err(|e| CliError::malformed(e.to_string()).in_file(&charge_file.label, 0))?;
     let geometry = TipGeometry {
         radius_m: positive("r-m", args.r_m.unwrap_or(file.tip.radius_m))?,
         cap_radius_m: positive(
@@ -120,13 +120,13 @@ pub fn run(args: Args) -> CmdResult {
     };
     let rate = positive("rate-e-s", args.rate_e_s)?;
     if args.n < 2 || args.n > MAX_N {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--n {}: must be 2 to {MAX_N} draws",
             args.n
         )));
     }
     if !args.neutralise_e.is_finite() || args.neutralise_e.abs() > 1e30 {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--neutralise-e {}: must be a finite charge of at most 1e30 e",
             args.neutralise_e
         )));
@@ -154,7 +154,7 @@ pub fn run(args: Args) -> CmdResult {
         ("neutralisation time of Q", t_q2.unwrap_or(0.0)),
     ];
     if let Some((name, v)) = figures.iter().find(|(_, v)| !v.is_finite()) {
-        return Err(CliError::bad(format!(
+        return Err(CliError::not_finite(format!(
             "charge: {name} is {v}: the inputs overflow the arithmetic (use physical values)"
         )));
     }
@@ -172,7 +172,7 @@ pub fn run(args: Args) -> CmdResult {
         (rate, args.neutralise_e),
         &charge_file,
     );
-    let doc = serde_json::to_value(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+    let doc = serde_json::to_value(&doc).map_err(CliError::io)?;
     if args.json {
         println!("{doc}");
         return Ok(0);

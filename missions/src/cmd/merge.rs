@@ -28,8 +28,8 @@ pub struct Args {
 fn read_part(p: &Path) -> Result<McResult, CliError> {
     let file = p.display().to_string();
     let text = geodesic_util::fsio::read_text(p, MAX_PART_BYTES)
-        .map_err(|e| CliError::bad(format!("{file}: {e}")))?;
-    parts::parse_part(&file, &text).map_err(CliError::bad)
+        .map_err(|e| CliError::unreadable(format!("{file}: {e}")).in_file(p, e.line()))?;
+    parts::parse_part(&file, &text).map_err(|e| CliError::malformed(e).in_file(p, 0))
 }
 
 /// Largest partial result read [bytes]: 20 digits per draw of the largest run, plus slack.
@@ -51,7 +51,7 @@ pub fn run(args: Args) -> CmdResult {
                 && r.budget_hash == first.budget_hash
                 && r.shard.map(|s| s.1) == first.shard.map(|s| s.1);
             if !same {
-                return Err(CliError::bad(format!(
+                return Err(CliError::conflict(format!(
                     "{file}: from another run than {fname} (n {} vs {}, seed {} vs {}, case {} vs {}, budget {} vs {}, shards {} vs {})",
                     r.n,
                     first.n,
@@ -68,7 +68,7 @@ pub fn run(args: Args) -> CmdResult {
         }
         if let Some(j) = parts.iter().position(|q| q.shard == r.shard) {
             let (i, k) = r.shard.unwrap_or((1, 1));
-            return Err(CliError::bad(format!(
+            return Err(CliError::conflict(format!(
                 "{file}: shard {i}/{k} given twice (also {})",
                 names[j]
             )));
@@ -77,7 +77,7 @@ pub fn run(args: Args) -> CmdResult {
         names.push(file);
     }
     let merged = montecarlo::merge(parts)
-        .map_err(|e| CliError::bad(format!("merge of {}: {e}", names.join(", "))))?;
+        .map_err(|e| CliError::conflict(format!("merge of {}: {e}", names.join(", "))))?;
     if let Some(p) = args.histogram.as_deref() {
         let svg = geodesic_checks::release::mc_histogram_svg(&merged, Some(limit));
         geodesic_util::output::write_atomic(p, svg.as_bytes())?;
@@ -86,7 +86,7 @@ pub fn run(args: Args) -> CmdResult {
     let summary = merged.summary();
     if args.json {
         let report = McReport::new(&merged, summary, seconds, limit);
-        let v = serde_json::to_value(&report).map_err(|e| CliError::Io(e.to_string()))?;
+        let v = serde_json::to_value(&report).map_err(CliError::io)?;
         println!("{v}");
     } else {
         for line in summary.text_lines() {
@@ -111,5 +111,5 @@ pub fn run(args: Args) -> CmdResult {
 /// when run from the repository's root, else the built-in set).
 fn limit_um_s() -> Result<f64, CliError> {
     let (reqs, _, _) = crate::missions::load_requirements(None)?;
-    geodesic_checks::release::gprm_limit_um_s(&reqs).map_err(|e| CliError::bad(e.0))
+    geodesic_checks::release::gprm_limit_um_s(&reqs).map_err(CliError::from)
 }

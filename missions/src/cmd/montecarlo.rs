@@ -56,13 +56,13 @@ pub struct Args {
 
 /// The JSON text of a partial result, sealed with its checksum (`geodesic_release::parts::sealed_json`).
 pub fn sealed_json(r: &McResult) -> Result<Vec<u8>, CliError> {
-    geodesic_release::parts::sealed_json(r).map_err(CliError::Io)
+    geodesic_release::parts::sealed_json(r).map_err(CliError::io)
 }
 
 /// Parses `I/K`.
 fn parse_shard(s: &str) -> Result<(usize, usize), CliError> {
     let bad = || {
-        CliError::bad(format!(
+        CliError::usage(format!(
             "--shard {s}: expected I/K with 1 <= I <= K, e.g. 3/8"
         ))
     };
@@ -82,7 +82,7 @@ fn parse_shard(s: &str) -> Result<(usize, usize), CliError> {
 /// `probability_met` is judged and the histogram's red line.
 fn limit_um_s() -> Result<f64, CliError> {
     let (reqs, _, _) = crate::missions::load_requirements(None)?;
-    geodesic_checks::release::gprm_limit_um_s(&reqs).map_err(|e| CliError::bad(e.0))
+    geodesic_checks::release::gprm_limit_um_s(&reqs).map_err(CliError::from)
 }
 
 /// Writes the histogram SVG of |X'| with the limit `limit_um_s` [um/s] if asked.
@@ -99,9 +99,9 @@ fn checked(args: &Args) -> Result<(Case, Option<(usize, usize)>), CliError> {
     let case: Case = args
         .case
         .parse()
-        .map_err(|e: montecarlo::McError| CliError::bad(format!("--case: {e}")))?;
+        .map_err(|e: montecarlo::McError| CliError::usage(format!("--case: {e}")))?;
     if args.n == 0 || args.n > montecarlo::MAX_N {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--n {}: must be 1 to {}",
             args.n,
             montecarlo::MAX_N
@@ -114,7 +114,7 @@ fn checked(args: &Args) -> Result<(Case, Option<(usize, usize)>), CliError> {
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
     if let Some((_, k)) = shard {
         montecarlo::check_size(args.n, Some(k))
-            .map_err(|e| CliError::bad(format!("--shard: {e}")))?;
+            .map_err(|e| CliError::usage(format!("--shard: {e}")))?;
     }
     Ok((case, shard))
 }
@@ -126,15 +126,15 @@ fn budget_and_population(
     budget_file: &geodesic_core::check::InputFile,
 ) -> Result<(Budget, Option<AdhesionPopulation>), CliError> {
     let (mut budget, mut population) =
-        geodesic_checks::release::budget_from_file(budget_file).map_err(|e| CliError::bad(e.0))?;
+        geodesic_checks::release::budget_from_file(budget_file).map_err(CliError::from)?;
     if let Some(p) = &args.adhesion_from {
         let text =
             geodesic_util::fsio::read_text(p, geodesic_util::fsio::MAX_CSV_BYTES).map_err(|e| {
-                CliError::bad(format!("--adhesion-from {}: {}", p.display(), e.cause()))
+                CliError::usage(format!("--adhesion-from {}: {}", p.display(), e.cause()))
             })?;
         let pop = AdhesionPopulation::from_campaign_json(&text, &p.display().to_string())
-            .map_err(CliError::bad)?;
-        budget = pop.apply(&budget).map_err(CliError::bad)?;
+            .map_err(|e| CliError::malformed(e).in_file(p, 0))?;
+        budget = pop.apply(&budget).map_err(CliError::invalid)?;
         population = Some(pop);
     }
     Ok((budget, population))
@@ -149,27 +149,31 @@ pub fn run(args: Args) -> CmdResult {
     crate::inputs::announce(args.json, crate::inputs::ModelInput::budget(), &budget_file);
     let (budget, population) = budget_and_population(&args, &budget_file)?;
     if population.is_some() && shard.is_some() {
-        return Err(CliError::bad(
+        return Err(CliError::usage(
             "--shard with a campaign population: run the identification-uncertainty draws unsharded",
         ));
     }
     if population.is_some() && !(1..=1000).contains(&args.population_draws) {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--population-draws {}: between 1 and 1000",
             args.population_draws
         )));
     }
     let draws = match shard {
         Some((i, k)) => montecarlo::shard_range(args.n, i, k)
-            .map_err(|e| CliError::bad(e.to_string()))?
+            .map_err(|e| CliError::usage(e.to_string()))?
             .len(),
         None => args.n,
     };
     let bar = crate::progress::Task::counter(args.json, "montecarlo: releases", draws as u64);
     let t0 = Instant::now();
     let go = || montecarlo::run(&budget, case, args.n, args.seed, shard, &|k| bar.inc(k));
-    let mut result = crate::threads::with_threads(args.threads, go)?
-        .map_err(|e| CliError::bad(format!("montecarlo ({}): {e}", budget_file.label)))?;
+    let mut result = crate::threads::with_threads(args.threads, go)?.map_err(|e| {
+        CliError::model(
+            Some("montecarlo"),
+            format!("montecarlo ({}): {e}", budget_file.label),
+        )
+    })?;
     // the budget is identified as every command identifies it: the SHA-256 of the file's bytes
     // (partial results of one run carry it, and `merge` refuses parts of different budgets)
     result.budget_hash = budget_file.sha256.clone();
@@ -217,7 +221,7 @@ pub fn run(args: Args) -> CmdResult {
 /// Prints a report as one JSON document (through `serde_json::Value`: keys in alphabetical
 /// order, as interface.md's consumers have always read them).
 fn print_json(report: &McReport) -> Result<(), CliError> {
-    let v = serde_json::to_value(report).map_err(|e| CliError::Io(e.to_string()))?;
+    let v = serde_json::to_value(report).map_err(CliError::io)?;
     println!("{v}");
     Ok(())
 }
@@ -306,7 +310,8 @@ fn identification_runs(
             &|d| bar.inc(d),
         )
     };
-    let r = crate::threads::with_threads(args.threads, go)?.map_err(CliError::bad)?;
+    let r = crate::threads::with_threads(args.threads, go)?
+        .map_err(|e| CliError::model(Some("population identification"), e))?;
     bar.finish();
     Ok(r)
 }

@@ -47,7 +47,7 @@ fn retraction(s: &str) -> Result<(String, Retraction), CliError> {
         "revised" => Ok(("revised".into(), Retraction::REVISED)),
         other => {
             let bad = || {
-                CliError::bad(format!(
+                CliError::usage(format!(
                     "--retraction {other}: baseline, revised or END_UM:RAMP_S (e.g. 2400:15)"
                 ))
             };
@@ -57,7 +57,7 @@ fn retraction(s: &str) -> Result<(String, Retraction), CliError> {
                 r.trim().parse().map_err(|_| bad())?,
             );
             if !(e.is_finite() && r.is_finite() && e > 15.0 && e <= 1e5 && r > 0.0 && r <= 25.0) {
-                return Err(CliError::bad(format!(
+                return Err(CliError::usage(format!(
                     "--retraction {other}: the end must be above the 15 um start (at most 1e5 um) and the ramp within (0, 25] s"
                 )));
             }
@@ -75,7 +75,7 @@ fn retraction(s: &str) -> Result<(String, Retraction), CliError> {
 
 fn capacitance(s: &str) -> Result<Box<dyn PlungerCapacitance>, CliError> {
     let bad = || {
-        CliError::bad(format!(
+        CliError::usage(format!(
             "--capacitance {s}: disc, disc:RADIUS_MM or sphere:RADIUS_MM"
         ))
     };
@@ -107,18 +107,19 @@ pub fn run(args: Args) -> CmdResult {
         .iter()
         .find(|v| !(v.is_finite() && v.abs() <= 1e3))
     {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--voltage {v}: a finite TM voltage within +-1000 V"
         )));
     }
     if args.v0.is_nan() || args.v0.abs() > 1e-3 {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--v0 {}: a release velocity within +-1 mm/s",
             args.v0
         )));
     }
     if let Some(p) = &args.plot {
-        geodesic_util::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
+        geodesic_util::output::check_target(p)
+            .map_err(|e| CliError::usage(format!("--plot {e}")))?;
     }
     let cap = capacitance(&args.capacitance)?;
     let procs: Vec<(String, Retraction)> = args
@@ -143,7 +144,7 @@ pub fn run(args: Args) -> CmdResult {
         }
     }
     if let Some(p) = &args.plot {
-        let svg = plunger_svg(&cases).map_err(|e| CliError::Io(e.0))?;
+        let svg = plunger_svg(&cases).map_err(CliError::io)?;
         write_atomic(p, svg.as_bytes())?;
     }
     if args.json {
@@ -154,8 +155,8 @@ pub fn run(args: Args) -> CmdResult {
             duration_s: geodesic_checks::plunger::DURATION_S,
             cases: rows,
         };
-        let doc = serde_json::to_value(&doc).map_err(|e| CliError::Io(e.to_string()))?;
-        let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+        let doc = serde_json::to_value(&doc).map_err(CliError::io)?;
+        let text = serde_json::to_string_pretty(&doc).map_err(CliError::io)?;
         println!("{text}");
     } else {
         println!(

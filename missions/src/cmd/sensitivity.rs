@@ -41,7 +41,7 @@ pub struct Args {
 pub fn run(args: Args) -> CmdResult {
     check_threads(args.threads)?;
     if args.n < 100 || args.n > 1_000_000 {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--n {}: between 100 and 1 000 000 draws per sample matrix",
             args.n
         )));
@@ -50,7 +50,7 @@ pub fn run(args: Args) -> CmdResult {
         crate::inputs::resolve(crate::inputs::ModelInput::budget(), args.budget.as_deref())?;
     crate::inputs::announce(args.json, crate::inputs::ModelInput::budget(), &budget_file);
     let (budget, _) =
-        geodesic_checks::release::budget_from_file(&budget_file).map_err(|e| CliError::bad(e.0))?;
+        geodesic_checks::release::budget_from_file(&budget_file).map_err(CliError::from)?;
     let groups = release_groups().len() as u64;
     let task = crate::progress::Task::counter(
         args.json,
@@ -58,7 +58,8 @@ pub fn run(args: Args) -> CmdResult {
         (2 * groups + 4) * args.n as u64,
     );
     let go = || release_sensitivity(&budget, args.n, args.seed, &|k| task.inc(k));
-    let r = with_threads(args.threads, go)?.map_err(|e| CliError::bad(e.to_string()));
+    let r = with_threads(args.threads, go)?
+        .map_err(|e| CliError::model(Some("sensitivity"), e.to_string()));
     task.finish();
     let r = r?;
     if args.json {
@@ -87,7 +88,7 @@ pub fn run(args: Args) -> CmdResult {
         };
         println!(
             "{}",
-            serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?
+            serde_json::to_string_pretty(&doc).map_err(CliError::io)?
         );
         return Ok(0);
     }

@@ -43,26 +43,27 @@ pub struct Args {
 pub fn run(args: Args) -> CmdResult {
     for r in &args.radii {
         if !(r.is_finite() && *r > 0.0 && *r <= 100.0) {
-            return Err(CliError::bad(format!(
+            return Err(CliError::usage(format!(
                 "--radii: {r} mm is not a radius between 0 and 100 mm"
             )));
         }
     }
     if args.mc_n > geodesic_release::montecarlo::MAX_N {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--mc-n {}: at most {}",
             args.mc_n,
             geodesic_release::montecarlo::MAX_N
         )));
     }
     if let Some(p) = &args.plot {
-        geodesic_util::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
+        geodesic_util::output::check_target(p)
+            .map_err(|e| CliError::usage(format!("--plot {e}")))?;
     }
     let budget_file =
         crate::inputs::resolve(crate::inputs::ModelInput::budget(), args.budget.as_deref())?;
     crate::inputs::announce(args.json, crate::inputs::ModelInput::budget(), &budget_file);
     let (budget, _) =
-        geodesic_checks::release::budget_from_file(&budget_file).map_err(|e| CliError::bad(e.0))?;
+        geodesic_checks::release::budget_from_file(&budget_file).map_err(CliError::from)?;
     let mut mc = Vec::new();
     if args.mc_n > 0 {
         let task = crate::progress::Task::counter(
@@ -72,8 +73,12 @@ pub fn run(args: Args) -> CmdResult {
         );
         for r in &args.radii {
             mc.push(
-                monte_carlo_at(&budget, r * 1e-3, args.mc_n, args.seed)
-                    .map_err(|e| CliError::bad(format!("Monte Carlo at {r} mm: {e}")))?,
+                monte_carlo_at(&budget, r * 1e-3, args.mc_n, args.seed).map_err(|e| {
+                    CliError::model(
+                        Some("tip-radius Monte Carlo"),
+                        format!("Monte Carlo at {r} mm: {e}"),
+                    )
+                })?,
             );
             task.inc(1);
         }
@@ -82,12 +87,12 @@ pub fn run(args: Args) -> CmdResult {
     let doc =
         TradeOff::new(&budget, &mc, args.mc_n, args.seed).with_input("budget", budget_file.clone());
     if let Some(p) = &args.plot {
-        let svg = doc.svg().map_err(|e| CliError::Io(e.0))?;
+        let svg = doc.svg().map_err(CliError::io)?;
         geodesic_util::output::write_atomic(p, svg.as_bytes())?;
     }
     if args.json {
-        let v = serde_json::to_value(&doc).map_err(|e| CliError::Io(e.to_string()))?;
-        let text = serde_json::to_string_pretty(&v).map_err(|e| CliError::Io(e.to_string()))?;
+        let v = serde_json::to_value(&doc).map_err(CliError::io)?;
+        let text = serde_json::to_string_pretty(&v).map_err(CliError::io)?;
         println!("{text}");
     } else {
         print_text(&doc, &budget_file);

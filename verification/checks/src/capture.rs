@@ -156,7 +156,7 @@ impl CaptureSetup {
     pub fn of(ctx: &CheckContext) -> Result<Result<CaptureSetup, String>, CheckError> {
         let f = &ctx.inputs.file("capture")?;
         let inputs = CaptureInputs::from_yaml_str(&f.text, &f.label)
-            .map_err(|e| CheckError(e.to_string()))?;
+            .map_err(|e| CheckError::input(e.to_string()))?;
         let req = match requirement_box(ctx) {
             Ok(r) => r,
             Err(why) => return Ok(Err(why)),

@@ -28,7 +28,8 @@ pub struct ChargeAnalysis;
 /// The charge inputs of a run: its charge file parsed (errors name the file and line).
 pub fn charge_of(ctx: &CheckContext) -> Result<ChargeFile, CheckError> {
     let f = &ctx.inputs.file("charge")?;
-    ChargeFile::from_yaml_str(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))
+    ChargeFile::from_yaml_str(&f.text, &f.label)
+        .map_err(|e| CheckError::input(e.to_string()).in_file(&f.label, 0))
 }
 
 /// The two-sided coverage `k` of a probability written with its sigma level, else the normal

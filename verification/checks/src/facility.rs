@@ -122,8 +122,8 @@ pub fn synthetic_release_with(
     };
     spec.seed = seed;
     spec.oversample = truth.oversample;
-    let ds =
-        generate(&spec, &format!("{STEM}.yaml")).map_err(|e| CheckError(format!("synth: {e}")))?;
+    let ds = generate(&spec, &format!("{STEM}.yaml"))
+        .map_err(|e| CheckError::model("synth", format!("synth: {e}")))?;
     Ok(Prepared::new(ds))
 }
 
@@ -263,7 +263,10 @@ pub fn peak_pull_off(o: &FitOutcome) -> Option<(f64, f64)> {
 pub struct AdhesionIdentification;
 
 fn ferr(e: impl std::fmt::Display) -> CheckError {
-    CheckError(format!("adhesion identification: {e}"))
+    CheckError::model(
+        "adhesion identification",
+        format!("adhesion identification: {e}"),
+    )
 }
 
 impl Check for AdhesionIdentification {

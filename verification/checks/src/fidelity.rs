@@ -11,7 +11,8 @@ use geodesic_release::montecarlo::{self, Case};
 /// Computes the table: static extension, `v_RT`, energy-fit `v_RT` and the 99.73 % velocity of
 /// the three Monte Carlo cases (case `all` is the shared run of the checks).
 pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceRow>, CheckError> {
-    let f = mechanism_figures(10).map_err(|e| CheckError(format!("mechanism figures: {e}")))?;
+    let f = mechanism_figures(10)
+        .map_err(|e| CheckError::model("mechanism figures", format!("mechanism figures: {e}")))?;
     let r = f.retraction;
     let mut rows = vec![
         ReferenceRow::new(
@@ -69,7 +70,12 @@ pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceR
             all.p9973_um_s
         } else {
             montecarlo::run(&budget, case, ctx.mc_n, ctx.seed, None, &|_| {})
-                .map_err(|e| CheckError(format!("release Monte Carlo ({}): {e}", case.as_str())))?
+                .map_err(|e| {
+                    CheckError::model(
+                        "release Monte Carlo",
+                        format!("release Monte Carlo ({}): {e}", case.as_str()),
+                    )
+                })?
                 .summary()
                 .p9973_um_s
         };

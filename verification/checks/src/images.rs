@@ -74,13 +74,15 @@ pub fn tiptrack_error_px(
         offset_px: 10.0,
         validity: None,
     };
-    let tr = track(&seq, &cfg).map_err(|e| CheckError(format!("tiptrack: {e}")))?;
+    let tr =
+        track(&seq, &cfg).map_err(|e| CheckError::model("tiptrack", format!("tiptrack: {e}")))?;
     let mut worst = 0.0f64;
     for (k, (x, z)) in truth.iter().enumerate() {
         let (Some(tx), Some(tz)) = (tr.x_m[k], tr.z_m[k]) else {
-            return Err(CheckError(format!(
-                "tiptrack: synthetic frame {k} gave no crossing"
-            )));
+            return Err(CheckError::model(
+                "tiptrack",
+                format!("tiptrack: synthetic frame {k} gave no crossing"),
+            ));
         };
         worst = worst
             .max((tx / pixel_m - x).abs())
@@ -140,7 +142,7 @@ pub fn registration_error_px(
         &map(before, [[35.0, 36.0], [60.0, 84.0]]),
         &map(after, [[32.0, 45.0], [58.0, 90.0]]),
     )
-    .map_err(|e| CheckError(format!("surfaces: {e}")))?;
+    .map_err(|e| CheckError::model("surfaces", format!("surfaces: {e}")))?;
     let err = (reg.shift_m[0] / pixel_m - dx)
         .abs()
         .max((reg.shift_m[1] / pixel_m - dy).abs());

@@ -16,8 +16,8 @@ pub fn write(dir: &Path, name: &str, svg: &str) -> Result<String, CheckError> {
     let p = dir.join(name);
     let parent = p.parent().unwrap_or(dir);
     std::fs::create_dir_all(parent)
-        .map_err(|e| CheckError(format!("{}: {e}", parent.display())))?;
-    std::fs::write(&p, svg).map_err(|e| CheckError(format!("{}: {e}", p.display())))?;
+        .map_err(|e| CheckError::evidence(format!("{}: {e}", parent.display())))?;
+    std::fs::write(&p, svg).map_err(|e| CheckError::evidence(format!("{}: {e}", p.display())))?;
     Ok(name.to_string())
 }
 
@@ -88,7 +88,7 @@ pub fn adhesion_curves_svg(budget: &Budget, n: usize, seed: u64) -> Result<Strin
         style::legend(&mut c, 18, 0.85).draw().map_err(perr)?;
         Ok(())
     })
-    .map_err(|e| CheckError(e.to_string()))
+    .map_err(|e| CheckError::evidence(e.to_string()))
 }
 
 /// The quartic sum along the requirement box scaled by `s` (every state at `s req_i`), and with
@@ -192,7 +192,7 @@ pub fn capture_criterion_svg(x: &Xlim) -> Result<String, CheckError> {
             .map_err(perr)?;
         Ok(())
     })
-    .map_err(|e| CheckError(e.to_string()))
+    .map_err(|e| CheckError::evidence(e.to_string()))
 }
 
 /// Worst-case release velocity against tip radius: the thesis's simple bottom and upper
@@ -306,7 +306,7 @@ pub fn tip_radius_svg(
             .map_err(perr)?;
         Ok(())
     })
-    .map_err(|e| CheckError(e.to_string()))
+    .map_err(|e| CheckError::evidence(e.to_string()))
 }
 
 /// The release sensitivity as an SVG: per uncertainty group, the first-order (filled) and total
@@ -444,7 +444,7 @@ pub fn sensitivity_svg(
             .map_err(perr)?;
         Ok(())
     })
-    .map_err(|e| CheckError(e.to_string()))
+    .map_err(|e| CheckError::evidence(e.to_string()))
 }
 
 #[cfg(test)]

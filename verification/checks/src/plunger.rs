@@ -88,8 +88,8 @@ pub fn v0_of(ctx: &CheckContext) -> Result<f64, CheckError> {
         .and_then(|r| r.limit.as_ref())
         .map(|l| l.value.value)
         .ok_or_else(|| {
-            CheckError(
-                "plunger-attraction starts from the REL-GPRM-VEL limit, which is not loaded".into(),
+            CheckError::config(
+                "plunger-attraction starts from the REL-GPRM-VEL limit, which is not loaded",
             )
         })
 }
@@ -349,7 +349,7 @@ pub fn plunger_svg(cases: &[(&str, f64, PlungerRun)]) -> Result<String, CheckErr
             .map_err(perr)?;
         Ok(())
     })
-    .map_err(|e| CheckError(e.to_string()))
+    .map_err(|e| CheckError::evidence(e.to_string()))
 }
 
 /// One case of `geodesic plunger`: a retraction procedure at a TM voltage. A run that touched

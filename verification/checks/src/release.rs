@@ -83,9 +83,11 @@ pub fn budget_from_file(
     ),
     CheckError,
 > {
-    let b = Budget::from_yaml(&f.text, &f.label).map_err(|e| CheckError(e.to_string()))?;
+    let b = Budget::from_yaml(&f.text, &f.label)
+        .map_err(|e| CheckError::input(e.to_string()).in_file(&f.label, 0))?;
     let path = (!f.label.starts_with("<built-in>")).then(|| std::path::Path::new(&f.label));
-    geodesic_release::population::resolve(b, path).map_err(CheckError)
+    geodesic_release::population::resolve(b, path)
+        .map_err(|e| CheckError::input(e).in_file(&f.label, 0))
 }
 
 /// REL-GPRM-VEL's limit on |X'| [um/s] from the loaded requirements (`geodesic montecarlo`
@@ -95,7 +97,9 @@ pub fn gprm_limit_um_s(reqs: &geodesic_core::Requirements) -> Result<f64, CheckE
         .and_then(|r| r.limit.as_ref())
         // the limit is in SI (m/s)
         .map(|l| l.value.value * 1e6)
-        .ok_or_else(|| CheckError("REL-GPRM-VEL (the release velocity limit) is not loaded".into()))
+        .ok_or_else(|| {
+            CheckError::config("REL-GPRM-VEL (the release velocity limit) is not loaded")
+        })
 }
 
 /// The SVG histogram of a Monte Carlo run's |X'| with its 99.73 % point and, if given, the
@@ -124,7 +128,7 @@ impl SharedMonteCarlo {
         let mut guard = self
             .cache
             .lock()
-            .map_err(|_| CheckError("release Monte Carlo cache poisoned".into()))?;
+            .map_err(|_| CheckError::config("release Monte Carlo cache poisoned"))?;
         let sha = &ctx.inputs.file("budget")?.sha256;
         if let Some((r, h)) = guard.as_ref()
             && r.n == ctx.mc_n
@@ -134,8 +138,9 @@ impl SharedMonteCarlo {
             return Ok(r.clone());
         }
         let budget = budget_of(ctx)?;
-        let r = montecarlo::run(&budget, Case::All, ctx.mc_n, ctx.seed, None, &|_| {})
-            .map_err(|e| CheckError(format!("release Monte Carlo: {e}")))?;
+        let r = montecarlo::run(&budget, Case::All, ctx.mc_n, ctx.seed, None, &|_| {}).map_err(
+            |e| CheckError::model("release Monte Carlo", format!("release Monte Carlo: {e}")),
+        )?;
         let r = Arc::new(r);
         *guard = Some((r.clone(), sha.clone()));
         Ok(r)
@@ -201,7 +206,7 @@ impl Check for ReleaseMonteCarlo {
         let r = self.mc.get(ctx)?;
         let s = r.summary();
         std::fs::create_dir_all(&ctx.reports_dir)
-            .map_err(|e| CheckError(format!("{}: {e}", ctx.reports_dir.display())))?;
+            .map_err(|e| CheckError::evidence(format!("{}: {e}", ctx.reports_dir.display())))?;
         // the uncertainty of the quantile: the Monte Carlo's sampling alone, or with a
         // campaign's adhesion population also its identification (population draws)
         let (budget, population) = budget_and_population(ctx)?;
@@ -216,7 +221,7 @@ impl Check for ReleaseMonteCarlo {
                     ctx.seed,
                     &|_| {},
                 )
-                .map_err(CheckError)?,
+                .map_err(|e| CheckError::model("adhesion population identification", e))?,
             ),
             None => None,
         };
@@ -365,10 +370,13 @@ impl Check for AdhesionCalibration {
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
         let input = &ctx.inputs.file("budget")?;
-        let b = budget_of(ctx).map_err(|e| CheckError(format!("adhesion calibration: {e}")))?;
+        let b = budget_of(ctx).map_err(|e| {
+            CheckError::model("adhesion calibration", format!("adhesion calibration: {e}"))
+        })?;
         let cmp = |c| {
-            compare(&b.adhesion, c, CALIBRATION_DRAWS, CALIBRATION_SEED)
-                .map_err(|e| CheckError(format!("adhesion calibration: {e}")))
+            compare(&b.adhesion, c, CALIBRATION_DRAWS, CALIBRATION_SEED).map_err(|e| {
+                CheckError::model("adhesion calibration", format!("adhesion calibration: {e}"))
+            })
         };
         let h = cmp(&HOLD_OUT)?;
         let c = cmp(&CALIBRATION)?;
@@ -450,13 +458,16 @@ impl Check for MechanismFigures {
     }
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
-        let f = mechanism_figures(10).map_err(|e| CheckError(format!("mechanism figures: {e}")))?;
+        let f = mechanism_figures(10).map_err(|e| {
+            CheckError::model("mechanism figures", format!("mechanism figures: {e}"))
+        })?;
         std::fs::create_dir_all(&ctx.reports_dir)
-            .map_err(|e| CheckError(format!("{}: {e}", ctx.reports_dir.display())))?;
+            .map_err(|e| CheckError::evidence(format!("{}: {e}", ctx.reports_dir.display())))?;
         let path = ctx.reports_dir.join("mechanism-figures.json");
-        let text = serde_json::to_string_pretty(&f).map_err(|e| CheckError(e.to_string()))?;
+        let text =
+            serde_json::to_string_pretty(&f).map_err(|e| CheckError::evidence(e.to_string()))?;
         geodesic_util::output::write_atomic(&path, text.as_bytes())
-            .map_err(|e| CheckError(e.to_string()))?;
+            .map_err(|e| CheckError::evidence(e.to_string()))?;
         Ok(Vec::new())
     }
 }

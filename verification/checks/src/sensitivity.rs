@@ -38,7 +38,7 @@ impl Check for ReleaseSensitivity {
         let budget = budget_of(ctx)?;
         let n = draws_for(ctx.mc_n);
         let s = release_sensitivity(&budget, n, ctx.seed, &|_| {})
-            .map_err(|e| CheckError(format!("sensitivity: {e}")))?;
+            .map_err(|e| CheckError::model("sensitivity", format!("sensitivity: {e}")))?;
         let svg = plots::sensitivity_svg(&s)?;
         let art = plots::write(&ctx.reports_dir, "release-sensitivity.svg", &svg)?;
         let (top, shift) = s
@@ -46,7 +46,7 @@ impl Check for ReleaseSensitivity {
             .iter()
             .max_by(|a, b| a.0.total.total_cmp(&b.0.total))
             .map(|(g, sh)| (g.group.clone(), *sh))
-            .ok_or_else(|| CheckError("sensitivity: no uncertainty group".into()))?;
+            .ok_or_else(|| CheckError::config("sensitivity: no uncertainty group"))?;
         let sum_first: f64 = s.groups.iter().map(|(g, _)| g.first).sum();
         let mut ev = Evidence::measured(
             "REL-GPRM-VEL",

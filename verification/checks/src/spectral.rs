@@ -89,9 +89,9 @@ pub fn evidence(
         req.spectrum.as_ref().expect("spectrum"),
     );
     let scale = lim.unit.scale;
-    let svg = asd_svg(req, &asd).map_err(|e| e.0)?;
+    let svg = asd_svg(req, &asd).map_err(|e| e.to_string())?;
     let name = format!("spectra/{}.svg", req.id);
-    plots::write(reports_dir, &name, &svg).map_err(|e| e.0)?;
+    plots::write(reports_dir, &name, &svg).map_err(|e| e.to_string())?;
     // a series is evidence of what it declares itself to be: a measurement with its
     // provenance, a simulation (a model's output), or else an illustration
     let (basis, what) = match series.origin {
@@ -206,7 +206,7 @@ impl Check for SpectralAsd {
                 continue;
             }
             if req.spectrum.is_none() {
-                return Err(CheckError(format!(
+                return Err(CheckError::input(format!(
                     "{} names check {NAME} but has no `spectrum` (band and shape of its limit)",
                     req.id
                 )));
@@ -230,9 +230,10 @@ impl Check for SpectralAsd {
                 continue;
             };
             let path = Path::new(&file.label);
-            let series = Series::load(path).map_err(|e| CheckError(e.to_string()))?;
+            let series = Series::load(path)
+                .map_err(|e| CheckError::input(e.to_string()).in_file(&file.label, 0))?;
             let ev = evidence(req, &series, &csv_sha(path), &ctx.reports_dir)
-                .map_err(CheckError)?
+                .map_err(CheckError::evidence)?
                 .with_input("series_yaml_sha256", file.sha256.clone());
             if matches!(
                 series.origin,
@@ -261,7 +262,12 @@ impl Check for SpectralAsd {
 pub fn asd_svg(req: &Requirement, asd: &Asd) -> Result<String, CheckError> {
     let (lim, spec) = match (&req.limit, &req.spectrum) {
         (Some(l), Some(s)) => (l, s),
-        _ => return Err(CheckError(format!("{}: no spectral limit", req.id))),
+        _ => {
+            return Err(CheckError::evidence(format!(
+                "{}: no spectral limit",
+                req.id
+            )));
+        }
     };
     let scale = lim.unit.scale;
     let pts: Vec<(f64, f64, f64, f64)> = (1..asd.f_hz.len())
@@ -276,7 +282,7 @@ pub fn asd_svg(req: &Requirement, asd: &Asd) -> Result<String, CheckError> {
         .filter(|p| p.1 > 0.0 && p.2 > 0.0)
         .collect();
     if pts.is_empty() {
-        return Err(CheckError(format!(
+        return Err(CheckError::evidence(format!(
             "{}: the ASD is zero everywhere",
             req.id
         )));
@@ -355,5 +361,5 @@ pub fn asd_svg(req: &Requirement, asd: &Asd) -> Result<String, CheckError> {
             .map_err(perr)?;
         Ok(())
     })
-    .map_err(|e| CheckError(e.to_string()))
+    .map_err(|e| CheckError::evidence(e.to_string()))
 }

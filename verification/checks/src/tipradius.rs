@@ -83,14 +83,18 @@ pub fn mc_at(budget: &Budget, r_m: f64, n: usize, seed: u64) -> Result<McPoint, 
     if let Some(p) = memo.lock().map_err(|_| poisoned())?.get(&key) {
         return Ok(*p);
     }
-    let p = monte_carlo_at(budget, r_m, n, seed)
-        .map_err(|e| CheckError(format!("tip-radius Monte Carlo at {} mm: {e}", r_m * 1e3)))?;
+    let p = monte_carlo_at(budget, r_m, n, seed).map_err(|e| {
+        CheckError::model(
+            "tip-radius Monte Carlo",
+            format!("tip-radius Monte Carlo at {} mm: {e}", r_m * 1e3),
+        )
+    })?;
     memo.lock().map_err(|_| poisoned())?.insert(key, p);
     Ok(p)
 }
 
 fn poisoned() -> CheckError {
-    CheckError("tip-radius Monte Carlo: a thread panicked while it held the memo".into())
+    CheckError::config("tip-radius Monte Carlo: a thread panicked while it held the memo")
 }
 
 impl Check for TipRadius {

@@ -94,14 +94,14 @@ pub fn fits_dir(args: &FitArgs) -> Result<PathBuf, CliError> {
 /// `reports/fits`, or the cause when `--out` was given to a command that writes a folder.
 pub fn fits_under(reports: &Path, out: Option<&PathBuf>) -> Result<PathBuf, CliError> {
     if let Some(o) = out {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--out {}: in geodesic --out names one output file; fit plots and histories go \
              under --reports DIR (into DIR/fits/)",
             o.display()
         )));
     }
     if reports.exists() && !reports.is_dir() {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--reports {}: is not a directory",
             reports.display()
         )));
@@ -212,8 +212,7 @@ pub fn open(
     effects: &[&str],
     opts: FitOptions,
 ) -> Result<Session, CliError> {
-    Session::open(path, LoadOptions { strict }, effects, opts)
-        .map_err(|e| CliError::bad(e.to_string()))
+    Session::open(path, LoadOptions { strict }, effects, opts).map_err(crate::error::from_fit)
 }
 
 /// Prints a fit report's warnings on standard error, one line each.

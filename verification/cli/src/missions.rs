@@ -34,7 +34,7 @@ pub fn check_names() -> Vec<&'static str> {
 pub fn root() -> Result<&'static Mission, CliError> {
     all()
         .first()
-        .ok_or_else(|| CliError::bad("no mission is registered"))
+        .ok_or_else(|| CliError::usage("no mission is registered"))
 }
 
 /// The mission `--mission NAME` names, or the one whose folder holds a given requirement folder
@@ -47,7 +47,7 @@ pub fn select(name: Option<&str>, requirements: Option<&Path>) -> Result<Mission
             .find(|m| m.spec.name == n)
             .cloned()
             .ok_or_else(|| {
-                CliError::bad(format!(
+                CliError::usage(format!(
                     "--mission {n}: no such mission (missions: {})",
                     all()
                         .iter()

@@ -144,7 +144,7 @@ impl Inputs {
     /// The input `name`; an error naming it when the run's mission declares no such input.
     pub fn file(&self, name: &str) -> Result<&InputFile, CheckError> {
         self.files.get(name).ok_or_else(|| {
-            CheckError(format!(
+            CheckError::config(format!(
                 "no input `{name}` in this run (the mission declares: {})",
                 if self.files.is_empty() {
                     "none".to_string()
@@ -541,10 +541,104 @@ impl Sampling {
     }
 }
 
-/// A check failed to run (a solver failure, a bad configuration): a one-line cause.
+/// A check failed to run, by kind of failure; `Display` is the one-line cause.
+///
+/// A caller matches on the variant (and the file and line of [`CheckError::Input`]); the text
+/// is the message as printed, naming file and line itself where they are known. Build one with
+/// [`CheckError::input`], [`CheckError::model`], [`CheckError::evidence`] or
+/// [`CheckError::config`].
 #[derive(Clone, Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct CheckError(pub String);
+#[non_exhaustive]
+pub enum CheckError {
+    /// An input of the check is wrong (malformed, missing a field, out of range).
+    #[error("{message}")]
+    Input {
+        /// The input file (its label), when known.
+        file: Option<String>,
+        /// The 1-based line in `file`, when known (`None`: the whole file).
+        line: Option<usize>,
+        /// The one-line message.
+        message: String,
+    },
+    /// A model, solver or simulation the check runs failed.
+    #[error("{message}")]
+    Model {
+        /// What failed (`release Monte Carlo`, `adhesion identification`).
+        model: String,
+        /// The one-line message.
+        message: String,
+    },
+    /// The evidence cannot be produced or drawn (a plot, a limit the requirement lacks).
+    #[error("{0}")]
+    Evidence(String),
+    /// The run does not give the check what it needs (an input the mission does not declare,
+    /// a thread that panicked).
+    #[error("{0}")]
+    Config(String),
+}
+
+impl CheckError {
+    /// An input of the check is wrong; add its file and line with [`CheckError::in_file`].
+    pub fn input(msg: impl Into<String>) -> Self {
+        CheckError::Input {
+            file: None,
+            line: None,
+            message: msg.into(),
+        }
+    }
+
+    /// The model (solver, simulation) `model` failed.
+    pub fn model(model: &str, msg: impl Into<String>) -> Self {
+        CheckError::Model {
+            model: model.to_string(),
+            message: msg.into(),
+        }
+    }
+
+    /// The evidence cannot be produced or drawn.
+    pub fn evidence(msg: impl Into<String>) -> Self {
+        CheckError::Evidence(msg.into())
+    }
+
+    /// The run does not give the check what it needs.
+    pub fn config(msg: impl Into<String>) -> Self {
+        CheckError::Config(msg.into())
+    }
+
+    /// The same error, stating the input file (and 1-based line, 0 for the whole file) it is
+    /// in; the message is unchanged. No effect on kinds other than [`CheckError::Input`].
+    pub fn in_file(mut self, at: &str, at_line: usize) -> Self {
+        if let CheckError::Input { file, line, .. } = &mut self {
+            *file = Some(at.to_string());
+            *line = (at_line > 0).then_some(at_line);
+        }
+        self
+    }
+
+    /// The input file, for [`CheckError::Input`] when known.
+    pub fn file(&self) -> Option<&str> {
+        match self {
+            CheckError::Input { file, .. } => file.as_deref(),
+            _ => None,
+        }
+    }
+
+    /// The 1-based line, for [`CheckError::Input`] when known.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            CheckError::Input { line, .. } => *line,
+            _ => None,
+        }
+    }
+
+    /// The one-line message (as `Display` prints it).
+    pub fn message(&self) -> &str {
+        match self {
+            CheckError::Input { message, .. } | CheckError::Model { message, .. } => message,
+            CheckError::Evidence(m) | CheckError::Config(m) => m,
+        }
+    }
+}
 
 /// A verification activity.
 pub trait Check: Send + Sync {

@@ -17,7 +17,7 @@
 //!     expires: 2027-06-30  # optional
 //! ```
 
-use crate::requirement::{LoadError, Origin, Requirements, origin_of, yaml_error};
+use crate::requirement::{LoadError, LoadKind, Origin, Requirements, origin_of, yaml_error};
 use serde::{Deserialize, Serialize};
 use serde_saphyr::Spanned;
 use std::path::{Path, PathBuf};
@@ -174,6 +174,7 @@ pub fn load(
             line: 1,
             column: 1,
         },
+        kind: LoadKind::Unreadable,
         cause: format!("cannot read dispositions: {e}"),
     })?;
     from_str_with(&text, path, reqs, today, strict)
@@ -205,6 +206,7 @@ pub fn from_str_with(
     for r in raw.dispositions {
         let err = |s: &Spanned<String>, cause: String| LoadError {
             origin: origin_of(&file, s),
+            kind: LoadKind::Invalid,
             cause,
         };
         let id = r.requirement.value.trim().to_string();
@@ -213,7 +215,8 @@ pub fn from_str_with(
             return Err(err(
                 &r.requirement,
                 format!("disposition for unknown requirement `{id}`"),
-            ));
+            )
+            .with_kind(LoadKind::UnknownId));
         }
         if let Some(prev) = out.iter().find(|d| d.requirement == id) {
             return Err(err(

@@ -2,7 +2,7 @@
 //! YAML file (`verification/document.yaml`): document identifier, issue, title and project.
 //! Every report carries it with the run's identification.
 
-use crate::requirement::{LoadError, Origin, yaml_error};
+use crate::requirement::{LoadError, LoadKind, Origin, yaml_error};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -38,6 +38,7 @@ impl Document {
                         line: line_of(text, name),
                         column: 1,
                     },
+                    kind: LoadKind::Invalid,
                     cause: format!("document `{name}` must be one non-empty line"),
                 });
             }

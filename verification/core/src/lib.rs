@@ -2,7 +2,10 @@
 //!
 //! - [`units`]: units as engineers write them (`5 um/s`, `200 µm`, `3e8 e`) and dimensions.
 //! - [`requirement`]: requirements in YAML, loaded raw then checked, errors with `file:line:column`.
-//! - [`check`]: the [`check::Check`] trait and the [`check::Evidence`] a check returns.
+//! - [`check`]: the [`check::Check`] trait, the [`check::Evidence`] a check returns and the
+//!   [`CheckError`] it fails with, an enum matched by kind (`Input` with file and line, `Model`,
+//!   `Evidence`, `Config`); a requirement file's [`requirement::LoadError`] says its
+//!   [`requirement::LoadKind`].
 //! - [`matrix`]: the compliance matrix: evidence compared with limits, margins, statuses.
 //! - [`trace`]: the `verifies!` macro that traces tests to requirement IDs.
 //!

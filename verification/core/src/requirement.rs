@@ -462,8 +462,38 @@ pub struct Requirement {
 pub struct LoadError {
     /// Where.
     pub origin: Origin,
+    /// What kind of failure (a caller matches on it rather than on the text).
+    pub kind: LoadKind,
     /// One-line cause.
     pub cause: String,
+}
+
+/// The kind of a [`LoadError`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum LoadKind {
+    /// The file or folder cannot be read (missing, too large, not UTF-8).
+    Unreadable,
+    /// Malformed YAML, or a field of the wrong shape.
+    Syntax,
+    /// A requirement ID that no loaded requirement has.
+    UnknownId,
+    /// A unit that is not known, or a quantity that is not a number with a unit.
+    UnknownUnit,
+    /// A check name that no registered check has.
+    UnknownCheck,
+    /// A NaN or infinite number.
+    NotFinite,
+    /// Any other value that is refused (out of range, duplicate, empty, a cycle).
+    Invalid,
+}
+
+impl LoadError {
+    /// The same error with the kind `kind`.
+    pub fn with_kind(mut self, kind: LoadKind) -> Self {
+        self.kind = kind;
+        self
+    }
 }
 
 pub(crate) fn origin_of<T>(file: &Path, s: &Spanned<T>) -> Origin {
@@ -492,6 +522,7 @@ impl Requirements {
                 line: 1,
                 column: 1,
             },
+            kind: LoadKind::Unreadable,
             cause,
         };
         let rd = std::fs::read_dir(dir)
@@ -513,6 +544,7 @@ impl Requirements {
                         line: e.line().max(1) as u64,
                         column: 1,
                     },
+                    kind: LoadKind::Unreadable,
                     cause: e.cause(),
                 })?;
             sources.push((f, text));
@@ -591,6 +623,7 @@ impl Requirements {
             let origin = origin_of(&file, &pid);
             let perr = |cause: String| LoadError {
                 origin: origin.clone(),
+                kind: LoadKind::Invalid,
                 cause,
             };
             let parent_id = ReqId::parse(&pid.value).map_err(perr)?;
@@ -598,7 +631,10 @@ impl Requirements {
                 .items
                 .iter()
                 .find(|p| p.id == parent_id)
-                .ok_or_else(|| perr(format!("parent {parent_id} does not exist")))?
+                .ok_or_else(|| {
+                    perr(format!("parent {parent_id} does not exist"))
+                        .with_kind(LoadKind::UnknownId)
+                })?
                 .clone();
             let child = &self.items[idx];
             if parent.id == child.id {
@@ -644,6 +680,7 @@ impl Requirements {
                     let names: Vec<&str> = chain.iter().map(ReqId::as_str).collect();
                     return Err(LoadError {
                         origin: origin.clone(),
+                        kind: LoadKind::Invalid,
                         cause: format!("derivation cycle: {}", names.join(" -> parent ")),
                     });
                 }
@@ -679,6 +716,7 @@ impl Requirements {
             {
                 return Err(LoadError {
                     origin: o.clone(),
+                    kind: LoadKind::UnknownCheck,
                     cause: format!(
                         "{} names unknown check `{c}` (known: {})",
                         r.id,
@@ -701,6 +739,7 @@ type WrittenParent = (Spanned<String>, f64);
 fn parse_level(file: &Path, s: &Spanned<String>) -> Result<Level, LoadError> {
     Level::parse(s.value.trim()).ok_or_else(|| LoadError {
         origin: origin_of(file, s),
+        kind: LoadKind::Invalid,
         cause: format!(
             "unknown verification level `{}` ({})",
             s.value,
@@ -712,6 +751,7 @@ fn parse_level(file: &Path, s: &Spanned<String>) -> Result<Level, LoadError> {
 fn parse_stage(file: &Path, s: &Spanned<String>) -> Result<Stage, LoadError> {
     Stage::parse(s.value.trim()).ok_or_else(|| LoadError {
         origin: origin_of(file, s),
+        kind: LoadKind::Invalid,
         cause: format!(
             "unknown verification stage `{}` ({})",
             s.value,
@@ -734,6 +774,7 @@ fn requirement(
     let at = |s: &Spanned<String>| origin_of(file, s);
     let err = |s: &Spanned<String>, cause: String| LoadError {
         origin: at(s),
+        kind: LoadKind::Invalid,
         cause,
     };
     let id = ReqId::parse(&r.id.value).map_err(|c| err(&r.id, c))?;
@@ -777,6 +818,7 @@ fn requirement(
         Some(c) if !(c.value.fract() == 0.0 && (0.0..=4.0).contains(&c.value)) => {
             return Err(LoadError {
                 origin: origin_of(file, c),
+                kind: LoadKind::Invalid,
                 cause: format!(
                     "requirement {id}: credibility {} is not a level of 0 to 4 (docs/credibility.md)",
                     c.value
@@ -970,8 +1012,13 @@ fn parse_limit(
         }
         (false, None) => rest,
     };
-    let (value, mut unit) =
-        parse_quantity(rest).map_err(|e| err(l, format!("limit `{}`: {e}", l.value)))?;
+    let (value, mut unit) = parse_quantity(rest).map_err(|e| {
+        let kind = match e {
+            crate::units::UnitError::NotFinite(_) => LoadKind::NotFinite,
+            _ => LoadKind::UnknownUnit,
+        };
+        err(l, format!("limit `{}`: {e}", l.value)).with_kind(kind)
+    })?;
     if spectral {
         unit.symbol = format!("{} Hz^-1/2", unit.symbol);
     }
@@ -1043,6 +1090,7 @@ pub(crate) fn yaml_error(file: &Path, e: &serde_saphyr::Error) -> LoadError {
             line: y.line.unwrap_or(1),
             column: y.column.unwrap_or(1),
         },
+        kind: LoadKind::Syntax,
         cause: y.cause,
     }
 }

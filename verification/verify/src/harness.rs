@@ -176,7 +176,7 @@ pub fn print(program: &str, opts: &Options, out: &crate::Outcome) -> u8 {
 pub fn creation_time() -> Result<String, Error> {
     let secs = match std::env::var("SOURCE_DATE_EPOCH") {
         Ok(s) => s.trim().parse::<i64>().map_err(|_| {
-            Error::bad(format!(
+            Error::usage(format!(
                 "SOURCE_DATE_EPOCH `{s}` is not a number of seconds since 1970-01-01"
             ))
         })?,
@@ -205,11 +205,13 @@ fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
     let status = match m.get_one::<PathBuf>("matrix") {
         Some(p) => {
             let text = geodesic_util::fsio::read_text(p, geodesic_util::fsio::MAX_YAML_BYTES)
-                .map_err(|e| Error::bad(format!("{}: {e}", p.display())))?;
+                .map_err(|e| {
+                    Error::unreadable(format!("{}: {e}", p.display())).in_file(p, e.line())
+                })?;
             let s = geodesic_exchange::status::StatusSet::parse(p, &text)
-                .map_err(|e| Error::bad(e.to_string()))?;
+                .map_err(|e| Error::malformed(e.to_string()).in_file(p, 0))?;
             s.check_against(p, &reqs)
-                .map_err(|e| Error::bad(e.to_string()))?;
+                .map_err(|e| Error::unknown_id(e.to_string()).in_file(p, 0))?;
             Some(s)
         }
         None => None,
@@ -225,7 +227,7 @@ fn export_reqif(mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {
         },
     );
     geodesic_util::output::write_atomic(&out, doc.as_bytes())
-        .map_err(|e| Error::Io(format!("--out {e}")))?;
+        .map_err(|e| Error::io(format!("--out {e}")))?;
     println!(
         "wrote {} ({} requirements)",
         out.display(),
@@ -303,13 +305,13 @@ pub fn main(mission: Mission) -> ExitCode {
         Some(("requirements", sub)) => {
             match <crate::requirements::Args as clap::FromArgMatches>::from_arg_matches(sub) {
                 Ok(a) => crate::requirements::run_for(&mission, a, &test_command(&program)),
-                Err(e) => Err(Error::bad(e.to_string())),
+                Err(e) => Err(Error::usage(e.to_string())),
             }
         }
         Some(("export-reqif", sub)) => export_reqif(&mission, sub),
         Some(("export", sub)) => match sub.subcommand() {
             Some(("reqif", sub)) => export_reqif(&mission, sub),
-            _ => Err(Error::bad("export: give a format (`export reqif`)")),
+            _ => Err(Error::usage("export: give a format (`export reqif`)")),
         },
         Some(("test", sub)) => record_tests(&program, sub),
         Some((_, sub)) => run_verify(&program, &mission, sub),
@@ -401,7 +403,7 @@ fn record_tests(program: &str, m: &ArgMatches) -> Result<u8, Error> {
         prefix: format!("{program} test"),
         fresh_build: None,
     };
-    geodesic_testrun::record(&r).map_err(Error::Io)
+    geodesic_testrun::record(&r).map_err(Error::io)
 }
 
 fn run_verify(program: &str, mission: &Mission, m: &ArgMatches) -> Result<u8, Error> {

@@ -9,12 +9,12 @@ pub fn unknown_id(what: &str, id: &str, reqs: &Requirements) -> Error {
     let ids: Vec<&str> = reqs.items.iter().map(|r| r.id.as_str()).collect();
     let near = nearest_ids(id, &ids);
     if near.is_empty() {
-        Error::bad(format!(
+        Error::unknown_id(format!(
             "{what}{id}: no such requirement among the {} loaded (`geodesic requirements list` lists them)",
             ids.len()
         ))
     } else {
-        Error::bad(format!(
+        Error::unknown_id(format!(
             "{what}{id}: no such requirement; nearest: {}",
             near.join(", ")
         ))

@@ -6,7 +6,10 @@
 //! - [`pipeline`]: resolve inputs -> run checks -> matrix -> compare with a baseline -> write
 //!   every report format ([`geodesic_report::formats`]), whole or not at all;
 //! - [`harness`]: a project's own `main` in one line (`geodesic_verify::harness::main(mission)`),
-//!   the pattern of criterion's or libtest-mimic's harness.
+//!   the pattern of criterion's or libtest-mimic's harness;
+//! - [`error`]: the run's [`Error`], an enum matched by kind of failure ([`Error::Usage`],
+//!   [`Error::Input`] with its [`InputKind`], file and line, [`Error::Model`], [`Error::Check`],
+//!   [`Error::Io`]); every kind exits with status 2 and prints one line.
 //!
 //! The crate names no mission.
 
@@ -26,6 +29,6 @@ pub mod scaffold;
 pub mod schema;
 pub mod usage;
 
-pub use error::Error;
+pub use error::{Error, InputKind};
 pub use mission::{InputSpec, Mission, MissionSpec, Session};
 pub use pipeline::{Options, Outcome};

@@ -89,11 +89,9 @@ impl MissionSpec {
     /// Parses a descriptor; errors are one line with the file and line.
     pub fn from_yaml(text: &str, label: &str) -> Result<MissionSpec, Error> {
         let spec: MissionSpec = serde_saphyr::from_str(text).map_err(|e| {
-            Error::bad(format!(
-                "{label}:{}: {}",
-                yaml_line(&e.to_string()),
-                first_line(&e.to_string())
-            ))
+            let line = yaml_line(&e.to_string());
+            Error::malformed(format!("{label}:{line}: {}", first_line(&e.to_string())))
+                .in_file(label, line)
         })?;
         let ok = |s: &str| {
             !s.is_empty()
@@ -101,7 +99,7 @@ impl MissionSpec {
                     .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-' || c == '_')
         };
         if !ok(&spec.name) {
-            return Err(Error::bad(format!(
+            return Err(Error::invalid(format!(
                 "{label}: name `{}`: use lower-case letters, digits, `-` and `_`",
                 spec.name
             )));
@@ -109,13 +107,13 @@ impl MissionSpec {
         let mut seen = Vec::new();
         for i in &spec.inputs {
             if !ok(&i.name) || i.name == "series" {
-                return Err(Error::bad(format!(
+                return Err(Error::invalid(format!(
                     "{label}: input `{}`: a name of lower-case letters, digits, `-` and `_` (not `series`)",
                     i.name
                 )));
             }
             if seen.contains(&i.name) {
-                return Err(Error::bad(format!(
+                return Err(Error::conflict(format!(
                     "{label}: input `{}` declared twice",
                     i.name
                 )));

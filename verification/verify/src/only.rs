@@ -44,7 +44,7 @@ impl Selection {
             return Ok(None);
         }
         if ids.is_empty() {
-            return Err(CliError::bad(
+            return Err(CliError::usage(
                 "--only: name at least one requirement ID, e.g. --only CHG-V,TMS-X-POS",
             ));
         }
@@ -203,7 +203,7 @@ pub fn refuse_partial_gate(
         return Ok(());
     };
     if !only.is_empty() {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--baseline {} with --only: a partial run is never gated (the rows it does not run would read as unchanged); gate a whole run",
             b.display()
         )));
@@ -213,7 +213,7 @@ pub fn refuse_partial_gate(
         .and_then(|t| serde_json::from_slice::<serde_json::Value>(&t).ok())
         .is_some_and(|v| !v["run"]["partial"].is_null());
     if partial {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--baseline {}: a partial run (verify --only): gate against the compliance.json of a whole run",
             b.display()
         )));

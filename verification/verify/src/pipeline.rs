@@ -6,7 +6,7 @@
 //! regressed), 1 a non-compliance or a regression (or a failed `require_tests`), and an
 //! [`Error`] (exit 2) on bad input, with nothing written.
 
-use crate::error::Error;
+use crate::error::{Error, InputKind};
 use crate::mission::Mission;
 use crate::only::Selection;
 use crate::progress::Task;
@@ -135,9 +135,9 @@ pub fn load_requirements(
     };
     match dir {
         Some(d) => {
-            let reqs = Requirements::load_dir(&d).map_err(|e| Error::bad(e.to_string()))?;
+            let reqs = Requirements::load_dir(&d)?;
             let mut files: Vec<PathBuf> = std::fs::read_dir(&d)
-                .map_err(|e| Error::bad(format!("{}: {e}", d.display())))?
+                .map_err(|e| Error::unreadable(format!("{}: {e}", d.display())).in_file(&d, 0))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("yaml" | "yml")))
                 .collect();
@@ -147,8 +147,9 @@ pub fn load_requirements(
                 let name = f
                     .file_name()
                     .map_or(String::new(), |n| n.to_string_lossy().into());
-                let bytes =
-                    std::fs::read(f).map_err(|e| Error::bad(format!("{}: {e}", f.display())))?;
+                let bytes = std::fs::read(f).map_err(|e| {
+                    Error::unreadable(format!("{}: {e}", f.display())).in_file(f, 0)
+                })?;
                 parts.push((name, bytes));
             }
             let hash = geodesic_util::hash::sha256_parts(
@@ -159,7 +160,7 @@ pub fn load_requirements(
         None => {
             let builtin = mission.builtin_requirements();
             if builtin.is_empty() {
-                return Err(Error::bad(format!(
+                return Err(Error::unreadable(format!(
                     "{}: no requirement folder (mission {} declares `requirements: {}`)",
                     mission.path(&mission.spec.requirements).display(),
                     mission.spec.name,
@@ -172,11 +173,7 @@ pub fn load_requirements(
                 .collect();
             let hash =
                 geodesic_util::hash::sha256_parts(builtin.iter().map(|(n, t)| (*n, t.as_bytes())));
-            Ok((
-                Requirements::from_sources(&src).map_err(|e| Error::bad(e.to_string()))?,
-                "built-in".into(),
-                hash,
-            ))
+            Ok((Requirements::from_sources(&src)?, "built-in".into(), hash))
         }
     }
 }
@@ -200,7 +197,8 @@ pub fn resolve_file(
                     InputOrigin::Given => format!("{flag} "),
                     _ => String::new(),
                 };
-                Error::bad(format!("{by}{}{at}: {}", p.display(), e.cause()))
+                Error::unreadable(format!("{by}{}{at}: {}", p.display(), e.cause()))
+                    .in_file(p, e.line())
             },
         )?;
         Ok(InputFile::new(p.display().to_string(), text).with_origin(origin))
@@ -223,7 +221,7 @@ pub fn resolve_file(
 pub fn resolve_inputs(mission: &Mission, opts: &Options) -> Result<Inputs, Error> {
     for name in opts.inputs.keys() {
         if !mission.spec.inputs.iter().any(|i| &i.name == name) {
-            return Err(Error::bad(format!(
+            return Err(Error::usage(format!(
                 "--{name}: mission {} declares no input `{name}` (its inputs: {})",
                 mission.spec.name,
                 mission
@@ -246,14 +244,17 @@ pub fn resolve_inputs(mission: &Mission, opts: &Options) -> Result<Inputs, Error
             &flag,
         )?;
         let Some(f) = f else {
-            return Err(Error::bad(format!(
+            return Err(Error::unreadable(format!(
                 "{}: not found (input `{}` of mission {}; give it with {flag} FILE)",
                 mission.path(&spec.path).display(),
                 spec.name,
                 mission.spec.name
-            )));
+            ))
+            .in_file(mission.path(&spec.path), 0));
         };
-        mission.validate_input(&spec.name, &f).map_err(Error::bad)?;
+        mission
+            .validate_input(&spec.name, &f)
+            .map_err(Error::invalid)?;
         inputs.insert(&spec.name, &spec.words, f.with_parameters());
     }
     Ok(inputs)
@@ -267,28 +268,28 @@ fn series_inputs(
     let mut out = BTreeMap::new();
     for s in series {
         let Some((id, file)) = s.split_once('=') else {
-            return Err(Error::bad(format!(
+            return Err(Error::usage(format!(
                 "--series {s}: write ID=FILE.yaml (e.g. --series ACC-ASD=data/spectra/acc.yaml)"
             )));
         };
         let Some(r) = reqs.get(id.trim()) else {
-            return Err(Error::bad(format!(
+            return Err(Error::unknown_id(format!(
                 "--series {s}: no requirement {id} is loaded"
             )));
         };
         if r.spectrum.is_none() {
-            return Err(Error::bad(format!(
+            return Err(Error::usage(format!(
                 "--series {s}: {id} is not a spectral requirement (it has no `spectrum`)"
             )));
         }
         let f = InputFile::read(Path::new(file.trim()))
-            .map_err(|e| Error::bad(format!("--series {e}")))?;
+            .map_err(|e| Error::unreadable(format!("--series {e}")))?;
         // read and checked before anything runs: a bad series is exit 2 with its file and line
         mission
             .validate_series(Path::new(file.trim()))
-            .map_err(Error::bad)?;
+            .map_err(Error::malformed)?;
         if out.insert(r.id.to_string(), f).is_some() {
-            return Err(Error::bad(format!("--series: {id} given twice")));
+            return Err(Error::conflict(format!("--series: {id} given twice")));
         }
     }
     Ok(out)
@@ -298,7 +299,7 @@ fn series_inputs(
 /// reports folder, the JUnit file, the baseline (read and parsed), the given files.
 fn preflight(opts: &Options) -> Result<(), Error> {
     if opts.reports.exists() && !opts.reports.is_dir() {
-        return Err(Error::bad(format!(
+        return Err(Error::usage(format!(
             "--reports {}: is not a directory; give a folder for the reports",
             opts.reports.display()
         )));
@@ -309,7 +310,8 @@ fn preflight(opts: &Options) -> Result<(), Error> {
     }
     if let Some(b) = &opts.baseline {
         crate::preflight::in_file("--baseline", b)?;
-        geodesic_report::baseline::check(b).map_err(|e| Error::bad(e.to_string()))?;
+        geodesic_report::baseline::check(b)
+            .map_err(|e| Error::input_from(InputKind::Evidence, e).in_file(b, 0))?;
     }
     if let Some(t) = &opts.tests {
         crate::preflight::in_file("--tests", t)?;
@@ -330,7 +332,7 @@ fn preflight(opts: &Options) -> Result<(), Error> {
 
 fn check_options(mission: &Mission, opts: &Options) -> Result<(), Error> {
     if opts.mc_n == 0 || opts.mc_n > mission.max_mc_n {
-        return Err(Error::bad(format!(
+        return Err(Error::usage(format!(
             "--mc-n {}: must be between 1 and {}",
             opts.mc_n, mission.max_mc_n
         )));
@@ -338,13 +340,13 @@ fn check_options(mission: &Mission, opts: &Options) -> Result<(), Error> {
     // below 0.5 a one-sided bound lies on the wrong side of its estimate: an upper bound
     // below the median would pass what the estimate fails
     if !(opts.confidence.is_finite() && (MIN_CONFIDENCE..1.0).contains(&opts.confidence)) {
-        return Err(Error::bad(format!(
+        return Err(Error::usage(format!(
             "--confidence {}: must be at least {MIN_CONFIDENCE} and below 1, e.g. 0.95 (a bound at a lower confidence is weaker than the estimate it bounds)",
             opts.confidence
         )));
     }
     if !(opts.margin_tolerance.is_finite() && opts.margin_tolerance >= 0.0) {
-        return Err(Error::bad(
+        return Err(Error::usage(
             "--margin-tolerance must be a non-negative number",
         ));
     }
@@ -359,19 +361,19 @@ fn document_file(mission: &Mission, opts: &Options) -> Result<InputFile, Error> 
         p.is_file().then_some(p)
     });
     if let Some(p) = opts.document.as_ref().or(beside.as_ref()) {
-        return InputFile::read(p).map_err(Error::bad);
+        return InputFile::read(p).map_err(Error::unreadable);
     }
     let rel = mission.spec.document.as_deref().unwrap_or("document.yaml");
     let on_disk = mission.path(rel);
     if on_disk.is_file() {
-        return InputFile::read(&on_disk).map_err(Error::bad);
+        return InputFile::read(&on_disk).map_err(Error::unreadable);
     }
     match mission.builtin.get(rel) {
         Some(t) => Ok(InputFile::new(
             format!("<built-in>/{}", on_disk.display()),
             *t,
         )),
-        None => Err(Error::bad(format!(
+        None => Err(Error::unreadable(format!(
             "{}: not found (the document identification of mission {}: id, issue, title, project)",
             on_disk.display(),
             mission.spec.name
@@ -397,16 +399,14 @@ struct Loaded {
 
 fn load(mission: &Mission, opts: &Options, names: &[&str]) -> Result<Loaded, Error> {
     let (reqs, source, requirements_hash) = load_requirements(mission, opts.requirements.as_ref())?;
-    reqs.validate_checks(names)
-        .map_err(|e| Error::bad(e.to_string()))?;
+    reqs.validate_checks(names)?;
     let mut inputs = resolve_inputs(mission, opts)?;
     inputs.series = series_inputs(mission, &reqs, &opts.series)?;
     let document_file = document_file(mission, opts)?;
     let document = geodesic_core::document::Document::from_yaml(
         &document_file.text,
         Path::new(&document_file.label),
-    )
-    .map_err(|e| Error::bad(e.to_string()))?;
+    )?;
     let today = geodesic_core::disposition::today();
     // the mission's own file applies to whatever subset of requirements is loaded; a file
     // given with --dispositions must name loaded requirements only
@@ -417,9 +417,8 @@ fn load(mission: &Mission, opts: &Options, names: &[&str]) -> Result<Loaded, Err
     });
     let (dispositions, disp_file) = match &disp_path {
         Some(p) => (
-            geodesic_core::disposition::load(p, &reqs, today, strict)
-                .map_err(|e| Error::bad(e.to_string()))?,
-            Some(InputFile::read(p).map_err(Error::bad)?),
+            geodesic_core::disposition::load(p, &reqs, today, strict)?,
+            Some(InputFile::read(p).map_err(Error::unreadable)?),
         ),
         None => (Vec::new(), None),
     };
@@ -433,7 +432,10 @@ fn load(mission: &Mission, opts: &Options, names: &[&str]) -> Result<Loaded, Err
         p.is_file().then_some(p)
     });
     let mut test_run = match &tests_path {
-        Some(p) => Some(geodesic_core::testrun::TestRun::load(p).map_err(Error::bad)?),
+        Some(p) => Some(
+            geodesic_core::testrun::TestRun::load(p)
+                .map_err(|e| Error::evidence(e).in_file(p, 0))?,
+        ),
         None => None,
     };
     // the recorded run counts only for the tree it ran on (same commit, same content), each
@@ -543,9 +545,7 @@ fn run_checks(
             done[i] = true;
             task.set_label(&format!("verify: check {}", check.name()));
             let t0 = Instant::now();
-            let ev = check
-                .run(ctx)
-                .map_err(|e| Error::bad(format!("check {}: {e}", check.name())))?;
+            let ev = check.run(ctx).map_err(|e| Error::check(check.name(), e))?;
             // wall time is not controlled content: the run information's `timings`, which no
             // comparison reads (standard error stays quiet unless --progress or a terminal)
             ran.timings.push(geodesic_report::CheckTiming {
@@ -645,8 +645,7 @@ pub fn run(mission: &Mission, opts: &Options) -> Result<Outcome, Error> {
     let mut selection = Selection::parse(&opts.only, &l.reqs)?;
     announce_inputs(opts.json, &l.inputs);
 
-    let staging = geodesic_report::write::Staging::new(&opts.reports)
-        .map_err(|e| Error::Io(e.to_string()))?;
+    let staging = geodesic_report::write::Staging::new(&opts.reports).map_err(Error::io)?;
     let ctx = geodesic_core::CheckContext {
         requirements: std::sync::Arc::new(l.reqs.clone()),
         inputs: std::sync::Arc::new(l.inputs.clone()),
@@ -677,7 +676,7 @@ pub fn run(mission: &Mission, opts: &Options) -> Result<Outcome, Error> {
         (Some(table), true) => {
             task.set_label("verify: reference table");
             let t0 = Instant::now();
-            let t = table(&ctx).map_err(|e| Error::bad(format!("fidelity table: {e}")))?;
+            let t = table(&ctx).map_err(|e| Error::model_from("fidelity table", e))?;
             if !t.is_empty() {
                 ran.timings.push(geodesic_report::CheckTiming {
                     check: "fidelity table".to_string(),
@@ -746,7 +745,7 @@ fn finish(
     let diff = match &opts.baseline {
         Some(b) => Some(
             geodesic_report::baseline::diff(&report, b, opts.margin_tolerance)
-                .map_err(|e| Error::bad(e.to_string()))?,
+                .map_err(|e| Error::evidence(e.to_string()).in_file(b, 0))?,
         ),
         None => None,
     };
@@ -758,9 +757,9 @@ fn finish(
         report: &report,
         baseline_diff: diff.as_ref(),
     })
-    .map_err(|e| Error::Io(e.to_string()))?;
-    let json = serde_json::to_string_pretty(&doc).map_err(|e| Error::Io(e.to_string()))?;
-    let io = |e: geodesic_report::write::WriteError| Error::Io(e.to_string());
+    .map_err(Error::io)?;
+    let json = serde_json::to_string_pretty(&doc).map_err(Error::io)?;
+    let io = |e: geodesic_report::write::WriteError| Error::io(e);
     let input = geodesic_report::formats::RenderInput {
         report: &report,
         diff: diff.as_ref(),
@@ -768,7 +767,7 @@ fn finish(
         dir: staging.path(),
     };
     for f in geodesic_report::formats::formats() {
-        if let Some(bytes) = f.render(&input).map_err(Error::Io)? {
+        if let Some(bytes) = f.render(&input).map_err(Error::io)? {
             staging.write(f.file(), &bytes).map_err(io)?;
         }
     }
@@ -778,13 +777,13 @@ fn finish(
     let junit_pending = match &opts.junit {
         Some(j) => Some(
             geodesic_util::output::PendingFile::prepare(j, junit.as_bytes())
-                .map_err(|e| Error::Io(format!("--junit {e}")))?,
+                .map_err(|e| Error::io(format!("--junit {e}")))?,
         ),
         None => None,
     };
     let mut written = staging.commit().map_err(io)?;
     if let Some(j) = junit_pending {
-        j.commit().map_err(|e| Error::Io(format!("--junit {e}")))?;
+        j.commit().map_err(|e| Error::io(format!("--junit {e}")))?;
         written.extend(opts.junit.clone());
     }
     let mut messages = Vec::new();

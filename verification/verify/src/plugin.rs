@@ -36,5 +36,5 @@ impl PluginCommand {
 
 /// Parses `A` from a plugin command's matches (a clap error becomes a usage error, exit 2).
 pub fn args<A: clap::FromArgMatches>(m: &ArgMatches) -> Result<A, crate::Error> {
-    A::from_arg_matches(m).map_err(|e| crate::Error::bad(e.to_string()))
+    A::from_arg_matches(m).map_err(|e| crate::Error::usage(e.to_string()))
 }

@@ -52,7 +52,8 @@ fn probe(dir: &Path) -> Result<(), String> {
 /// `flag DIR` names a folder a command writes into (created if missing): it must be a folder,
 /// or not exist below a writable folder.
 pub fn out_dir(flag: &str, dir: &Path) -> Result<(), CliError> {
-    let bad = |why: String| CliError::bad(format!("{flag} {}: {why}", dir.display()));
+    let bad =
+        |why: String| CliError::io(format!("{flag} {}: {why}", dir.display())).in_file(dir, 0);
     if dir.as_os_str().is_empty() {
         return Err(bad("empty path; give a folder".into()));
     }
@@ -72,19 +73,21 @@ pub fn out_dir(flag: &str, dir: &Path) -> Result<(), CliError> {
 
 /// `flag FILE` names one output file: not a folder, in a writable folder that exists.
 pub fn out_file(flag: &str, file: &Path) -> Result<(), CliError> {
-    geodesic_util::output::check_target(file).map_err(|e| CliError::bad(format!("{flag} {e}")))?;
+    geodesic_util::output::check_target(file)
+        .map_err(|e| CliError::io(format!("{flag} {e}")).in_file(file, 0))?;
     let dir = file
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    probe(dir).map_err(|why| CliError::bad(format!("{flag} {}: {why}", file.display())))
+    probe(dir)
+        .map_err(|why| CliError::io(format!("{flag} {}: {why}", file.display())).in_file(file, 0))
 }
 
 /// `flag FILE` names one output file whose folder is created if missing: not a folder, below
 /// a writable folder.
 pub fn out_file_in_new_dir(flag: &str, file: &Path) -> Result<(), CliError> {
     if file.is_dir() {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "{flag} {}: is a folder; give a file name for this output",
             file.display()
         )));
@@ -98,7 +101,9 @@ pub fn out_file_in_new_dir(flag: &str, file: &Path) -> Result<(), CliError> {
 
 /// `flag FILE` names an input file: it must exist, be a file and be readable.
 pub fn in_file(flag: &str, file: &Path) -> Result<(), CliError> {
-    let bad = |why: String| CliError::bad(format!("{flag} {}: {why}", file.display()));
+    let bad = |why: String| {
+        CliError::unreadable(format!("{flag} {}: {why}", file.display())).in_file(file, 0)
+    };
     let meta = std::fs::metadata(file).map_err(|e| bad(e.to_string()))?;
     if meta.is_dir() {
         return Err(bad("is a folder; give a file".into()));
@@ -110,7 +115,7 @@ pub fn in_file(flag: &str, file: &Path) -> Result<(), CliError> {
 /// Where a command of the image analyses writes: `DIR/images/`, refusing a file as DIR.
 pub fn images_dir(reports: &Path) -> Result<PathBuf, CliError> {
     if reports.exists() && !reports.is_dir() {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--reports {}: is not a directory",
             reports.display()
         )));

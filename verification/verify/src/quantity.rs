@@ -99,10 +99,10 @@ pub fn pair(
 ) -> Result<(String, f64), CliError> {
     let (k, v) = text
         .split_once('=')
-        .ok_or_else(|| CliError::bad(format!("--{flag} `{text}`: expected NAME=VALUE")))?;
+        .ok_or_else(|| CliError::usage(format!("--{flag} `{text}`: expected NAME=VALUE")))?;
     let k = k.trim();
     let value =
-        value_of(v.trim(), dim_of(k)).map_err(|e| CliError::bad(format!("--{flag} {k}: {e}")))?;
+        value_of(v.trim(), dim_of(k)).map_err(|e| CliError::usage(format!("--{flag} {k}: {e}")))?;
     Ok((k.to_string(), value))
 }
 
@@ -114,18 +114,18 @@ pub fn bound(
 ) -> Result<(String, (f64, f64)), CliError> {
     let (k, r) = text
         .split_once('=')
-        .ok_or_else(|| CliError::bad(format!("--bound `{text}`: expected NAME=LO:HI")))?;
+        .ok_or_else(|| CliError::usage(format!("--bound `{text}`: expected NAME=LO:HI")))?;
     let k = k.trim();
     let (lo, hi) = r
         .split_once(':')
-        .ok_or_else(|| CliError::bad(format!("--bound `{text}`: expected LO:HI")))?;
+        .ok_or_else(|| CliError::usage(format!("--bound `{text}`: expected LO:HI")))?;
     let dim = dim_of(k);
     let lo = value_of(lo.trim(), dim)
-        .map_err(|e| CliError::bad(format!("--bound {k}: lower bound {e}")))?;
+        .map_err(|e| CliError::usage(format!("--bound {k}: lower bound {e}")))?;
     let hi = value_of(hi.trim(), dim)
-        .map_err(|e| CliError::bad(format!("--bound {k}: upper bound {e}")))?;
+        .map_err(|e| CliError::usage(format!("--bound {k}: upper bound {e}")))?;
     if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--bound `{text}`: lower bound not below upper bound"
         )));
     }

@@ -119,8 +119,7 @@ fn load(
     dir: Option<&PathBuf>,
 ) -> Result<(Requirements, String, String), CliError> {
     let (reqs, source, hash) = crate::pipeline::load_requirements(mission, dir)?;
-    reqs.validate_checks(&mission.check_names())
-        .map_err(|e| CliError::bad(e.to_string()))?;
+    reqs.validate_checks(&mission.check_names())?;
     Ok((reqs, source, hash))
 }
 
@@ -164,18 +163,21 @@ impl LastRun {
         if !file.is_file() {
             return Ok(None);
         }
-        let text = geodesic_util::fsio::read_text(&file, 1 << 30)
-            .map_err(|e| CliError::bad(format!("{}: {}", file.display(), e.cause())))?;
+        let text = geodesic_util::fsio::read_text(&file, 1 << 30).map_err(|e| {
+            CliError::unreadable(format!("{}: {}", file.display(), e.cause()))
+                .in_file(&file, e.line())
+        })?;
         let doc: Value = serde_json::from_str(&text).map_err(|e| {
-            CliError::bad(format!(
+            CliError::malformed(format!(
                 "{}:{}:{}: not a compliance matrix: {e}",
                 file.display(),
                 e.line(),
                 e.column()
             ))
+            .in_file(&file, e.line())
         })?;
         if !doc["requirements"].is_array() {
-            return Err(CliError::bad(format!(
+            return Err(CliError::malformed(format!(
                 "{}: not a compliance matrix (no `requirements` list)",
                 file.display()
             )));
@@ -362,7 +364,10 @@ fn show(mission: &Mission, a: ShowArgs, test_command: &str) -> CmdResult {
         p.is_file().then_some(p)
     });
     let test_run = match &tests_path {
-        Some(p) => Some(geodesic_core::testrun::TestRun::load(p).map_err(CliError::bad)?),
+        Some(p) => Some(
+            geodesic_core::testrun::TestRun::load(p)
+                .map_err(|e| CliError::evidence(e).in_file(p, 0))?,
+        ),
         None => None,
     };
     let freshness = test_run.as_ref().map(|t| {
@@ -384,7 +389,7 @@ fn show(mission: &Mission, a: ShowArgs, test_command: &str) -> CmdResult {
         },
     );
     let Some(row) = m.requirements.iter().find(|r| r.id == req.id.as_str()) else {
-        return Err(CliError::bad(format!("{}: not in the matrix", req.id)));
+        return Err(CliError::evidence(format!("{}: not in the matrix", req.id)));
     };
     let children: Vec<String> = reqs
         .children(req.id.as_str())
@@ -557,12 +562,12 @@ fn print_last_run(last: Option<&LastRun>, last_row: Option<&Value>, reports: &Pa
 /// A document through `serde_json::Value`: its keys in alphabetical order, as these documents
 /// have always printed.
 fn to_value<T: Serialize>(doc: &T) -> Result<Value, CliError> {
-    serde_json::to_value(doc).map_err(|e| CliError::Io(e.to_string()))
+    serde_json::to_value(doc).map_err(CliError::io)
 }
 
 /// [`to_value`], pretty-printed.
 fn pretty<T: Serialize>(doc: &T) -> Result<String, CliError> {
-    serde_json::to_string_pretty(&to_value(doc)?).map_err(|e| CliError::Io(e.to_string()))
+    serde_json::to_string_pretty(&to_value(doc)?).map_err(CliError::io)
 }
 
 /// The documents of `requirements check | list | show ID --json`, one for each action (for the

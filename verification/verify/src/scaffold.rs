@@ -146,7 +146,7 @@ pub fn dependency(
     let remote = git_out(framework, &["remote", "get-url", "origin"]);
     if let Some(url) = n.git.clone() {
         let rev = rev().ok_or_else(|| {
-            Error::bad(format!(
+            Error::usage(format!(
                 "--geodesic-git {url}: {} is not a git checkout with a commit; give --geodesic-rev COMMIT",
                 framework.display()
             ))
@@ -184,7 +184,7 @@ fn check_name(name: &str) -> Result<(), Error> {
     if ok {
         Ok(())
     } else {
-        Err(Error::bad(format!(
+        Err(Error::usage(format!(
             "new mission {name}: a name of lower-case letters, digits and `-`, starting with a letter (e.g. `solar-hinge`)"
         )))
     }
@@ -214,21 +214,20 @@ pub fn files(name: &str, dep: &Dependency) -> Vec<(String, String)> {
 pub fn write(n: &NewMission) -> Result<(Vec<PathBuf>, Option<String>), Error> {
     check_name(&n.name)?;
     if !n.framework.join("verification/core/Cargo.toml").is_file() {
-        return Err(Error::bad(format!(
+        return Err(Error::usage(format!(
             "--geodesic {}: not geodesic's repository (no verification/core/Cargo.toml); give the folder of a geodesic clone",
             n.framework.display()
         )));
     }
-    let framework = n
-        .framework
-        .canonicalize()
-        .map_err(|e| Error::bad(format!("{}: {e}", n.framework.display())))?;
+    let framework = n.framework.canonicalize().map_err(|e| {
+        Error::unreadable(format!("{}: {e}", n.framework.display())).in_file(&n.framework, 0)
+    })?;
     if n.path.exists()
         && std::fs::read_dir(&n.path)
             .map(|mut d| d.next().is_some())
             .unwrap_or(true)
     {
-        return Err(Error::bad(format!(
+        return Err(Error::usage(format!(
             "--path {}: exists and is not empty; give a new folder",
             n.path.display()
         )));
@@ -238,10 +237,10 @@ pub fn write(n: &NewMission) -> Result<(Vec<PathBuf>, Option<String>), Error> {
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent).map_err(|e| Error::Io(format!("{}: {e}", parent.display())))?;
+    std::fs::create_dir_all(parent).map_err(|e| Error::io_at(parent, e))?;
     let project = parent
         .canonicalize()
-        .map_err(|e| Error::Io(format!("{}: {e}", parent.display())))?
+        .map_err(|e| Error::io_at(parent, e))?
         .join(n.path.file_name().unwrap_or(n.path.as_os_str()));
     let (dep, note) = dependency(n, &framework, &project)?;
     let stage = parent.join(format!(
@@ -256,26 +255,22 @@ pub fn write(n: &NewMission) -> Result<(Vec<PathBuf>, Option<String>), Error> {
         for (rel, text) in files(&n.name, &dep) {
             let p = stage.join(&rel);
             if let Some(d) = p.parent() {
-                std::fs::create_dir_all(d)
-                    .map_err(|e| Error::Io(format!("{}: {e}", d.display())))?;
+                std::fs::create_dir_all(d).map_err(|e| Error::io_at(d, e))?;
             }
-            std::fs::write(&p, text).map_err(|e| Error::Io(format!("{}: {e}", p.display())))?;
+            std::fs::write(&p, text).map_err(|e| Error::io_at(&p, e))?;
             written.push(n.path.join(rel));
         }
         // the framework's lock file: the project builds with the versions the framework was
         // tested with (and offline, from the same registry cache)
         let lock = framework.join("Cargo.lock");
         if lock.is_file() {
-            std::fs::copy(&lock, stage.join("Cargo.lock"))
-                .map_err(|e| Error::Io(format!("{}: {e}", lock.display())))?;
+            std::fs::copy(&lock, stage.join("Cargo.lock")).map_err(|e| Error::io_at(&lock, e))?;
             written.push(n.path.join("Cargo.lock"));
         }
         if n.path.exists() {
-            std::fs::remove_dir(&n.path)
-                .map_err(|e| Error::Io(format!("{}: {e}", n.path.display())))?;
+            std::fs::remove_dir(&n.path).map_err(|e| Error::io_at(&n.path, e))?;
         }
-        std::fs::rename(&stage, &n.path)
-            .map_err(|e| Error::Io(format!("{}: {e}", n.path.display())))?;
+        std::fs::rename(&stage, &n.path).map_err(|e| Error::io_at(&n.path, e))?;
         Ok(written)
     })();
     if result.is_err() {
@@ -432,7 +427,8 @@ impl Check for TipDeflection {
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
         let f = ctx.inputs.file("design")?;
-        let d = Design::from_yaml(&f.text, &f.label).map_err(CheckError)?;
+        let d = Design::from_yaml(&f.text, &f.label)
+            .map_err(|e| CheckError::input(e).in_file(&f.label, 0))?;
         Ok(vec![
             Evidence::measured(
                 "@ID@",

@@ -43,23 +43,24 @@ pub struct Args {
 pub fn run(args: Args) -> CmdResult {
     let (reqs, _, _) = crate::missions::load_requirements(args.requirements.as_ref())?;
     let req = reqs.get(args.requirement.trim()).ok_or_else(|| {
-        CliError::bad(format!(
+        CliError::usage(format!(
             "--requirement {}: no such requirement is loaded",
             args.requirement
         ))
     })?;
     let (Some(lim), Some(spec)) = (&req.limit, &req.spectrum) else {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--requirement {}: not a spectral requirement (no `spectrum` under its limit)",
             req.id
         )));
     };
     if let Some(p) = &args.plot {
-        geodesic_util::output::check_target(p).map_err(|e| CliError::bad(format!("--plot {e}")))?;
+        geodesic_util::output::check_target(p)
+            .map_err(|e| CliError::usage(format!("--plot {e}")))?;
     }
-    let series = Series::load(&args.series).map_err(|e| CliError::bad(e.to_string()))?;
+    let series = Series::load(&args.series).map_err(crate::error::from_fit)?;
     if series.dim != lim.dim {
-        return Err(CliError::bad(format!(
+        return Err(CliError::conflict(format!(
             "{}: the series is in `{}` ({}), {} bounds a {}",
             args.series.display(),
             series.unit,
@@ -80,9 +81,12 @@ pub fn run(args: Args) -> CmdResult {
             overlap: args.overlap,
         },
     )
-    .map_err(|e| CliError::bad(format!("{}: {e}", args.series.display())))?;
-    let j = spectral::judge(&asd, spec, lim.value.value)
-        .map_err(|e| CliError::bad(format!("{}: {e}", args.series.display())))?;
+    .map_err(|e| {
+        CliError::invalid(format!("{}: {e}", args.series.display())).in_file(&args.series, 0)
+    })?;
+    let j = spectral::judge(&asd, spec, lim.value.value).map_err(|e| {
+        CliError::invalid(format!("{}: {e}", args.series.display())).in_file(&args.series, 0)
+    })?;
     if asd.segments < 4 {
         eprintln!(
             "geodesic: warning: {} segment(s) only ({:.1} dof per bin): each ASD bin scatters by about {:.0} %; a longer series gives a firmer verdict",
@@ -125,11 +129,11 @@ pub fn run(args: Args) -> CmdResult {
         worst_ratio_upper95: j.worst_ratio_hi95,
     };
     if let Some(p) = &args.plot {
-        let svg = geodesic_checks::spectral::asd_svg(req, &asd).map_err(|e| CliError::Io(e.0))?;
+        let svg = geodesic_checks::spectral::asd_svg(req, &asd).map_err(CliError::io)?;
         write_atomic(p, svg.as_bytes())?;
     }
     if args.json {
-        let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+        let text = serde_json::to_string_pretty(&doc).map_err(CliError::io)?;
         println!("{text}");
     } else {
         println!(

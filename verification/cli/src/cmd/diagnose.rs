@@ -30,15 +30,12 @@ pub fn run(args: Args) -> CmdResult {
         .with_observer(task.observer())
         .with_outputs(fits)
         .diagnose()
-        .map_err(|e| CliError::bad(e.to_string()));
+        .map_err(crate::error::from_fit);
     task.finish();
     let report = report?;
     warn(&report.fit);
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&report).map_err(|e| CliError::Io(e.to_string()))?
-        );
+        println!("{}", serde_json::to_string(&report).map_err(CliError::io)?);
     } else {
         print!("{}", summary(&report.fit));
         println!("candidates (best first):");

@@ -53,7 +53,7 @@ pub fn run(args: Args) -> CmdResult {
     // computation
     let root = Path::new(".");
     if let Some(name) = &args.scaffold {
-        new_effect::preflight(name, root).map_err(CliError::bad)?;
+        new_effect::preflight(name, root).map_err(CliError::usage)?;
     }
     let fits = fits_under(&args.reports, None)?;
     let fit = args.model.options()?;
@@ -74,7 +74,7 @@ pub fn run(args: Args) -> CmdResult {
         .with_observer(task.observer())
         .with_outputs(fits)
         .discover(args.max_rounds)
-        .map_err(|e| CliError::bad(e.to_string()));
+        .map_err(crate::error::from_fit);
     task.finish();
     let Discovered {
         report,
@@ -84,7 +84,7 @@ pub fn run(args: Args) -> CmdResult {
     let scaffolded = match &args.scaffold {
         Some(name) => Some(
             new_effect::scaffold(name, root, &args.dataset, &prep, &report)
-                .map_err(|e| CliError::bad(format!("--scaffold {name}: {e}")))?,
+                .map_err(|e| CliError::usage(format!("--scaffold {name}: {e}")))?,
         ),
         None => None,
     };
@@ -94,11 +94,8 @@ pub fn run(args: Args) -> CmdResult {
             report: &report,
             scaffold: scaffolded.as_ref().map(|s| &s.json),
         })
-        .map_err(|e| CliError::Io(e.to_string()))?;
-        println!(
-            "{}",
-            serde_json::to_string(&v).map_err(|e| CliError::Io(e.to_string()))?
-        );
+        .map_err(CliError::io)?;
+        println!("{}", serde_json::to_string(&v).map_err(CliError::io)?);
         return Ok(0);
     }
     print!("{}", geodesic_discover::discover::text::text(&report));

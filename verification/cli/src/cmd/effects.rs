@@ -27,7 +27,7 @@ fn kind(k: EffectKind) -> &'static str {
 pub fn run(args: Args) -> CmdResult {
     let only = match &args.scenario {
         Some(s) => Some(Scenario::from_name(s).ok_or_else(|| {
-            CliError::bad(format!(
+            CliError::usage(format!(
                 "--scenario {s}: unknown scenario (tmmf-release or rt-retraction)"
             ))
         })?),
@@ -41,7 +41,7 @@ pub fn run(args: Args) -> CmdResult {
         let doc = EffectsDoc {
             effects: effects.iter().map(|e| EffectDoc::of(**e)).collect(),
         };
-        let text = serde_json::to_string(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+        let text = serde_json::to_string(&doc).map_err(CliError::io)?;
         println!("{text}");
         return Ok(0);
     }

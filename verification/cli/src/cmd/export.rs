@@ -96,10 +96,11 @@ fn matrix_status(
         return Ok(None);
     };
     let text = geodesic_util::fsio::read_text(m, geodesic_util::fsio::MAX_YAML_BYTES)
-        .map_err(|e| CliError::bad(format!("{}: {e}", m.display())))?;
-    let s = StatusSet::parse(m, &text).map_err(|e| CliError::bad(e.to_string()))?;
+        .map_err(|e| CliError::unreadable(format!("{}: {e}", m.display())).in_file(m, e.line()))?;
+    let s =
+        StatusSet::parse(m, &text).map_err(|e| CliError::malformed(e.to_string()).in_file(m, 0))?;
     s.check_against(m, reqs)
-        .map_err(|e| CliError::bad(e.to_string()))?;
+        .map_err(|e| CliError::unknown_id(e.to_string()).in_file(m, 0))?;
     Ok(Some(s))
 }
 
@@ -110,7 +111,7 @@ fn needs(a: NeedsArgs) -> CmdResult {
     let time = geodesic_verify::harness::creation_time()?;
     let version = env!("CARGO_PKG_VERSION");
     let doc = geodesic_exchange::needs::export(&reqs, status.as_ref(), &time, version);
-    let mut text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+    let mut text = serde_json::to_string_pretty(&doc).map_err(CliError::io)?;
     text.push('\n');
     geodesic_util::output::write_whole(&a.out, text.as_bytes())?;
     if a.json {
@@ -121,10 +122,7 @@ fn needs(a: NeedsArgs) -> CmdResult {
             with_status: status.is_some(),
             version: version.to_string(),
         };
-        println!(
-            "{}",
-            serde_json::to_string(&summary).map_err(|e| CliError::Io(e.to_string()))?
-        );
+        println!("{}", serde_json::to_string(&summary).map_err(CliError::io)?);
     } else {
         println!(
             "wrote {} ({} needs from {source}{})",
@@ -158,7 +156,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         println!(
             "{}",
             serde_json::to_string(&ExportDoc::new(&reqs, &doc, &a.out, &source, &opts))
-                .map_err(|e| CliError::Io(e.to_string()))?
+                .map_err(CliError::io)?
         );
     } else {
         println!(

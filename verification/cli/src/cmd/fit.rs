@@ -18,7 +18,7 @@ pub use crate::fitting::FitArgs as Args;
 pub fn run(args: Args) -> CmdResult {
     let fits = fits_dir(&args)?;
     if !matches!(args.posterior_method.as_str(), "ensemble" | "laplace") {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--posterior-method {}: ensemble or laplace",
             args.posterior_method
         )));
@@ -27,12 +27,12 @@ pub fn run(args: Args) -> CmdResult {
         .posterior_walkers
         .is_some_and(|w| !(4..=10_000).contains(&w))
     {
-        return Err(CliError::bad(
+        return Err(CliError::usage(
             "--posterior-walkers: between 4 and 10 000 walkers".to_string(),
         ));
     }
     if !(100..=100_000).contains(&args.posterior_steps) {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--posterior-steps {}: between 100 and 100 000 steps per walker",
             args.posterior_steps
         )));
@@ -62,15 +62,12 @@ pub fn run(args: Args) -> CmdResult {
         .with_observer(task.observer())
         .with_outputs(fits)
         .fit(&FitRequest { posterior })
-        .map_err(|e| CliError::bad(e.to_string()));
+        .map_err(crate::error::from_fit);
     task.finish();
     let report = report?;
     warn(&report);
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&report).map_err(|e| CliError::Io(e.to_string()))?
-        );
+        println!("{}", serde_json::to_string(&report).map_err(CliError::io)?);
     } else {
         print!("{}", summary(&report));
     }

@@ -32,16 +32,17 @@ pub fn run(args: Args) -> CmdResult {
         .map_or("dataset".into(), |s| s.to_string_lossy().to_string());
     let fits = crate::fitting::fits_under(&args.reports, args.out.as_ref())?;
     let path = history::path_for(&fits, &stem);
-    let entries = history::read(&path).map_err(|e| CliError::bad(e.to_string()))?;
+    let entries =
+        history::read(&path).map_err(|e| CliError::malformed(e.to_string()).in_file(&path, 0))?;
     if entries.is_empty() {
-        return Err(CliError::bad(format!(
+        return Err(CliError::evidence(format!(
             "{}: no fit history for `{stem}` (run `geodesic fit` first)",
             path.display()
         )));
     }
     let svg_path = fits.join(format!("{stem}.history.svg"));
-    let svg = plot::history_svg(&entries).map_err(|e| CliError::Io(e.to_string()))?;
-    plot::write_svg(&svg_path, &svg).map_err(|e| CliError::Io(e.to_string()))?;
+    let svg = plot::history_svg(&entries).map_err(CliError::io)?;
+    plot::write_svg(&svg_path, &svg).map_err(CliError::io)?;
     if args.json {
         let doc = history::HistoryDoc {
             dataset: stem,
@@ -49,7 +50,7 @@ pub fn run(args: Args) -> CmdResult {
             entries: entries.into_iter().map(history::EntryDoc::from).collect(),
             svg: svg_path.display().to_string(),
         };
-        let doc = serde_json::to_string(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+        let doc = serde_json::to_string(&doc).map_err(CliError::io)?;
         println!("{doc}");
     } else {
         print!("{}", history::table(&entries));

@@ -77,29 +77,32 @@ fn reqif(a: ReqifArgs) -> CmdResult {
     crate::preflight::out_dir("--out", &a.out)?;
     let opts = options(&a)?;
     let bytes = geodesic_util::fsio::read_bytes(&a.file, MAX_REQIF_BYTES).map_err(|e| {
-        CliError::bad(format!(
+        CliError::unreadable(format!(
             "{}:{}: {}",
             a.file.display(),
             e.line().max(1),
             e.cause()
         ))
+        .in_file(&a.file, e.line().max(1))
     })?;
     // a .reqif file, or a .reqifz archive of one
-    let imported = import_file(&a.file, &bytes, &opts).map_err(|e| CliError::bad(e.to_string()))?;
+    let imported = import_file(&a.file, &bytes, &opts)
+        .map_err(|e| CliError::malformed(e.to_string()).in_file(&a.file, 0))?;
     // what is written loads, with registered checks only (the import left the others out)
     let sources: Vec<(PathBuf, String)> = imported
         .families
         .iter()
         .map(|f| (a.out.join(&f.file_name), f.yaml.clone()))
         .collect();
-    let reqs = Requirements::from_sources(&sources).map_err(|e| CliError::bad(e.to_string()))?;
+    let reqs = Requirements::from_sources(&sources)?;
     let names = crate::missions::check_names();
-    reqs.validate_checks(&names)
-        .map_err(|e| CliError::bad(format!("{}: {}", a.file.display(), e.cause)))?;
+    reqs.validate_checks(&names).map_err(|e| {
+        CliError::unknown_name(format!("{}: {}", a.file.display(), e.cause)).in_file(&a.file, 0)
+    })?;
 
     geodesic_exchange::reqif::write_families(&a.out, &imported.families).map_err(|e| match e {
-        geodesic_exchange::reqif::WriteFamilies::Occupied(m) => CliError::bad(m),
-        geodesic_exchange::reqif::WriteFamilies::Io(m) => CliError::Io(m),
+        geodesic_exchange::reqif::WriteFamilies::Occupied(m) => CliError::usage(m),
+        geodesic_exchange::reqif::WriteFamilies::Io(m) => CliError::io(m),
     })?;
 
     for l in geodesic_exchange::reqif::warning_lines(&imported, MAX_PRINTED_WARNINGS) {
@@ -112,7 +115,7 @@ fn reqif(a: ReqifArgs) -> CmdResult {
         .collect();
     if a.json {
         let doc = ImportDoc::new(&imported, &a.file, &a.out);
-        let v = serde_json::to_string(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+        let v = serde_json::to_string(&doc).map_err(CliError::io)?;
         println!("{v}");
         return Ok(0);
     }
@@ -153,16 +156,16 @@ fn options(a: &ReqifArgs) -> Result<ImportOptions, CliError> {
     for m in &a.attribute {
         let (f, name) = m
             .split_once('=')
-            .ok_or_else(|| CliError::bad(format!("--attribute `{m}`: write FIELD=NAME")))?;
+            .ok_or_else(|| CliError::usage(format!("--attribute `{m}`: write FIELD=NAME")))?;
         let field = Field::parse(f.trim()).ok_or_else(|| {
             let all: Vec<&str> = Field::ALL.iter().map(|f| f.name()).collect();
-            CliError::bad(format!(
+            CliError::usage(format!(
                 "--attribute `{m}`: unknown field `{f}` (fields: {})",
                 all.join(", ")
             ))
         })?;
         if name.trim().is_empty() {
-            return Err(CliError::bad(format!(
+            return Err(CliError::usage(format!(
                 "--attribute `{m}`: the attribute name is empty"
             )));
         }

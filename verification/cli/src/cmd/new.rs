@@ -73,7 +73,7 @@ pub fn run(args: Args) -> CmdResult {
             serde_json::to_string_pretty(&geodesic_verify::scaffold::NewMissionDoc::new(
                 &a.path, &files
             ))
-            .map_err(|e| crate::error::CliError::Io(e.to_string()))?
+            .map_err(crate::error::CliError::io)?
         );
     } else {
         for f in &files {

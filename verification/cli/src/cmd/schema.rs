@@ -79,7 +79,7 @@ pub fn run(args: Args) -> CmdResult {
     let names: Vec<String> = entries.iter().map(|e| e.command.to_string()).collect();
     if let Some(c) = &args.command {
         let e = entries.iter().find(|e| e.command == c).ok_or_else(|| {
-            CliError::bad(format!(
+            CliError::usage(format!(
                 "schema {c}: no such command with a --json document (commands: {})",
                 names.join(", ")
             ))
@@ -90,7 +90,7 @@ pub fn run(args: Args) -> CmdResult {
     let mut written = Vec::new();
     if let (true, Some(dir)) = (args.all, &args.out) {
         written = geodesic_verify::schema::write_all(&entries, dir)
-            .map_err(|e| CliError::Io(format!("--out: {e}")))?
+            .map_err(|e| CliError::io(format!("--out: {e}")))?
             .iter()
             .map(|p| p.display().to_string())
             .collect();
@@ -100,7 +100,7 @@ pub fn run(args: Args) -> CmdResult {
             commands: names,
             written,
         };
-        let text = serde_json::to_string(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+        let text = serde_json::to_string(&doc).map_err(CliError::io)?;
         println!("{text}");
     } else if written.is_empty() {
         println!("commands with a --json schema (geodesic schema COMMAND):");

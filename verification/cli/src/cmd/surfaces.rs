@@ -3,7 +3,7 @@
 //! test of the heights (interface.md). Thin: the
 //! analysis is in `geodesic-images`.
 
-use crate::error::{CliError, CmdResult};
+use crate::error::{CliError, CmdResult, InputKind};
 use geodesic_images::surfaces::{HeightMap, SurfacesDoc, register};
 use geodesic_util::output::write_atomic;
 use std::path::PathBuf;
@@ -34,17 +34,19 @@ pub struct Args {
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let dir = crate::preflight::images_dir(&args.reports)?;
-    let b = HeightMap::load(&args.before).map_err(|e| CliError::bad(e.to_string()))?;
-    let a = HeightMap::load(&args.after).map_err(|e| CliError::bad(e.to_string()))?;
-    let r = register(&b, &a).map_err(|e| CliError::bad(e.to_string()))?;
+    let b =
+        HeightMap::load(&args.before).map_err(|e| CliError::input_from(InputKind::Invalid, e))?;
+    let a =
+        HeightMap::load(&args.after).map_err(|e| CliError::input_from(InputKind::Invalid, e))?;
+    let r = register(&b, &a).map_err(|e| CliError::model(Some("surfaces"), e.to_string()))?;
     let doc = SurfacesDoc::new(&args.before, &args.after, b.pixel_m, &r);
-    let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+    let text = serde_json::to_string_pretty(&doc).map_err(CliError::io)?;
     let stem = args
         .after
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "after".into());
-    std::fs::create_dir_all(&dir).map_err(|e| CliError::Io(format!("{}: {e}", dir.display())))?;
+    std::fs::create_dir_all(&dir).map_err(|e| CliError::io_at(&dir, e))?;
     let svg = geodesic_images::plot::difference_svg(
         &r,
         &format!(

@@ -95,7 +95,7 @@ pub fn run(args: Args) -> CmdResult {
     }
     let scenario_name = args.scenario.clone().unwrap_or_default();
     let scenario = Scenario::from_name(&scenario_name).ok_or_else(|| {
-        CliError::bad(format!(
+        CliError::usage(format!(
             "--scenario {scenario_name}: unknown scenario (tmmf-release, rt-retraction)"
         ))
     })?;
@@ -107,7 +107,7 @@ pub fn run(args: Args) -> CmdResult {
         .map(|e| e.name())
         .collect();
     if let Some(bad) = effects.iter().find(|e| !known.contains(e)) {
-        return Err(CliError::bad(format!(
+        return Err(CliError::unknown_effect(format!(
             "--effects {bad}: unknown effect for {} (known: {})",
             scenario.name(),
             known.join(", ")
@@ -139,14 +139,13 @@ pub fn run(args: Args) -> CmdResult {
         .map_or("synth.yaml".into(), |s| s.to_string_lossy().to_string());
     crate::preflight::out_file_in_new_dir("--out", &args.out)?;
     let task = crate::progress::Task::spinner(args.json, "synth: generating the record");
-    let ds = generate(&spec, &name).map_err(|e| CliError::bad(e.to_string()));
+    let ds = generate(&spec, &name).map_err(crate::error::from_fit);
     task.finish();
     let ds = ds?;
-    let files = write(&ds, &spec, &args.out).map_err(|e| CliError::Io(e.to_string()))?;
+    let files = write(&ds, &spec, &args.out).map_err(CliError::io)?;
     if args.json {
-        let doc =
-            serde_json::to_string(&geodesic_dataset::synth::SynthDoc::new(&ds, &spec, &files))
-                .map_err(|e| CliError::Io(e.to_string()))?;
+        let doc = serde_json::to_string(&geodesic_dataset::synth::SynthDoc::new(&ds, &spec, &files))
+            .map_err(CliError::io)?;
         println!("{doc}");
     } else {
         println!(
@@ -165,7 +164,7 @@ pub fn run(args: Args) -> CmdResult {
 fn mean_sd(flag: &str, v: &Option<String>, default: (f64, f64)) -> Result<(f64, f64), CliError> {
     let Some(v) = v else { return Ok(default) };
     let bad = || {
-        CliError::bad(format!(
+        CliError::usage(format!(
             "--{flag} {v}: expected MEAN:SD, two finite numbers in SI, SD >= 0"
         ))
     };
@@ -184,7 +183,7 @@ fn mean_sd(flag: &str, v: &Option<String>, default: (f64, f64)) -> Result<(f64, 
 fn campaign(args: &Args, n: usize) -> CmdResult {
     use geodesic_dataset::synth::{CampaignTruth, ReleaseTruth, TruePopulation, draw_release};
     if n == 0 || n > 10_000 {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--campaign {n}: between 1 and 10 000 releases"
         )));
     }
@@ -193,7 +192,7 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
         .as_deref()
         .is_some_and(|s| s != "tmmf-release")
     {
-        return Err(CliError::bad(
+        return Err(CliError::usage(
             "--campaign writes tmmf-release campaigns (a campaign of TMMF releases)",
         ));
     }
@@ -202,7 +201,7 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
     let (lambda_mean, lambda_sd) = mean_sd("lambda", &args.lambda, (d.lambda_mean, d.lambda_sd))?;
     let rho = args.rho.unwrap_or(0.0);
     if !(rho.is_finite() && (-1.0..=1.0).contains(&rho)) {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--rho {rho}: a correlation in [-1, 1]"
         )));
     }
@@ -215,12 +214,12 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
     };
     let dir = &args.out;
     if dir.exists() && !dir.is_dir() {
-        return Err(CliError::bad(format!(
+        return Err(CliError::usage(format!(
             "--out {}: with --campaign, a folder",
             dir.display()
         )));
     }
-    std::fs::create_dir_all(dir).map_err(|e| CliError::Io(format!("{}: {e}", dir.display())))?;
+    std::fs::create_dir_all(dir).map_err(|e| CliError::io_at(dir, e))?;
     let effects = ["needle_contact", "tip_contact", "tip_adhesion"];
     let task = crate::progress::Task::counter(args.json, "synth: campaign releases", n as u64);
     let mut names = Vec::new();
@@ -241,8 +240,8 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
             v_m_s: v,
         };
         let name = format!("release-{:03}.yaml", i + 1);
-        let ds = generate(&spec, &name).map_err(|e| CliError::bad(e.to_string()))?;
-        write(&ds, &spec, &dir.join(&name)).map_err(|e| CliError::Io(e.to_string()))?;
+        let ds = generate(&spec, &name).map_err(crate::error::from_fit)?;
+        write(&ds, &spec, &dir.join(&name)).map_err(CliError::io)?;
         truth.push(ReleaseTruth {
             file: name.clone(),
             f_pre_n: f_pre,
@@ -269,7 +268,7 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
         releases: truth,
         seed: args.seed,
     };
-    let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+    let text = serde_json::to_string_pretty(&doc).map_err(CliError::io)?;
     geodesic_util::output::write_atomic(&dir.join("truth.json"), text.as_bytes())?;
     if args.json {
         println!(
@@ -279,7 +278,7 @@ fn campaign(args: &Args, n: usize) -> CmdResult {
                 releases: n,
                 truth: dir.join("truth.json").display().to_string(),
             })
-            .map_err(|e| CliError::Io(e.to_string()))?
+            .map_err(CliError::io)?
         );
     } else {
         println!(

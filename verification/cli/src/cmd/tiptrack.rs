@@ -2,7 +2,7 @@
 //! (threshold crossings; interface.md).
 //! Thin: the analysis is in `geodesic-images`.
 
-use crate::error::{CliError, CmdResult};
+use crate::error::{CliError, CmdResult, InputKind};
 use geodesic_images::tiptrack;
 use geodesic_util::output::write_atomic;
 use std::path::PathBuf;
@@ -30,22 +30,23 @@ pub struct Args {
 /// Runs the command.
 pub fn run(args: Args) -> CmdResult {
     let dir = crate::preflight::images_dir(&args.reports)?;
-    let (cfg, tr) = tiptrack::run(&args.frames).map_err(|e| CliError::bad(e.to_string()))?;
+    let (cfg, tr) =
+        tiptrack::run(&args.frames).map_err(|e| CliError::input_from(InputKind::Invalid, e))?;
     let verdict = cfg.validity.and_then(|v| tiptrack::judge(&tr, v));
     if cfg.validity.is_some() && verdict.is_none() {
-        return Err(CliError::bad(format!(
+        return Err(CliError::evidence(format!(
             "{}: no frame inside the validity window has a z: the criterion cannot be judged",
             args.frames.display()
         )));
     }
     let doc = tiptrack::TiptrackDoc::new(&args.frames, &cfg, &tr, verdict);
-    let text = serde_json::to_string_pretty(&doc).map_err(|e| CliError::Io(e.to_string()))?;
+    let text = serde_json::to_string_pretty(&doc).map_err(CliError::io)?;
     let stem = args
         .frames
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "frames".into());
-    std::fs::create_dir_all(&dir).map_err(|e| CliError::Io(format!("{}: {e}", dir.display())))?;
+    std::fs::create_dir_all(&dir).map_err(|e| CliError::io_at(&dir, e))?;
     let svg =
         geodesic_images::plot::trajectory_svg(&tr, &format!("Release tip trajectory: {stem}"));
     write_atomic(&dir.join(format!("{stem}.tiptrack.svg")), svg.as_bytes())?;
