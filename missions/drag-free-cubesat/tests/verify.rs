@@ -150,7 +150,12 @@ fn unit_slips_in_the_design_are_refused_with_file_line_range_and_unit() {
 fn the_gate_against_the_reviewed_baseline_passes_unchanged_and_fails_on_a_thinner_foil() {
     let d = tempfile::tempdir().unwrap();
     let m = here();
-    let baseline = m.path(m.spec.baseline.as_deref().expect("a baseline in mission.yaml"));
+    let baseline = m.path(
+        m.spec
+            .baseline
+            .as_deref()
+            .expect("a baseline in mission.yaml"),
+    );
     let mut o = options(&d.path().join("r"), None);
     o.baseline = Some(baseline.clone());
     let out = run(&m, &o).unwrap();
