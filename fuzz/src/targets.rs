@@ -99,8 +99,7 @@ impl Ctx {
                     i
                 },
                 dispositions: None,
-                mc_n: 1,
-                seed: 1,
+                options: Default::default(),
                 confidence: 0.95,
                 checks: vec![],
                 fidelity: vec![],

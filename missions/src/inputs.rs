@@ -20,7 +20,7 @@
 //! built-in one): the same hex string in every command for the same file.
 
 use crate::error::CliError;
-use geodesic_core::check::{InputFile, InputOrigin, Inputs};
+use geodesic_core::check::{InputFile, InputOrigin};
 use geodesic_verify::{InputSpec, Mission};
 use std::path::Path;
 use std::sync::OnceLock;
@@ -96,6 +96,7 @@ impl ModelInput {
     }
 
     /// The copy built into the binary.
+    #[cfg(test)]
     pub fn builtin(self) -> &'static str {
         root()
             .builtin
@@ -125,20 +126,6 @@ pub fn resolve(input: ModelInput, given: Option<&Path>) -> Result<InputFile, Cli
     crate::ranges::question(&f.text, &f.label, crate::ranges::of(input.name()))
         .map_err(|e| CliError::invalid(e).in_file(&f.label, 0))?;
     Ok(f)
-}
-
-/// Every input the root mission declares, as its built-in copy (`<built-in>/PATH`).
-pub fn builtin_inputs() -> Inputs {
-    let mut inputs = Inputs::default();
-    for i in &root().spec.inputs {
-        let input = ModelInput::named(&i.name);
-        inputs.insert(
-            &i.name,
-            &i.words,
-            InputFile::new(format!("<built-in>/{}", i.path), input.builtin()),
-        );
-    }
-    inputs
 }
 
 /// One line saying which file a command read: `release budget: models/release/budget.yaml

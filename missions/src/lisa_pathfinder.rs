@@ -69,7 +69,6 @@ fn session() -> Session {
 pub fn mission() -> Mission {
     let mut m = Mission::new(DESCRIPTOR, "mission.yaml", ".", session)
         .expect("the built-in mission.yaml is valid (tested)")
-        .max_mc_n(geodesic_release::montecarlo::MAX_N)
         .series(geodesic_checks::spectral::validate_series)
         .validate("budget", |f| {
             let b = geodesic_release::budget::Budget::from_yaml(&f.text, &f.label)
@@ -117,6 +116,30 @@ mod tests {
             assert!(m.builtin.contains_key(&i.path), "{}", i.name);
             assert!(!crate::ranges::of(&i.name).is_empty(), "{}", i.name);
         }
+    }
+
+    #[test]
+    fn the_monte_carlo_options_are_declared_with_the_models_cap() {
+        let m = super::mission();
+        let n = m.spec.options.iter().find(|o| o.key() == "mc_n").unwrap();
+        assert_eq!(
+            n.max,
+            Some(geodesic_release::montecarlo::MAX_N as u64),
+            "mission.yaml's mc-n max must be the release model's MAX_N"
+        );
+        assert_eq!((n.default, n.min), (100_000, 1));
+        let seed = m.spec.options.iter().find(|o| o.key() == "seed").unwrap();
+        assert_eq!(seed.default, 1);
+        let o = m.spec.run_options(&Default::default()).unwrap();
+        assert_eq!(
+            o.lines(),
+            vec![("Monte Carlo", "N = 100000, seed = 1".to_string())]
+        );
+        let big = [("mc-n".to_string(), 10_000_001)].into_iter().collect();
+        assert_eq!(
+            m.spec.run_options(&big).unwrap_err(),
+            "--mc-n 10000001: must be between 1 and 10000000"
+        );
     }
 
     #[test]

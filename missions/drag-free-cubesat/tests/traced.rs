@@ -23,7 +23,14 @@ fn dfc_context(design: Option<&str>) -> (CheckContext, tempfile::TempDir) {
     }
     let reqs = mission_requirements("drag-free-cubesat").expect("the mission is embedded");
     (
-        geodesic_checks::context(reqs, inputs, dir.path().to_path_buf(), 100, 1, 0.95, true),
+        geodesic_checks::context(
+            reqs,
+            inputs,
+            dir.path().to_path_buf(),
+            Default::default(),
+            0.95,
+            true,
+        ),
         dir,
     )
 }

@@ -141,3 +141,43 @@ fn unit_slips_in_the_design_are_refused_with_file_line_range_and_unit() {
         assert!(ranges::question(&why, "in.yaml").is_ok());
     }
 }
+
+/// The reviewed baseline the descriptor names (`baseline:`, as a generated project's
+/// `verify --baseline` gate reads one): the unchanged folder gates against it with exit 0; a
+/// thinner shield foil is a regression (exit 1, the row named). The mission's dispositions
+/// file (`dispositions:`) is read and named in the run.
+#[test]
+fn the_gate_against_the_reviewed_baseline_passes_unchanged_and_fails_on_a_thinner_foil() {
+    let d = tempfile::tempdir().unwrap();
+    let m = here();
+    let baseline = m.path(
+        m.spec
+            .baseline
+            .as_deref()
+            .expect("a baseline in mission.yaml"),
+    );
+    let mut o = options(&d.path().join("r"), None);
+    o.baseline = Some(baseline.clone());
+    let out = run(&m, &o).unwrap();
+    assert_eq!(out.code, 0, "{:?}", out.messages);
+    assert!(out.diff.is_some());
+    let doc: Value = serde_json::from_str(&out.json).unwrap();
+    let disp = doc["run"]["dispositions"]["label"].as_str().unwrap();
+    assert!(disp.ends_with("dispositions.yaml"), "{disp}");
+
+    let thin = d.path().join("thin.yaml");
+    std::fs::write(
+        &thin,
+        DEFAULT_DESIGN_YAML.replace("thickness_mm: 0.1", "thickness_mm: 0.02"),
+    )
+    .unwrap();
+    let mut o = options(&d.path().join("r2"), Some(&thin));
+    o.baseline = Some(baseline);
+    let out = run(&m, &o).unwrap();
+    assert_eq!(out.code, 1);
+    assert!(
+        out.messages.iter().any(|l| l.contains("DFC-MAG-SHIELD")),
+        "{:?}",
+        out.messages
+    );
+}

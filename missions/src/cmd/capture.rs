@@ -103,16 +103,7 @@ pub fn run(args: Args) -> CmdResult {
     let inputs = CaptureInputs::from_yaml_str(&file.text, &file.label)
         .map_err(|e| CliError::malformed(e.to_string()).in_file(&file.label, 0))?;
     let (reqs, _, _) = crate::missions::load_requirements(args.requirements.as_ref())?;
-    let ctx = geodesic_checks::context(
-        reqs,
-        crate::inputs::builtin_inputs(),
-        std::env::temp_dir(),
-        1,
-        args.seed,
-        geodesic_checks::DEFAULT_CONFIDENCE,
-        true,
-    );
-    let req = geodesic_checks::capture::requirement_box(&ctx).map_err(CliError::evidence)?;
+    let req = geodesic_checks::capture::requirement_box(&reqs).map_err(CliError::evidence)?;
     let xlim = inputs.xlim(req);
     let mut state = match &args.state {
         Some(p) => {

@@ -2,15 +2,9 @@
 
 pub use geodesic_util::normal::{erfc, normal_cdf};
 
-/// Nearest-rank quantile of sorted data: the value at index `ceil(q n) - 1`.
-pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let n = sorted.len();
-    let k = ((q * n as f64).ceil() as usize).clamp(1, n);
-    sorted[k - 1]
-}
+/// Nearest-rank quantile of sorted data: the value at index `ceil(q n) - 1` (one
+/// implementation, in `geodesic-util`).
+pub use geodesic_util::stats::quantile_sorted;
 
 #[cfg(test)]
 mod tests {

@@ -110,12 +110,11 @@ pub fn checks() -> Vec<Box<dyn Check>> {
 
 /// The requirement box `req_i` [SI] from the loaded TMS requirements, or why it cannot be had
 /// (a TMS row missing, or not an upper bound).
-pub fn requirement_box(ctx: &CheckContext) -> Result<[f64; N_STATES], String> {
+pub fn requirement_box(reqs: &geodesic_core::Requirements) -> Result<[f64; N_STATES], String> {
     let mut out = [f64::NAN; N_STATES];
     for s in StateName::ALL {
         let id = s.requirement_id();
-        let r = ctx
-            .requirements
+        let r = reqs
             .get(id)
             .ok_or_else(|| format!("{id} is not in the loaded requirements: no requirement box"))?;
         let Some(l) = &r.limit else {
@@ -157,7 +156,7 @@ impl CaptureSetup {
         let f = &ctx.inputs.file("capture")?;
         let inputs = CaptureInputs::from_yaml_str(&f.text, &f.label)
             .map_err(|e| CheckError::input(e.to_string()))?;
-        let req = match requirement_box(ctx) {
+        let req = match requirement_box(&ctx.requirements) {
             Ok(r) => r,
             Err(why) => return Ok(Err(why)),
         };
@@ -504,7 +503,7 @@ impl Check for CaptureProbabilityCheck {
         Ok(vec![capture_probability_evidence(
             &setup,
             &release,
-            ctx.seed,
+            ctx.option::<u64>("seed")?,
             limit,
             ctx.confidence,
         )])

@@ -155,8 +155,8 @@ impl Check for ChargeAnalysis {
             ),
             k("CHG-Q"),
             k("CHG-V"),
-            ctx.mc_n,
-            ctx.seed,
+            ctx.option::<usize>("mc_n")?,
+            ctx.option::<u64>("seed")?,
         ))
     }
 }

@@ -48,8 +48,8 @@ pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceR
     let all = mc.get(ctx)?.summary();
     let note = format!(
         "N = {}, seed = {}, budget {} (sha256 {})",
-        ctx.mc_n,
-        ctx.seed,
+        ctx.option::<usize>("mc_n")?,
+        ctx.option::<u64>("seed")?,
         ctx.inputs.file("budget")?.label,
         &ctx.inputs.file("budget")?.sha256[..12]
     );
@@ -69,15 +69,22 @@ pub fn table(mc: &SharedMonteCarlo, ctx: &CheckContext) -> Result<Vec<ReferenceR
         let p = if case == Case::All {
             all.p9973_um_s
         } else {
-            montecarlo::run(&budget, case, ctx.mc_n, ctx.seed, None, &|_| {})
-                .map_err(|e| {
-                    CheckError::model(
-                        "release Monte Carlo",
-                        format!("release Monte Carlo ({}): {e}", case.as_str()),
-                    )
-                })?
-                .summary()
-                .p9973_um_s
+            montecarlo::run(
+                &budget,
+                case,
+                ctx.option::<usize>("mc_n")?,
+                ctx.option::<u64>("seed")?,
+                None,
+                &|_| {},
+            )
+            .map_err(|e| {
+                CheckError::model(
+                    "release Monte Carlo",
+                    format!("release Monte Carlo ({}): {e}", case.as_str()),
+                )
+            })?
+            .summary()
+            .p9973_um_s
         };
         rows.push(ReferenceRow::new(
             &format!("99.73 % of |X'|, case {}", case.as_str()),
@@ -269,8 +276,9 @@ fn tip_radius_rows(
         optimum_radius_m(&i, &ESTIMATES[0]),
         optimum_radius_m(&i, &ESTIMATES[1]),
     );
-    let n = (ctx.mc_n / 5).max(1000);
-    let mc = |mm: f64| mc_at(budget, radius_m(mm), n, ctx.seed).map(|p| p.p9973_um_s);
+    let n = (ctx.option::<usize>("mc_n")? / 5).max(1000);
+    let mc =
+        |mm: f64| mc_at(budget, radius_m(mm), n, ctx.option::<u64>("seed")?).map(|p| p.p9973_um_s);
     let (m1, m10) = (mc(1.0)?, mc(10.0)?);
     Ok(vec![ReferenceRow::new(
         "optimum tip radius of the simple worst-case estimates (bottom 0.2 N, 180 mm/s; upper 0.4 N, 45 mm/s)",

@@ -23,7 +23,7 @@ pub mod spectral;
 pub mod tipradius;
 pub mod tm_state;
 
-use geodesic_core::check::{InputFile, Inputs};
+use geodesic_core::check::{InputFile, Inputs, RunOptions};
 use geodesic_core::{Check, CheckContext, Requirements};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -59,30 +59,49 @@ pub const INPUT_COPIES: &[(&str, &str)] = &[
 ];
 
 /// A check context on the repository's embedded requirements and built-in model inputs, for
-/// tests and examples.
+/// tests and examples, with the root mission's run options (its descriptor's `options:`) set
+/// to `mc_n` Monte Carlo draws [-] and `seed`.
 pub fn builtin_context(reports_dir: PathBuf, mc_n: usize, seed: u64) -> CheckContext {
     CheckContext {
         requirements: Arc::new(geodesic_core::trace::requirements().clone()),
         inputs: Arc::new(builtin_inputs()),
         reports_dir,
-        mc_n,
-        seed,
+        options: builtin_options(mc_n, seed),
         confidence: DEFAULT_CONFIDENCE,
         quiet: true,
     }
+}
+
+/// The root mission's run options (the descriptor's `options:`, read at run time as
+/// [`builtin_inputs`] reads its inputs) with `mc_n` draws [-] and `seed`, for tests and
+/// examples.
+pub fn builtin_options(mc_n: usize, seed: u64) -> RunOptions {
+    let root = geodesic_core::trace::mission_root().expect("a mission.yaml above the tests");
+    let label = root.join("mission.yaml").display().to_string();
+    let text = std::fs::read_to_string(root.join("mission.yaml")).expect("a readable mission.yaml");
+    let spec =
+        geodesic_verify::MissionSpec::from_yaml(&text, &label).expect("a valid mission.yaml");
+    let given = [
+        ("mc-n".to_string(), mc_n as u64),
+        ("seed".to_string(), seed),
+    ]
+    .into_iter()
+    .collect();
+    spec.run_options(&given)
+        .expect("mc-n and seed declared, in range")
 }
 
 /// The confidence of the bounds a sampled verdict is decided by, unless `verify --confidence`
 /// says otherwise [-].
 pub const DEFAULT_CONFIDENCE: f64 = 0.95;
 
-/// A check context for a loaded requirement set and model inputs.
+/// A check context for a loaded requirement set, model inputs and run options (a mission's
+/// declared `options:`; [`RunOptions::default`] for none).
 pub fn context(
     requirements: Requirements,
     inputs: Inputs,
     reports_dir: PathBuf,
-    mc_n: usize,
-    seed: u64,
+    options: RunOptions,
     confidence: f64,
     quiet: bool,
 ) -> CheckContext {
@@ -90,8 +109,7 @@ pub fn context(
         requirements: Arc::new(requirements),
         inputs: Arc::new(inputs),
         reports_dir,
-        mc_n,
-        seed,
+        options,
         confidence,
         quiet,
     }
@@ -119,16 +137,6 @@ pub fn registry_with(mc: std::sync::Arc<release::SharedMonteCarlo>) -> Vec<Box<d
     all.extend(sensitivity::checks());
     all.extend(spectral::checks());
     all
-}
-
-/// Whether `check` has work in a requirement set: one of the IDs it declares is loaded, or a
-/// loaded requirement names it in `check:` (a generic check such as `spectral-asd`).
-pub fn is_wanted(check: &dyn Check, reqs: &Requirements) -> bool {
-    check.verifies().iter().any(|id| reqs.get(id).is_some())
-        || reqs
-            .items
-            .iter()
-            .any(|r| r.check.as_deref() == Some(check.name()))
 }
 
 /// Names of the registered checks.

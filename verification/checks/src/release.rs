@@ -1,7 +1,7 @@
 //! Checks of the `release` family (thesis ch. 3-6, physics.md §1-3):
 //!
-//! - `release-montecarlo`: runs the in-flight release Monte Carlo (case `all`, `ctx.mc_n`
-//!   draws, `ctx.seed`, the run's budget file), writes `release-velocity-<ID>.svg` per
+//! - `release-montecarlo`: runs the in-flight release Monte Carlo (case `all`, the run options
+//!   `mc_n` draws and `seed`, the run's budget file), writes `release-velocity-<ID>.svg` per
 //!   requirement (histogram and log-scaled tail with that requirement's own limit) and gives,
 //!   for REL-GPRM-VEL, REL-DFACS-VEL and TMS-Z-VEL (the release axis is z in the DFACS frame),
 //!   and for any other requirement that names it in `check:`, the quantile of |X'| each requirement's `probability` names with its exact order-statistic
@@ -131,16 +131,24 @@ impl SharedMonteCarlo {
             .map_err(|_| CheckError::config("release Monte Carlo cache poisoned"))?;
         let sha = &ctx.inputs.file("budget")?.sha256;
         if let Some((r, h)) = guard.as_ref()
-            && r.n == ctx.mc_n
-            && r.seed == ctx.seed
+            && r.n == ctx.option::<usize>("mc_n")?
+            && r.seed == ctx.option::<u64>("seed")?
             && h == sha
         {
             return Ok(r.clone());
         }
         let budget = budget_of(ctx)?;
-        let r = montecarlo::run(&budget, Case::All, ctx.mc_n, ctx.seed, None, &|_| {}).map_err(
-            |e| CheckError::model("release Monte Carlo", format!("release Monte Carlo: {e}")),
-        )?;
+        let r = montecarlo::run(
+            &budget,
+            Case::All,
+            ctx.option::<usize>("mc_n")?,
+            ctx.option::<u64>("seed")?,
+            None,
+            &|_| {},
+        )
+        .map_err(|e| {
+            CheckError::model("release Monte Carlo", format!("release Monte Carlo: {e}"))
+        })?;
         let r = Arc::new(r);
         *guard = Some((r.clone(), sha.clone()));
         Ok(r)
@@ -216,9 +224,9 @@ impl Check for ReleaseMonteCarlo {
                     pop,
                     &budget,
                     Case::All,
-                    (ctx.mc_n / 10).max(1000),
+                    (ctx.option::<usize>("mc_n")? / 10).max(1000),
                     POPULATION_DRAWS,
-                    ctx.seed,
+                    ctx.option::<u64>("seed")?,
                     &|_| {},
                 )
                 .map_err(|e| CheckError::model("adhesion population identification", e))?,

@@ -36,8 +36,8 @@ impl Check for ReleaseSensitivity {
 
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
         let budget = budget_of(ctx)?;
-        let n = draws_for(ctx.mc_n);
-        let s = release_sensitivity(&budget, n, ctx.seed, &|_| {})
+        let n = draws_for(ctx.option::<usize>("mc_n")?);
+        let s = release_sensitivity(&budget, n, ctx.option::<u64>("seed")?, &|_| {})
             .map_err(|e| CheckError::model("sensitivity", format!("sensitivity: {e}")))?;
         let svg = plots::sensitivity_svg(&s)?;
         let art = plots::write(&ctx.reports_dir, "release-sensitivity.svg", &svg)?;
@@ -58,7 +58,7 @@ impl Check for ReleaseSensitivity {
             ),
         )
         .with_input("draws_per_matrix", n)
-        .with_input("seed", ctx.seed)
+        .with_input("seed", ctx.option::<u64>("seed")?)
         .with_input("p9973_um_s_all_free", s.p9973_um_s)
         .with_input("sum_first_order", sum_first)
         .with_artifact(art);

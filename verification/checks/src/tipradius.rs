@@ -109,13 +109,13 @@ impl Check for TipRadius {
     fn run(&self, ctx: &CheckContext) -> Result<Vec<Evidence>, CheckError> {
         let budget = budget_of(ctx)?;
         let i = simple_inputs(&budget);
-        let n = (ctx.mc_n / 5).max(1000);
-        let mc = mc_points(&budget, n, ctx.seed)?;
+        let n = (ctx.option::<usize>("mc_n")? / 5).max(1000);
+        let mc = mc_points(&budget, n, ctx.option::<u64>("seed")?)?;
         let r0 = budget.tip_radius_m.mean();
         let svg = plots::tip_radius_svg(&curves(&i), &mc, r0)?;
         let art = plots::write(&ctx.reports_dir, "tip-radius.svg", &svg)?;
         let opt = optimum_radius_m(&i, &ESTIMATES[0]);
-        let at_opt = mc_at(&budget, opt, n, ctx.seed)?;
+        let at_opt = mc_at(&budget, opt, n, ctx.option::<u64>("seed")?)?;
         let mut ev = Evidence::measured(
             "REL-GPRM-VEL",
             Quantity::new(at_opt.p9973_um_s * 1e-6, Dim::VELOCITY),
@@ -128,7 +128,7 @@ impl Check for TipRadius {
         )
         .with_input("jerk_m_s3", i.jerk_m_s3)
         .with_input("mc_n_per_radius", n)
-        .with_input("seed", ctx.seed)
+        .with_input("seed", ctx.option::<u64>("seed")?)
         .with_artifact(art);
         for e in &ESTIMATES {
             let o = optimum_radius_m(&i, e);

@@ -68,7 +68,30 @@ fn another_mission_is_picked_by_name_or_by_its_requirement_folder() {
         // none of the root mission's rows
         let rows = doc["requirements"].as_array().unwrap();
         assert!(!rows.is_empty() && rows.iter().all(|r| r["id"] != "REL-GPRM-VEL"));
+        // it declares no run option: no Monte Carlo keys in `run`
+        assert!(doc["run"].get("mc_n").is_none() && doc["run"].get("seed").is_none());
     }
+    // nor the root mission's --mc-n: refused (exit 2, one line), not silently ignored
+    let out = geodesic(
+        &[
+            "verify",
+            "--mission",
+            name,
+            "--mc-n",
+            "10",
+            "--reports",
+            "r9",
+        ],
+        &d,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!(
+            "--mc-n: mission {name} declares no option `mc-n` (its options: none)"
+        )) && err.trim().lines().count() == 1,
+        "{err}"
+    );
 }
 
 /// White noise of one-sided ASD `asd` [SI / sqrt(Hz)] at `fs` [Hz], in `unit` scaled by `k`.

@@ -163,6 +163,106 @@ impl Inputs {
     }
 }
 
+/// One run option a mission declares, with its value for a run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunOption {
+    /// Its key: in `run` of `compliance.json` and for [`CheckContext::option`] (`mc_n`).
+    pub key: String,
+    /// Its value for the run.
+    pub value: u64,
+    /// How the reports name it (`N`).
+    pub words: String,
+    /// The reports' line it is printed on with the other options of the same group
+    /// (`Monte Carlo`); empty: a line of its own, named by `words`.
+    pub group: String,
+}
+
+/// The run options a mission declares (`mission.yaml` `options:`), in declaration order, with
+/// their values for a run. `compliance.json` writes each as `"KEY": VALUE` in `run`; the
+/// reports print them by group (`Monte Carlo: N = 100000, seed = 1`). A mission that declares
+/// none has none, and its reports print no line for them.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RunOptions(Vec<RunOption>);
+
+impl RunOptions {
+    /// Adds an option (or sets the value of one already there).
+    pub fn push(&mut self, option: RunOption) {
+        match self.0.iter_mut().find(|o| o.key == option.key) {
+            Some(o) => *o = option,
+            None => self.0.push(option),
+        }
+    }
+
+    /// The value of the option `key`.
+    pub fn get(&self, key: &str) -> Option<u64> {
+        self.0.iter().find(|o| o.key == key).map(|o| o.value)
+    }
+
+    /// The options in declaration order.
+    pub fn iter(&self) -> impl Iterator<Item = &RunOption> {
+        self.0.iter()
+    }
+
+    /// Whether the mission declares none.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// The keys, comma separated (`none` when there are none).
+    pub fn keys(&self) -> String {
+        if self.0.is_empty() {
+            return "none".into();
+        }
+        self.0
+            .iter()
+            .map(|o| o.key.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The reports' lines: `(label, text)` per group in order of first appearance
+    /// (`("Monte Carlo", "N = 100000, seed = 1")`), an option without a group on its own
+    /// line (`(words, value)`).
+    pub fn lines(&self) -> Vec<(&str, String)> {
+        let mut out: Vec<(&str, String)> = Vec::new();
+        for o in &self.0 {
+            if o.group.is_empty() {
+                out.push((o.words.as_str(), o.value.to_string()));
+            } else if let Some((_, text)) = out.iter_mut().find(|(g, _)| *g == o.group) {
+                text.push_str(&format!(", {} = {}", o.words, o.value));
+            } else {
+                out.push((o.group.as_str(), format!("{} = {}", o.words, o.value)));
+            }
+        }
+        out
+    }
+}
+
+impl Serialize for RunOptions {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(self.0.len()))?;
+        for o in &self.0 {
+            m.serialize_entry(&o.key, &o.value)?;
+        }
+        m.end()
+    }
+}
+
+impl schemars::JsonSchema for RunOptions {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "RunOptions".into()
+    }
+
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "description": "The run options the mission declares, by key (e.g. `mc_n`, `seed`): whole numbers",
+            "type": "object",
+            "additionalProperties": {"type": "integer", "minimum": 0}
+        })
+    }
+}
+
 /// What a check is given to run.
 #[derive(Clone, Debug)]
 pub struct CheckContext {
@@ -174,10 +274,10 @@ pub struct CheckContext {
     /// Directory where the check may write artifacts (plots); paths in [`Evidence::artifacts`]
     /// are relative to it.
     pub reports_dir: PathBuf,
-    /// Monte Carlo sample count [-].
-    pub mc_n: usize,
-    /// Monte Carlo seed.
-    pub seed: u64,
+    /// The run options the mission declares (its `mission.yaml` `options:`, e.g. a Monte
+    /// Carlo sample count and seed), with their values for this run: read them with
+    /// [`CheckContext::option`].
+    pub options: RunOptions,
     /// Confidence of the bounds a sampled verdict is decided by [-] (0.95 by default).
     pub confidence: f64,
     /// No progress output.
@@ -185,6 +285,23 @@ pub struct CheckContext {
 }
 
 impl CheckContext {
+    /// The value of the run option `key` (its key in the mission's `options:`, e.g. `mc_n`),
+    /// as the type the check reads it in; an error when the mission declares no such option or
+    /// the value does not fit `T`.
+    pub fn option<T: TryFrom<u64>>(&self, key: &str) -> Result<T, CheckError> {
+        let v = self.options.get(key).ok_or_else(|| {
+            CheckError::config(format!(
+                "the run option `{key}` is not declared by the mission (its options: {})",
+                self.options.keys()
+            ))
+        })?;
+        T::try_from(v).map_err(|_| {
+            CheckError::config(format!(
+                "the run option `{key}` = {v} does not fit the type its check reads"
+            ))
+        })
+    }
+
     /// The probability a requirement states, as a fraction (`None` when it states none or is
     /// not loaded).
     pub fn probability(&self, id: &str) -> Option<f64> {
@@ -448,7 +565,6 @@ impl Sampling {
         use geodesic_util::stats;
         let n = sorted.len() as u64;
         let at = |k: Option<u64>| k.map(|k| sorted[(k - 1) as usize]);
-        let est_rank = ((probability * n as f64).ceil() as u64).clamp(1, n.max(1));
         let lower_rank = stats::quantile_lower_rank(n, probability, confidence);
         let upper_rank = stats::quantile_upper_rank(n, probability, confidence);
         Sampling {
@@ -457,11 +573,7 @@ impl Sampling {
             confidence,
             n,
             successes: None,
-            estimate: if n == 0 {
-                f64::NAN
-            } else {
-                sorted[(est_rank - 1) as usize]
-            },
+            estimate: stats::quantile_sorted(sorted, probability),
             lower: at(lower_rank),
             upper: at(upper_rank),
             lower_rank,
@@ -638,6 +750,16 @@ impl CheckError {
             CheckError::Evidence(m) | CheckError::Config(m) => m,
         }
     }
+}
+
+/// Whether `check` has work in a requirement set: one of the IDs it declares is loaded, or a
+/// loaded requirement names it in `check:` (a generic check such as `spectral-asd`).
+pub fn is_wanted(check: &dyn Check, reqs: &crate::Requirements) -> bool {
+    check.verifies().iter().any(|id| reqs.get(id).is_some())
+        || reqs
+            .items
+            .iter()
+            .any(|r| r.check.as_deref() == Some(check.name()))
 }
 
 /// A verification activity.

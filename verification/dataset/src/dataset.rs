@@ -1636,17 +1636,6 @@ pub const WILD_ROBUST_SIGMA: f64 = 20.0;
 /// and the three highest): outside any curve its neighbours trace.
 pub const WILD_SPREAD: f64 = 10.0;
 
-/// Median of a short slice (sorted in place).
-fn median_of(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
 /// For each sample of `v`: its deviation from the median of its [`NEIGHBOURS`] and their
 /// spread (their range without the [`TRIM`] lowest and highest). Empty when `v` has no more
 /// samples than [`NEIGHBOURS`]. A glitch of up to four samples moves neither: each of its
@@ -1668,7 +1657,7 @@ pub fn local_deviation(v: &[f64]) -> Vec<(f64, f64)> {
                     k += 1;
                 }
             }
-            let m = median_of(&mut buf[..k]);
+            let m = geodesic_util::stats::median(&mut buf[..k]);
             // buf is sorted now: the spread without the extremes
             let spread = buf[k - 1 - TRIM] - buf[TRIM];
             (v[i] - m, spread)

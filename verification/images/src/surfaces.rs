@@ -33,6 +33,7 @@
 //!   reported as the thesis reports it, a statement about the two distributions' difference.
 
 use crate::{ImageError, positive, yaml_error};
+use geodesic_util::stats::median;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -757,19 +758,6 @@ fn difference_map(
         compared,
         ks,
         ks_p: p,
-    }
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
     }
 }
 

@@ -57,10 +57,10 @@ pub struct RunInfo {
     pub inputs: geodesic_core::check::Inputs,
     /// The dispositions file and its SHA-256 (`None`: no dispositions).
     pub dispositions: Option<geodesic_core::check::InputFile>,
-    /// Monte Carlo sample count given to the checks [-].
-    pub mc_n: usize,
-    /// Monte Carlo seed.
-    pub seed: u64,
+    /// The run options the mission declares (e.g. a Monte Carlo sample count `mc_n` [-] and
+    /// its `seed`), each written as its own key of `run`.
+    #[serde(flatten)]
+    pub options: geodesic_core::check::RunOptions,
     /// Confidence of the bounds a sampled verdict is decided by [-].
     pub confidence: f64,
     /// Checks that ran, with the requirements they verify.
@@ -245,7 +245,9 @@ pub fn run_lines(rep: &Report) -> Vec<(&str, String)> {
                 format!("{} (sha256 {})", d.label, short(&d.sha256))
             }),
         ),
-        ("Monte Carlo", format!("N = {}, seed = {}", r.mc_n, r.seed)),
+    ]);
+    v.extend(r.options.lines());
+    v.extend([
         (
             "sampled verdicts",
             format!(
@@ -544,8 +546,18 @@ requirements:
                     i
                 },
                 dispositions: None,
-                mc_n: 1,
-                seed: 1,
+                options: {
+                    let mut o = geodesic_core::check::RunOptions::default();
+                    for (key, words) in [("mc_n", "N"), ("seed", "seed")] {
+                        o.push(geodesic_core::check::RunOption {
+                            key: key.into(),
+                            value: 1,
+                            words: words.into(),
+                            group: "Monte Carlo".into(),
+                        });
+                    }
+                    o
+                },
                 confidence: 0.95,
                 checks: vec![],
                 fidelity: vec![],

@@ -23,6 +23,33 @@
 //! but not the ranks). Reference values: `verification/core/tests/stats_reference.py` (SciPy),
 //! checked in `verification/core/tests/stats.rs`.
 
+/// Nearest-rank quantile of sorted data (same unit as the data): the value of rank `ceil(q n)`
+/// (1-based, clamped to `1..=n`), the estimate the order-statistic bounds below go with; NaN
+/// for no data.
+pub fn quantile_sorted(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let n = sorted.len();
+    let k = ((q * n as f64).ceil() as usize).clamp(1, n);
+    sorted[k - 1]
+}
+
+/// The median of `v` (same unit as the data), sorting `v` in place (total order): its middle
+/// value, or the mean of its two middle values for an even count; NaN for no data.
+pub fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
 /// `ln Gamma(x)` for `x > 0` (Lanczos, g = 7, 9 coefficients; relative error below 1e-14 for
 /// the arguments used here, `x >= 1`).
 pub fn ln_gamma(x: f64) -> f64 {

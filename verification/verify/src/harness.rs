@@ -9,7 +9,8 @@
 //!
 //! and its program runs the verification (`verify`, or no command at all) with the flags
 //! `geodesic verify` has (`--reports DIR`, `--json`, `--baseline OLD.json`, `--require-tests`,
-//! `--junit FILE`, `--mc-n`, `--seed`, `--only`, `--NAME FILE` for each declared input), lists,
+//! `--junit FILE`, `--only`, `--NAME FILE` for each declared input, `--NAME VALUE` for each
+//! declared run option, e.g. `--mc-n N`), lists,
 //! checks and shows its requirements (`requirements check|list|show ID`), exports them as ReqIF
 //! (`export reqif --out FILE [--matrix compliance.json]`, as `geodesic export reqif`; the older
 //! `export-reqif` still works), and records its traced tests (`test [ARGS]`: `cargo test ARGS`
@@ -40,10 +41,6 @@ pub fn verify_args(cmd: Command, missions: &[&Mission]) -> Command {
             .help("Exit 1 when no test run is recorded, when it is stale, when a requirement's traced tests failed, were ignored or did not run, or when a verdict has no passing traced test that asserts its limit or a reference"))
         .arg(Arg::new("reports").long("reports").value_name("DIR").default_value("reports").value_parser(clap::value_parser!(PathBuf))
             .help("Directory the reports are written to"))
-        .arg(Arg::new("mc-n").long("mc-n").value_name("N").default_value("100000").value_parser(clap::value_parser!(usize))
-            .help("Monte Carlo sample count used by the checks that run one"))
-        .arg(Arg::new("seed").long("seed").default_value("1").value_parser(clap::value_parser!(u64))
-            .help("Monte Carlo seed"))
         .arg(Arg::new("confidence").long("confidence").value_name("C").default_value("0.95").value_parser(clap::value_parser!(f64))
             .help("Confidence of the bounds a sampled verdict (a Monte Carlo quantile, a probability from successes) is decided by, between 0 and 1"))
         .arg(Arg::new("junit").long("junit").value_name("FILE").value_parser(clap::value_parser!(PathBuf))
@@ -61,6 +58,36 @@ pub fn verify_args(cmd: Command, missions: &[&Mission]) -> Command {
         .arg(Arg::new("json").long("json").action(ArgAction::SetTrue)
             .help("Print only the JSON compliance matrix on standard output"));
     let mut seen: Vec<String> = Vec::new();
+    // the run options the missions declare: `--NAME VALUE`, a whole number
+    for m in missions {
+        for o in &m.spec.options {
+            if seen.contains(&o.name) {
+                continue;
+            }
+            seen.push(o.name.clone());
+            let defaults: Vec<String> = missions
+                .iter()
+                .filter_map(|m| {
+                    let d = m.spec.options.iter().find(|d| d.name == o.name)?.default;
+                    Some((m.spec.name.as_str(), d))
+                })
+                .map(|(name, d)| {
+                    if missions.len() == 1 {
+                        d.to_string()
+                    } else {
+                        format!("{d} (mission {name})")
+                    }
+                })
+                .collect();
+            cmd = cmd.arg(
+                Arg::new(leak(format!("option:{}", o.name)))
+                    .long(leak(o.name.clone()))
+                    .value_name(leak(o.words.to_uppercase().replace(' ', "_")))
+                    .value_parser(clap::value_parser!(u64))
+                    .help(format!("{} [default: {}]", o.about, defaults.join(", "))),
+            );
+        }
+    }
     for m in missions {
         for i in &m.spec.inputs {
             if seen.contains(&i.name) {
@@ -104,6 +131,14 @@ pub fn options(m: &ArgMatches) -> Options {
             inputs.insert(name.to_string(), p.clone());
         }
     }
+    let mut options = std::collections::BTreeMap::new();
+    for id in m.ids() {
+        if let Some(name) = id.as_str().strip_prefix("option:")
+            && let Some(v) = m.get_one::<u64>(id.as_str())
+        {
+            options.insert(name.to_string(), *v);
+        }
+    }
     Options {
         requirements: path("requirements"),
         inputs,
@@ -112,8 +147,7 @@ pub fn options(m: &ArgMatches) -> Options {
         tests: path("tests"),
         require_tests: m.get_flag("require-tests"),
         reports: path("reports").unwrap_or_else(|| PathBuf::from("reports")),
-        mc_n: *m.get_one::<usize>("mc-n").unwrap_or(&100_000),
-        seed: *m.get_one::<u64>("seed").unwrap_or(&1),
+        options,
         confidence: *m.get_one::<f64>("confidence").unwrap_or(&0.95),
         junit: path("junit"),
         baseline: path("baseline"),
@@ -151,11 +185,22 @@ pub fn print(program: &str, opts: &Options, out: &crate::Outcome) -> u8 {
             .filter(|p| p.parent() == Some(opts.reports.as_path()))
             .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
             .collect();
+        let run_options: Vec<String> = out
+            .report
+            .run
+            .options
+            .lines()
+            .iter()
+            .map(|(label, text)| format!("{label}: {text}"))
+            .collect();
         println!(
-            "sampled verdicts: decided by their {} confidence bounds (Monte Carlo N = {}, seed {})",
+            "sampled verdicts: decided by their {} confidence bounds{}",
             geodesic_core::units::fmt_pct(out.report.run.confidence),
-            out.report.run.mc_n,
-            out.report.run.seed
+            if run_options.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", run_options.join("; "))
+            }
         );
         for l in pipeline::input_lines(&out.report.run.inputs) {
             println!("{l}");

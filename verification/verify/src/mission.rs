@@ -22,6 +22,15 @@
 //! reference:                  # the comparison table beside the matrix (optional)
 //!   title: Fidelity against the reference design
 //!   column: Reference
+//! options:                    # run options its checks read (optional; whole numbers)
+//!   - name: mc-n              # the flag (`--mc-n N`)
+//!     key: mc_n               # `run.mc_n` in compliance.json; `ctx.option::<usize>("mc_n")`
+//!     words: N                # how the reports name it
+//!     group: Monte Carlo      # the reports' line it is printed on (`Monte Carlo: N = 100000`)
+//!     default: 100000
+//!     min: 1                  # optional, 0 by default
+//!     max: 10000000           # optional
+//!     about: Monte Carlo sample count used by the checks that run one
 //! ```
 
 use crate::error::Error;
@@ -57,6 +66,99 @@ pub struct MissionSpec {
     /// matrix.
     #[serde(default)]
     pub reference: Option<ReferenceSpec>,
+    /// The run options its checks read (a Monte Carlo sample count, a seed, ...): each is a
+    /// `verify` flag, a key of `run` in `compliance.json` and a value of the check context.
+    #[serde(default)]
+    pub options: Vec<OptionSpec>,
+}
+
+/// One run option a mission declares: a whole number its checks read
+/// ([`geodesic_core::CheckContext::option`]).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OptionSpec {
+    /// Its flag without the dashes (`mc-n`: `--mc-n N`).
+    pub name: String,
+    /// Its key in `run` of `compliance.json` and in the check context [default: `name` with
+    /// `-` as `_`].
+    #[serde(default)]
+    pub key: Option<String>,
+    /// How the reports name it (`N`).
+    pub words: String,
+    /// The reports' line it is printed on with the other options of the same group (`Monte
+    /// Carlo`); none: a line of its own.
+    #[serde(default)]
+    pub group: Option<String>,
+    /// Its value when the flag is not given.
+    pub default: u64,
+    /// The smallest value accepted [default: 0].
+    #[serde(default)]
+    pub min: u64,
+    /// The largest value accepted [default: none].
+    #[serde(default)]
+    pub max: Option<u64>,
+    /// What it is, for `--help`.
+    #[serde(default)]
+    pub about: String,
+}
+
+impl OptionSpec {
+    /// Its key in `run` and in the check context.
+    pub fn key(&self) -> String {
+        self.key
+            .clone()
+            .unwrap_or_else(|| self.name.replace('-', "_"))
+    }
+
+    /// Its value for a run: `given`, else its default; an error (the flag, the value and the
+    /// range) when outside `min..=max`.
+    pub fn value(&self, given: Option<u64>) -> Result<u64, String> {
+        let v = given.unwrap_or(self.default);
+        let max = self.max.unwrap_or(u64::MAX);
+        if v < self.min || v > max {
+            return Err(format!(
+                "--{} {v}: must be between {} and {max}",
+                self.name, self.min
+            ));
+        }
+        Ok(v)
+    }
+}
+
+impl MissionSpec {
+    /// The run options for a run: each declared option with the value `given` by name (its
+    /// flag's name) or its default; an error for a value out of range or an option the mission
+    /// does not declare.
+    pub fn run_options(
+        &self,
+        given: &BTreeMap<String, u64>,
+    ) -> Result<geodesic_core::check::RunOptions, String> {
+        if let Some(name) = given
+            .keys()
+            .find(|n| !self.options.iter().any(|o| &o.name == *n))
+        {
+            let declared: Vec<&str> = self.options.iter().map(|o| o.name.as_str()).collect();
+            return Err(format!(
+                "--{name}: mission {} declares no option `{name}` (its options: {})",
+                self.name,
+                if declared.is_empty() {
+                    "none".to_string()
+                } else {
+                    declared.join(", ")
+                }
+            ));
+        }
+        let mut out = geodesic_core::check::RunOptions::default();
+        for o in &self.options {
+            out.push(geodesic_core::check::RunOption {
+                key: o.key(),
+                value: o.value(given.get(&o.name).copied())?,
+                words: o.words.clone(),
+                group: o.group.clone().unwrap_or_default(),
+            });
+        }
+        Ok(out)
+    }
 }
 
 /// One input file a mission's checks read.
@@ -120,9 +222,56 @@ impl MissionSpec {
             }
             seen.push(i.name.clone());
         }
+        let mut keys = Vec::new();
+        for o in &spec.options {
+            if !ok(&o.name) || seen.contains(&o.name) || RESERVED.contains(&o.name.as_str()) {
+                return Err(Error::invalid(format!(
+                    "{label}: option `{}`: a name of lower-case letters, digits, `-` and `_`, not an input's nor one of verify's own flags",
+                    o.name
+                )));
+            }
+            seen.push(o.name.clone());
+            if keys.contains(&o.key()) {
+                return Err(Error::conflict(format!(
+                    "{label}: option `{}`: key `{}` declared twice",
+                    o.name,
+                    o.key()
+                )));
+            }
+            keys.push(o.key());
+            if o.value(None).is_err() {
+                return Err(Error::invalid(format!(
+                    "{label}: option `{}`: default {} outside min {} .. max {}",
+                    o.name,
+                    o.default,
+                    o.min,
+                    o.max.map_or("none".to_string(), |m| m.to_string())
+                )));
+            }
+        }
         Ok(spec)
     }
 }
+
+/// `verify`'s own flags, which no option may take.
+const RESERVED: &[&str] = &[
+    "requirements",
+    "dispositions",
+    "document",
+    "tests",
+    "require-tests",
+    "reports",
+    "confidence",
+    "junit",
+    "baseline",
+    "margin-tolerance",
+    "no-fidelity",
+    "series",
+    "only",
+    "json",
+    "mission",
+    "help",
+];
 
 fn first_line(s: &str) -> String {
     s.lines().next().unwrap_or("").to_string()
@@ -167,8 +316,6 @@ pub struct Mission {
     /// descriptor (`requirements/release.yaml`, `design.yaml`, ...): used when the file is not
     /// found on disk, so that the program verifies from any directory.
     pub builtin: BTreeMap<String, &'static str>,
-    /// The largest Monte Carlo sample count its checks accept.
-    pub max_mc_n: usize,
     session: SessionFn,
     validators: BTreeMap<String, Validator>,
     series: Option<SeriesValidator>,
@@ -196,7 +343,6 @@ impl Mission {
             spec: MissionSpec::from_yaml(descriptor, label)?,
             root: root.into(),
             builtin: BTreeMap::new(),
-            max_mc_n: usize::MAX,
             session: Arc::new(session),
             validators: BTreeMap::new(),
             series: None,
@@ -240,12 +386,6 @@ impl Mission {
         f: impl Fn(&Path) -> Result<(), String> + Send + Sync + 'static,
     ) -> Mission {
         self.series = Some(Arc::new(f));
-        self
-    }
-
-    /// Caps the Monte Carlo sample count.
-    pub fn max_mc_n(mut self, n: usize) -> Mission {
-        self.max_mc_n = n;
         self
     }
 
@@ -301,5 +441,91 @@ impl Mission {
             .filter_map(|(p, t)| p.strip_prefix(&dir).map(|n| (n, *t)))
             .filter(|(n, _)| !n.contains('/'))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const BASE: &str = "name: m\ntitle: t\nrequirements: requirements\n";
+
+    fn spec(options: &str) -> Result<MissionSpec, Error> {
+        MissionSpec::from_yaml(&format!("{BASE}options:\n{options}"), "mission.yaml")
+    }
+
+    #[test]
+    fn declared_options_give_their_defaults_values_and_report_lines() {
+        let s = spec(
+            "  - {name: mc-n, words: N, group: Monte Carlo, default: 100, min: 1, max: 1000, about: draws}\n  - {name: seed, words: seed, group: Monte Carlo, default: 1}\n  - {name: order, key: k, words: order, default: 3}\n",
+        )
+        .unwrap();
+        let o = s.run_options(&BTreeMap::new()).unwrap();
+        assert_eq!(
+            (o.get("mc_n"), o.get("seed"), o.get("k")),
+            (Some(100), Some(1), Some(3))
+        );
+        assert_eq!(
+            o.lines(),
+            vec![
+                ("Monte Carlo", "N = 100, seed = 1".to_string()),
+                ("order", "3".to_string())
+            ]
+        );
+        let json = serde_json::to_string(&o).unwrap();
+        assert_eq!(json, r#"{"mc_n":100,"seed":1,"k":3}"#);
+        let given: BTreeMap<String, u64> = [("seed".to_string(), 7)].into_iter().collect();
+        assert_eq!(s.run_options(&given).unwrap().get("seed"), Some(7));
+        for (v, want) in [
+            (0, "--mc-n 0: must be between 1 and 1000"),
+            (1001, "--mc-n 1001: must be between 1 and 1000"),
+        ] {
+            let given: BTreeMap<String, u64> = [("mc-n".to_string(), v)].into_iter().collect();
+            assert_eq!(s.run_options(&given).unwrap_err(), want);
+        }
+        let given: BTreeMap<String, u64> = [("runs".to_string(), 2)].into_iter().collect();
+        assert_eq!(
+            s.run_options(&given).unwrap_err(),
+            "--runs: mission m declares no option `runs` (its options: mc-n, seed, order)"
+        );
+    }
+
+    #[test]
+    fn a_mission_without_options_has_none_and_refuses_one() {
+        let s = MissionSpec::from_yaml(BASE, "mission.yaml").unwrap();
+        let o = s.run_options(&BTreeMap::new()).unwrap();
+        assert!(o.is_empty() && o.lines().is_empty());
+        assert_eq!(serde_json::to_string(&o).unwrap(), "{}");
+        let given: BTreeMap<String, u64> = [("seed".to_string(), 2)].into_iter().collect();
+        assert!(
+            s.run_options(&given)
+                .unwrap_err()
+                .contains("(its options: none)")
+        );
+    }
+
+    #[test]
+    fn bad_option_declarations_are_refused() {
+        for (decl, why) in [
+            (
+                "  - {name: reports, words: r, default: 1}\n",
+                "option `reports`",
+            ),
+            (
+                "  - {name: n, words: N, default: 0, min: 1}\n",
+                "default 0 outside min 1",
+            ),
+            (
+                "  - {name: a, key: k, words: a, default: 1}\n  - {name: b, key: k, words: b, default: 1}\n",
+                "key `k` declared twice",
+            ),
+            (
+                "  - {name: n, words: N, default: 1, typo: 2}\n",
+                "unknown field",
+            ),
+        ] {
+            let e = spec(decl).unwrap_err().to_string();
+            assert!(e.contains("mission.yaml") && e.contains(why), "{decl}: {e}");
+        }
     }
 }

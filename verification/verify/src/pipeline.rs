@@ -11,7 +11,7 @@ use crate::mission::Mission;
 use crate::only::Selection;
 use crate::progress::Task;
 use geodesic_core::Requirements;
-use geodesic_core::check::{Check, InputFile, InputOrigin, Inputs};
+use geodesic_core::check::{Check, InputFile, InputOrigin, Inputs, is_wanted};
 use geodesic_core::matrix::Matrix;
 use geodesic_report::{CheckRun, Report, RunInfo};
 use std::collections::BTreeMap;
@@ -36,10 +36,9 @@ pub struct Options {
     pub require_tests: bool,
     /// The reports folder.
     pub reports: PathBuf,
-    /// Monte Carlo sample count [-].
-    pub mc_n: usize,
-    /// Monte Carlo seed.
-    pub seed: u64,
+    /// Values of the run options the mission declares (`mission.yaml` `options:`), by name
+    /// (`mc-n`); a declared option not given takes its default.
+    pub options: BTreeMap<String, u64>,
     /// Confidence of the bounds a sampled verdict is decided by [-].
     pub confidence: f64,
     /// Also write JUnit XML to this file.
@@ -78,8 +77,7 @@ impl Default for Options {
             tests: None,
             require_tests: false,
             reports: PathBuf::from("reports"),
-            mc_n: 100_000,
-            seed: 1,
+            options: BTreeMap::new(),
             confidence: DEFAULT_CONFIDENCE,
             junit: None,
             baseline: None,
@@ -330,13 +328,15 @@ fn preflight(opts: &Options) -> Result<(), Error> {
     Ok(())
 }
 
-fn check_options(mission: &Mission, opts: &Options) -> Result<(), Error> {
-    if opts.mc_n == 0 || opts.mc_n > mission.max_mc_n {
-        return Err(Error::usage(format!(
-            "--mc-n {}: must be between 1 and {}",
-            opts.mc_n, mission.max_mc_n
-        )));
-    }
+/// Checks the options and returns the mission's run options for this run.
+fn check_options(
+    mission: &Mission,
+    opts: &Options,
+) -> Result<geodesic_core::check::RunOptions, Error> {
+    let run_options = mission
+        .spec
+        .run_options(&opts.options)
+        .map_err(Error::usage)?;
     // below 0.5 a one-sided bound lies on the wrong side of its estimate: an upper bound
     // below the median would pass what the estimate fails
     if !(opts.confidence.is_finite() && (MIN_CONFIDENCE..1.0).contains(&opts.confidence)) {
@@ -350,7 +350,7 @@ fn check_options(mission: &Mission, opts: &Options) -> Result<(), Error> {
             "--margin-tolerance must be a non-negative number",
         ));
     }
-    Ok(())
+    Ok(run_options)
 }
 
 /// The document identification: `--document`, else `document.yaml` beside a given requirement
@@ -504,16 +504,6 @@ fn read_files(
     out
 }
 
-/// Whether `check` has work in a requirement set: one of the IDs it declares is loaded, or a
-/// loaded requirement names it in `check:` (a generic check such as `spectral-asd`).
-pub fn is_wanted(check: &dyn Check, reqs: &Requirements) -> bool {
-    check.verifies().iter().any(|id| reqs.get(id).is_some())
-        || reqs
-            .items
-            .iter()
-            .any(|r| r.check.as_deref() == Some(check.name()))
-}
-
 /// The evidence of the checks that ran.
 struct Ran {
     evidence: Vec<(String, Vec<geodesic_core::Evidence>)>,
@@ -636,7 +626,7 @@ fn build_matrix(
 
 /// Runs the pipeline for `mission` and writes the report set (whole or not at all).
 pub fn run(mission: &Mission, opts: &Options) -> Result<Outcome, Error> {
-    check_options(mission, opts)?;
+    let run_options = check_options(mission, opts)?;
     preflight(opts)?;
     crate::only::refuse_partial_gate(&opts.only, opts.baseline.as_deref())?;
     let session = mission.session();
@@ -650,8 +640,7 @@ pub fn run(mission: &Mission, opts: &Options) -> Result<Outcome, Error> {
         requirements: std::sync::Arc::new(l.reqs.clone()),
         inputs: std::sync::Arc::new(l.inputs.clone()),
         reports_dir: staging.path().to_path_buf(),
-        mc_n: opts.mc_n,
-        seed: opts.seed,
+        options: run_options.clone(),
         confidence: opts.confidence,
         quiet: !crate::progress::enabled(opts.json),
     };
@@ -711,8 +700,7 @@ pub fn run(mission: &Mission, opts: &Options) -> Result<Outcome, Error> {
             requirements_hash: l.requirements_hash,
             inputs: l.inputs,
             dispositions: l.disp_file,
-            mc_n: opts.mc_n,
-            seed: opts.seed,
+            options: run_options,
             confidence: opts.confidence,
             checks: ran.runs,
             fidelity,

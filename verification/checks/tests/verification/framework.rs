@@ -26,7 +26,7 @@ fn compute_matrix() -> Matrix {
     let ctx = geodesic_checks::builtin_context(dir.clone(), 2000, 7);
     let mut evidence = Vec::new();
     for c in geodesic_checks::registry() {
-        if geodesic_checks::is_wanted(c.as_ref(), &reqs) {
+        if geodesic_core::check::is_wanted(c.as_ref(), &reqs) {
             evidence.push((c.name().to_string(), c.run(&ctx).unwrap()));
         }
     }

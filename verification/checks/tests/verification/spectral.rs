@@ -36,7 +36,14 @@ fn run(series: &Path, dir: &Path) -> geodesic_core::Evidence {
         geodesic_core::check::InputFile::read(series).unwrap(),
     );
     let reqs = geodesic_core::trace::requirements().clone();
-    let ctx = geodesic_checks::context(reqs, inputs, dir.to_path_buf(), 10, 1, 0.95, true);
+    let ctx = geodesic_checks::context(
+        reqs,
+        inputs,
+        dir.to_path_buf(),
+        Default::default(),
+        0.95,
+        true,
+    );
     let ev = SpectralAsd.run(&ctx).unwrap();
     ev.into_iter()
         .find(|e| e.requirement == "LPF-DA-ASD" && e.inputs.contains_key("series"))
@@ -61,8 +68,7 @@ fn only_a_declared_measurement_is_measurement_evidence() {
         reqs.clone(),
         inputs,
         tmp.path().to_path_buf(),
-        10,
-        1,
+        Default::default(),
         0.95,
         true,
     );
@@ -204,8 +210,7 @@ fn a_measured_spectrum_is_judged_by_its_bounds_not_its_estimate() {
             reqs.clone(),
             inputs,
             tmp.path().to_path_buf(),
-            10,
-            1,
+            Default::default(),
             0.95,
             true,
         );

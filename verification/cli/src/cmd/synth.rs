@@ -144,8 +144,9 @@ pub fn run(args: Args) -> CmdResult {
     let ds = ds?;
     let files = write(&ds, &spec, &args.out).map_err(CliError::io)?;
     if args.json {
-        let doc = serde_json::to_string(&geodesic_dataset::synth::SynthDoc::new(&ds, &spec, &files))
-            .map_err(CliError::io)?;
+        let doc =
+            serde_json::to_string(&geodesic_dataset::synth::SynthDoc::new(&ds, &spec, &files))
+                .map_err(CliError::io)?;
         println!("{doc}");
     } else {
         println!(
