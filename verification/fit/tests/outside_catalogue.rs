@@ -291,14 +291,14 @@ fn a_damping_and_a_pickup_are_reported_as_the_two_terms() {
         );
     }
     eprintln!("  alike: {:?}", d.separate_indistinguishable);
-    assert_eq!(terms.len(), 2, "{d:?}");
+    assert_eq!(terms.len(), 2, "{}", serde_json::json!(d));
     let value = |kind: &str| {
         let t = terms
             .iter()
             .find(|t| t.kind == kind)
-            .unwrap_or_else(|| panic!("no {kind} term: {terms:?}"));
-        assert!(t.sigma.is_finite() && t.sigma > 0.0, "{t:?}");
-        assert!(t.delta_bic < -10.0, "{t:?}");
+            .unwrap_or_else(|| panic!("no {kind} term: {}", serde_json::json!(terms)));
+        assert!(t.sigma.is_finite() && t.sigma > 0.0, "{}", t.term);
+        assert!(t.delta_bic < -10.0, "{}: delta BIC {}", t.term, t.delta_bic);
         t.parameter.as_ref().expect("a parameter").value
     };
     let g = value("velocity");

@@ -234,7 +234,7 @@ fn fit_pair(
         }
         let v0 = terms[i].parameter.as_ref().map_or(0.0, |p| p.value);
         let (lo, hi, m, log, tol) = bracket(&terms[i].kind, v0, t, dt);
-        if !(hi > lo) {
+        if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
             continue;
         }
         let partner = terms[1 - i].clone();
