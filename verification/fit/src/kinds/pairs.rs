@@ -15,10 +15,12 @@
 //! `delta_bic` is `-delta chi2 + k ln N` against the model alone, `k` both terms' coefficients
 //! and scanned parameters.
 //!
-//! A pair is reported only when both terms are resolved: each coefficient has a finite 1-sigma
-//! (first order, after the fit's freedom and the partner's columns) and each term is strongly
-//! supported beside the other (the pair's delta BIC below the partner's alone by more than 10).
-//! Pairs within 10 in BIC of the best are what the record cannot tell apart
+//! The force on the position and the one on the velocity are paired whenever either is among
+//! the best kinds. A pair is reported only when both terms are resolved: each coefficient has a
+//! finite 1-sigma (first order, after the fit's freedom and the partner's columns) and each term
+//! is strongly supported beside the other (the pair's delta BIC below the partner's alone by
+//! more than 10).
+//! The resolved pairs within 10 in BIC of the best are what the record cannot tell apart
 //! ([`PairFit::alike`]).
 
 use rayon::prelude::*;
@@ -80,9 +82,10 @@ fn count(k: &KindFit) -> usize {
     k.shape.len() + usize::from(scanned(k) || k.kind == "delay")
 }
 
-/// The best pair of two distinct kinds among the [`PAIR_KINDS`] best of `all` (the kinds of
-/// `o`'s residual on `basis`, most supported first, their `delta_bic` the single terms'),
-/// when both of its terms are resolved; `None` otherwise (see the module documentation).
+/// The best pair, by BIC, of two distinct kinds among the [`PAIR_KINDS`] best of `all` (the
+/// kinds of `o`'s residual on `basis`, most supported first, their `delta_bic` the single
+/// terms'; with the force on the position or the velocity when its twin is among them) whose
+/// two terms are both resolved; `None` when no pair is (see the module documentation).
 pub fn best_pair(
     prep: &Prepared,
     o: &FitOutcome,
