@@ -106,12 +106,17 @@ pub struct Description {
     /// alone.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub indistinguishable: Vec<String>,
-    /// Two terms outside the catalogue at once (issue 50): the leader, then the term the
-    /// residual still holds once the leader is taken out of the data and the model refitted
-    /// (its delta BIC against that refit). Absent when the leader alone accounts for what the
-    /// terms can describe.
+    /// Two terms outside the catalogue at once (issue 50): the best pair of the leading kinds
+    /// fitted jointly with the model, both resolved, each with its coefficient, parameter and
+    /// what it adds beside the other (its delta BIC against the partner alone). Absent when no
+    /// pair has both terms resolved and strongly supported ([`crate::kinds::pairs`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub separate_terms: Vec<KindFit>,
+    /// The pairs the record cannot tell from `separate_terms` (its pair first, as `"velocity +
+    /// vibration"`): their joint fits come within `DELTA_BIC_STRONG` (10) of its. Absent when
+    /// it stands alone.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub separate_indistinguishable: Vec<String>,
 }
 
 /// A failure window with its phase.
@@ -1086,12 +1091,10 @@ pub fn describe_with(
     if indistinguishable.len() < 2 {
         indistinguishable.clear();
     }
-    let mut separate_terms = Vec::new();
-    if !is_explained(r).0
-        && let Some(lead) = all.first().filter(|k| k.delta_bic < DELTA_BIC_STRONG)
-        && let Some(second) = second::second_term(prep, o, lead, opts, JOINT_ITER)?
-    {
-        separate_terms = vec![lead.clone(), second];
+    let (mut separate_terms, mut separate_indistinguishable) = (Vec::new(), Vec::new());
+    if !is_explained(r).0 && all.first().is_some_and(|k| k.delta_bic < DELTA_BIC_STRONG) {
+        (separate_terms, separate_indistinguishable) =
+            second::separate_terms(prep, o, &all, basis, JOINT_ITER, &*opts.observer);
     }
     let mut peaks = peaks;
     let res = 1.0 / (t_end - t.first().copied().unwrap_or(0.0)).max(dt);
@@ -1150,6 +1153,7 @@ pub fn describe_with(
         leading,
         indistinguishable,
         separate_terms,
+        separate_indistinguishable,
     })
 }
 

@@ -40,6 +40,7 @@ use crate::numeric::observe::Observer;
 use crate::prepare::Prepared;
 
 mod basis;
+pub mod pairs;
 pub use basis::Basis;
 use basis::dot;
 
@@ -647,7 +648,7 @@ fn joint_lm_as(
     solved: bool,
     obs: &dyn Observer,
 ) -> JointEnd {
-    let joint = Joint::new(prep, o, kind, from);
+    let joint = Joint::new(prep, o, vec![kind], from);
     let opts = LmOptions {
         max_iter,
         observer: obs,
@@ -673,13 +674,17 @@ fn joint_lm_as(
 /// coefficients and the model's parameters.
 pub type JointEnd = (f64, Vec<f64>, Vec<f64>);
 
-/// The joint problem of [`joint_lm_as`]: the model's free parameters (in the fit's
-/// coordinates) followed by the term's coefficients (each in units of the change that moves
-/// chi-square by about one), the data and the term's columns normalised at `o.sigma`.
+/// The joint problem of [`joint_lm_as`] (and of [`pairs`]): the model's free parameters (in
+/// the fit's coordinates) followed by the terms' coefficients (each in units of the change that
+/// moves chi-square by about one), the data and the terms' columns normalised at `o.sigma`.
 struct Joint<'a> {
     prep: &'a Prepared,
     o: &'a FitOutcome,
+    /// The first term (the only one but in [`pairs`]).
     kind: &'a KindFit,
+    /// Every term, and where each one's columns end in `w`.
+    terms: Vec<&'a KindFit>,
+    ends: Vec<usize>,
     /// The model's parameters the free ones are put into.
     from: &'a [f64],
     /// The model's parameters' specifications.
@@ -701,13 +706,26 @@ struct Joint<'a> {
 }
 
 impl<'a> Joint<'a> {
-    fn new(prep: &'a Prepared, o: &'a FitOutcome, kind: &'a KindFit, from: &'a [f64]) -> Self {
+    fn new(
+        prep: &'a Prepared,
+        o: &'a FitOutcome,
+        terms: Vec<&'a KindFit>,
+        from: &'a [f64],
+    ) -> Self {
         let sigma = o.sigma;
         let specs = o.model.specs();
         let fidx: Vec<usize> = (0..specs.len()).filter(|&i| o.free[i]).collect();
-        let w: Vec<Vec<f64>> = kind
-            .shape
+        let kind = terms[0];
+        let ends: Vec<usize> = terms
             .iter()
+            .scan(0, |e, k| {
+                *e += k.shape.len();
+                Some(*e)
+            })
+            .collect();
+        let w: Vec<Vec<f64>> = terms
+            .iter()
+            .flat_map(|k| &k.shape)
             .map(|c| {
                 let mut c = c.clone();
                 prep.normalise(&mut c, sigma);
@@ -731,7 +749,7 @@ impl<'a> Joint<'a> {
             .iter()
             .map(|&i| to_u(&specs[i], specs[i].upper))
             .collect();
-        for (j, c) in kind.coefs.iter().enumerate() {
+        for (j, c) in terms.iter().flat_map(|k| &k.coefs).enumerate() {
             u0.push(if c.is_finite() { c / sc[j] } else { 0.0 });
             lo.push(f64::NEG_INFINITY);
             hi.push(f64::INFINITY);
@@ -740,6 +758,8 @@ impl<'a> Joint<'a> {
             prep,
             o,
             kind,
+            terms,
+            ends,
             from,
             specs,
             fidx,
@@ -774,17 +794,25 @@ impl<'a> Joint<'a> {
             return self.residual_solved(raw, &cs);
         }
         // to first order: a term on the model's own state follows the model as it moves
-        let moving = state_shape(t, &self.kind.kind, &raw, self.kind.scan).map(|mut cols| {
-            for s in cols.iter_mut() {
-                prep.normalise(s, sigma);
-            }
-            cols
-        });
+        let moving: Vec<Option<Vec<Vec<f64>>>> = self
+            .terms
+            .iter()
+            .map(|k| {
+                state_shape(t, &k.kind, &raw, k.scan).map(|mut cols| {
+                    for s in cols.iter_mut() {
+                        prep.normalise(s, sigma);
+                    }
+                    cols
+                })
+            })
+            .collect();
         let mut v = raw;
         prep.normalise(&mut v, sigma);
         for (j, col) in self.w.iter().enumerate() {
             let c = cs[j];
-            let col = moving.as_ref().and_then(|m| m.get(j)).unwrap_or(col);
+            let (i, start) = self.term_of(j);
+            let moving = moving[i].as_ref().and_then(|m| m.get(j - start));
+            let col = moving.unwrap_or(col);
             for (vi, ci) in v.iter_mut().zip(col) {
                 *vi += c * ci;
             }
@@ -795,19 +823,34 @@ impl<'a> Joint<'a> {
         v
     }
 
+    /// The index of the term column `j` of `w` belongs to, and where its columns start.
+    fn term_of(&self, j: usize) -> (usize, usize) {
+        let i = self.ends.iter().position(|&e| j < e).unwrap_or(0);
+        (i, if i == 0 { 0 } else { self.ends[i - 1] })
+    }
+
     /// [`Joint::residual`] of a force on the state (position, velocity) acting on the state it
     /// changes: the term's displacement solves x_add = sum_j c_j K_j(x_model + x_add), a
     /// Volterra equation (double or single integrals from the trigger) solved by its Neumann
-    /// series. A damping of 100 1/s over 9 ms (gamma t = 0.9) is far from first order.
+    /// series. A damping of 100 1/s over 9 ms (gamma t = 0.9) is far from first order. Of
+    /// several terms, those on the state are solved together and the others (a vibration or a
+    /// step of the reading) added to the reading.
     fn residual_solved(&self, raw: Vec<f64>, cs: &[f64]) -> Vec<f64> {
         let (prep, sigma, t) = (self.prep, self.o.sigma, &self.prep.dataset.t);
         let n = raw.len();
+        let on_state = |k: &KindFit| matches!(k.kind.as_str(), "position" | "velocity");
         let mut xa = vec![0.0; n];
         for _ in 0..12 {
             let tot: Vec<f64> = raw.iter().zip(&xa).map(|(a, b)| a + b).collect();
-            let cols = state_shape(t, &self.kind.kind, &tot, 0.0).expect("a state kind");
+            let mut cols: Vec<Vec<f64>> = Vec::new();
+            let mut cc: Vec<f64> = Vec::new();
+            for (i, k) in self.terms.iter().enumerate().filter(|(_, k)| on_state(k)) {
+                let start = if i == 0 { 0 } else { self.ends[i - 1] };
+                cols.extend(state_shape(t, &k.kind, &tot, 0.0).expect("a state kind"));
+                cc.extend_from_slice(&cs[start..self.ends[i]]);
+            }
             let next: Vec<f64> = (0..n)
-                .map(|i| cols.iter().zip(cs).map(|(col, c)| c * col[i]).sum())
+                .map(|i| cols.iter().zip(&cc).map(|(col, c)| c * col[i]).sum())
                 .collect();
             let change = next
                 .iter()
@@ -821,6 +864,13 @@ impl<'a> Joint<'a> {
         }
         let mut v: Vec<f64> = raw.iter().zip(&xa).map(|(a, b)| a + b).collect();
         prep.normalise(&mut v, sigma);
+        for (j, col) in self.w.iter().enumerate() {
+            if !on_state(self.terms[self.term_of(j).0]) {
+                for (vi, ci) in v.iter_mut().zip(col) {
+                    *vi += cs[j] * ci;
+                }
+            }
+        }
         for (vi, d) in v.iter_mut().zip(&self.data) {
             *vi -= d;
         }

@@ -563,7 +563,7 @@ record_tests! {
     noise_declared_too_large: check_defect("noise-large-tmmf"), "minutes in the test profile: CI runs it in release";
     heavy_tails_on_the_tip: check_defect("tail-tip-nothing"), "minutes in the test profile: CI runs it in release";
     gaps_tmmf_adhesion_missing: check_defect("gaps-tmmf-adhesion"), "minutes in the test profile: CI runs it in release";
-    two_terms_outside_tmmf: check_two_outside("two-outside-tmmf"), "open (issue 50, item 4): two separate terms are found, but an anti-restoring force and a 59.9 Hz vibration, not the damping and the 50 Hz";
+    two_terms_outside_tmmf: check_two_outside("two-outside-tmmf"), "minutes in the test profile: CI runs it in release";
     sensor_drift_rt: check_ramp("sensor-drift-rt");
     ar1_rt_ramp_short_pre_trigger: check_added("ar1-rt-ramp-short"), "open (issue 50, item 3): no noise model from the residual yet";
     ar1_tmmf_both_channels: check_added("ar1-tmmf-both"), "open (issue 50, item 3): the tip channel is judged white";

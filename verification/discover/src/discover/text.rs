@@ -123,6 +123,13 @@ fn residual(d: &Description) -> String {
             fmt_sig(t.delta_bic)
         );
     }
+    if let Some(a) = d.separate_indistinguishable.first() {
+        let _ = writeln!(
+            s,
+            "  pairs indistinguishable on this record: {} (joint fits within 10 in BIC of {a}'s)",
+            d.separate_indistinguishable.join(", ")
+        );
+    }
     s
 }
 
