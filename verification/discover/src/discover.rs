@@ -276,26 +276,70 @@ pub(crate) fn discover_screened(
     // every progress line with the time since the start (the plain lines of a CI log carry it)
     let t0 = std::time::Instant::now();
     let mut progress = |m: &str| progress(&progress_line(m, t0.elapsed().as_secs_f64()));
-    let prep = crate::screen::screen(prep, baseline, &opts.fit, &mut progress)?;
-    let again = {
-        let ledger = run_ledger(&prep, baseline, opts, &mut progress)?;
-        let last = ledger.fits.last().expect("round 0");
-        match crate::screen::again(&prep, &last.pred) {
-            None => {
+    let mut prep = crate::screen::screen(prep, baseline, &opts.fit, &mut progress)?;
+    let (mut noise_rounds, mut cleaned) = (0, false);
+    loop {
+        let next = {
+            let ledger = run_ledger(&prep, baseline, opts, &mut progress)?;
+            let last = ledger.fits.last().expect("round 0");
+            let resid: Vec<f64> = prep
+                .data()
+                .iter()
+                .zip(&last.pred)
+                .map(|(d, m)| d - m)
+                .collect();
+            let noise = (noise_rounds < NOISE_ROUNDS)
+                .then(|| prep.with_residual_noise(&resid))
+                .flatten();
+            if let Some(p) = noise {
+                noise_rounds += 1;
+                progress(&format!(
+                    "the residual shows coloured noise that the pre-trigger cannot estimate: {}, the loop again",
+                    noise_text(&p)
+                ));
+                p
+            } else if let Some(c) = (!cleaned)
+                .then(|| crate::screen::again(&prep, &last.pred))
+                .flatten()
+            {
+                cleaned = true;
+                progress(
+                    "the last model's residual shows more wild samples: set aside, the loop again",
+                );
+                c
+            } else {
                 let shows = crate::screen::shows_against(&prep, last);
                 let (mut report, last, all) = finish(ledger, &mut progress)?;
                 report.record_shows = shows;
                 return Ok((prep, report, last, all));
             }
-            Some(cleaned) => cleaned,
-        }
-    };
-    progress("the last model's residual shows more wild samples: set aside, the loop again");
-    let ledger = run_ledger(&again, baseline, opts, &mut progress)?;
-    let shows = crate::screen::shows_against(&again, ledger.fits.last().expect("round 0"));
-    let (mut report, last, all) = finish(ledger, &mut progress)?;
-    report.record_shows = shows;
-    Ok((again, report, last, all))
+        };
+        prep = next;
+    }
+}
+
+/// Most times the loop is run again with a noise model estimated from its last model's
+/// residual ([`Prepared::with_residual_noise`]) before it stands with the one it has.
+pub const NOISE_ROUNDS: usize = 3;
+
+/// `AR(1) a = [0.95], innovation sigma 1.2e-9`: the fitted channel's noise model in a progress
+/// line.
+fn noise_text(p: &Prepared) -> String {
+    p.ar.as_ref().map_or_else(
+        || "white".to_string(),
+        |m| {
+            format!(
+                "AR({}) a = [{}], innovation sigma {}",
+                m.order(),
+                m.coefficients
+                    .iter()
+                    .map(|a| format!("{a:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                crate::outliers::fmt_sig(m.innovation_sigma)
+            )
+        },
+    )
 }
 
 /// The ledger of `prep` after its rounds.

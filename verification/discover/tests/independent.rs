@@ -14,6 +14,8 @@
 //!   record's range above the true strength ("undetectable here" and the threshold agree);
 //! * coloured noise (AR(1), AR(2), no noise figure): with nothing missing nothing is added and
 //!   the record is explained; with a missing effect it is added and the record explained;
+//!   on both channels of a release, or with a pre-trigger too short for the noise estimator
+//!   (issue 50, item 3), each channel has its own noise model in the final fit;
 //! * one measurement defect per record (issue 50: spikes below the loader's cut on either
 //!   channel, a noise figure declared half or twice the true one, heavy tails on the tip
 //!   channel, gaps in the acquisition): the right effect added or none, each spike set aside by
@@ -103,7 +105,8 @@ fn added(v: &Value, exp: &Value) -> Vec<String> {
 }
 
 /// Missing catalogue effects, and coloured noise: `explained` and the added set as fixed.
-fn check_added(name: &str) {
+/// Returns the report.
+fn check_added(name: &str) -> Value {
     let (v, exp) = run_discover(name);
     let want = strings(&exp["expect"]["added"]);
     assert_eq!(
@@ -122,6 +125,23 @@ fn check_added(name: &str) {
         assert!(
             reason.contains(want),
             "{name}: the reason names {want:?}: {reason}"
+        );
+    }
+    v
+}
+
+/// Coloured noise on every channel, however short the pre-trigger (issue 50, item 3): as
+/// [`check_added`], and each channel of the record (the fitted one and the tip channel of a
+/// release) has its own noise model in the final fit, with where it came from.
+fn check_coloured(name: &str) {
+    let v = check_added(name);
+    let f = &v["final"];
+    for ch in f["noise_source"].as_object().expect("noise_source").keys() {
+        let src = f["noise_source"][ch].as_str().unwrap_or("");
+        assert!(
+            f["noise_model"][ch]["coefficients"].is_array() && src.contains("AR("),
+            "{name}: channel {ch} has its own noise model: {src}; {}",
+            f["noise_model"]
         );
     }
 }
@@ -565,8 +585,8 @@ record_tests! {
     gaps_tmmf_adhesion_missing: check_defect("gaps-tmmf-adhesion"), "minutes in the test profile: CI runs it in release";
     two_terms_outside_tmmf: check_two_outside("two-outside-tmmf"), "minutes in the test profile: CI runs it in release";
     sensor_drift_rt: check_ramp("sensor-drift-rt");
-    ar1_rt_ramp_short_pre_trigger: check_added("ar1-rt-ramp-short"), "open (issue 50, item 3): no noise model from the residual yet";
-    ar1_tmmf_both_channels: check_added("ar1-tmmf-both"), "open (issue 50, item 3): the tip channel is judged white";
+    ar1_rt_ramp_short_pre_trigger: check_coloured("ar1-rt-ramp-short");
+    ar1_tmmf_both_channels: check_coloured("ar1-tmmf-both"), "minutes in the test profile: CI runs it in release";
     marginal_drift: check_added("marginal-drift"), "minutes in the test profile: CI runs it in release";
 }
 

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::dataset::Dataset;
 use crate::numeric::lm::{LmOptions, minimize};
+use crate::numeric::noise::ArNoise;
 use crate::numeric::residual::noise_from_differences;
 
 /// A dataset made ready for fitting: fitted channel, noise, inputs and data-driven guesses.
@@ -24,6 +25,9 @@ pub struct Prepared {
     pub sigma: f64,
     /// The fitted channel's coloured-noise model (`None`: white noise of `sigma`).
     pub ar: Option<crate::numeric::noise::ArNoise>,
+    /// The tip channel's own coloured-noise model (`tmmf-release`; `None`: white), which its
+    /// constant-jerk profile is fitted and judged whitened by ([`ProfileFit`]).
+    pub tip_ar: Option<crate::numeric::noise::ArNoise>,
     /// Noise per channel [SI].
     pub noise: BTreeMap<String, f64>,
     /// Where each noise figure came from (`yaml`, `pre-trigger`, `differences`).
@@ -44,6 +48,10 @@ pub struct Prepared {
     /// tails ([`crate::record::Finding`]).
     pub record_shows: Vec<crate::record::Finding>,
 }
+
+/// Fewest pre-trigger samples a noise model estimated from the residual is tested against
+/// ([`Prepared::with_residual_noise`]): below, the model is taken from the residual alone.
+pub const MIN_QUIET: usize = 8;
 
 /// The tip retraction profile fitted to the measured `y` (constant jerk, then constant speed).
 #[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, schemars::JsonSchema)]
@@ -106,8 +114,10 @@ fn slope(t: &[f64], v: &[f64]) -> f64 {
     if den > 0.0 { num / den } else { 0.0 }
 }
 
-/// Fits the constant-jerk-then-constant-speed profile to the tip signal `y` after the trigger.
-fn fit_profile(t: &[f64], y: &[f64], sigma: f64) -> ProfileFit {
+/// Fits the constant-jerk-then-constant-speed profile to the tip signal `y` after the trigger,
+/// its residual whitened by `ar` when the tip's noise is coloured (`sigma` then the innovation
+/// sigma).
+fn fit_profile(t: &[f64], y: &[f64], sigma: f64, ar: Option<&ArNoise>) -> ProfileFit {
     let post: Vec<(f64, f64)> = t
         .iter()
         .zip(y)
@@ -127,10 +137,12 @@ fn fit_profile(t: &[f64], y: &[f64], sigma: f64) -> ProfileFit {
             jerk_m_s3: u[0].exp(),
             v_m_s: u[1].exp(),
         };
-        tp.iter()
-            .zip(&yp)
-            .map(|(t, y)| (p.y(*t) - y) / sigma)
-            .collect::<Vec<f64>>()
+        let mut r: Vec<f64> = tp.iter().zip(&yp).map(|(t, y)| p.y(*t) - y).collect();
+        if let Some(m) = ar {
+            m.whiten(&mut r);
+        }
+        r.iter_mut().for_each(|v| *v /= sigma);
+        r
     };
     let mut best = None::<crate::numeric::lm::LmResult>;
     for s in [1.0, 0.3, 3.0] {
@@ -153,6 +165,83 @@ fn fit_profile(t: &[f64], y: &[f64], sigma: f64) -> ProfileFit {
         n_samples: tp.len(),
     }
 }
+
+/// The tip channel's residual after the trigger against the profile `p` (data - profile) and
+/// its values before the trigger.
+fn tip_residual(t: &[f64], y: &[f64], p: &ProfileFit) -> (Vec<f64>, Vec<f64>) {
+    let tp = TipProfile {
+        jerk_m_s3: p.jerk_m_s3,
+        v_m_s: p.v_m_s,
+    };
+    let pre = t.iter().zip(y).filter(|(t, _)| **t < 0.0).map(|(_, v)| *v);
+    let post = t.iter().zip(y).filter(|(t, _)| **t >= 0.0);
+    (post.map(|(t, y)| y - tp.y(*t)).collect(), pre.collect())
+}
+
+/// The tip channel's own noise model (issue 50, item 3), as the fitted channel's: from its
+/// pre-trigger when it has at least [`MIN_SAMPLES`](crate::numeric::noise::MIN_SAMPLES)
+/// samples, else from the white profile's residual, re-estimated with the profile refitted
+/// whitened until the coefficients settle ([`NOISE_ITERATIONS`] at most), each taken only when
+/// the pre-trigger samples (at least [`MIN_QUIET`]) are better described by that colour than by
+/// white noise (as in [`Prepared::with_residual_noise`]). When one is found the profile `p` is refitted whitened, and the tip's figure,
+/// the innovation sigma, pooled with the differences of the whitened residual after the trigger
+/// as a white tip's is (`pool_tip_noise`). A figure the YAML states is white (interface.md):
+/// `None` then.
+fn tip_noise(
+    dataset: &Dataset,
+    noise: &mut BTreeMap<String, f64>,
+    noise_source: &mut BTreeMap<String, String>,
+    p: &mut ProfileFit,
+) -> Option<ArNoise> {
+    use crate::numeric::noise::{MIN_SAMPLES, estimate};
+    let ch = dataset.scenario.tip_profile_channel()?;
+    if noise_source.get(ch).is_none_or(|s| s != "pre-trigger") {
+        return None;
+    }
+    let (t, y) = (&dataset.t, dataset.channel(ch));
+    let (_, pre) = tip_residual(t, y, p);
+    let (mut m, src) = if pre.len() >= MIN_SAMPLES {
+        (estimate(&pre)?, "pre-trigger")
+    } else {
+        let mut cur: Option<ArNoise> = None;
+        let mut fit = *p;
+        for _ in 0..NOISE_ITERATIONS {
+            let (post, pre) = tip_residual(t, y, &fit);
+            let Some(m) = estimate(&post) else { break };
+            if pre.len() >= MIN_QUIET && m.quiet_lr(&pre) <= 0.0 {
+                break;
+            }
+            if cur.as_ref().is_some_and(|c| c.settled(&m)) {
+                break;
+            }
+            fit = fit_profile(t, y, m.innovation_sigma, Some(&m));
+            cur = Some(m);
+        }
+        (cur?, "residual")
+    };
+    *p = fit_profile(t, y, m.innovation_sigma, Some(&m));
+    let (mut post, _) = tip_residual(t, y, p);
+    m.whiten(&mut post);
+    if let Some(sd) = noise_from_differences(&post[m.order().min(post.len())..]) {
+        let s0 = m.innovation_sigma;
+        let (a, b) = (
+            pre.len().saturating_sub(1) as f64,
+            post.len().saturating_sub(1) as f64,
+        );
+        let pooled = ((a * s0 * s0 + b * sd * sd) / (a + b)).sqrt();
+        if pooled > 0.0 {
+            p.chi2_red *= (s0 / pooled).powi(2);
+            m.marginal_sigma *= pooled / s0;
+            m.innovation_sigma = pooled;
+        }
+    }
+    noise.insert(ch.to_string(), m.marginal_sigma);
+    noise_source.insert(ch.to_string(), format!("{src} AR({})", m.order()));
+    Some(m)
+}
+
+/// Most re-estimates of a noise model from a residual with the fit redone whitened.
+pub const NOISE_ITERATIONS: usize = 3;
 
 /// A tip figure estimated from a few hundred pre-trigger samples is uncertain by several
 /// percent (11 % low on a record of issue 50, whose tip check then refused the right effect):
@@ -264,9 +353,13 @@ impl Prepared {
         let e0_v = dataset.known.get("E0").copied().unwrap_or(120.0);
         let mut profile = scenario
             .tip_profile_channel()
-            .map(|ch| fit_profile(&dataset.t, dataset.channel(ch), noise[ch]));
+            .map(|ch| fit_profile(&dataset.t, dataset.channel(ch), noise[ch], None));
+        let mut tip_ar = None;
         if let Some(p) = profile.as_mut() {
-            pool_tip_noise(&dataset, &mut noise, &mut noise_source, p);
+            tip_ar = tip_noise(&dataset, &mut noise, &mut noise_source, p);
+            if tip_ar.is_none() {
+                pool_tip_noise(&dataset, &mut noise, &mut noise_source, p);
+            }
         }
         let inputs = Inputs {
             m_kg,
@@ -319,6 +412,7 @@ impl Prepared {
             channel,
             sigma,
             ar,
+            tip_ar,
             noise,
             noise_source,
             inputs,
@@ -382,6 +476,7 @@ impl Prepared {
             channel: self.channel,
             sigma: self.ar.as_ref().map_or(self.sigma, |m| m.marginal_sigma),
             ar: None,
+            tip_ar: self.tip_ar.clone(),
             noise: self.noise.clone(),
             noise_source: self.noise_source.clone(),
             inputs: self.inputs,
@@ -392,6 +487,73 @@ impl Prepared {
             noise_checks: self.noise_checks.clone(),
             record_shows: self.record_shows.clone(),
         })
+    }
+
+    /// The record with the fitted channel's coloured-noise model estimated from `resid` (data -
+    /// model of the current fit, the whole record), iterated with the fit by the caller (issue
+    /// 50, item 3). Two cases, the figure never one the YAML states (interface.md: white):
+    ///
+    /// * the pre-trigger gave a model (`pre-trigger AR(p)`, or one from the residual before):
+    ///   the residual's, estimated from ten times the samples, replaces it unless it is the same
+    ///   ([`ArNoise::settled`](crate::numeric::noise::ArNoise::settled)) or the pre-trigger
+    ///   samples reject it against their own model (twice the log-likelihood ratio above the
+    ///   chi-square 1 % point of its order): a few hundred samples of an AR(1) 0.98 give 0.94,
+    ///   whose whitening leaves enough low-frequency power to support a drift;
+    /// * the pre-trigger is shorter than the noise estimator needs
+    ///   ([`MIN_SAMPLES`](crate::numeric::noise::MIN_SAMPLES)) or absent: the residual's model is
+    ///   taken when the pre-trigger samples (at least [`MIN_QUIET`]) are better described by its
+    ///   colour than by white noise (a positive log-likelihood ratio,
+    ///   [`ArNoise::quiet_lr`](crate::numeric::noise::ArNoise::quiet_lr)): the TM is at rest
+    ///   there, so a colour only the residual after the trigger shows is a misfit of the model,
+    ///   not the noise. (20 white quiet samples pass under a coefficient 0.95 only when their
+    ///   lag-1 correlation exceeds 0.47, about 2 % of the time; a 1 % test would miss half the
+    ///   AR(1) 0.95 records of 20 pre-trigger samples.)
+    ///
+    /// `None` when the residual is white (Ljung-Box at 1 %) or the model is refused; otherwise
+    /// the channel's `noise_source` becomes `residual AR(p)`.
+    pub fn with_residual_noise(&self, resid: &[f64]) -> Option<Prepared> {
+        use crate::numeric::noise::{MIN_SAMPLES, chi2_sf, estimate};
+        let src = self
+            .noise_source
+            .get(self.channel)
+            .map_or("yaml", String::as_str);
+        if src == "yaml" {
+            return None;
+        }
+        let t = &self.dataset.t;
+        let quiet: Vec<f64> = t
+            .iter()
+            .zip(resid)
+            .filter(|(t, _)| **t < 0.0)
+            .map(|(_, r)| *r)
+            .collect();
+        let m = match &self.ar {
+            Some(cur) => {
+                let m = estimate(resid)?;
+                let worse = cur.quiet_lr(&quiet) - m.quiet_lr(&quiet);
+                if cur.settled(&m) || chi2_sf(worse, m.order() as f64) < 0.01 {
+                    return None;
+                }
+                m
+            }
+            None if quiet.len() < MIN_SAMPLES => {
+                let m = estimate(resid)?;
+                if quiet.len() >= MIN_QUIET && m.quiet_lr(&quiet) <= 0.0 {
+                    return None;
+                }
+                m
+            }
+            None => return None,
+        };
+        let mut out = self.clone();
+        out.sigma = m.innovation_sigma;
+        out.noise.insert(self.channel.to_string(), m.marginal_sigma);
+        out.noise_source.insert(
+            self.channel.to_string(),
+            format!("residual AR({})", m.order()),
+        );
+        out.ar = Some(m);
+        Some(out)
     }
 
     /// The fitted channel's data [SI].
@@ -413,5 +575,47 @@ impl Prepared {
         for v in raw.iter_mut() {
             *v /= sigma;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synth::{SynthSpec, generate};
+    use geodesic_facility::Scenario;
+
+    /// Issue 50, item 3: the tip channel gets its own noise model from its pre-trigger, and its
+    /// constant-jerk profile is fitted and judged whitened: a TMMF record with AR(1) 0.9 noise on
+    /// the tip passes the tip check (it failed it at chi2_red 6.7 judged white); a white tip has
+    /// no model, as before.
+    #[test]
+    fn a_coloured_tip_is_judged_whitened() {
+        let mut spec =
+            SynthSpec::defaults(Scenario::TmmfRelease, &["needle_contact", "tip_contact"]);
+        spec.noise_ar.insert("y".into(), 0.9);
+        spec.noise_in_yaml = false;
+        spec.seed = 3;
+        let prep = Prepared::new(generate(&spec, "tip.yaml").expect("synth"));
+        let m = prep.tip_ar.as_ref().expect("the tip's own model");
+        assert!((m.coefficients[0] - 0.9).abs() < 0.1, "{m:?}");
+        assert_eq!(prep.noise_source["y"], "pre-trigger AR(1)");
+        let p = prep.profile.expect("profile");
+        assert!(
+            p.misfit().is_none(),
+            "whitened tip profile: chi2_red {}",
+            p.chi2_red
+        );
+        // the same record judged white, as before (the figure of the pre-trigger's differences),
+        // fails the check
+        let (t, y) = (&prep.dataset.t, prep.dataset.channel("y"));
+        let white = fit_profile(t, y, estimate_noise(t, y).0, None);
+        assert!(
+            white.misfit().is_some(),
+            "white: chi2_red {}",
+            white.chi2_red
+        );
+        spec.noise_ar.clear();
+        let prep = Prepared::new(generate(&spec, "tip.yaml").expect("synth"));
+        assert!(prep.tip_ar.is_none() && prep.profile.unwrap().misfit().is_none());
     }
 }

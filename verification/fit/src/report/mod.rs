@@ -300,10 +300,18 @@ impl FitReport {
                 m.insert(prep.channel.to_string(), band);
                 m
             },
-            noise_model: prep
-                .ar
-                .as_ref()
-                .map(|m| BTreeMap::from([(prep.channel.to_string(), m.clone())])),
+            noise_model: {
+                // the fitted channel's and the tip channel's own (issue 50, item 3)
+                let tip = prep.dataset.scenario.tip_profile_channel();
+                let m: BTreeMap<String, crate::numeric::noise::ArNoise> = [
+                    (Some(prep.channel), prep.ar.as_ref()),
+                    (tip, prep.tip_ar.as_ref()),
+                ]
+                .into_iter()
+                .filter_map(|(c, m)| Some((c?.to_string(), m?.clone())))
+                .collect();
+                (!m.is_empty()).then_some(m)
+            },
             noise_source: {
                 let mut m = prep.noise_source.clone();
                 m.insert(prep.channel.to_string(), o.sigma_source.clone());
