@@ -9,7 +9,8 @@
 //! 2 000 samples (10 ms at 200 kHz) and 400 000 samples (2 s). The
 //! throughput is in samples, so criterion prints the cost per sample; the datasets are
 //! synthesized in memory with `synth`'s code (fixed seeds). `sampling_twins`: a 20 000-sample
-//! rt-retraction record on its regular grid, jittered and gapped (issue 50, item 5).
+//! rt-retraction record and a 2 000-sample TMMF release on their regular grid, jittered and
+//! gapped, forward model and `fit` (issue 50, item 5).
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -206,41 +207,103 @@ fn irregular(t: &[f64], jitter: bool) -> Vec<f64> {
         .collect()
 }
 
-/// Regular, jittered and gapped twins of a 20 000-sample rt-retraction record (1 MHz, 20 ms):
-/// the forward model of each, and `fit` of the regular and the jittered one with
-/// `piezo,plunger_compliance` (issue 50, item 5: the irregular ones no more than twice the
-/// regular one).
+/// The twin of `prep` at the time stamps `irregular(t, jitter)` keeps (jittered, or one sample
+/// in 7 left out): each channel's reading moved by what `model` at `p` (the record's truth)
+/// reads at the new time stamp instead of the old one, so that the twin is the same physics
+/// and noise at other time stamps.
+fn twin(prep: &Prepared, model: &Model, p: &[f64], jitter: bool) -> Prepared {
+    let t = &prep.dataset.t;
+    let moved = irregular(t, jitter);
+    let kept: Vec<usize> = if jitter {
+        (0..t.len()).collect()
+    } else {
+        (0..t.len())
+            .filter(|&i| t[i] <= 0.0 || i % 7 != 3)
+            .collect()
+    };
+    let before = model.predict(p, t, &prep.inputs);
+    let after = model.predict(p, &moved, &prep.inputs);
+    let mut ds = prep.dataset.clone();
+    for (name, y) in ds.channels.iter_mut() {
+        let fitted = name.as_str() == prep.channel;
+        *y = kept
+            .iter()
+            .zip(&after)
+            .map(|(&k, a)| if fitted { y[k] - before[k] + a } else { y[k] })
+            .collect();
+    }
+    if ds.rows.lines.len() == t.len() {
+        ds.rows.lines = kept.iter().map(|&k| ds.rows.lines[k]).collect();
+    }
+    ds.t = moved;
+    Prepared::new(ds)
+}
+
+/// Regular, jittered and gapped twins (issue 50, item 5: the irregular ones no more than twice
+/// the regular one) of a 20 000-sample rt-retraction record (1 MHz, 20 ms): the forward model
+/// of each at nominal parameters, and `fit` of each with `piezo,plunger_compliance`; and of a
+/// 2 000-sample TMMF release (200 kHz, 10 ms): the forward model and `fit` with the right
+/// model.
 fn sampling_twins(c: &mut Criterion) {
-    let effects = ["piezo", "plunger_compliance"];
     let n = 20_000;
     let prep = record(Scenario::RtRetraction, n);
+    let truth = Model::new(Scenario::RtRetraction, &RT).unwrap();
+    let p_truth = truth.nominal();
+    let effects = ["piezo", "plunger_compliance"];
     let model = Model::new(Scenario::RtRetraction, &effects).unwrap();
     let p = model.nominal();
+    let rt = [
+        ("regular", twin_regular(&prep)),
+        ("jittered", twin(&prep, &truth, &p_truth, true)),
+        ("gapped", twin(&prep, &truth, &p_truth, false)),
+    ];
+    let tm = record(Scenario::TmmfRelease, 2_000);
+    let tm_model = Model::new(Scenario::TmmfRelease, &TMMF).unwrap();
+    let tm_p = vec![6.5e5, 7e-3, 1e6, 1.3e5, 6e-7];
+    let tmmf = [
+        ("regular", twin_regular(&tm)),
+        ("jittered", twin(&tm, &tm_model, &tm_p, true)),
+        ("gapped", twin(&tm, &tm_model, &tm_p, false)),
+    ];
     let mut g = c.benchmark_group("sampling_twins_forward");
-    for (name, t) in [
-        ("regular", prep.dataset.t.clone()),
-        ("jittered", irregular(&prep.dataset.t, true)),
-        ("gapped", irregular(&prep.dataset.t, false)),
-    ] {
-        g.throughput(Throughput::Elements(t.len() as u64));
-        g.bench_with_input(BenchmarkId::new(name, n), &t, |b, t| {
-            b.iter(|| model.predict(black_box(&p), t, &prep.inputs))
+    for (name, twin) in &rt {
+        g.throughput(Throughput::Elements(twin.dataset.t.len() as u64));
+        g.bench_with_input(BenchmarkId::new(format!("rt-{name}"), n), twin, |b, tw| {
+            b.iter(|| model.predict(black_box(&p), &tw.dataset.t, &tw.inputs))
         });
+    }
+    for (name, twin) in &tmmf {
+        g.throughput(Throughput::Elements(twin.dataset.t.len() as u64));
+        g.bench_with_input(
+            BenchmarkId::new(format!("tmmf-{name}"), 2_000),
+            twin,
+            |b, tw| b.iter(|| tm_model.predict(black_box(&tm_p), &tw.dataset.t, &tw.inputs)),
+        );
     }
     g.finish();
     let mut g = c.benchmark_group("sampling_twins_fit");
     g.sample_size(10);
     g.measurement_time(Duration::from_secs(30));
-    let mut jittered = prep.dataset.clone();
-    jittered.t = irregular(&jittered.t, true);
-    let jittered = Prepared::new(jittered);
-    for (name, prep) in [("regular", &prep), ("jittered", &jittered)] {
-        g.throughput(Throughput::Elements(n as u64));
-        g.bench_with_input(BenchmarkId::new(name, n), prep, |b, prep| {
-            b.iter(|| fit(prep, &effects, &FitOptions::default()).expect("fit"))
+    for (name, twin) in &rt {
+        g.throughput(Throughput::Elements(twin.dataset.t.len() as u64));
+        g.bench_with_input(BenchmarkId::new(format!("rt-{name}"), n), twin, |b, tw| {
+            b.iter(|| fit(tw, &effects, &FitOptions::default()).expect("fit"))
         });
     }
+    for (name, twin) in &tmmf {
+        g.throughput(Throughput::Elements(twin.dataset.t.len() as u64));
+        g.bench_with_input(
+            BenchmarkId::new(format!("tmmf-{name}"), 2_000),
+            twin,
+            |b, tw| b.iter(|| fit(tw, &TMMF, &FitOptions::default()).expect("fit")),
+        );
+    }
     g.finish();
+}
+
+/// The regular twin: the record itself.
+fn twin_regular(prep: &Prepared) -> Prepared {
+    Prepared::new(prep.dataset.clone())
 }
 
 criterion_group!(
