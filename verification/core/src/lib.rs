@@ -12,7 +12,7 @@
 //! This crate depends on no model crate: models <- framework <- CLI.
 
 #![warn(missing_docs)]
-pub mod cas;
+mod cas;
 pub mod check;
 pub mod credibility;
 pub mod disposition;

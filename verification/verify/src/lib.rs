@@ -16,9 +16,9 @@
 #![warn(missing_docs)]
 pub mod error;
 pub mod harness;
-pub mod ids;
+mod ids;
 pub mod mission;
-pub mod only;
+mod only;
 pub mod pipeline;
 pub mod plugin;
 pub mod preflight;
