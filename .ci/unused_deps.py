@@ -9,7 +9,8 @@ keeps the key); the normal and dev dependencies are searched in `src/`, `tests/`
 only `tests/`, `benches/` or `examples/` use is reported too (it belongs in
 [dev-dependencies]: the library and the binary do not need it). A use is `name::`, `use name`,
 `extern crate name`, `name!` (a macro) or the name inside a `#[derive(…)]` / attribute. Comments
-do not count. A dev-dependency used only by `src/` (a `#[cfg(test)]` module) counts.
+do not count. A dev-dependency used only by `src/` (a `#[cfg(test)]` module) counts; a normal
+dependency used only by `#[cfg(test)]` modules of `src/` is reported as a dev-dependency.
 
 ALLOWED lists the dependencies kept without a use in code, each with its reason.
 
@@ -72,6 +73,25 @@ def code(path):
     return "\n".join(re.sub(r"//.*", "", l) for l in text.splitlines())
 
 
+CFG_TEST_MOD = re.compile(r"#\[cfg\(test\)\]\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+\w+\s*\{")
+
+
+def without_test_modules(text):
+    """`text` (comments removed) without its inline `#[cfg(test)] mod NAME { ... }` blocks,
+    matched by counting braces (a brace inside a string literal could end a block early: then
+    more code is kept, never less)."""
+    out, pos = [], 0
+    while (m := CFG_TEST_MOD.search(text, pos)) is not None:
+        out.append(text[pos:m.start()])
+        depth, i = 1, m.end()
+        while i < len(text) and depth:
+            depth += {"{": 1, "}": -1}.get(text[i], 0)
+            i += 1
+        pos = i
+    out.append(text[pos:])
+    return "".join(out)
+
+
 def files(member, section):
     d = ROOT / member
     if section == "build-dependencies":
@@ -114,9 +134,9 @@ def main():
             elif section == "dependencies":
                 lib = tuple(f for f in fs if not set(f.relative_to(ROOT / member).parts[:1])
                             & {"tests", "benches", "examples"})
-                if lib not in cache:
-                    cache[lib] = [code(f) for f in lib]
-                if not used(name, cache[lib]):
+                if ("lib", lib) not in cache:
+                    cache[("lib", lib)] = [without_test_modules(code(f)) for f in lib]
+                if not used(name, cache[("lib", lib)]):
                     bad.append(f"{where}, which only its tests, benches or examples use "
                                "(a dev-dependency)")
     for b in bad:
