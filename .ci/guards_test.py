@@ -7,8 +7,8 @@ non-zero naming what was planted:
 - .ci/framework.py: a mission's name in a framework crate's code (a word of a mission.yaml's
   title), in a framework crate's Cargo.toml description, a framework crate embedding a
   mission's file (include_str! of the root mission's requirement folder), and a new upward
-  dependency (a generic crate on a mission's checks), a framework crate without
-  `#![warn(missing_docs)]`;
+  dependency (a generic crate on a mission's checks), a module cycle inside a crate (the only
+  check of the module graphs), a framework crate without `#![warn(missing_docs)]`;
 - .ci/unused_deps.py: a declared dependency no code uses, and one only the tests use;
 - .ci/sizes.py --check: a size typed by hand in docs/architecture.md.
 
@@ -96,6 +96,13 @@ def main():
                      lambda r: edit(r / "verification/report/Cargo.toml", "[dependencies]\n",
                                     "[dependencies]\ngeodesic-checks.workspace = true\n"),
                      "framework.py", [], ["geodesic-report depends on geodesic-checks"]),
+            mutation("a module cycle", root,
+                     ["verification/fit/src/identify.rs"],
+                     lambda r: edit(r / "verification/fit/src/identify.rs",
+                                    "use crate::numeric::observe::Observer;\n",
+                                    "use crate::numeric::observe::Observer;\n"
+                                    "use crate::estimate::FitOutcome as _Back;\n"),
+                     "framework.py", [], ["verification/fit: module cycle", "estimate", "identify"]),
             mutation("an unused dependency", root,
                      ["verification/util/Cargo.toml"],
                      lambda r: edit(r / "verification/util/Cargo.toml", "[dependencies]\n",
