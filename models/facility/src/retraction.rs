@@ -21,6 +21,26 @@ mod tail;
 
 use expm::{Mat, N_AUG, apply, norm_inf, propagator};
 use irregular::{Irregular, Stamps, steps_change_often};
+
+/// The next group of `pending` configurations run side by side: the first pending one and up
+/// to `LANES - 1` more with the same `key` (first sample, bins, series terms), in order; they
+/// leave `pending`. `None` when nothing is pending.
+fn next_lanes<K: PartialEq>(
+    pending: &mut Vec<usize>,
+    key: impl Fn(usize) -> K,
+) -> Option<Vec<usize>> {
+    let &first = pending.first()?;
+    let k = key(first);
+    let group: Vec<usize> = pending
+        .iter()
+        .copied()
+        .filter(|&i| key(i) == k)
+        .take(LANES)
+        .collect();
+    pending.retain(|i| !group.contains(i));
+    Some(group)
+}
+
 #[cfg(test)]
 use tail::uniform_tail;
 use tail::{Grid, Tail, run_lanes};
@@ -147,17 +167,11 @@ impl RtConfig {
             .collect();
         // the configurations with a tail, grouped by the sample it starts at, in order
         let mut pending: Vec<usize> = (0..parts.len()).filter(|&i| parts[i].1.is_some()).collect();
-        while let Some(&first) = pending.first() {
-            // the same first sample and the same series terms: lanes without a branch
-            let key = |i: usize| parts[i].1.as_ref().map(|(t, idx)| (*idx, t.n_terms));
-            let group: Vec<usize> = pending
-                .iter()
-                .copied()
-                .filter(|&i| key(i) == key(first))
-                .take(LANES)
-                .collect();
-            let idx = parts[first].1.as_ref().map_or(0, |t| t.1);
-            pending.retain(|i| !group.contains(i));
+        // the same first sample and the same series terms: lanes without a branch
+        while let Some(group) = next_lanes(&mut pending, |i| {
+            parts[i].1.as_ref().map(|(t, idx)| (*idx, t.n_terms))
+        }) {
+            let idx = parts[group[0]].1.as_ref().map_or(0, |t| t.1);
             let mut outs: Vec<Vec<f64>> = group
                 .iter()
                 .map(|&i| std::mem::take(&mut parts[i].0))
@@ -181,21 +195,13 @@ impl RtConfig {
         // the irregular tails, grouped the same way by the sample they start at, their bins
         // and their terms
         let mut pending: Vec<usize> = (0..parts.len()).filter(|&i| parts[i].2.is_some()).collect();
-        while let Some(&first) = pending.first() {
-            let key = |i: usize| {
-                parts[i]
-                    .2
-                    .as_ref()
-                    .map(|(t, idx)| (*idx, t.nb, t.n_terms, t.centred))
-            };
-            let group: Vec<usize> = pending
-                .iter()
-                .copied()
-                .filter(|&i| key(i) == key(first))
-                .take(LANES)
-                .collect();
-            let idx = parts[first].2.as_ref().map_or(0, |t| t.1);
-            pending.retain(|i| !group.contains(i));
+        while let Some(group) = next_lanes(&mut pending, |i| {
+            parts[i]
+                .2
+                .as_ref()
+                .map(|(t, idx)| (*idx, t.nb, t.n_terms, t.centred))
+        }) {
+            let idx = parts[group[0]].2.as_ref().map_or(0, |t| t.1);
             let mut outs: Vec<Vec<f64>> = group
                 .iter()
                 .map(|&i| std::mem::take(&mut parts[i].0))
