@@ -1206,26 +1206,7 @@ pub(crate) fn refined_terms_of(
         k.coefs = c;
         (d, k)
     };
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut a, mut b) = (z0 - half, z0 + half);
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
-    let (mut fc, mut kc) = trial(c);
-    let (mut fd, mut kd) = trial(d);
-    for _ in 0..6 {
-        if fc > fd {
-            b = d;
-            (d, fd, kd) = (c, fc, kc.clone());
-            c = b - g * (b - a);
-            (fc, kc) = trial(c);
-        } else {
-            a = c;
-            (c, fc, kc) = (d, fd, kd.clone());
-            d = a + g * (b - a);
-            (fd, kd) = trial(d);
-        }
-    }
-    let (zb, db, mut kb) = if fc > fd { (c, fc, kc) } else { (d, fd, kd) };
+    let (zb, db, mut kb) = pairs::golden(z0 - half, z0 + half, &trial);
     if db > lead.delta_chi2 {
         let v = if log { zb.exp() } else { zb };
         let a = kb.coefs.iter().map(|c| c * c).sum::<f64>().sqrt();

@@ -318,8 +318,8 @@ fn set_coefs(terms: &mut [KindFit], mut c: Vec<f64>) {
 }
 
 /// Golden section of `f`'s first value over `[a, b]` (six steps): the best point, its value
-/// and what `f` gave there.
-fn golden<T: Clone>(a: f64, b: f64, f: &dyn Fn(f64) -> (f64, T)) -> (f64, f64, T) {
+/// and what `f` gave there (the refinement of a single term's scanned parameter uses it too).
+pub(super) fn golden<T: Clone>(a: f64, b: f64, f: &dyn Fn(f64) -> (f64, T)) -> (f64, f64, T) {
     let g = 0.5 * (5f64.sqrt() - 1.0);
     let (mut a, mut b) = (a, b);
     let mut c = b - g * (b - a);
