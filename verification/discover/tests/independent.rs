@@ -583,6 +583,8 @@ record_tests! {
     ar1_rt_ramp_short_pre_trigger: check_coloured("ar1-rt-ramp-short");
     ar1_tmmf_both_channels: check_coloured("ar1-tmmf-both"), "minutes in the test profile: CI runs it in release";
     marginal_drift: check_added("marginal-drift"), "minutes in the test profile: CI runs it in release";
+    joint_rule_tip_noise_rises: check_defect("tip-noise-rises-tmmf"), "minutes in the test profile: CI runs it in release";
+    joint_rule_tip_noise_rises_declared: check_defect("tip-noise-rises-declared"), "minutes in the test profile: CI runs it in release";
 }
 
 /// Every record of `expected.json` has its test above (a record added to the generator without

@@ -239,7 +239,8 @@ pub fn assess(prep: &Prepared, o: &FitOutcome, resid: &[f64], r: &mut FitReport)
         warnings.push(format!(
             "the tip channel is not described by its constant-jerk profile from t = 0 (chi2_red \
              {} above {}): the tip moves otherwise or starts later than the trigger (a trigger \
-             delay); the model of the TM is driven by that profile",
+             delay); the model of the TM is driven by that profile (`explained` weighs it with \
+             the TM channel in one chi-square)",
             fmt_sig(chi2_red),
             fmt_sig(bound)
         ));
