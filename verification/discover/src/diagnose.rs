@@ -388,7 +388,11 @@ pub fn diagnose_with(
                 .iter()
                 .find(|(n, _)| n == m)
                 .expect("a fitted candidate");
-            let (e, why) = crate::report::is_explained(&FitReport::new(prep, o));
+            // heavy tails of the fitted channel that the baseline's misfit hid are judged
+            // against the candidate that describes it (crate::screen::tails_revealed)
+            let revealed = crate::screen::tails_revealed(prep, o);
+            let (e, why) =
+                crate::report::is_explained(&FitReport::new(revealed.as_ref().unwrap_or(prep), o));
             (e, format!("with {m}: {why}"))
         }
         None => crate::report::is_explained(&base_report),

@@ -277,7 +277,7 @@ pub(crate) fn discover_screened(
     let t0 = std::time::Instant::now();
     let mut progress = |m: &str| progress(&progress_line(m, t0.elapsed().as_secs_f64()));
     let mut prep = crate::screen::screen(prep, baseline, &opts.fit, &mut progress)?;
-    let (mut noise_rounds, mut cleaned) = (0, false);
+    let (mut noise_rounds, mut cleaned, mut tailed) = (0, false, false);
     loop {
         let next = {
             let ledger = run_ledger(&prep, baseline, opts, &mut progress)?;
@@ -307,6 +307,17 @@ pub(crate) fn discover_screened(
                     "the last model's residual shows more wild samples: set aside, the loop again",
                 );
                 c
+            } else if let Some(t) = (!tailed)
+                .then(|| crate::screen::tails_revealed(&prep, last))
+                .flatten()
+            {
+                // the baseline's misfit hid the fitted channel's heavy tails: every decision is
+                // taken again with them known (the chi-square band of `is_explained`)
+                tailed = true;
+                progress(
+                    "the last model's residual shows heavy tails on the fitted channel: the loop again, judged with them",
+                );
+                t
             } else {
                 let shows = crate::screen::shows_against(&prep, last);
                 let (mut report, last, all) = finish(ledger, &mut progress)?;

@@ -577,6 +577,8 @@ record_tests! {
     noise_declared_too_small: check_defect("noise-small-tmmf"), "minutes in the test profile: CI runs it in release";
     noise_declared_too_large: check_defect("noise-large-tmmf"), "minutes in the test profile: CI runs it in release";
     heavy_tails_on_the_tip: check_defect("tail-tip-nothing"), "minutes in the test profile: CI runs it in release";
+    heavy_tails_on_the_tm: check_defect("tail-x-nothing"), "minutes in the test profile: CI runs it in release";
+    heavy_tails_on_the_tm_adhesion_missing: check_defect("tail-x-adhesion"), "minutes in the test profile: CI runs it in release";
     gaps_tmmf_adhesion_missing: check_defect("gaps-tmmf-adhesion"), "minutes in the test profile: CI runs it in release";
     two_terms_outside_tmmf: check_two_outside("two-outside-tmmf"), "minutes in the test profile: CI runs it in release";
     sensor_drift_rt: check_ramp("sensor-drift-rt");

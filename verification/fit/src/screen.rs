@@ -201,6 +201,25 @@ fn tails_against(prep: &Prepared, o: &crate::estimate::FitOutcome) -> Vec<Findin
         .collect()
 }
 
+/// `prep` with its findings judged against the fit `o` ([`shows_against`]) when `o` reveals
+/// heavy tails on the fitted channel that `prep` does not know of (the baseline's misfit hid
+/// them: the fitted channel's tails are judged only against a fit that describes it); `None`
+/// otherwise.
+pub fn tails_revealed(prep: &Prepared, o: &crate::estimate::FitOutcome) -> Option<Prepared> {
+    let on_fitted =
+        |f: &Finding| f.kind == "heavy tails" && f.channel.as_deref() == Some(prep.channel);
+    if prep.record_shows.iter().any(on_fitted) {
+        return None;
+    }
+    let shows = shows_against(prep, o);
+    if !shows.iter().any(on_fitted) {
+        return None;
+    }
+    let mut out = prep.clone();
+    out.record_shows = shows;
+    Some(out)
+}
+
 /// `prep`'s findings with the heavy tails judged against the fit `o` instead (the loop's last
 /// model: the baseline's misfit hides the fitted channel's tails or passes for them).
 pub fn shows_against(prep: &Prepared, o: &crate::estimate::FitOutcome) -> Vec<Finding> {

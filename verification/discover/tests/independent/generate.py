@@ -319,7 +319,7 @@ RT_NOM = {"R": 371.2, "m": 9e-4, "Ca": 2.3e-7, "k": 4.91e7, "b": 9.77, "T": 5.73
 
 def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy=3e-9, m=M_MID,
                 ar=None, noise_in_yaml=True, delay=0.0, description="", spikes=None,
-                declared=None, tail_y=None, gaps=None, ar_y=None, sy_post=1.0):
+                declared=None, tail_y=None, gaps=None, ar_y=None, sy_post=1.0, tail_x=None):
     """A TMMF release record; `delay` [s]: the trigger (t = 0) fires that long before the tip and
     the TM move (both channels shifted). With `m_nd` in `p`, the needles are a body. `spikes`:
     {channel: fraction} of samples made wild (`add_spikes`); returns their CSV lines per channel
@@ -336,6 +336,12 @@ def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy
     x = tmmf_reading(t, x, p)
     y = tip_profile(t - delay, JERK, V_TIP)
     xn = x + noise(rng, len(t), sx, ar)
+    if tail_x:
+        # Student-t noise of `tail_x` degrees of freedom on x, scaled to the standard deviation
+        # sx, which the YAML states (a generator of its own: the tip channel's noise is that of
+        # the record without it)
+        rt_ = np.random.Generator(np.random.PCG64(seed + 70000))
+        xn = x + rt_.standard_t(tail_x, len(t)) * sx / math.sqrt(tail_x / (tail_x - 2.0))
     if tail_y:
         # Student-t noise of `tail_y` degrees of freedom, scaled to the standard deviation sy
         # (a generator of its own: the TM channel's noise is that of the record without it)
@@ -759,7 +765,8 @@ def main():
     # loader's 20-sigma cut; the answer is the one of the record without them, and the samples
     # to set aside are the spikes' CSV lines. A mis-stated noise figure: the YAML's figure of x
     # is half or twice the true one (the pre-trigger's 200 samples say which). Heavy tails:
-    # Student-t noise (3 degrees of freedom) on the tip channel. Gaps: rows lost in acquisition.
+    # Student-t noise (3 degrees of freedom) on the tip channel, or on the TM channel (the YAML
+    # states its standard deviation). Gaps: rows lost in acquisition.
     adhesion = {"tip_adhesion.A1": 1.3e5, "tip_adhesion.lambda": 6e-7}
     defects = [
         ("spikes-tmmf-adhesion", 1101, dict(spikes={"x": 0.005, "y": 0.005}), tmmf_base_names,
@@ -772,6 +779,10 @@ def main():
          "TMMF: tip adhesion hidden, the noise of x declared twice the true figure"),
         ("tail-tip-nothing", 1106, dict(tail_y=3), tmmf_base_names + ["tip_adhesion"], [],
          "TMMF: nothing hidden, Student-t noise (3 dof) on the tip channel"),
+        ("tail-x-nothing", 1108, dict(tail_x=3), tmmf_base_names + ["tip_adhesion"], [],
+         "TMMF: nothing hidden, Student-t noise (3 dof) on the TM channel"),
+        ("tail-x-adhesion", 1109, dict(tail_x=3), tmmf_base_names, ["tip_adhesion"],
+         "TMMF: tip adhesion hidden, Student-t noise (3 dof) on the TM channel"),
         ("gaps-tmmf-adhesion", 1107, dict(gaps=[(150, 30), (900, 60), (1500, 12)]),
          tmmf_base_names, ["tip_adhesion"],
          "TMMF: tip adhesion hidden, three gaps of 30, 60 and 12 samples in the acquisition"),
@@ -790,6 +801,8 @@ def main():
         if "tail_y" in kw:
             # what the record shows: {kind: channel}
             expect["shows"] = {"heavy tails": "y"}
+        if "tail_x" in kw:
+            expect["shows"] = {"heavy tails": "x"}
         if "gaps" in kw:
             expect["shows"] = {"gaps": None}
             expect["largest_gap_s"] = (max(k for _, k in kw["gaps"]) + 1) / 2e5
