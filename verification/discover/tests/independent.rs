@@ -584,6 +584,7 @@ record_tests! {
     sensor_drift_rt: check_ramp("sensor-drift-rt");
     ar1_rt_ramp_short_pre_trigger: check_coloured("ar1-rt-ramp-short");
     ar1_tmmf_both_channels: check_coloured("ar1-tmmf-both"), "minutes in the test profile: CI runs it in release";
+    ar1_tmmf_short_pre_trigger_both_channels: check_coloured("ar1-tmmf-short-both"), "minutes in the test profile: CI runs it in release";
     marginal_drift: check_added("marginal-drift"), "minutes in the test profile: CI runs it in release";
     joint_rule_tip_noise_rises: check_defect("tip-noise-rises-tmmf"), "minutes in the test profile: CI runs it in release";
     joint_rule_tip_noise_rises_declared: check_defect("tip-noise-rises-declared"), "minutes in the test profile: CI runs it in release";

@@ -183,7 +183,7 @@ fn tip_residual(t: &[f64], y: &[f64], p: &ProfileFit) -> (Vec<f64>, Vec<f64>) {
 /// samples, else from the white profile's residual, re-estimated with the profile refitted
 /// whitened until the coefficients settle ([`NOISE_ITERATIONS`] at most), each taken only when
 /// the pre-trigger samples (at least [`MIN_QUIET`]) are better described by that colour than by
-/// white noise (as in [`Prepared::with_residual_noise`]). When one is found the profile `p` is refitted whitened, and the tip's figure,
+/// white noise or the residual's first differences show it (as in [`Prepared::with_residual_noise`]). When one is found the profile `p` is refitted whitened, and the tip's figure,
 /// the innovation sigma, pooled with the differences of the whitened residual after the trigger
 /// as a white tip's is (`pool_tip_noise`). A figure the YAML states is white (interface.md):
 /// `None` then.
@@ -208,7 +208,7 @@ fn tip_noise(
         for _ in 0..NOISE_ITERATIONS {
             let (post, pre) = tip_residual(t, y, &fit);
             let Some(m) = estimate(&post) else { break };
-            if pre.len() >= MIN_QUIET && m.quiet_lr(&pre) <= 0.0 {
+            if pre.len() >= MIN_QUIET && m.quiet_lr(&pre) <= 0.0 && !m.differences_support(&post) {
                 break;
             }
             if cur.as_ref().is_some_and(|c| c.settled(&m)) {
@@ -507,7 +507,10 @@ impl Prepared {
     ///   there, so a colour only the residual after the trigger shows is a misfit of the model,
     ///   not the noise. (20 white quiet samples pass under a coefficient 0.95 only when their
     ///   lag-1 correlation exceeds 0.47, about 2 % of the time; a 1 % test would miss half the
-    ///   AR(1) 0.95 records of 20 pre-trigger samples.)
+    ///   AR(1) 0.95 records of 20 pre-trigger samples.) Twenty samples can also look white
+    ///   by chance: the model is then still taken when the residual's first differences show
+    ///   its colour ([`ArNoise::differences_support`](crate::numeric::noise::ArNoise::differences_support)),
+    ///   which a smooth misfit cannot lend them;
     ///
     /// `None` when the residual is white (Ljung-Box at 1 %) or the model is refused; otherwise
     /// the channel's `noise_source` becomes `residual AR(p)`.
@@ -538,7 +541,10 @@ impl Prepared {
             }
             None if quiet.len() < MIN_SAMPLES => {
                 let m = estimate(resid)?;
-                if quiet.len() >= MIN_QUIET && m.quiet_lr(&quiet) <= 0.0 {
+                if quiet.len() >= MIN_QUIET
+                    && m.quiet_lr(&quiet) <= 0.0
+                    && !m.differences_support(resid)
+                {
                     return None;
                 }
                 m

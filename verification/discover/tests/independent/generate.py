@@ -870,6 +870,20 @@ def main():
                          "baseline": tmmf_base_names,
                          "expect": {"explained": True, "added": []},
                          "truth": {"ar_x": [0.98], "ar_y": [0.9]}})
+    if want("ar1-tmmf-short-both"):
+        # the adhesion hidden; AR(1) noise on both channels (x rho 0.95, the tip 0.9), a
+        # 20-sample pre-trigger (below the 32 the noise estimator needs), no noise figure: each
+        # channel's model comes from its residual. The seed is one whose tip pre-trigger looks
+        # white by chance (twice the log-likelihood ratio of the true colour against white noise
+        # on its 20 samples: -1.0), found on a probe of the class: a colour gated by the
+        # pre-trigger alone was refused there, and the tip judged white (chi2_red 8.3)
+        tmmf_record(out, "ar1-tmmf-short-both", 2005, full, pre=1e-4, ar=[0.95], ar_y=[0.9],
+                    noise_in_yaml=False,
+                    description="TMMF: tip adhesion hidden, AR(1) noise 0.95 on x and 0.9 on the tip channel, a 20-sample pre-trigger")
+        expected.append({"name": "ar1-tmmf-short-both", "class": "coloured-short",
+                         "baseline": tmmf_base_names,
+                         "expect": {"explained": True, "added": ["tip_adhesion"]},
+                         "truth": dict(adhesion, ar_x=[0.95], ar_y=[0.9])})
     if want("marginal-drift"):
         # a drift of the reading whose first-order chi-square after the baseline is 12 (with
         # the 3 the noise gives its three parameters, delta BIC about +7 at the optimum): below
