@@ -310,7 +310,11 @@ impl Prepared {
                 // (then estimated as when the YAML states none: the pre-trigger's figure pooled
                 // with the residual's differences, which hundreds of samples after the trigger
                 // pin down where the pre-trigger alone leaves 8 % of doubt)
-                let check = crate::record::check_noise(ch, *s, &pre);
+                let check = crate::record::check_noise(ch, *s, &pre).or_else(|| {
+                    (pre.len() < crate::record::MIN_PRE_TRIGGER)
+                        .then(|| crate::record::check_noise_differences(ch, *s, v))
+                        .flatten()
+                });
                 let (used, src) = match &check {
                     Some(c) if c.mismatch => estimate_noise(&dataset.t, v),
                     _ => (*s, "yaml"),

@@ -13,7 +13,10 @@
 //!   record as when the YAML states none (the pre-trigger's pooled with the differences of the
 //!   fit's residual, `crate::estimate::effective_sigma`) for every decision. The other side, a
 //!   residual far below its noise figure, is judged with the fit (`crate::report::is_explained`:
-//!   chi2_red below `1 - 5 sqrt(2/nu)`).
+//!   chi2_red below `1 - 5 sqrt(2/nu)`). A pre-trigger too short to test the figure (a
+//!   retraction's 20 samples) leaves the record's own high-pass scatter
+//!   ([`check_noise_differences`]): the third differences of every sample, which a smooth
+//!   motion does not reach.
 //! * **What the record shows** ([`Finding`]): gaps and irregular time stamps, quantised
 //!   channels and heavy-tailed noise, each with its size, named in the reports
 //!   (`record_shows`) whether or not they changed a decision.
@@ -298,6 +301,87 @@ pub(crate) fn check_noise(channel: &str, declared: f64, pre: &[f64]) -> Option<N
     })
 }
 
+/// Tests the declared figure `declared` [SI] of `channel` against the third differences of all
+/// its samples `v` when the pre-trigger is too short to (issue 50): `d_i = v_{i+3} - 3 v_{i+2} +
+/// 3 v_{i+1} - v_i` has variance `20 sigma^2` for white noise, and a motion smooth on the scale
+/// of three samples (a retraction's ringing at 1 MHz) adds next to nothing. Robust: 1.4826
+/// MAD / sqrt 20, so spikes and a few fast transitions cannot move it. The differences must
+/// look like those of white noise (their lag-1 autocorrelation within 5 standard errors,
+/// `1.52 / sqrt(n)` by Bartlett's formula, of white noise's -3/4); otherwise `None` (coloured
+/// noise or structure at the sampling scale says nothing about a white figure). The band is
+/// that of [`check_noise`] with a quarter of the differences (neighbouring ones share
+/// samples); `samples` counts the channel's samples. The gate does not see a smooth colour
+/// (AR(1) 0.9 gives a lag-1 figure of -0.67): the differences then measure the noise at the
+/// sampling scale, which is what a stated figure, white by the interface, claims.
+pub(crate) fn check_noise_differences(
+    channel: &str,
+    declared: f64,
+    v: &[f64],
+) -> Option<NoiseCheck> {
+    if v.len() < 4 * MIN_PRE_TRIGGER || declared.is_nan() || declared <= 0.0 {
+        return None;
+    }
+    let d: Vec<f64> = v
+        .windows(4)
+        .map(|w| w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0])
+        .collect();
+    let mean = d.iter().sum::<f64>() / d.len() as f64;
+    let c0: f64 = d.iter().map(|x| (x - mean).powi(2)).sum();
+    let c1: f64 = d.windows(2).map(|w| (w[0] - mean) * (w[1] - mean)).sum();
+    if c0 <= 0.0 || (c1 / c0 + 0.75).abs() > 5.0 * 1.52 / (d.len() as f64).sqrt() {
+        return None;
+    }
+    let mut a: Vec<f64> = d.iter().map(|x| x.abs()).collect();
+    let mid = a.len() / 2;
+    a.select_nth_unstable_by(mid, f64::total_cmp);
+    let measured = 1.4826 * a[mid] / 20f64.sqrt();
+    if measured.is_nan() || measured <= 0.0 {
+        return None;
+    }
+    let n = d.len() / 4;
+    let half = (NOISE_BAND_SIGMAS * MAD_SE / (n as f64).sqrt()).max(NOISE_BAND_FLOOR);
+    let ratio = measured / declared;
+    let band = [(-half).exp(), half.exp()];
+    let mismatch = ratio < band[0] || ratio > band[1];
+    let note = if mismatch {
+        format!(
+            "the noise of `{channel}` is declared {} (SI) but the third differences of its {} \
+             samples show {} ({} times; sampling explains {} to {}; the pre-trigger is too short \
+             to test it): the figure is estimated from the record for every decision, as when \
+             none is declared; correct `noise: {channel}:` in the YAML (or remove it to have it \
+             estimated)",
+            fmt_sig(declared),
+            v.len(),
+            fmt_sig(measured),
+            fmt_sig(ratio),
+            fmt_sig(band[0]),
+            fmt_sig(band[1])
+        )
+    } else {
+        format!(
+            "the noise of `{channel}` declared {} (SI) agrees with the third differences of its \
+             {} samples, {} (ratio {}, within {} to {})",
+            fmt_sig(declared),
+            v.len(),
+            fmt_sig(measured),
+            fmt_sig(ratio),
+            fmt_sig(band[0]),
+            fmt_sig(band[1])
+        )
+    };
+    Some(NoiseCheck {
+        channel: channel.to_string(),
+        declared,
+        measured,
+        samples: v.len(),
+        ratio,
+        band,
+        mismatch,
+        used: if mismatch { measured } else { declared },
+        note,
+    })
+}
+
 /// One sentence on the samples set aside, for a report's reason; empty when none.
 pub(crate) fn set_aside_text(s: &[SetAside]) -> String {
     if s.is_empty() {
@@ -374,6 +458,37 @@ mod tests {
             .map(|(i, v)| v + 5e-9 * (i as f64 * 0.02).sin())
             .collect();
         assert!(check_noise("x", 1e-9, &wavy).is_none());
+    }
+
+    #[test]
+    fn a_short_pre_trigger_leaves_the_third_differences_of_the_whole_record() {
+        // 2 000 samples of a smooth motion (a 1.5 kHz ringing of 200 nm sampled at 1 MHz) with
+        // white noise of 1 nm: the third differences see the noise, not the motion
+        let n = 2000;
+        let g = gauss(n, 13);
+        let v: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 * 1e-6;
+                2e-7 * (2.0 * std::f64::consts::PI * 1.5e3 * t).sin() + 1e-9 * g[i]
+            })
+            .collect();
+        let ok = check_noise_differences("y", 1e-9, &v).unwrap();
+        assert!(!ok.mismatch && (ok.ratio - 1.0).abs() < 0.1, "{ok:?}");
+        let small = check_noise_differences("y", 0.5e-9, &v).unwrap();
+        assert!(small.mismatch && (small.ratio - 2.0).abs() < 0.2, "{small:?}");
+        assert!(small.note.contains("third differences"), "{}", small.note);
+        let large = check_noise_differences("y", 2e-9, &v).unwrap();
+        assert!(large.mismatch && (large.ratio - 0.5).abs() < 0.05, "{large:?}");
+        // structure at the sampling scale (a 250 kHz line of 3 nm, a quarter of the sampling
+        // rate): its differences are not white noise's, no test
+        let lined: Vec<f64> = v
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x + 3e-9 * (std::f64::consts::FRAC_PI_2 * i as f64).sin())
+            .collect();
+        assert!(check_noise_differences("y", 1e-9, &lined).is_none());
+        // too few samples
+        assert!(check_noise_differences("y", 1e-9, &v[..100]).is_none());
     }
 
     #[test]

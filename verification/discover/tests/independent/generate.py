@@ -372,9 +372,10 @@ def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy
 
 def rt_record(out, name, seed, q, *, em=None, fs=1e6, pre=2e-5, post=1e-3, sy=1e-9, ar=None,
               noise_in_yaml=True, delay=0.0, e0=120.0, description="", spikes=None,
-              drift=0.0):
+              drift=0.0, declared=1.0):
     """A retraction record; `drift` [m/s]: a linear drift of the reading over the whole record
-    (zero at the trigger), a sensor defect outside the catalogue."""
+    (zero at the trigger), a sensor defect outside the catalogue. `declared`: the YAML's noise
+    figure is the true one times this factor (a mis-stated figure)."""
     rng = np.random.Generator(np.random.PCG64(seed))
     t = times(fs, pre, post)
     y = rt_truth(t - delay, q, e0, em) + drift * t
@@ -382,7 +383,7 @@ def rt_record(out, name, seed, q, *, em=None, fs=1e6, pre=2e-5, post=1e-3, sy=1e
     chans = {"y": yn}
     lines = add_spikes(seed, chans, {"y": sy}, spikes) if spikes else None
     write_dataset(out, name, "rt-retraction", t, chans, {"E0": e0},
-                  {"y": sy} if noise_in_yaml else None, description)
+                  {"y": sy * declared} if noise_in_yaml else None, description)
     if spikes:
         return t, y, lines
     return t, y
@@ -820,6 +821,19 @@ def main():
         expected.append({"name": "spikes-rt-plunger", "class": "defect", "baseline": ["piezo"],
                          "expect": {"explained": True, "added": ["plunger_compliance"],
                                     "set_aside": lines},
+                         "truth": rt_params(q), "combinations": combinations(q, 120.0)})
+
+    # A mis-stated noise figure on a retraction record, whose 20-sample pre-trigger is too
+    # short to test it: half and twice the true figure, the plunger hidden
+    for name, seed, f in [("noise-small-rt", 1131, 0.5), ("noise-large-rt", 1132, 2.0)]:
+        if not want(name):
+            continue
+        q = dict(RT_NOM, Mg=0.021, Kg=2.0e6)
+        rt_record(out, name, seed, q, post=1e-3, declared=f,
+                  description=f"retraction: plunger hidden, the noise of y declared {f:g} times the true figure")
+        expected.append({"name": name, "class": "defect", "baseline": ["piezo"],
+                         "expect": {"explained": True, "added": ["plunger_compliance"],
+                                    "noise_ratio": {"y": 1.0 / f}, "noise_used": {"y": 1e-9}},
                          "truth": rt_params(q), "combinations": combinations(q, 120.0)})
 
     # ---- class 8 (issue 50, items 3 and 4): two terms outside the catalogue, a sensor drift,
