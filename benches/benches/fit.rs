@@ -243,7 +243,7 @@ fn twin(prep: &Prepared, model: &Model, p: &[f64], jitter: bool) -> Prepared {
 /// the regular one) of a 20 000-sample rt-retraction record (1 MHz, 20 ms): the forward model
 /// of each at nominal parameters, and `fit` of each with `piezo,plunger_compliance`; and of a
 /// 2 000-sample TMMF release (200 kHz, 10 ms): the forward model and `fit` with the right
-/// model.
+/// model; and `discover` from the piezo on 5 000-sample retraction twins.
 fn sampling_twins(c: &mut Criterion) {
     let n = 20_000;
     let prep = record(Scenario::RtRetraction, n);
@@ -296,6 +296,34 @@ fn sampling_twins(c: &mut Criterion) {
             BenchmarkId::new(format!("tmmf-{name}"), 2_000),
             twin,
             |b, tw| b.iter(|| fit(tw, &TMMF, &FitOptions::default()).expect("fit")),
+        );
+    }
+    g.finish();
+    // discover from the piezo alone (the plunger hidden) on 5 000-sample retraction twins:
+    // the candidates' searches, the stiff starts of the multi-start and a voltage ramp
+    // included (issue 50, item 5: `discover` on a jittered record was 3.3 times its regular
+    // twin before the balanced bins)
+    let n_d = 5_000;
+    let prep_d = record(Scenario::RtRetraction, n_d);
+    let rt_d = [
+        ("regular", twin_regular(&prep_d)),
+        ("jittered", twin(&prep_d, &truth, &p_truth, true)),
+        ("gapped", twin(&prep_d, &truth, &p_truth, false)),
+    ];
+    let opts = DiscoverOptions {
+        fit: FitOptions::default(),
+        max_rounds: 4,
+    };
+    let mut g = c.benchmark_group("sampling_twins_discover");
+    g.sample_size(10);
+    g.sampling_mode(SamplingMode::Flat);
+    g.measurement_time(Duration::from_secs(60));
+    for (name, twin) in &rt_d {
+        g.throughput(Throughput::Elements(twin.dataset.t.len() as u64));
+        g.bench_with_input(
+            BenchmarkId::new(format!("rt-{name}"), n_d),
+            twin,
+            |b, tw| b.iter(|| discover(tw, &["piezo"], &opts, |_| {}).expect("discover")),
         );
     }
     g.finish();

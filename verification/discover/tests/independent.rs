@@ -576,6 +576,8 @@ record_tests! {
     spikes_rt_plunger_missing: check_defect("spikes-rt-plunger");
     noise_declared_too_small: check_defect("noise-small-tmmf"), "minutes in the test profile: CI runs it in release";
     noise_declared_too_large: check_defect("noise-large-tmmf"), "minutes in the test profile: CI runs it in release";
+    jittered_rt_plunger_missing: check_defect("jitter-rt-plunger");
+    jittered_tmmf_adhesion_missing: check_defect("jitter-tmmf-adhesion"), "minutes in the test profile: CI runs it in release";
     noise_declared_too_small_rt: check_defect("noise-small-rt");
     noise_declared_too_large_rt: check_defect("noise-large-rt");
     heavy_tails_on_the_tip: check_defect("tail-tip-nothing"), "minutes in the test profile: CI runs it in release";

@@ -475,10 +475,16 @@ mod tests {
         let ok = check_noise_differences("y", 1e-9, &v).unwrap();
         assert!(!ok.mismatch && (ok.ratio - 1.0).abs() < 0.1, "{ok:?}");
         let small = check_noise_differences("y", 0.5e-9, &v).unwrap();
-        assert!(small.mismatch && (small.ratio - 2.0).abs() < 0.2, "{small:?}");
+        assert!(
+            small.mismatch && (small.ratio - 2.0).abs() < 0.2,
+            "{small:?}"
+        );
         assert!(small.note.contains("third differences"), "{}", small.note);
         let large = check_noise_differences("y", 2e-9, &v).unwrap();
-        assert!(large.mismatch && (large.ratio - 0.5).abs() < 0.05, "{large:?}");
+        assert!(
+            large.mismatch && (large.ratio - 0.5).abs() < 0.05,
+            "{large:?}"
+        );
         // structure at the sampling scale (a 250 kHz line of 3 nm, a quarter of the sampling
         // rate): its differences are not white noise's, no test
         let lined: Vec<f64> = v

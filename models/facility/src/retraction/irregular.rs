@@ -9,9 +9,14 @@
 //! centred on it, the few terms of its time stamps' rounding, as the uniform tail
 //! ([`super::tail`]). No exponential per sample, and several parameter vectors run side by
 //! side ([`run_lanes`]): the cost per sample is the uniform tail's with a few more terms of
-//! the series (measured in `docs/fitting.md`, "Irregular time stamps").
+//! the series (measured in `docs/performance.md`, "Irregular sampling"). The bins are set up
+//! in balanced coordinates ([`balance`]), where the norm that sets the terms is that of the
+//! dynamics, not of the units; a stiff model's many bins come in two levels (row bins times
+//! sub-bins: [`cheapest_bins`]). With `N = N_AUG` the same reads the samples before a
+//! voltage ramp ends ([`Irregular::run_to`]). The grid step is the median interval, or the
+//! shortest common one when the steps come in a few sizes ([`typical_step`]).
 
-use super::expm::{Mat, N_AUG, norm_inf, propagator};
+use super::expm::{Mat, N_AUG, propagator};
 
 /// Size of the homogeneous part of the state once the voltage is off: `q, y, y', l, l'`.
 const N_HOM: usize = 5;
@@ -31,42 +36,63 @@ const MAX_TERMS: usize = 16;
 /// Grid steps a gap is crossed by, one `exp(A h)` each; a longer gap takes one exponential.
 const GAP_STEPS: u64 = 64;
 
-/// Intervals the typical step of a long record is the median of.
+/// Intervals the typical step of a long record is taken from.
 const STEP_SAMPLE: usize = 4095;
 
-/// `r . v` in a fixed order.
+/// `r . v` in a fixed order (left to right).
 #[inline(always)]
-fn dot5(r: &[f64; N_HOM], v: &[f64; N_HOM]) -> f64 {
-    r[0] * v[0] + r[1] * v[1] + r[2] * v[2] + r[3] * v[3] + r[4] * v[4]
+fn dotn<const N: usize>(r: &[f64; N], v: &[f64; N]) -> f64 {
+    let mut s = r[0] * v[0];
+    for i in 1..N {
+        s += r[i] * v[i];
+    }
+    s
 }
 
-/// `v^T m` (a row times a matrix), written out so that the columns are computed side by side.
+/// `v^T m` (a row times a matrix), the columns computed side by side, each sum left to right.
 #[inline(always)]
-fn row_times(v: &[f64; N_HOM], m: &[[f64; N_HOM]; N_HOM]) -> [f64; N_HOM] {
+fn row_times<const N: usize>(v: &[f64; N], m: &[[f64; N]; N]) -> [f64; N] {
     std::array::from_fn(|c| {
-        v[0] * m[0][c] + v[1] * m[1][c] + v[2] * m[2][c] + v[3] * m[3][c] + v[4] * m[4][c]
+        let mut s = v[0] * m[0][c];
+        for i in 1..N {
+            s += v[i] * m[i][c];
+        }
+        s
     })
 }
 
 /// The cheapest bins for `n` samples whose offsets span `span` [s] with `|A| = a_norm`: the
-/// number of bins and the terms of each bin's series. A bin costs its `n_terms` rows to set
-/// up (a row times a matrix each) and a sample its `n_terms` rows to read, so the count
-/// minimises `nb * n_terms * 5 + n * n_terms` (in dot products) over powers of two from the
-/// fewest that keep half a bin within `OFFSET_NORM` downwards, as long as the series reaches
-/// rounding within [`MAX_TERMS`]; `None` when even [`MAX_BINS`] bins do not.
-fn cheapest_bins(a_norm: f64, span: f64, n: usize) -> Option<(usize, usize)> {
+/// number of bins, the terms of each bin's series and the sub-bins `k2` of each row bin (1:
+/// one level). One level: a bin costs its `n_terms` rows to set up (a row times a matrix
+/// each) and a sample its `n_terms` rows to read, `nb * n_terms * 5 + n * n_terms` dot
+/// products. Two levels (a stiff model, whose series needs many bins): `nb = k1 k2` bins whose
+/// exponentials are those of `k1` row bins times those of `k2` sub-bins, `k1 * n_terms` rows
+/// and `k2` matrices to set up, and per sample a matrix times the state (5 dot products) more,
+/// `k1 * n_terms * 5 + k2 * 25 + n * (n_terms + 5)`. The count minimises the cost over halvings
+/// from the fewest bins that keep half a bin within `OFFSET_NORM` downwards, as long as the
+/// series reaches rounding within [`MAX_TERMS`]; `None` when even [`MAX_BINS`] bins do not.
+fn cheapest_bins(a_norm: f64, span: f64, n: usize) -> Option<(usize, usize, usize)> {
     let want = (a_norm * span / (2.0 * OFFSET_NORM)).ceil();
     let mut nb = if want >= MAX_BINS as f64 {
         MAX_BINS
     } else {
         (want as usize).max(1)
     };
-    let mut best: Option<(usize, usize, f64)> = None;
+    let mut best: Option<(usize, usize, usize, f64)> = None;
     loop {
         if let Some(nt) = terms(a_norm * span / (2.0 * nb as f64)) {
-            let cost = (nb * nt * N_HOM + n * nt) as f64;
-            if best.is_none_or(|(_, _, c)| cost < c) {
-                best = Some((nb, nt, cost));
+            let one = (nb * nt * N_HOM + n * nt) as f64;
+            if best.is_none_or(|(.., c)| one < c) {
+                best = Some((nb, nt, 1, one));
+            }
+            // two levels: k1 row bins of k2 sub-bins each (at least nb bins in all)
+            let k1 = (nb as f64).sqrt().ceil() as usize;
+            let k2 = nb.div_ceil(k1);
+            if k2 > 1 {
+                let two = (k1 * nt * N_HOM + k2 * N_HOM * N_HOM + n * (nt + N_HOM)) as f64;
+                if best.is_none_or(|(.., c)| two < c) {
+                    best = Some((k1 * k2, nt, k2, two));
+                }
             }
         }
         if nb == 1 {
@@ -74,7 +100,7 @@ fn cheapest_bins(a_norm: f64, span: f64, n: usize) -> Option<(usize, usize)> {
         }
         nb = nb.div_ceil(2);
     }
-    best.map(|(nb, nt, _)| (nb, nt))
+    best.map(|(nb, nt, k2, _)| (nb, nt, k2))
 }
 
 /// Terms of a series in `x = |A| r` whose first term left out, `x^j / j!` relative to the
@@ -92,9 +118,94 @@ fn terms(x: f64) -> Option<usize> {
     Some(n_terms)
 }
 
-/// The homogeneous 5 x 5 block of `m`.
-fn block(m: &Mat) -> [[f64; N_HOM]; N_HOM] {
+/// The leading `N x N` block of `m` (`N_HOM`: the homogeneous part once the voltage is off;
+/// `N_AUG`: all of it, the voltage and its ramp included).
+fn block<const N: usize>(m: &Mat) -> [[f64; N]; N] {
     std::array::from_fn(|i| std::array::from_fn(|j| m[i][j]))
+}
+
+/// `exp(a dt)` of an `N x N` matrix, as [`propagator`] (scaling and squaring, the scaled
+/// matrix's norm below 1/8, a degree-16 Taylor series).
+fn expm<const N: usize>(a: &[[f64; N]; N], dt: f64) -> [[f64; N]; N] {
+    let norm = a
+        .iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+        * dt;
+    let mut s = 0;
+    while norm / 2f64.powi(s) > 0.125 && s < 60 {
+        s += 1;
+    }
+    let h = dt / 2f64.powi(s);
+    let mul = |x: &[[f64; N]; N], y: &[[f64; N]; N]| -> [[f64; N]; N] {
+        std::array::from_fn(|i| row_times(&x[i], y))
+    };
+    let ah: [[f64; N]; N] = a.map(|r| r.map(|v| v * h));
+    let mut term: [[f64; N]; N] =
+        std::array::from_fn(|i| std::array::from_fn(|j| f64::from(u8::from(i == j))));
+    let mut sum = term;
+    for k in 1..=16 {
+        let inv = 1.0 / k as f64;
+        term = mul(&term, &ah).map(|r| r.map(|v| v * inv));
+        for i in 0..N {
+            for j in 0..N {
+                sum[i][j] += term[i][j];
+            }
+        }
+    }
+    for _ in 0..s {
+        sum = mul(&sum, &sum);
+    }
+    sum
+}
+
+/// Diagonal scales `d` (powers of two, so that `D^-1 A D` is exact) that balance the rows and
+/// columns of `a` (Parlett and Reinsch, as LAPACK's `dgebal` without its permutations): each
+/// off-diagonal row sum and column sum brought within a factor of two of the other, until no
+/// scale lowers their sum by 5 %. The norm of the balanced matrix is near its spectral radius
+/// when the unbalanced one's is set by units (a stiffness over a mass next to a 1).
+fn balance<const N: usize>(a: &[[f64; N]; N]) -> [f64; N] {
+    let mut b = *a;
+    let mut d = [1.0; N];
+    for _ in 0..64 {
+        let mut done = true;
+        for i in 0..N {
+            let (mut c, mut r) = (0.0f64, 0.0f64);
+            for j in (0..N).filter(|&j| j != i) {
+                c += b[j][i].abs();
+                r += b[i][j].abs();
+            }
+            if c == 0.0 || r == 0.0 || !(c + r).is_finite() {
+                continue;
+            }
+            let s = c + r;
+            let mut f = 1.0;
+            while c < r / 2.0 && f < 1e150 {
+                c *= 2.0;
+                r /= 2.0;
+                f *= 2.0;
+            }
+            while c >= 2.0 * r && f > 1e-150 {
+                c /= 2.0;
+                r *= 2.0;
+                f /= 2.0;
+            }
+            if c + r < 0.95 * s {
+                done = false;
+                d[i] *= f;
+                for row in b.iter_mut() {
+                    row[i] *= f;
+                }
+                for v in b[i].iter_mut() {
+                    *v /= f;
+                }
+            }
+        }
+        if done {
+            break;
+        }
+    }
+    d
 }
 
 /// Whether the intervals of `times` change (by more than `tol` [s] from one to the next) often
@@ -110,9 +221,15 @@ pub(super) fn steps_change_often(times: &[f64], tol: f64) -> bool {
     changes > 32 && changes > times.len() / 16
 }
 
-/// The typical step of `times` after `t0`: the median of its intervals, or of
-/// [`STEP_SAMPLE`] of them at fixed pseudo-random places; `None` for fewer than two samples, a time stamp that is not a
-/// number or not after the one before it (the caller then propagates interval by interval).
+/// The typical step of `times` after `t0`: the median of its intervals (or of [`STEP_SAMPLE`]
+/// of them at fixed pseudo-random places), or their tenth percentile when that is below two
+/// thirds of the median; `None` for fewer than two samples, a time stamp that is not a number
+/// or not after the one before it (the caller then propagates interval by interval). The
+/// percentile: the fit's search copy of a gapped record (its dense head one sample in 7
+/// missing, its tail thinned to one in 12) has more intervals of two steps and more than of
+/// one, and a grid of two steps put half its samples half a step off it (a stiff start's bins
+/// then refused, an exponential per interval: 8.5 million in one `discover`). Jittered stamps
+/// (sd 10 %, intervals of sd 14 %) keep the median: one grid step per sample.
 fn typical_step(t0: f64, times: &[f64]) -> Option<f64> {
     let n = times.len();
     if n < 2 || times[0].partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
@@ -143,7 +260,16 @@ fn typical_step(t0: f64, times: &[f64]) -> Option<f64> {
             .collect()
     };
     let mid = d.len() / 2;
-    let (_, &mut h, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
+    let (_, &mut median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
+    let q = d.len() / 10;
+    let low = if q < mid {
+        *d[..mid].select_nth_unstable_by(q, f64::total_cmp).1
+    } else {
+        median
+    };
+    // steps of a few sizes (gaps, a thinned copy): the shortest common one; a continuous
+    // spread (jitter): the median, one grid step per sample
+    let h = if low < median / 1.5 { low } else { median };
     (h > 0.0 && h.is_finite()).then_some(h)
 }
 
@@ -185,12 +311,20 @@ impl Stamps {
 }
 
 /// The readings of an irregular record's tail, set up ([`Irregular::new`]) then run
-/// ([`Irregular::run`], or several side by side: [`run_lanes`]).
-pub(super) struct Irregular {
-    /// `exp(A h)` of the homogeneous block.
-    m: [[f64; N_HOM]; N_HOM],
-    /// `rows[b * n_terms + j] = e_y^T exp(A c_b) A^j / j!` for the centre `c_b` of bin `b`.
-    rows: Vec<[f64; N_HOM]>,
+/// ([`Irregular::run`], or several side by side: [`run_lanes`]). `N`: the states carried,
+/// `N_HOM` once the voltage is off, `N_AUG` while its ramp runs (the augmented system is
+/// homogeneous as well until the ramp ends: [`Irregular::run_to`]).
+pub(super) struct Irregular<const N: usize = N_HOM> {
+    /// `exp(A h)` of the leading `N x N` block.
+    m: [[f64; N]; N],
+    /// `rows[b * n_terms + j] = e_y^T exp(A c_b) A^j / j!` for the centre `c_b` of bin `b`;
+    /// with two levels (`k2 > 1`), `c_b` is the start `b k2 w` of row bin `b`.
+    rows: Vec<[f64; N]>,
+    /// With two levels, `sub[k] = exp(A (k + 1/2) w)` for the sub-bins of a row bin: a
+    /// sample in bin `k1 k2 + k` reads the rows of `k1` against `sub[k]` times the state.
+    sub: Vec<[[f64; N]; N]>,
+    /// Sub-bins per row bin (1: one level, `sub` empty).
+    pub(super) k2: usize,
     /// Bins of the offsets in `[0, h)` from the grid point at or before a sample; or one,
     /// centred on the nearest grid point, when every sample of the record is within
     /// `OFFSET_NORM / |A|` of its nearest one (a gapped record: few terms, no bins to build).
@@ -201,8 +335,11 @@ pub(super) struct Irregular {
     pub(super) centred: bool,
     /// The homogeneous system matrix (for a long gap's exponential).
     a: Mat,
-    /// The scaled state at `t0`.
-    v: [f64; N_HOM],
+    /// The balancing scales (powers of two): the state is carried as `D^-1 v`, `m` is
+    /// `D^-1 exp(A h) D` and the rows `e_y^T exp(A c) A^j D / j!` ([`balance`]).
+    d: [f64; N],
+    /// The scaled state at `t0`, balanced (`D^-1 z`).
+    v: [f64; N],
     t0: f64,
     h: f64,
     /// Width of a bin and the lower end of the first [s] (`-h/2` with one bin, else 0).
@@ -212,22 +349,39 @@ pub(super) struct Irregular {
     d0: f64,
 }
 
-impl Irregular {
+impl<const N: usize> Irregular<N> {
     /// The tail from the scaled state `z` at `stamps.t0` over the samples of `stamps`, or
-    /// `None` when the voltage is still on or the model is so stiff that [`MAX_BINS`] bins of
-    /// [`MAX_TERMS`] terms do not reach rounding.
+    /// `None` when the voltage is still on (for `N_HOM` states) or the model is so stiff that
+    /// [`MAX_BINS`] bins of [`MAX_TERMS`] terms do not reach rounding.
     pub(super) fn new(
         a: &Mat,
         z: &[f64; N_AUG],
         stamps: &Stamps,
         scale_y: f64,
         d0: f64,
-    ) -> Option<Irregular> {
+    ) -> Option<Irregular<N>> {
         let Stamps { t0, h, e_max, .. } = *stamps;
-        if z[N_HOM..].iter().any(|&v| v != 0.0) || h.is_nan() || h <= 0.0 {
+        if z[N..].iter().any(|&v| v != 0.0) || h.is_nan() || h <= 0.0 {
             return None;
         }
-        let a_norm = norm_inf(a);
+        // in balanced coordinates (`D^-1 A D`, `D` powers of two: exact), where the norm that
+        // sets the series' terms is near the spectral radius instead of the unbalanced
+        // matrix's row sums (a compliant plunger's `Kg / Mg`, 1e8 /s^2 in units of its
+        // velocity, made `|A| h` 100 to 700 for a mode of 0.01 rad per step: 1 024 bins of 14
+        // terms per parameter vector, most of `discover`'s time on a jittered record)
+        let a_raw = block::<N>(a);
+        if a_raw.iter().flatten().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let d = balance(&a_raw);
+        let sim = |x: &[[f64; N]; N]| -> [[f64; N]; N] {
+            std::array::from_fn(|i| std::array::from_fn(|j| x[i][j] * d[j] / d[i]))
+        };
+        let a5 = sim(&a_raw);
+        let a_norm = a5
+            .iter()
+            .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0f64, f64::max);
         if !a_norm.is_finite() {
             return None;
         }
@@ -236,23 +390,54 @@ impl Irregular {
         // grid point at or before a sample (forwards only: an exponential backwards in time
         // would amplify a stiff model's decayed modes), as many as cost least
         let centred = a_norm * e_max <= OFFSET_NORM;
-        let (nb, n_terms, lo) = if centred {
-            (1, terms(a_norm * e_max)?, -0.5 * h)
+        let (nb, n_terms, k2, lo) = if centred {
+            (1, terms(a_norm * e_max)?, 1, -0.5 * h)
         } else {
-            let (nb, nt) = cheapest_bins(a_norm, h, stamps.n)?;
-            (nb, nt, 0.0)
+            let (nb, nt, k2) = cheapest_bins(a_norm, h, stamps.n)?;
+            (nb, nt, k2, 0.0)
         };
         let w = h / nb as f64;
-        let m = block(&propagator(a, h));
-        let a5 = block(a);
-        // the first row of each bin: e_y (the grid point itself), or e_y^T exp(A w / 2) then
-        // one bin's width after the other
+        // the exponentials of the balanced N x N block itself (the leading block of the
+        // augmented exponential: the voltage's rows do not depend on the mechanics), whose
+        // norm needs fewer squarings than the augmented matrix's (a third of `new`'s cost on
+        // a 1 000-sample record went to three exponentials of the unbalanced 7 x 7 matrix)
+        let m = expm(&a5, h);
+        // the first row of each bin: e_y^T D (the grid point itself), or e_y^T exp(A w / 2) D
+        // then one bin's width after the other
         let mut first = Vec::with_capacity(nb);
+        let mut sub = Vec::new();
         if centred {
-            first.push(std::array::from_fn(|i| if i == 1 { 1.0 } else { 0.0 }));
+            first.push(std::array::from_fn(|i| if i == 1 { d[1] } else { 0.0 }));
+        } else if k2 > 1 {
+            // the row bins' starts, k2 bins apart, and the sub-bins' centres
+            let step = expm(&a5, w * k2 as f64);
+            let mut c: [f64; N] = std::array::from_fn(|i| if i == 1 { d[1] } else { 0.0 });
+            for b in 0..nb / k2 {
+                if b > 0 {
+                    c = row_times(&c, &step);
+                }
+                first.push(c);
+            }
+            let fine = expm(&a5, w);
+            let mut s_k = expm(&a5, w / 2.0);
+            for k in 0..k2 {
+                if k > 0 {
+                    s_k = std::array::from_fn(|i| {
+                        std::array::from_fn(|j| {
+                            let mut acc = fine[i][0] * s_k[0][j];
+                            for l in 1..N {
+                                acc += fine[i][l] * s_k[l][j];
+                            }
+                            acc
+                        })
+                    });
+                }
+                sub.push(s_k);
+            }
         } else {
-            let step = block(&propagator(a, w));
-            let mut c = block(&propagator(a, w / 2.0))[1];
+            let step = expm(&a5, w);
+            let half = expm(&a5, w / 2.0)[1];
+            let mut c: [f64; N] = half.map(|v| v * d[1]);
             for b in 0..nb {
                 if b > 0 {
                     c = row_times(&c, &step);
@@ -263,7 +448,7 @@ impl Irregular {
         // `A^j / j!`, then each bin's rows from its first, independent of one another (no
         // chain of rows per bin, no zeroed table first: they were most of the cost of setting
         // up a stiff model's bins)
-        let mut powers = vec![[[0.0; N_HOM]; N_HOM]; n_terms];
+        let mut powers = vec![[[0.0; N]; N]; n_terms];
         powers[0] = std::array::from_fn(|i| std::array::from_fn(|j| f64::from(u8::from(i == j))));
         for j in 1..n_terms {
             let p = powers[j - 1];
@@ -274,15 +459,17 @@ impl Irregular {
             rows.push(*c);
             rows.extend(powers[1..].iter().map(|p| row_times(c, p)));
         }
-        let mut v = [0.0; N_HOM];
-        v.copy_from_slice(&z[..N_HOM]);
+        let v: [f64; N] = std::array::from_fn(|i| z[i] / d[i]);
         Some(Irregular {
             m,
             rows,
             nb,
             n_terms,
+            sub,
+            k2,
             centred,
             a: *a,
+            d,
             v,
             t0,
             h,
@@ -301,18 +488,25 @@ impl Irregular {
     pub(super) fn work(&self, times: &[f64], exp_dots: f64) -> f64 {
         let half = if self.centred { 0.5 } else { 0.0 };
         let mut g = 0u64;
-        let mut dots = (self.nb * (self.n_terms + 1) * N_HOM) as f64;
+        let rows = self.nb / self.k2;
+        let mut dots = (rows * (self.n_terms + 1) * N) as f64;
+        let per_sample = if self.k2 > 1 {
+            dots += (self.k2 * N * N) as f64;
+            self.n_terms + N
+        } else {
+            self.n_terms
+        };
         for &ti in times {
             let gi = ((ti - self.t0) / self.h + half) as u64;
             if gi > g {
                 dots += if gi - g > GAP_STEPS {
                     exp_dots
                 } else {
-                    ((gi - g) * N_HOM as u64) as f64
+                    ((gi - g) * N as u64) as f64
                 };
                 g = gi;
             }
-            dots += self.n_terms as f64;
+            dots += per_sample as f64;
         }
         dots
     }
@@ -320,7 +514,18 @@ impl Irregular {
     /// The output at `times` (increasing, after `t0`) pushed onto `out`: [`run_lanes`] with
     /// one lane, so that a lane of several gives these bits.
     pub(super) fn run(&self, times: &[f64], out: &mut Vec<f64>) {
-        run_lanes([self], times, std::slice::from_mut(out));
+        run_lanes_state([self], times, std::slice::from_mut(out));
+    }
+
+    /// [`Irregular::run`], and the scaled state at the grid point of the last sample (the one
+    /// at or before it, or the nearest with one centred bin) with that point's time [s]: where
+    /// the voltage ramp's segment ends, the state is carried on from there to the ramp's end.
+    pub(super) fn run_to(&self, times: &[f64], out: &mut Vec<f64>) -> ([f64; N], f64) {
+        let (v, g) = run_lanes_state([self], times, std::slice::from_mut(out));
+        (
+            std::array::from_fn(|i| v[i][0] * self.d[i]),
+            self.t0 + g as f64 * self.h,
+        )
     }
 }
 
@@ -333,21 +538,34 @@ pub(super) fn run_lanes<const L: usize>(
     times: &[f64],
     outs: &mut [Vec<f64>],
 ) {
+    run_lanes_state(tails, times, outs);
+}
+
+/// [`run_lanes`] for any number of states, returning the lanes' state at the last grid point
+/// reached and its index.
+fn run_lanes_state<const N: usize, const L: usize>(
+    tails: [&Irregular<N>; L],
+    times: &[f64],
+    outs: &mut [Vec<f64>],
+) -> ([[f64; L]; N], u64) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the processor has AVX (checked just above)
-        unsafe { run_lanes_avx(tails, times, outs) };
-        return;
+        return unsafe { run_lanes_avx(tails, times, outs) };
     }
-    run_lanes_body(tails, times, outs);
+    run_lanes_body(tails, times, outs)
 }
 
 /// [`run_lanes_body`] compiled for AVX: the same operations in the same order, without fused
 /// multiply-adds, so the same bits.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn run_lanes_avx<const L: usize>(tails: [&Irregular; L], times: &[f64], outs: &mut [Vec<f64>]) {
-    run_lanes_body(tails, times, outs);
+fn run_lanes_avx<const N: usize, const L: usize>(
+    tails: [&Irregular<N>; L],
+    times: &[f64],
+    outs: &mut [Vec<f64>],
+) -> ([[f64; L]; N], u64) {
+    run_lanes_body(tails, times, outs)
 }
 
 /// The body of [`run_lanes`]. The grid point of a sample is the one at or before it, `g =
@@ -355,47 +573,60 @@ fn run_lanes_avx<const L: usize>(tails: [&Irregular; L], times: &[f64], outs: &m
 /// conversion (no `floor` call; a negative number converts to 0), and its offset `e` falls in
 /// bin `(e - lo) / w`; both are the same for every lane.
 #[inline(always)]
-fn run_lanes_body<const L: usize>(tails: [&Irregular; L], times: &[f64], outs: &mut [Vec<f64>]) {
+fn run_lanes_body<const N: usize, const L: usize>(
+    tails: [&Irregular<N>; L],
+    times: &[f64],
+    outs: &mut [Vec<f64>],
+) -> ([[f64; L]; N], u64) {
     let n = times.len();
     let t = tails[0];
     let (nt, nb) = (t.n_terms, t.nb);
     debug_assert!(
         tails
             .iter()
-            .all(|x| x.n_terms == nt && x.nb == nb && x.centred == t.centred)
+            .all(|x| x.n_terms == nt && x.nb == nb && x.k2 == t.k2 && x.centred == t.centred)
     );
-    let m: [[[f64; L]; N_HOM]; N_HOM] =
+    let m: [[[f64; L]; N]; N] =
         std::array::from_fn(|i| std::array::from_fn(|j| std::array::from_fn(|b| tails[b].m[i][j])));
-    let mut v: [[f64; L]; N_HOM] = std::array::from_fn(|i| std::array::from_fn(|b| tails[b].v[i]));
+    let mut v: [[f64; L]; N] = std::array::from_fn(|i| std::array::from_fn(|b| tails[b].v[i]));
     // several lanes' rows side by side, so that a sample's terms are read whole (one lane
     // reads its own)
-    let table: Vec<[[f64; L]; N_HOM]> = if L > 1 {
-        (0..nb * nt)
+    let table: Vec<[[f64; L]; N]> = if L > 1 {
+        (0..(nb / t.k2) * nt)
             .map(|k| std::array::from_fn(|i| std::array::from_fn(|b| tails[b].rows[k][i])))
             .collect()
     } else {
         Vec::new()
     };
-    let row_at = |k: usize| -> [[f64; L]; N_HOM] {
+    let row_at = |k: usize| -> [[f64; L]; N] {
         if L > 1 {
             table[k]
         } else {
             std::array::from_fn(|i| std::array::from_fn(|_| t.rows[k][i]))
         }
     };
+    // the sub-bins' matrices of every lane side by side (two levels only)
+    let k2 = t.k2;
+    let subs: Vec<[[[f64; L]; N]; N]> = (0..if k2 > 1 { k2 } else { 0 })
+        .map(|k| {
+            std::array::from_fn(|i| {
+                std::array::from_fn(|j| std::array::from_fn(|b| tails[b].sub[k][i][j]))
+            })
+        })
+        .collect();
     let scale_y: [f64; L] = std::array::from_fn(|b| tails[b].scale_y);
     let d0: [f64; L] = std::array::from_fn(|b| tails[b].d0);
     let (t0, h, w, lo) = (t.t0, t.h, t.w, t.lo);
     let inv_h = 1.0 / h;
     let half = if t.centred { 0.5 } else { 0.0 };
     let inv_w = nb as f64 / h;
-    let dot = |r: &[[f64; L]; N_HOM], v: &[[f64; L]; N_HOM]| -> [f64; L] {
+    let dot = |r: &[[f64; L]; N], v: &[[f64; L]; N]| -> [f64; L] {
         std::array::from_fn(|b| {
-            r[0][b] * v[0][b]
-                + r[1][b] * v[1][b]
-                + r[2][b] * v[2][b]
-                + r[3][b] * v[3][b]
-                + r[4][b] * v[4][b]
+            let mut s = r[0][b] * v[0][b];
+            for i in 1..N {
+                s += r[i][b] * v[i][b];
+            }
+            s
         })
     };
     let mut running = [true; L];
@@ -406,15 +637,17 @@ fn run_lanes_body<const L: usize>(tails: [&Irregular; L], times: &[f64], outs: &
             if gi - g > GAP_STEPS {
                 // a long gap: one exponential per lane
                 for (b, x) in tails.iter().enumerate() {
-                    let p = block(&propagator(&x.a, (gi - g) as f64 * h));
-                    let vb: [f64; N_HOM] = std::array::from_fn(|i| v[i][b]);
-                    for i in 0..N_HOM {
-                        v[i][b] = dot5(&p[i], &vb);
+                    let p = block::<N>(&propagator(&x.a, (gi - g) as f64 * h));
+                    let p: [[f64; N]; N] =
+                        std::array::from_fn(|i| std::array::from_fn(|j| p[i][j] * x.d[j] / x.d[i]));
+                    let vb: [f64; N] = std::array::from_fn(|i| v[i][b]);
+                    for i in 0..N {
+                        v[i][b] = dotn(&p[i], &vb);
                     }
                 }
             } else {
                 for _ in g..gi {
-                    let mut u = [[0.0; L]; N_HOM];
+                    let mut u = [[0.0; L]; N];
                     for (ui, mi) in u.iter_mut().zip(&m) {
                         *ui = dot(mi, &v);
                     }
@@ -422,8 +655,7 @@ fn run_lanes_body<const L: usize>(tails: [&Irregular; L], times: &[f64], outs: &
                 }
             }
             g = gi;
-            let rest: [bool; L] =
-                std::array::from_fn(|b| (0..N_HOM).all(|i| v[i][b].abs() < 1e-30));
+            let rest: [bool; L] = std::array::from_fn(|b| (0..N).all(|i| v[i][b].abs() < 1e-30));
             if (0..L).any(|b| rest[b] && running[b]) {
                 // at rest (see `retraction`): held at -d0 exactly
                 for b in 0..L {
@@ -433,16 +665,27 @@ fn run_lanes_body<const L: usize>(tails: [&Irregular; L], times: &[f64], outs: &
                     }
                 }
                 if !running.iter().any(|&r| r) {
-                    return;
+                    return (v, g);
                 }
             }
         }
         let e = ti - (t0 + g as f64 * h);
         let bin = (((e - lo) * inv_w) as usize).min(nb - 1);
         let r = e - (lo + (bin as f64 + 0.5) * w);
-        let mut acc = dot(&row_at(bin * nt + nt - 1), &v);
+        // two levels: the state carried to the sub-bin's centre within its row bin first
+        let (rb, u) = if k2 > 1 {
+            let s = &subs[bin % k2];
+            let mut u = [[0.0; L]; N];
+            for (ui, si) in u.iter_mut().zip(s) {
+                *ui = dot(si, &v);
+            }
+            (bin / k2, u)
+        } else {
+            (bin, v)
+        };
+        let mut acc = dot(&row_at(rb * nt + nt - 1), &u);
         for j in (0..nt - 1).rev() {
-            let d = dot(&row_at(bin * nt + j), &v);
+            let d = dot(&row_at(rb * nt + j), &u);
             for b in 0..L {
                 acc[b] = acc[b] * r + d[b];
             }
@@ -453,4 +696,5 @@ fn run_lanes_body<const L: usize>(tails: [&Irregular; L], times: &[f64], outs: &
             }
         }
     }
+    (v, g)
 }

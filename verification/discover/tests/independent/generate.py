@@ -302,6 +302,16 @@ def write_dataset(out_dir, name, scenario, t, channels, known, noise_yaml, descr
         f.write("\n".join(y) + "\n")
 
 
+def jittered(t, sd, seed):
+    """The time stamps after the trigger moved by a normal jitter of sd `sd` [s] (a generator
+    of its own: the noise is that of the record without it); the physics is evaluated at them."""
+    rng = np.random.Generator(np.random.PCG64(seed + 80000))
+    t2 = np.where(t > 0.0, t + rng.standard_normal(len(t)) * sd, t)
+    t2 = np.sort(t2)
+    assert np.all(np.diff(t2) > 0.0)
+    return t2
+
+
 def times(fs, pre, post):
     n_pre = int(round(pre * fs))
     n_post = int(round(post * fs))
@@ -319,16 +329,20 @@ RT_NOM = {"R": 371.2, "m": 9e-4, "Ca": 2.3e-7, "k": 4.91e7, "b": 9.77, "T": 5.73
 
 def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy=3e-9, m=M_MID,
                 ar=None, noise_in_yaml=True, delay=0.0, description="", spikes=None,
-                declared=None, tail_y=None, gaps=None, ar_y=None, sy_post=1.0, tail_x=None):
+                declared=None, tail_y=None, gaps=None, ar_y=None, sy_post=1.0, tail_x=None,
+                jitter=0.0):
     """A TMMF release record; `delay` [s]: the trigger (t = 0) fires that long before the tip and
     the TM move (both channels shifted). With `m_nd` in `p`, the needles are a body. `spikes`:
     {channel: fraction} of samples made wild (`add_spikes`); returns their CSV lines per channel
     as a third value when given. `declared`: {channel: factor} the YAML's noise figure is the
     true one times (a mis-stated figure). `ar_y`: AR coefficients of the tip channel's noise
     (white without). `sy_post`: the tip channel's noise after the trigger is that factor times
-    its figure before it (the drive adds noise; the YAML's figure, when given, is the one before)."""
+    its figure before it (the drive adds noise; the YAML's figure, when given, is the one before).
+    `jitter`: the time stamps after the trigger jittered by that fraction of the step (sd)."""
     rng = np.random.Generator(np.random.PCG64(seed))
     t = times(fs, pre, post)
+    if jitter:
+        t = jittered(t, jitter / fs, seed)
     if "m_nd" in p:
         x = needle_body_truth(t - delay, p, m, JERK, V_TIP)
     else:
@@ -372,12 +386,15 @@ def tmmf_record(out, name, seed, p, *, fs=2e5, pre=1e-3, post=9e-3, sx=8e-10, sy
 
 def rt_record(out, name, seed, q, *, em=None, fs=1e6, pre=2e-5, post=1e-3, sy=1e-9, ar=None,
               noise_in_yaml=True, delay=0.0, e0=120.0, description="", spikes=None,
-              drift=0.0, declared=1.0):
+              drift=0.0, declared=1.0, jitter=0.0):
     """A retraction record; `drift` [m/s]: a linear drift of the reading over the whole record
     (zero at the trigger), a sensor defect outside the catalogue. `declared`: the YAML's noise
-    figure is the true one times this factor (a mis-stated figure)."""
+    figure is the true one times this factor (a mis-stated figure). `jitter`: the time stamps
+    after the trigger jittered by that fraction of the step (sd)."""
     rng = np.random.Generator(np.random.PCG64(seed))
     t = times(fs, pre, post)
+    if jitter:
+        t = jittered(t, jitter / fs, seed)
     y = rt_truth(t - delay, q, e0, em) + drift * t
     yn = y + noise(rng, len(t), sy, ar)
     chans = {"y": yn}
@@ -787,6 +804,8 @@ def main():
         ("gaps-tmmf-adhesion", 1107, dict(gaps=[(150, 30), (900, 60), (1500, 12)]),
          tmmf_base_names, ["tip_adhesion"],
          "TMMF: tip adhesion hidden, three gaps of 30, 60 and 12 samples in the acquisition"),
+        ("jitter-tmmf-adhesion", 1133, dict(jitter=0.1), tmmf_base_names, ["tip_adhesion"],
+         "TMMF: tip adhesion hidden, time stamps jittered by sd 10 % of the step"),
     ]
     for name, seed, kw, base, added, desc in defects:
         if not want(name):
@@ -804,6 +823,8 @@ def main():
             expect["shows"] = {"heavy tails": "y"}
         if "tail_x" in kw:
             expect["shows"] = {"heavy tails": "x"}
+        if "jitter" in kw:
+            expect["shows"] = {"irregular sampling": None}
         if "gaps" in kw:
             expect["shows"] = {"gaps": None}
             expect["largest_gap_s"] = (max(k for _, k in kw["gaps"]) + 1) / 2e5
@@ -821,6 +842,15 @@ def main():
         expected.append({"name": "spikes-rt-plunger", "class": "defect", "baseline": ["piezo"],
                          "expect": {"explained": True, "added": ["plunger_compliance"],
                                     "set_aside": lines},
+                         "truth": rt_params(q), "combinations": combinations(q, 120.0)})
+
+    if want("jitter-rt-plunger"):
+        q = dict(RT_NOM, Mg=0.021, Kg=2.0e6)
+        rt_record(out, "jitter-rt-plunger", 1134, q, post=1e-3, jitter=0.1,
+                  description="retraction: plunger hidden, time stamps jittered by sd 10 % of the step")
+        expected.append({"name": "jitter-rt-plunger", "class": "defect", "baseline": ["piezo"],
+                         "expect": {"explained": True, "added": ["plunger_compliance"],
+                                    "shows": {"irregular sampling": None}},
                          "truth": rt_params(q), "combinations": combinations(q, 120.0)})
 
     # A mis-stated noise figure on a retraction record, whose 20-sample pre-trigger is too

@@ -1,7 +1,7 @@
 """Regular, jittered (sd 10 % of the step after the trigger) and gapped (one sample in 7 after
 the trigger and three holes left out) twins of a retraction record (piezo and a compliant
 plunger, 1 MHz) and of a TMMF release (tip adhesion, 200 kHz, 10 ms), made by the independent
-generator (../independent/generate.py) at their own time stamps (issue 50, item 5).
+generator (../../../discover/tests/independent/generate.py) at their own time stamps (issue 50, item 5).
 
     python3 twins.py [N_RT [OUT]]   # N_RT samples of the retraction (default 3000), OUT: here
 """
@@ -11,7 +11,7 @@ import sys
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "independent"))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "..", "discover", "tests", "independent"))
 import generate as g  # noqa: E402
 
 out = sys.argv[2] if len(sys.argv) > 2 else HERE
