@@ -74,34 +74,52 @@ impl ArNoise {
         (x.len() - p) as f64 * (var_x / var_e).ln()
     }
 
-    /// Whether the first differences of the residual `r` show this model's colour (issue 50,
-    /// item 3: a pre-trigger too short to tell): differencing removes a smooth misfit, which
-    /// lends a residual its low-frequency colour, and keeps the noise's correlation from sample
-    /// to sample. The differences' lag-1 autocorrelation is -1/2 for white noise and
-    /// `(2 g1 - g0 - g2) / (2 (g0 - g1))` for this model (`g_k` its autocovariances; `-(1 - rho)/2`
-    /// for AR(1)); the colour is supported when the observed one is nearer the model's than
-    /// -1/2 and off -1/2 by more than 5 standard errors (`1/sqrt(n)`). A white residual with a
-    /// smooth misfit gives about -1/2 (refused); AR(1) 0.9 noise about -0.05 (supported).
+    /// Whether the differences of the residual `r` show this model's colour (issue 50, item 3:
+    /// a pre-trigger too short to tell): differencing removes a smooth misfit, which lends a
+    /// residual its low-frequency colour, and keeps the noise's correlation from sample to
+    /// sample. Both the first and the second differences must show it: the lag-1
+    /// autocorrelation of the first is -1/2 for white noise and `-(1 - rho)/2` for AR(1), of
+    /// the second -2/3 and about -1/2 for AR(1) near 1; the colour is supported when each
+    /// observed figure is nearer the model's than white noise's and off white noise's by more
+    /// than 5 standard errors (`1/sqrt(n)` and, for the second, Bartlett's `0.55/sqrt(n)`).
+    /// The second differences are there for a large misfit: a retraction missing its plunger
+    /// (a ringing of hundreds of nm at 1.6 kHz, sampled at 1 MHz) keeps a nm in its first
+    /// differences, enough to colour them, and a hundredth of that in its second. A white
+    /// residual gives about -1/2 and -2/3 (refused); AR(1) 0.9 noise about -0.05 and -0.50
+    /// (supported).
     pub fn differences_support(&self, r: &[f64]) -> bool {
         if r.len() < 16 {
             return false;
         }
-        let d: Vec<f64> = r.windows(2).map(|w| w[1] - w[0]).collect();
-        let mean = d.iter().sum::<f64>() / d.len() as f64;
-        let c0: f64 = d.iter().map(|v| (v - mean).powi(2)).sum();
-        let c1: f64 = d.windows(2).map(|w| (w[0] - mean) * (w[1] - mean)).sum();
-        if c0 <= 0.0 {
+        let lag1 = |d: &[f64]| -> Option<f64> {
+            let mean = d.iter().sum::<f64>() / d.len() as f64;
+            let c0: f64 = d.iter().map(|v| (v - mean).powi(2)).sum();
+            let c1: f64 = d.windows(2).map(|w| (w[0] - mean) * (w[1] - mean)).sum();
+            (c0 > 0.0).then_some(c1 / c0)
+        };
+        let d1: Vec<f64> = r.windows(2).map(|w| w[1] - w[0]).collect();
+        let d2: Vec<f64> = d1.windows(2).map(|w| w[1] - w[0]).collect();
+        let (Some(o1), Some(o2)) = (lag1(&d1), lag1(&d2)) else {
             return false;
-        }
-        let (obs, white) = (c1 / c0, -0.5);
-        (obs - white).abs() > 5.0 / (d.len() as f64).sqrt()
-            && (obs - self.differences_lag1()).abs() < (obs - white).abs()
+        };
+        let (m1, m2) = self.differences_lag1s();
+        let shows = |obs: f64, model: f64, white: f64, se: f64| {
+            (obs - white).abs() > 5.0 * se && (obs - model).abs() < (obs - white).abs()
+        };
+        shows(o1, m1, -0.5, 1.0 / (d1.len() as f64).sqrt())
+            && shows(o2, m2, -2.0 / 3.0, 0.55 / (d2.len() as f64).sqrt())
     }
 
     /// The lag-1 autocorrelation of the first differences of this process, from its
     /// autocovariances (sums over its impulse response, truncated where it has decayed below
     /// 1e-12 of its start).
     pub fn differences_lag1(&self) -> f64 {
+        self.differences_lag1s().0
+    }
+
+    /// [`ArNoise::differences_lag1`] and the lag-1 autocorrelation of the second differences,
+    /// `(-4 g0 + 7 g1 - 4 g2 + g3) / (6 g0 - 8 g1 + 2 g2)` (-2/3 for white noise).
+    pub fn differences_lag1s(&self) -> (f64, f64) {
         let a = &self.coefficients;
         let mut h: Vec<f64> = vec![1.0];
         while h.len() < 200_000 {
@@ -118,8 +136,11 @@ impl ArNoise {
             }
         }
         let g = |k: usize| -> f64 { h.iter().zip(&h[k.min(h.len())..]).map(|(x, y)| x * y).sum() };
-        let (g0, g1, g2) = (g(0), g(1), g(2));
-        (2.0 * g1 - g0 - g2) / (2.0 * (g0 - g1))
+        let (g0, g1, g2, g3) = (g(0), g(1), g(2), g(3));
+        (
+            (2.0 * g1 - g0 - g2) / (2.0 * (g0 - g1)),
+            (-4.0 * g0 + 7.0 * g1 - 4.0 * g2 + g3) / (6.0 * g0 - 8.0 * g1 + 2.0 * g2),
+        )
     }
 
     /// Whether `other` is the same model within [`SETTLED`]: the same order and every
@@ -291,6 +312,9 @@ mod tests {
         // the model's own figure: -(1 - rho)/2 for AR(1)
         assert!((model1(0.9).differences_lag1() + 0.05).abs() < 1e-9);
         assert!((model1(0.0).differences_lag1() + 0.5).abs() < 1e-9);
+        // the second differences': -2/3 for white noise, about -1/2 for AR(1) near 1
+        assert!((model1(0.0).differences_lag1s().1 + 2.0 / 3.0).abs() < 1e-9);
+        assert!((model1(0.9).differences_lag1s().1 + 0.502).abs() < 1e-3);
         let n = 1800;
         // a smooth misfit 30 sigma tall over the record
         let misfit: Vec<f64> = (0..n)
@@ -306,6 +330,14 @@ mod tests {
             assert!(!model1(0.9).differences_support(&with(&white)));
             assert!(model1(0.9).differences_support(&with(&coloured)));
             assert!(model1(0.9).differences_support(&coloured));
+            // a fast misfit 100 sigma tall (a ringing 1/600 of the sampling rate, a
+            // retraction's plunger at 1 MHz) colours the first differences, not the second
+            let ringing: Vec<f64> = white
+                .iter()
+                .enumerate()
+                .map(|(i, w)| w + 100.0 * (i as f64 * std::f64::consts::TAU / 600.0).sin())
+                .collect();
+            assert!(!model1(0.9).differences_support(&ringing), "seed {seed}");
         }
     }
 
