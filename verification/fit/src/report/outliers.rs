@@ -353,13 +353,33 @@ mod tests {
 
     #[test]
     fn an_astronomical_chi2_is_never_white() {
-        // the noise stated 1000 times too small (a unit slip): the residual is white noise,
-        // 1000 times the figure
+        let full = ["piezo", "plunger_compliance"];
+        // the noise stated 1000 times too small (a unit slip). A record long enough to test
+        // the figure (320 samples: the third differences of all of them, its pre-trigger of 20
+        // being too short) finds the slip and uses the record's figure (issue 50, item 2)
         let mut ds = record();
         for v in ds.noise.values_mut() {
             *v /= 1000.0;
         }
-        let (r, _, _) = report(ds, &["piezo", "plunger_compliance"]);
+        let (r, _, prep) = report(ds, &full);
+        let c = prep
+            .noise_checks
+            .iter()
+            .find(|c| c.channel == "y")
+            .expect("the figure tested");
+        assert!(c.mismatch && (c.ratio / 1000.0 - 1.0).abs() < 0.2, "{c:?}");
+        assert!(r.chi2_red < 1.5, "{}", r.chi2_red);
+        // one too short to test it (120 samples): the residual is white noise, 1000 times the
+        // figure, and an astronomical chi-square is never called white
+        let mut spec = SynthSpec::defaults(Scenario::RtRetraction, &full);
+        spec.post_s = 1e-4;
+        spec.seed = 5;
+        let mut ds = generate(&spec, "o.yaml").unwrap();
+        for v in ds.noise.values_mut() {
+            *v /= 1000.0;
+        }
+        let (r, _, prep) = report(ds, &full);
+        assert!(prep.noise_checks.is_empty(), "{:?}", prep.noise_checks);
         assert!(r.chi2_red > CHI2_RED_ASTRONOMICAL, "{}", r.chi2_red);
         assert!(!r.residual_white);
         assert!(
