@@ -261,16 +261,44 @@ pub(crate) fn check_noise(channel: &str, declared: f64, pre: &[f64]) -> Option<N
         return None;
     }
     let n = pre.len() - 1;
-    let half = (NOISE_BAND_SIGMAS * MAD_SE / (n as f64).sqrt()).max(NOISE_BAND_FLOOR);
+    Some(judged(
+        channel,
+        declared,
+        measured,
+        n,
+        pre.len(),
+        &format!("its {n} pre-trigger differences show"),
+        "",
+        &format!("its pre-trigger's {}", fmt_sig(measured)),
+    ))
+}
+
+/// The check of `declared` against `measured` [SI] from `n_eff` independent differences of
+/// `samples` samples: the ratio, the band sampling explains (`NOISE_BAND_SIGMAS` standard
+/// errors of a MAD, at least `NOISE_BAND_FLOOR`), and the note. `shows`: what measured it ("its
+/// 199 pre-trigger differences show"); `why`: a clause after the band on a mismatch; `agrees`:
+/// the measured figure's phrase when it agrees.
+#[allow(clippy::too_many_arguments)]
+fn judged(
+    channel: &str,
+    declared: f64,
+    measured: f64,
+    n_eff: usize,
+    samples: usize,
+    shows: &str,
+    why: &str,
+    agrees: &str,
+) -> NoiseCheck {
+    let half = (NOISE_BAND_SIGMAS * MAD_SE / (n_eff as f64).sqrt()).max(NOISE_BAND_FLOOR);
     let ratio = measured / declared;
     let band = [(-half).exp(), half.exp()];
     let mismatch = ratio < band[0] || ratio > band[1];
     let note = if mismatch {
         format!(
-            "the noise of `{channel}` is declared {} (SI) but its {n} pre-trigger differences \
-             show {} ({} times; sampling explains {} to {}): the figure is estimated from the \
-             record for every decision, as when none is declared; correct `noise: {channel}:` in the YAML (or remove it to have it \
-             estimated)",
+            "the noise of `{channel}` is declared {} (SI) but {shows} {} ({} times; sampling \
+             explains {} to {}{why}): the figure is estimated from the record for every \
+             decision, as when none is declared; correct `noise: {channel}:` in the YAML (or \
+             remove it to have it estimated)",
             fmt_sig(declared),
             fmt_sig(measured),
             fmt_sig(ratio),
@@ -279,26 +307,25 @@ pub(crate) fn check_noise(channel: &str, declared: f64, pre: &[f64]) -> Option<N
         )
     } else {
         format!(
-            "the noise of `{channel}` declared {} (SI) agrees with its pre-trigger's {} (ratio \
-             {}, within {} to {})",
+            "the noise of `{channel}` declared {} (SI) agrees with {agrees} (ratio {}, within {} \
+             to {})",
             fmt_sig(declared),
-            fmt_sig(measured),
             fmt_sig(ratio),
             fmt_sig(band[0]),
             fmt_sig(band[1])
         )
     };
-    Some(NoiseCheck {
+    NoiseCheck {
         channel: channel.to_string(),
         declared,
         measured,
-        samples: pre.len(),
+        samples,
         ratio,
         band,
         mismatch,
         used: if mismatch { measured } else { declared },
         note,
-    })
+    }
 }
 
 /// Tests the declared figure `declared` [SI] of `channel` against the third differences of all
@@ -338,48 +365,20 @@ pub(crate) fn check_noise_differences(
     if measured.is_nan() || measured <= 0.0 {
         return None;
     }
-    let n = d.len() / 4;
-    let half = (NOISE_BAND_SIGMAS * MAD_SE / (n as f64).sqrt()).max(NOISE_BAND_FLOOR);
-    let ratio = measured / declared;
-    let band = [(-half).exp(), half.exp()];
-    let mismatch = ratio < band[0] || ratio > band[1];
-    let note = if mismatch {
-        format!(
-            "the noise of `{channel}` is declared {} (SI) but the third differences of its {} \
-             samples show {} ({} times; sampling explains {} to {}; the pre-trigger is too short \
-             to test it): the figure is estimated from the record for every decision, as when \
-             none is declared; correct `noise: {channel}:` in the YAML (or remove it to have it \
-             estimated)",
-            fmt_sig(declared),
-            v.len(),
-            fmt_sig(measured),
-            fmt_sig(ratio),
-            fmt_sig(band[0]),
-            fmt_sig(band[1])
-        )
-    } else {
-        format!(
-            "the noise of `{channel}` declared {} (SI) agrees with the third differences of its \
-             {} samples, {} (ratio {}, within {} to {})",
-            fmt_sig(declared),
-            v.len(),
-            fmt_sig(measured),
-            fmt_sig(ratio),
-            fmt_sig(band[0]),
-            fmt_sig(band[1])
-        )
-    };
-    Some(NoiseCheck {
-        channel: channel.to_string(),
+    Some(judged(
+        channel,
         declared,
         measured,
-        samples: v.len(),
-        ratio,
-        band,
-        mismatch,
-        used: if mismatch { measured } else { declared },
-        note,
-    })
+        d.len() / 4,
+        v.len(),
+        &format!("the third differences of its {} samples show", v.len()),
+        "; the pre-trigger is too short to test it",
+        &format!(
+            "the third differences of its {} samples, {}",
+            v.len(),
+            fmt_sig(measured)
+        ),
+    ))
 }
 
 /// One sentence on the samples set aside, for a report's reason; empty when none.

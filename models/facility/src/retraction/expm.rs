@@ -5,13 +5,14 @@
 pub(super) const N_AUG: usize = 7;
 pub(super) type Mat = [[f64; N_AUG]; N_AUG];
 
-pub(super) fn matmul(a: &Mat, b: &Mat) -> Mat {
-    let mut c = [[0.0; N_AUG]; N_AUG];
-    for i in 0..N_AUG {
-        for k in 0..N_AUG {
+/// `a b` of `N x N` matrices (zero entries of `a` skipped).
+fn matmul<const N: usize>(a: &[[f64; N]; N], b: &[[f64; N]; N]) -> [[f64; N]; N] {
+    let mut c = [[0.0; N]; N];
+    for i in 0..N {
+        for k in 0..N {
             let aik = a[i][k];
             if aik != 0.0 {
-                for j in 0..N_AUG {
+                for j in 0..N {
                     c[i][j] += aik * b[k][j];
                 }
             }
@@ -43,6 +44,11 @@ pub(super) fn norm_inf(a: &Mat) -> f64 {
 /// `exp(a*dt)` by scaling and squaring with a degree-16 Taylor series (the scaled matrix has
 /// norm below 1/8 before squaring, so the series error is far below rounding).
 pub(super) fn propagator(a: &Mat, dt: f64) -> Mat {
+    expm_n(a, dt)
+}
+
+/// [`propagator`] of an `N x N` matrix (the irregular tail's balanced blocks).
+pub(super) fn expm_n<const N: usize>(a: &[[f64; N]; N], dt: f64) -> [[f64; N]; N] {
     let norm = a
         .iter()
         .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
@@ -55,9 +61,9 @@ pub(super) fn propagator(a: &Mat, dt: f64) -> Mat {
         s += 1;
     }
     let h = dt / 2f64.powi(s);
-    let mut term = [[0.0; N_AUG]; N_AUG];
-    let mut sum = [[0.0; N_AUG]; N_AUG];
-    for i in 0..N_AUG {
+    let mut term = [[0.0; N]; N];
+    let mut sum = [[0.0; N]; N];
+    for i in 0..N {
         term[i][i] = 1.0;
         sum[i][i] = 1.0;
     }
@@ -69,8 +75,8 @@ pub(super) fn propagator(a: &Mat, dt: f64) -> Mat {
         let inv = 1.0 / k as f64;
         term.iter_mut()
             .for_each(|r| r.iter_mut().for_each(|v| *v *= inv));
-        for i in 0..N_AUG {
-            for j in 0..N_AUG {
+        for i in 0..N {
+            for j in 0..N {
                 sum[i][j] += term[i][j];
             }
         }

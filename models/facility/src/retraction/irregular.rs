@@ -16,7 +16,7 @@
 //! voltage ramp ends ([`Irregular::run_to`]). The grid step is the median interval, or the
 //! shortest common one when the steps come in a few sizes ([`typical_step`]).
 
-use super::expm::{Mat, N_AUG, propagator};
+use super::expm::{Mat, N_AUG, expm_n as expm, propagator};
 
 /// Size of the homogeneous part of the state once the voltage is off: `q, y, y', l, l'`.
 const N_HOM: usize = 5;
@@ -122,41 +122,6 @@ fn terms(x: f64) -> Option<usize> {
 /// `N_AUG`: all of it, the voltage and its ramp included).
 fn block<const N: usize>(m: &Mat) -> [[f64; N]; N] {
     std::array::from_fn(|i| std::array::from_fn(|j| m[i][j]))
-}
-
-/// `exp(a dt)` of an `N x N` matrix, as [`propagator`] (scaling and squaring, the scaled
-/// matrix's norm below 1/8, a degree-16 Taylor series).
-fn expm<const N: usize>(a: &[[f64; N]; N], dt: f64) -> [[f64; N]; N] {
-    let norm = a
-        .iter()
-        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max)
-        * dt;
-    let mut s = 0;
-    while norm / 2f64.powi(s) > 0.125 && s < 60 {
-        s += 1;
-    }
-    let h = dt / 2f64.powi(s);
-    let mul = |x: &[[f64; N]; N], y: &[[f64; N]; N]| -> [[f64; N]; N] {
-        std::array::from_fn(|i| row_times(&x[i], y))
-    };
-    let ah: [[f64; N]; N] = a.map(|r| r.map(|v| v * h));
-    let mut term: [[f64; N]; N] =
-        std::array::from_fn(|i| std::array::from_fn(|j| f64::from(u8::from(i == j))));
-    let mut sum = term;
-    for k in 1..=16 {
-        let inv = 1.0 / k as f64;
-        term = mul(&term, &ah).map(|r| r.map(|v| v * inv));
-        for i in 0..N {
-            for j in 0..N {
-                sum[i][j] += term[i][j];
-            }
-        }
-    }
-    for _ in 0..s {
-        sum = mul(&sum, &sum);
-    }
-    sum
 }
 
 /// Diagonal scales `d` (powers of two, so that `D^-1 A D` is exact) that balance the rows and
