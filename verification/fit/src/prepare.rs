@@ -96,11 +96,9 @@ fn estimate_noise(t: &[f64], v: &[f64]) -> (f64, &'static str) {
     {
         return (s, "pre-trigger");
     }
-    // third differences: var = 20 sigma^2 for white noise
-    let d3: Vec<f64> = v
-        .windows(4)
-        .map(|w| w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0])
-        .collect();
+    // third differences (divided ones on irregular time stamps): var = 20 sigma^2 for white
+    // noise
+    let (d3, _, _) = crate::record::third_differences(t, v);
     let var = d3.iter().map(|x| x * x).sum::<f64>() / d3.len().max(1) as f64;
     ((var / 20.0).sqrt().max(1e-30), "differences")
 }
@@ -312,7 +310,7 @@ impl Prepared {
                 // pin down where the pre-trigger alone leaves 8 % of doubt)
                 let check = crate::record::check_noise(ch, *s, &pre).or_else(|| {
                     (pre.len() < crate::record::MIN_PRE_TRIGGER)
-                        .then(|| crate::record::check_noise_differences(ch, *s, v))
+                        .then(|| crate::record::check_noise_differences(ch, *s, &dataset.t, v))
                         .flatten()
                 });
                 let (used, src) = match &check {
