@@ -199,7 +199,7 @@ impl RtConfig {
             parts[i]
                 .2
                 .as_ref()
-                .map(|(t, idx)| (*idx, t.nb, t.n_terms, t.centred))
+                .map(|(t, idx)| (*idx, t.nb, t.n_terms, t.k2, t.centred, t.fast))
         }) {
             let idx = parts[group[0]].2.as_ref().map_or(0, |t| t.1);
             let mut outs: Vec<Vec<f64>> = group
@@ -810,8 +810,10 @@ mod tests {
 
     /// Jittered (sd 10 % of the step) and gapped (one sample of every 7 left out, and one 5 ms
     /// hole) records take the irregular path and read what a fresh exponential per
-    /// interval reads, to 2e-12 of the stroke (measured below), for soft, plunger, ramped and
-    /// stiff models; `retraction_many` gives each its bits alone.
+    /// interval reads, to 2e-12 of the stroke (measured below), for soft, plunger and ramped
+    /// models, to 1e-10 for a light one whose fast modes are split off and to 1e-7 for a
+    /// ringing one read with two levels of bins; `retraction_many` gives each, and a stiff
+    /// model that no propagation in double reads accurately, its bits alone.
     #[test]
     fn irregular_sampling_matches_per_interval_exponentials() {
         let plunger = RtConfig {
@@ -822,6 +824,13 @@ mod tests {
             m_kg: 9e-6,
             b_ns_m: 977.0,
             plunger: Some((1.9e-4, 2.15e6)),
+            ..RtConfig::default()
+        };
+        // a plunger of 1 ug, nearly undamped, ringing at 7 MHz (46 radians a step): stiff
+        // with no fast mode to split off, two levels of bins
+        let ringing = RtConfig {
+            b_ns_m: 1e-6,
+            plunger: Some((1e-9, 2.15e6)),
             ..RtConfig::default()
         };
         let cfgs = [
@@ -836,9 +845,17 @@ mod tests {
                 em_v_s: Some(1e5),
                 ..plunger
             },
-            // 100 times lighter (a multi-start's stiff start): two levels of bins
+            // 100 times lighter (a multi-start's stiff start): its fast modes split off
             light,
+            // ... with a voltage ramp that ends 0.1 ns before a sample of the gapped record:
+            // its fast modes, set ringing by the ramp's end, have not decayed at the tail's
+            // first grid point, and the samples before the next are read exactly
+            RtConfig {
+                em_v_s: Some(120.0 / 4.9999e-6),
+                ..light
+            },
             stiff(),
+            ringing,
         ];
         let jittered = jittered_times(30_000);
         let gapped: Vec<f64> = csv_times(30_000, -2e-5, 1e-6)
@@ -851,9 +868,20 @@ mod tests {
         // and the first 3 000 samples of the jittered record (a search's copy: fewer samples
         // to share the bins' cost, two levels for the light model)
         let short = jittered[..3021].to_vec();
-        let mut worst = [0.0f64; 3];
-        let mut worst_light = [0.0f64; 3];
-        for (r, times) in [&jittered, &gapped, &short].into_iter().enumerate() {
+        // ... and that copy with samples 50 ns apart after the ramp's end at 4.9999 us: the
+        // tail starts at 5 us, and its next samples sit where the light model's fast modes,
+        // set ringing by the ramp's end, have not decayed (read exactly)
+        let mut close: Vec<f64> = short
+            .iter()
+            .copied()
+            .filter(|t| !(4.5e-6..6.5e-6).contains(t))
+            .chain([5.0e-6, 5.05e-6, 5.1e-6, 6.0e-6])
+            .collect();
+        close.sort_by(f64::total_cmp);
+        let mut worst = [0.0f64; 4];
+        let mut worst_light = [0.0f64; 4];
+        let mut worst_ringing = [0.0f64; 4];
+        for (r, times) in [&jittered, &gapped, &short, &close].into_iter().enumerate() {
             // the irregular path is taken (the uniform one refuses these records)
             let (_, a, z) = RtConfig::default().scaled_start();
             let mut out = Vec::new();
@@ -872,11 +900,27 @@ mod tests {
                 irr.n_terms,
                 irr.nb
             );
-            // a stiff model (b / m 4e10 /s) on the jittered record: two levels of bins
+            // a stiff model (b / m 1e8 /s, a real mode that decays by e^-108 in a step) on
+            // the jittered record: the fast mode split off, few bins of few terms
             if r == 2 {
                 let (_, a, z) = light.scaled_start();
                 let irr: Irregular = Irregular::new(&a, &z, &stamps, 1.0, 0.0).expect("bins");
-                assert!(irr.k2 > 1, "{} {} {}", irr.nb, irr.n_terms, irr.k2);
+                assert!(
+                    irr.fast && irr.k2 == 1 && irr.n_terms <= 8 && irr.nb <= 256,
+                    "{} {} {}",
+                    irr.nb,
+                    irr.n_terms,
+                    irr.k2
+                );
+                let (_, a, z) = ringing.scaled_start();
+                let irr: Irregular = Irregular::new(&a, &z, &stamps, 1.0, 0.0).expect("bins");
+                assert!(
+                    !irr.fast && irr.k2 > 1,
+                    "{} {} {}",
+                    irr.nb,
+                    irr.n_terms,
+                    irr.k2
+                );
             }
             // a gapped record's samples sit on the grid: one bin and the terms of the time
             // stamps' rounding, as the uniform tail
@@ -896,27 +940,55 @@ mod tests {
                         .zip(y_many)
                         .all(|(a, b)| a.to_bits() == b.to_bits())
                 );
+                // (the stiff model's slow mode, -2.7e-4 /s, is the difference of entries of
+                // 4e10 /s, which double precision fixes to 4e-6 /s: no propagation in double
+                // is accurate over 30 ms, per interval included; an 80-digit exponential puts
+                // its last reading at -9.69e-6 m, the bins at -1.15e-5 and the exponentials
+                // per interval at -2.14e-5; only its bits are compared, above)
+                if cfg.m_kg == stiff().m_kg {
+                    continue;
+                }
                 let exact = per_interval(cfg, times);
                 let d0 = cfg.d0_m();
                 let w = if cfg.m_kg == light.m_kg {
                     &mut worst_light[r]
+                } else if cfg.b_ns_m == ringing.b_ns_m {
+                    &mut worst_ringing[r]
                 } else {
                     &mut worst[r]
                 };
                 for (a, b) in y.iter().zip(&exact) {
                     *w = w.max((a - b).abs() / d0);
                 }
+                // the two samples 50 and 100 ns after the tail's start, read exactly: 0 and
+                // 1.2e-16 d0 (measured; through the bins, which take the fast modes as gone,
+                // 7.6e-11)
+                if r == 3 && cfg.em_v_s.is_some() && cfg.m_kg == light.m_kg {
+                    let near = times
+                        .iter()
+                        .zip(y.iter().zip(&exact))
+                        .filter(|(t, _)| (5.01e-6..5.2e-6).contains(*t))
+                        .map(|(_, (a, b))| (a - b).abs() / d0);
+                    assert_eq!(near.clone().count(), 2);
+                    assert!(near.fold(0.0, f64::max) < 1e-14);
+                }
             }
         }
-        // measured: 2.4e-13 d0 (jittered), 3.0e-13 d0 (gapped) and 1.3e-13 (the short one),
-        // the rounding of the time stamps' offsets (1e-16 relative at 30 ms, times |A| ~ 5e5
-        // /s) and of 30 000 steps of either propagation; the issue asks for 1e-10
+        // measured: 5.0e-13 d0 (jittered), 7.3e-13 d0 (gapped), 5.0e-13 (the short one) and
+        // 4.5e-13 (with close samples), the slow ramp's the largest: the rounding of the time stamps' offsets (1e-16
+        // relative at 30 ms, times |A| ~ 5e5 /s) and of 30 000 steps of either propagation;
+        // the issue asks for 1e-10
         assert!(worst.iter().all(|&w| w < 2e-12), "{worst:?}");
-        // the light model against its own exponentials per interval: 2.1e-12, 2.5e-12 and
-        // 3.4e-11 d0, the same figures with one level of bins or two, balanced or not, and on
-        // the gapped record (one centred bin, no series to speak of): the difference of two
+        // the light model against its own exponentials per interval: 1.6e-11, 1.7e-12, 2.7e-11
+        // and 2.5e-11 d0, the same figures whether its fast modes are split off or not (and on the
+        // gapped record, one centred bin, no series to speak of): the difference of two
         // propagations of a model whose modes span eight decades, not of the bins
         assert!(worst_light.iter().all(|&w| w < 1e-10), "{worst_light:?}");
+        // the ringing plunger: 2.4e-8, 4.5e-8, 2.4e-8 and 2.3e-8 d0, the gapped record's (no bins)
+        // the largest: 210 000 cycles of an undamped 7 MHz mode propagated two ways, each
+        // exponential's rounding a phase error; its two levels of bins read through the
+        // wrong sub-bin give 8.3e-5 (measured)
+        assert!(worst_ringing.iter().all(|&w| w < 1e-7), "{worst_ringing:?}");
     }
 
     /// An exponential of the augmented matrix in dot products of five: sixteen products of

@@ -173,6 +173,83 @@ fn balance<const N: usize>(a: &[[f64; N]; N]) -> [f64; N] {
     d
 }
 
+/// `Re(lambda) h` at or below which a mode is fast: it decays by `e^-45` (3e-20) within one grid
+/// step, so from the first grid point on it is gone below rounding.
+const FAST_DECAY: f64 = -45.0;
+
+/// Most power iterations spent on one fast mode.
+const POWER_ITERATIONS: usize = 400;
+
+/// Largest condition number `|x| |y| / |y . x|` of a fast mode's right and left eigenvectors
+/// `x`, `y` accepted: a fast mode nearly parallel to a slow one is not split off.
+const FAST_CONDITION: f64 = 1e4;
+
+/// The dominant eigenvalue of `b` and its unit eigenvector by power iteration (deterministic
+/// start), `None` unless it converged to a real eigenvalue (a residual `|b x - lambda x|` within
+/// 1e-13 of `|lambda|`): a complex dominant pair, or two of nearly equal size, never do.
+fn dominant<const N: usize>(b: &[[f64; N]; N]) -> Option<(f64, [f64; N])> {
+    let mul = |x: &[f64; N]| -> [f64; N] { std::array::from_fn(|i| dotn(&b[i], x)) };
+    let unit = |x: [f64; N]| -> Option<[f64; N]> {
+        let n = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+        (n > 0.0 && n.is_finite()).then(|| x.map(|v| v / n))
+    };
+    let mut x = unit(std::array::from_fn(|i| 1.0 + 0.1 * i as f64))?;
+    // converged to 1e-13, then on while the residual still falls (to rounding)
+    let mut best: Option<(f64, f64, [f64; N])> = None;
+    for _ in 0..POWER_ITERATIONS {
+        let bx = mul(&x);
+        let lambda = dotn(&x, &bx);
+        let res = (0..N)
+            .map(|i| (bx[i] - lambda * x[i]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        if let Some((r0, l0, x0)) = best {
+            if res >= 0.5 * r0 {
+                return Some((l0, x0));
+            }
+        }
+        if res <= 1e-13 * lambda.abs() {
+            best = Some((res, lambda, x));
+        }
+        x = unit(bx)?;
+    }
+    best.map(|(_, l, x)| (l, x))
+}
+
+/// The system matrix `a` (balanced) with its fast modes taken out (issue 50, item 5): each
+/// real eigenvalue with `lambda h <= FAST_DECAY`, found largest first by power iteration,
+/// is sent to zero by the deflation `b - lambda x y^T / (y . x)` with its right and left
+/// eigenvectors, which leaves every other eigenvalue and eigenvector as it is. What remains,
+/// `A P_s` (`P_s` the projector on the slow modes), is `A` on every state whose fast part has
+/// decayed, as a tail's state has from its first grid point on; its norm is that of the slow
+/// dynamics, so a stiff model (a search start whose piezo relaxes in a thousandth of a step:
+/// `|A| h` 640 to 4 600) is read with the few bins of a compliant one instead of 4 096 bins of
+/// 10 to 14 terms in two levels. `None` when there is no fast mode, or one that does not
+/// split cleanly (complex, close to another, or ill-conditioned: the bins then cover `A`
+/// itself).
+fn without_fast_modes<const N: usize>(a: &[[f64; N]; N], h: f64) -> Option<[[f64; N]; N]> {
+    let mut b = *a;
+    let mut split = false;
+    for _ in 1..N {
+        let Some((lambda, x)) = dominant(&b) else {
+            break;
+        };
+        if lambda * h > FAST_DECAY {
+            break;
+        }
+        let bt: [[f64; N]; N] = std::array::from_fn(|i| std::array::from_fn(|j| b[j][i]));
+        let (mu, y) = dominant(&bt)?;
+        let yx = dotn(&y, &x);
+        if (mu - lambda).abs() > 1e-10 * lambda.abs() || yx.abs() * FAST_CONDITION < 1.0 {
+            return None;
+        }
+        let f = lambda / yx;
+        b = std::array::from_fn(|i| std::array::from_fn(|j| b[i][j] - f * x[i] * y[j]));
+        split = true;
+    }
+    split.then_some(b)
+}
+
 /// Whether the intervals of `times` change (by more than `tol` [s] from one to the next) often
 /// enough, more than 32 times and one interval in 16, that an exponential per change, what the
 /// interval-by-interval propagation costs, would be dearer than this tail's bins. A record
@@ -256,7 +333,34 @@ pub(super) struct Stamps {
 impl Stamps {
     /// The grid of `times` (increasing, after `t0`), or `None` where [`typical_step`] has
     /// none.
+    /// A fit evaluates the same record's stamps for every parameter vector: the last ones
+    /// each thread computed are kept with a copy of their time stamps, and given again when
+    /// the stamps are the same bit for bit (comparing them costs a tenth of the median's
+    /// selection, 4 % of a `discover` on a 1 000-sample jittered record).
     pub(super) fn of(t0: f64, times: &[f64]) -> Option<Stamps> {
+        thread_local! {
+            static LAST: std::cell::RefCell<(u64, Vec<u64>, Option<Stamps>)> =
+                const { std::cell::RefCell::new((0, Vec::new(), None)) };
+        }
+        let same = |last: &(u64, Vec<u64>, Option<Stamps>)| {
+            last.0 == t0.to_bits()
+                && last.1.len() == times.len()
+                && last.1.iter().zip(times).all(|(a, b)| *a == b.to_bits())
+        };
+        if let Some(s) = LAST.with_borrow(|last| same(last).then_some(last.2)) {
+            return s;
+        }
+        let s = Stamps::compute(t0, times);
+        LAST.with_borrow_mut(|last| {
+            last.0 = t0.to_bits();
+            last.1.clear();
+            last.1.extend(times.iter().map(|t| t.to_bits()));
+            last.2 = s;
+        });
+        s
+    }
+
+    fn compute(t0: f64, times: &[f64]) -> Option<Stamps> {
         let h = typical_step(t0, times)?;
         let inv_h = 1.0 / h;
         let e_max = times
@@ -285,6 +389,10 @@ pub(super) struct Irregular<const N: usize = N_HOM> {
     /// `rows[b * n_terms + j] = e_y^T exp(A c_b) A^j / j!` for the centre `c_b` of bin `b`;
     /// with two levels (`k2 > 1`), `c_b` is the start `b k2 w` of row bin `b`.
     rows: Vec<[f64; N]>,
+    /// `rows` by row bin with its terms innermost (`rows_t[(b * N + i) * n_terms + j]` is
+    /// entry `i` of term `j` of bin `b`): a lane alone computes a sample's terms side by side
+    /// ([`run_lanes_body`]).
+    rows_t: Vec<f64>,
     /// With two levels, `sub[k] = exp(A (k + 1/2) w)` for the sub-bins of a row bin: a
     /// sample in bin `k1 k2 + k` reads the rows of `k1` against `sub[k]` times the state.
     sub: Vec<[[f64; N]; N]>,
@@ -298,6 +406,10 @@ pub(super) struct Irregular<const N: usize = N_HOM> {
     pub(super) n_terms: usize,
     /// Whether the one bin is centred on the nearest grid point.
     pub(super) centred: bool,
+    /// Whether the bins cover the model without its fast modes ([`without_fast_modes`]): the
+    /// samples before the first grid point after `t0`, where those modes have not decayed
+    /// yet, are then read by an exponential each.
+    pub(super) fast: bool,
     /// The homogeneous system matrix (for a long gap's exponential).
     a: Mat,
     /// The balancing scales (powers of two): the state is carried as `D^-1 v`, `m` is
@@ -354,10 +466,22 @@ impl<const N: usize> Irregular<N> {
         // grid point at or before a sample (forwards only: an exponential backwards in time
         // would amplify a stiff model's decayed modes), as many as cost least
         let centred = a_norm * e_max <= OFFSET_NORM;
+        // the matrix the bins' series cover: a stiff model's without its fast modes, gone from
+        // the first grid point on (the samples before it are read exactly: `fast`); only a
+        // norm of at least |FAST_DECAY| / h can hold such a mode
+        let split = (!centred && a_norm * h >= -FAST_DECAY)
+            .then(|| without_fast_modes(&a5, h))
+            .flatten();
+        let fast = split.is_some();
+        let ser = split.unwrap_or(a5);
+        let ser_norm = ser
+            .iter()
+            .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0f64, f64::max);
         let (nb, n_terms, k2, lo) = if centred {
             (1, terms(a_norm * e_max)?, 1, -0.5 * h)
         } else {
-            let (nb, nt, k2) = cheapest_bins(a_norm, h, stamps.n)?;
+            let (nb, nt, k2) = cheapest_bins(ser_norm, h, stamps.n)?;
             (nb, nt, k2, 0.0)
         };
         let w = h / nb as f64;
@@ -366,15 +490,16 @@ impl<const N: usize> Irregular<N> {
         // norm needs fewer squarings than the augmented matrix's (a third of `new`'s cost on
         // a 1 000-sample record went to three exponentials of the unbalanced 7 x 7 matrix)
         let m = expm(&a5, h);
+        // (the grid step with every mode, fast ones included: they decay on it, rounding too);
         // the first row of each bin: e_y^T D (the grid point itself), or e_y^T exp(A w / 2) D
-        // then one bin's width after the other
+        // then one bin's width after the other, `A` the series' matrix `ser`
         let mut first = Vec::with_capacity(nb);
         let mut sub = Vec::new();
         if centred {
             first.push(std::array::from_fn(|i| if i == 1 { d[1] } else { 0.0 }));
         } else if k2 > 1 {
             // the row bins' starts, k2 bins apart, and the sub-bins' centres
-            let step = expm(&a5, w * k2 as f64);
+            let step = expm(&ser, w * k2 as f64);
             let mut c: [f64; N] = std::array::from_fn(|i| if i == 1 { d[1] } else { 0.0 });
             for b in 0..nb / k2 {
                 if b > 0 {
@@ -382,8 +507,8 @@ impl<const N: usize> Irregular<N> {
                 }
                 first.push(c);
             }
-            let fine = expm(&a5, w);
-            let mut s_k = expm(&a5, w / 2.0);
+            let fine = expm(&ser, w);
+            let mut s_k = expm(&ser, w / 2.0);
             for k in 0..k2 {
                 if k > 0 {
                     s_k = std::array::from_fn(|i| {
@@ -399,9 +524,11 @@ impl<const N: usize> Irregular<N> {
                 sub.push(s_k);
             }
         } else {
-            let step = expm(&a5, w);
-            let half = expm(&a5, w / 2.0)[1];
-            let mut c: [f64; N] = half.map(|v| v * d[1]);
+            // exp(A w) as the square of exp(A w / 2): one product instead of an exponential
+            // (a third of `new`'s exponentials)
+            let half = expm(&ser, w / 2.0);
+            let step: [[f64; N]; N] = std::array::from_fn(|i| row_times(&half[i], &half));
+            let mut c: [f64; N] = half[1].map(|v| v * d[1]);
             for b in 0..nb {
                 if b > 0 {
                     c = row_times(&c, &step);
@@ -416,22 +543,30 @@ impl<const N: usize> Irregular<N> {
         powers[0] = std::array::from_fn(|i| std::array::from_fn(|j| f64::from(u8::from(i == j))));
         for j in 1..n_terms {
             let p = powers[j - 1];
-            powers[j] = std::array::from_fn(|i| row_times(&p[i], &a5).map(|v| v / j as f64));
+            powers[j] = std::array::from_fn(|i| row_times(&p[i], &ser).map(|v| v / j as f64));
         }
         let mut rows = Vec::with_capacity(nb * n_terms);
         for c in &first {
             rows.push(*c);
             rows.extend(powers[1..].iter().map(|p| row_times(c, p)));
         }
+        let mut rows_t = Vec::with_capacity(rows.len() * N);
+        for bin in rows.chunks(n_terms) {
+            for i in 0..N {
+                rows_t.extend(bin.iter().map(|r| r[i]));
+            }
+        }
         let v: [f64; N] = std::array::from_fn(|i| z[i] / d[i]);
         Some(Irregular {
             m,
             rows,
+            rows_t,
             nb,
             n_terms,
             sub,
             k2,
             centred,
+            fast,
             a: *a,
             d,
             v,
@@ -532,6 +667,45 @@ fn run_lanes_avx<const N: usize, const L: usize>(
     run_lanes_body(tails, times, outs)
 }
 
+/// A lane alone's reading of a sample: the `NT` terms' dot products with the state `u` (each
+/// summed over the state left to right, as `run_lanes_body`'s `dot`), side by side in
+/// registers, then Horner's scheme in `r`: the bits of the lanes' reading. `rt`: the bin's
+/// rows, terms innermost.
+#[inline(always)]
+fn read_nt<const N: usize, const NT: usize>(rt: &[f64], u: &[f64; N], r: f64) -> f64 {
+    let rt = &rt[..N * NT];
+    let mut d = [0.0; NT];
+    for (j, dj) in d.iter_mut().enumerate() {
+        *dj = rt[j] * u[0];
+    }
+    for (i, ui) in u.iter().enumerate().skip(1) {
+        for (j, dj) in d.iter_mut().enumerate() {
+            *dj += rt[i * NT + j] * ui;
+        }
+    }
+    let mut acc = d[NT - 1];
+    for j in (0..NT - 1).rev() {
+        acc = acc * r + d[j];
+    }
+    acc
+}
+
+/// [`read_nt`] for `nt` terms (1 to [`MAX_TERMS`]): the count a constant, so that the terms
+/// stay in registers (with a count known only at run time they went through memory, and a
+/// lane alone took three times a lane of four per sample).
+#[inline(always)]
+fn read_terms<const N: usize>(nt: usize, rt: &[f64], u: &[f64; N], r: f64) -> f64 {
+    macro_rules! by_count {
+        ($($k:literal)*) => {
+            match nt {
+                $($k => read_nt::<N, $k>(rt, u, r),)*
+                _ => unreachable!("1 to {MAX_TERMS} terms"),
+            }
+        };
+    }
+    by_count!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+}
+
 /// The body of [`run_lanes`]. The grid point of a sample is the one at or before it, `g =
 /// floor((t - t0) / h)`, or with one bin the nearest (`(t - t0) / h + 1/2`), by a truncating
 /// conversion (no `floor` call; a negative number converts to 0), and its offset `e` falls in
@@ -548,7 +722,11 @@ fn run_lanes_body<const N: usize, const L: usize>(
     debug_assert!(
         tails
             .iter()
-            .all(|x| x.n_terms == nt && x.nb == nb && x.k2 == t.k2 && x.centred == t.centred)
+            .all(|x| x.n_terms == nt
+                && x.nb == nb
+                && x.k2 == t.k2
+                && x.centred == t.centred
+                && x.fast == t.fast)
     );
     let m: [[[f64; L]; N]; N] =
         std::array::from_fn(|i| std::array::from_fn(|j| std::array::from_fn(|b| tails[b].m[i][j])));
@@ -562,13 +740,7 @@ fn run_lanes_body<const N: usize, const L: usize>(
     } else {
         Vec::new()
     };
-    let row_at = |k: usize| -> [[f64; L]; N] {
-        if L > 1 {
-            table[k]
-        } else {
-            std::array::from_fn(|i| std::array::from_fn(|_| t.rows[k][i]))
-        }
-    };
+    let row_at = |k: usize| -> [[f64; L]; N] { table[k] };
     // the sub-bins' matrices of every lane side by side (two levels only)
     let k2 = t.k2;
     let subs: Vec<[[[f64; L]; N]; N]> = (0..if k2 > 1 { k2 } else { 0 })
@@ -634,6 +806,17 @@ fn run_lanes_body<const N: usize, const L: usize>(
             }
         }
         let e = ti - (t0 + g as f64 * h);
+        if t.fast && g == 0 {
+            // before the first grid point the fast modes have not decayed: exactly
+            for (b, x) in tails.iter().enumerate() {
+                if running[b] {
+                    let p = propagator(&x.a, e);
+                    let y: f64 = (0..N).map(|j| p[1][j] * (v[j][b] * x.d[j])).sum();
+                    outs[b].push(y * scale_y[b] - d0[b]);
+                }
+            }
+            continue;
+        }
         let bin = (((e - lo) * inv_w) as usize).min(nb - 1);
         let r = e - (lo + (bin as f64 + 0.5) * w);
         // two levels: the state carried to the sub-bin's centre within its row bin first
@@ -647,13 +830,23 @@ fn run_lanes_body<const N: usize, const L: usize>(
         } else {
             (bin, v)
         };
-        let mut acc = dot(&row_at(rb * nt + nt - 1), &u);
-        for j in (0..nt - 1).rev() {
-            let d = dot(&row_at(rb * nt + j), &u);
-            for b in 0..L {
-                acc[b] = acc[b] * r + d[b];
+        let acc = if L == 1 {
+            // a lane alone: the terms' dot products side by side (each summed over the state
+            // left to right, as `dot`), then Horner's scheme as below: the same bits, a third
+            // of the time of one term after the other
+            let rt = &t.rows_t[rb * N * nt..(rb + 1) * N * nt];
+            let u: [f64; N] = std::array::from_fn(|i| u[i][0]);
+            [read_terms(nt, rt, &u, r); L]
+        } else {
+            let mut acc = dot(&row_at(rb * nt + nt - 1), &u);
+            for j in (0..nt - 1).rev() {
+                let d = dot(&row_at(rb * nt + j), &u);
+                for b in 0..L {
+                    acc[b] = acc[b] * r + d[b];
+                }
             }
-        }
+            acc
+        };
         for b in 0..L {
             if running[b] {
                 outs[b].push(acc[b] * scale_y[b] - d0[b]);
@@ -718,5 +911,57 @@ mod tests {
         let b: [[f64; N_HOM]; N_HOM] =
             std::array::from_fn(|i| std::array::from_fn(|j| a5[i][j] * d[j] / d[i]));
         assert!(norm_h(&b) <= norm_h(&a5), "{} {}", norm_h(&b), norm_h(&a5));
+    }
+
+    /// The fast modes split off are those of the model, and what remains reads a state whose
+    /// fast part has decayed as the model does: a light model (`m` 9 ug, `b` 977 N s/m: real
+    /// modes at `lambda h` -100 and -113) keeps its slow dynamics, `|A_s| h` 2.6 against 143
+    /// for `A` (measured), and `exp(A_s e) v` is `exp(A e) v` to 1e-12 for a state one step after
+    /// the start; a ringing plunger (a complex pair at 46 radians a step, no fast real mode)
+    /// is left whole.
+    #[test]
+    fn fast_modes_split_off_leave_the_slow_dynamics() {
+        let light = RtConfig {
+            m_kg: 9e-6,
+            b_ns_m: 977.0,
+            plunger: Some((1.9e-4, 2.15e6)),
+            ..RtConfig::default()
+        };
+        let h = 1e-6;
+        let (_, a, z) = light.scaled_start();
+        let a5 = block::<N_HOM>(&a);
+        let d = balance(&a5);
+        let b: [[f64; N_HOM]; N_HOM] =
+            std::array::from_fn(|i| std::array::from_fn(|j| a5[i][j] * d[j] / d[i]));
+        let s = without_fast_modes(&b, h).expect("fast modes");
+        assert!(norm_h(&b) > 100.0 && norm_h(&s) < 3.0, "{} {}", norm_h(&b), norm_h(&s));
+        let v0: [f64; N_HOM] = std::array::from_fn(|i| z[i] / d[i]);
+        let m = expm(&b, h);
+        let v1: [f64; N_HOM] = std::array::from_fn(|i| dotn(&m[i], &v0));
+        let size = v1.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        for e in [0.05e-6, 0.3e-6, 0.7e-6, 0.99e-6] {
+            let (full, split) = (expm(&b, e), expm(&s, e));
+            for i in 0..N_HOM {
+                let (x, y) = (dotn(&full[i], &v1), dotn(&split[i], &v1));
+                assert!((x - y).abs() <= 1e-12 * size, "{e} {i}: {x} {y}");
+            }
+            // ... and not so for the state at the start, whose fast part is still there
+            let off = (0..N_HOM)
+                .map(|i| (dotn(&full[i], &v0) - dotn(&split[i], &v0)).abs())
+                .fold(0.0, f64::max);
+            assert!(off > 1e-9 * size, "{e}: {off} {size}");
+        }
+        let ringing = RtConfig {
+            b_ns_m: 1e-6,
+            plunger: Some((1e-9, 2.15e6)),
+            ..RtConfig::default()
+        };
+        let (_, a, _) = ringing.scaled_start();
+        let a5 = block::<N_HOM>(&a);
+        let d = balance(&a5);
+        let b: [[f64; N_HOM]; N_HOM] =
+            std::array::from_fn(|i| std::array::from_fn(|j| a5[i][j] * d[j] / d[i]));
+        assert!(norm_h(&b) > 45.0, "{}", norm_h(&b));
+        assert!(without_fast_modes(&b, h).is_none());
     }
 }
