@@ -354,7 +354,8 @@ pub(crate) fn third_differences(t: &[f64], v: &[f64]) -> (Vec<f64>, Vec<bool>, f
         .map(|i| {
             let tt = &t[i..i + 4];
             let h = (tt[3] - tt[0]) / 3.0;
-            if !(tt[3] - tt[0] <= span_max) {
+            let span = tt[3] - tt[0];
+            if span > span_max || span.is_nan() {
                 return None;
             }
             if (1..4).all(|k| (tt[k] - tt[k - 1] - h).abs() <= 1e-6 * h) {
@@ -584,28 +585,44 @@ mod tests {
         let (h, g, j) = (1e-6, gauss(n, 21), gauss(n, 22));
         let swing = |t: f64| 5e-6 * (1.0 - (2.0 * std::f64::consts::PI * 2e3 * t).cos());
         let t: Vec<f64> = (0..n).map(|i| (i as f64 + 0.1 * j[i]) * h).collect();
-        let v: Vec<f64> = t.iter().zip(&g).map(|(t, e)| swing(*t) + 1e-9 * e).collect();
+        let v: Vec<f64> = t
+            .iter()
+            .zip(&g)
+            .map(|(t, e)| swing(*t) + 1e-9 * e)
+            .collect();
         let plain: Vec<f64> = (0..n).map(|i| i as f64 * h).collect();
         let naive = check_noise_differences("y", 1e-9, &plain, &v).unwrap();
         assert!(naive.mismatch && naive.ratio > 1.25, "{naive:?}");
         let ok = check_noise_differences("y", 1e-9, &t, &v).unwrap();
         assert!(!ok.mismatch && (ok.ratio - 1.0).abs() < 0.1, "{ok:?}");
         let small = check_noise_differences("y", 0.5e-9, &t, &v).unwrap();
-        assert!(small.mismatch && (small.ratio - 2.0).abs() < 0.2, "{small:?}");
+        assert!(
+            small.mismatch && (small.ratio - 2.0).abs() < 0.2,
+            "{small:?}"
+        );
         // gapped: one sample in 7 left out and a hole of 120 samples
         let keep: Vec<usize> = (0..n)
             .filter(|i| i % 7 != 3 && !(1500..1620).contains(i))
             .collect();
         let tg: Vec<f64> = keep.iter().map(|i| *i as f64 * h).collect();
-        let vg: Vec<f64> = keep.iter().map(|i| swing(*i as f64 * h) + 1e-9 * g[*i]).collect();
+        let vg: Vec<f64> = keep
+            .iter()
+            .map(|i| swing(*i as f64 * h) + 1e-9 * g[*i])
+            .collect();
         let gapped = check_noise_differences("y", 1e-9, &tg, &vg).unwrap();
-        assert!(!gapped.mismatch && (gapped.ratio - 1.0).abs() < 0.1, "{gapped:?}");
+        assert!(
+            !gapped.mismatch && (gapped.ratio - 1.0).abs() < 0.1,
+            "{gapped:?}"
+        );
         // the expected lag-1 figure follows the stamps: -3/4 on a grid
         assert!((third_differences(&plain, &v).2 + 0.75).abs() < 1e-12);
         let (d, next, rho) = third_differences(&tg, &vg);
         assert!(rho > -0.75 && rho < -0.6, "{rho}");
         assert_eq!(d.len(), next.len());
-        assert!(d.len() < tg.len() - 3, "the windows across the hole are left out");
+        assert!(
+            d.len() < tg.len() - 3,
+            "the windows across the hole are left out"
+        );
     }
 
     #[test]

@@ -203,10 +203,10 @@ fn dominant<const N: usize>(b: &[[f64; N]; N]) -> Option<(f64, [f64; N])> {
             .map(|i| (bx[i] - lambda * x[i]).powi(2))
             .sum::<f64>()
             .sqrt();
-        if let Some((r0, l0, x0)) = best {
-            if res >= 0.5 * r0 {
-                return Some((l0, x0));
-            }
+        if let Some((r0, l0, x0)) = best
+            && res >= 0.5 * r0
+        {
+            return Some((l0, x0));
         }
         if res <= 1e-13 * lambda.abs() {
             best = Some((res, lambda, x));
@@ -719,15 +719,11 @@ fn run_lanes_body<const N: usize, const L: usize>(
     let n = times.len();
     let t = tails[0];
     let (nt, nb) = (t.n_terms, t.nb);
-    debug_assert!(
-        tails
-            .iter()
-            .all(|x| x.n_terms == nt
-                && x.nb == nb
-                && x.k2 == t.k2
-                && x.centred == t.centred
-                && x.fast == t.fast)
-    );
+    debug_assert!(tails.iter().all(|x| x.n_terms == nt
+        && x.nb == nb
+        && x.k2 == t.k2
+        && x.centred == t.centred
+        && x.fast == t.fast));
     let m: [[[f64; L]; N]; N] =
         std::array::from_fn(|i| std::array::from_fn(|j| std::array::from_fn(|b| tails[b].m[i][j])));
     let mut v: [[f64; L]; N] = std::array::from_fn(|i| std::array::from_fn(|b| tails[b].v[i]));
@@ -934,7 +930,12 @@ mod tests {
         let b: [[f64; N_HOM]; N_HOM] =
             std::array::from_fn(|i| std::array::from_fn(|j| a5[i][j] * d[j] / d[i]));
         let s = without_fast_modes(&b, h).expect("fast modes");
-        assert!(norm_h(&b) > 100.0 && norm_h(&s) < 3.0, "{} {}", norm_h(&b), norm_h(&s));
+        assert!(
+            norm_h(&b) > 100.0 && norm_h(&s) < 3.0,
+            "{} {}",
+            norm_h(&b),
+            norm_h(&s)
+        );
         let v0: [f64; N_HOM] = std::array::from_fn(|i| z[i] / d[i]);
         let m = expm(&b, h);
         let v1: [f64; N_HOM] = std::array::from_fn(|i| dotn(&m[i], &v0));
