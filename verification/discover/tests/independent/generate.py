@@ -850,7 +850,7 @@ def main():
                   description="retraction: plunger hidden, time stamps jittered by sd 10 % of the step")
         expected.append({"name": "jitter-rt-plunger", "class": "defect", "baseline": ["piezo"],
                          "expect": {"explained": True, "added": ["plunger_compliance"],
-                                    "shows": {"irregular sampling": None}},
+                                    "shows": {"irregular sampling": None}, "noise_agrees": ["y"]},
                          "truth": rt_params(q), "combinations": combinations(q, 120.0)})
 
     # A mis-stated noise figure on a retraction record, whose 20-sample pre-trigger is too
