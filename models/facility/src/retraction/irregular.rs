@@ -763,6 +763,16 @@ fn run_lanes_body<const N: usize, const L: usize>(
     };
     let mut running = [true; L];
     let mut g = 0u64;
+    // a lane alone reads its samples a chunk at a time, after the chunk's states: the
+    // readings are then independent of one another and of the state's chain, and overlap
+    let mut pending: Vec<(usize, [f64; N], f64)> =
+        Vec::with_capacity(if L == 1 { CHUNK } else { 0 });
+    let flush = |pending: &mut Vec<(usize, [f64; N], f64)>, out: &mut Vec<f64>| {
+        out.extend(pending.drain(..).map(|(rb, u, r)| {
+            let rt = &t.rows_t[rb * N * nt..(rb + 1) * N * nt];
+            read_terms(nt, rt, &u, r) * scale_y[0] - d0[0]
+        }));
+    };
     for (k, &ti) in times.iter().enumerate() {
         let gi = ((ti - t0) * inv_h + half) as u64;
         if gi > g {
@@ -790,6 +800,9 @@ fn run_lanes_body<const N: usize, const L: usize>(
             let rest: [bool; L] = std::array::from_fn(|b| (0..N).all(|i| v[i][b].abs() < 1e-30));
             if (0..L).any(|b| rest[b] && running[b]) {
                 // at rest (see `retraction`): held at -d0 exactly
+                if L == 1 {
+                    flush(&mut pending, &mut outs[0]);
+                }
                 for b in 0..L {
                     if rest[b] && running[b] {
                         outs[b].extend(std::iter::repeat_n(-d0[b], n - k));
@@ -804,6 +817,9 @@ fn run_lanes_body<const N: usize, const L: usize>(
         let e = ti - (t0 + g as f64 * h);
         if t.fast && g == 0 {
             // before the first grid point the fast modes have not decayed: exactly
+            if L == 1 {
+                flush(&mut pending, &mut outs[0]);
+            }
             for (b, x) in tails.iter().enumerate() {
                 if running[b] {
                     let p = propagator(&x.a, e);
@@ -826,31 +842,37 @@ fn run_lanes_body<const N: usize, const L: usize>(
         } else {
             (bin, v)
         };
-        let acc = if L == 1 {
+        if L == 1 {
             // a lane alone: the terms' dot products side by side (each summed over the state
-            // left to right, as `dot`), then Horner's scheme as below: the same bits, a third
-            // of the time of one term after the other
-            let rt = &t.rows_t[rb * N * nt..(rb + 1) * N * nt];
-            let u: [f64; N] = std::array::from_fn(|i| u[i][0]);
-            [read_terms(nt, rt, &u, r); L]
-        } else {
-            let mut acc = dot(&row_at(rb * nt + nt - 1), &u);
-            for j in (0..nt - 1).rev() {
-                let d = dot(&row_at(rb * nt + j), &u);
-                for b in 0..L {
-                    acc[b] = acc[b] * r + d[b];
-                }
+            // left to right, as `dot`), then Horner's scheme as below ([`read_terms`]): the
+            // same bits
+            pending.push((rb, std::array::from_fn(|i| u[i][0]), r));
+            if pending.len() == CHUNK {
+                flush(&mut pending, &mut outs[0]);
             }
-            acc
-        };
+            continue;
+        }
+        let mut acc = dot(&row_at(rb * nt + nt - 1), &u);
+        for j in (0..nt - 1).rev() {
+            let d = dot(&row_at(rb * nt + j), &u);
+            for b in 0..L {
+                acc[b] = acc[b] * r + d[b];
+            }
+        }
         for b in 0..L {
             if running[b] {
                 outs[b].push(acc[b] * scale_y[b] - d0[b]);
             }
         }
     }
+    if L == 1 {
+        flush(&mut pending, &mut outs[0]);
+    }
     (v, g)
 }
+
+/// Samples a lane alone reads together ([`run_lanes_body`]).
+const CHUNK: usize = 64;
 #[cfg(test)]
 mod tests {
     use super::*;
