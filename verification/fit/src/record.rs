@@ -23,7 +23,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::dataset::{fmt_sig, local_deviation, robust_scale};
+use crate::dataset::{fmt_sig, local_deviation_at, robust_scale};
 
 /// A sample is set aside when it lies this many robust sigma off its neighbours' median...
 pub const SET_ASIDE_SIGMA: f64 = 7.0;
@@ -207,11 +207,12 @@ pub(crate) fn quantisation_finding(ch: &str, v: &[f64], noise: f64) -> Option<Fi
     })
 }
 
-/// Heavy tails of channel `ch` from the local deviations of its residual `resid`: samples
+/// Heavy tails of channel `ch` from the local deviations of its residual `resid` at times `t`
+/// [s] ([`local_deviation_at`]): samples
 /// between 4 and [`SET_ASIDE_SIGMA`] robust sigma off their neighbours, where Gaussian noise
 /// puts 6.3e-5 of them; reported when there are at least five and ten times that many.
-pub(crate) fn tails_finding(ch: &str, resid: &[f64], noise: f64) -> Option<Finding> {
-    let dev = local_deviation(resid);
+pub(crate) fn tails_finding(ch: &str, t: &[f64], resid: &[f64], noise: f64) -> Option<Finding> {
+    let dev = local_deviation_at(t, resid);
     if dev.is_empty() {
         return None;
     }
@@ -667,8 +668,8 @@ mod tests {
         for i in (10..1000).step_by(50) {
             tailed[i] += 5.5e-9;
         }
-        let t = tails_finding("x", &tailed, 1e-9).unwrap();
+        let t = tails_finding("x", &[], &tailed, 1e-9).unwrap();
         assert!((12.0..=20.0).contains(&t.size), "{t:?}");
-        assert!(tails_finding("x", &noise, 1e-9).is_none());
+        assert!(tails_finding("x", &[], &noise, 1e-9).is_none());
     }
 }

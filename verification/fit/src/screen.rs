@@ -15,7 +15,7 @@
 //! and the reports list each sample set aside by its CSV line. `discover` looks again with its
 //! last model ([`again`]).
 
-use crate::dataset::{Dataset, local_deviation, robust_scale};
+use crate::dataset::{Dataset, local_deviation_at, robust_scale};
 use crate::error::FitError;
 use crate::estimate::FitOptions;
 use crate::prepare::Prepared;
@@ -24,11 +24,11 @@ use crate::record::{
 };
 pub use crate::record::{SET_ASIDE_SIGMA, SET_ASIDE_SPREAD};
 
-/// Indices of `resid` that lie [`SET_ASIDE_SIGMA`] robust sigma (floored at a thousandth of
-/// `noise`) and [`SET_ASIDE_SPREAD`] spreads off their neighbours, with the deviation and its
-/// robust sigma.
-fn wild_in(resid: &[f64], noise: f64) -> Vec<(usize, f64, f64)> {
-    let dev = local_deviation(resid);
+/// Indices of `resid` (at times `t` [s]) that lie [`SET_ASIDE_SIGMA`] robust sigma (floored at
+/// a thousandth of `noise`) and [`SET_ASIDE_SPREAD`] spreads off their neighbours
+/// ([`local_deviation_at`]), with the deviation and its robust sigma.
+fn wild_in(t: &[f64], resid: &[f64], noise: f64) -> Vec<(usize, f64, f64)> {
+    let dev = local_deviation_at(t, resid);
     if dev.is_empty() {
         return Vec::new();
     }
@@ -77,7 +77,7 @@ fn find(prep: &Prepared, pred: &[f64]) -> Vec<(usize, SetAside)> {
     for (ch, resid, against) in residuals(prep, pred) {
         let v = ds.channel(&ch);
         let noise = prep.noise.get(&ch).copied().unwrap_or(0.0);
-        for (i, d, z) in wild_in(&resid, noise) {
+        for (i, d, z) in wild_in(&ds.t, &resid, noise) {
             out.push((
                 i,
                 SetAside {
@@ -197,7 +197,14 @@ fn tails_against(prep: &Prepared, o: &crate::estimate::FitOutcome) -> Vec<Findin
     residuals(prep, &o.pred)
         .iter()
         .filter(|(ch, _, _)| fits || ch != prep.channel)
-        .filter_map(|(ch, r, _)| tails_finding(ch, r, prep.noise.get(ch).copied().unwrap_or(0.0)))
+        .filter_map(|(ch, r, _)| {
+            tails_finding(
+                ch,
+                &prep.dataset.t,
+                r,
+                prep.noise.get(ch).copied().unwrap_or(0.0),
+            )
+        })
         .collect()
 }
 
@@ -267,11 +274,11 @@ mod tests {
                 *v += 0.5 * (i - 1200) as f64;
             }
         }
-        assert!(wild_in(&r, 1.0).is_empty());
+        assert!(wild_in(&[], &r, 1.0).is_empty());
         for (i, a) in [(300, 12.0), (900, -15.0), (1500, 10.0)] {
             r[i] += a;
         }
-        let found: Vec<usize> = wild_in(&r, 1.0).iter().map(|w| w.0).collect();
+        let found: Vec<usize> = wild_in(&[], &r, 1.0).iter().map(|w| w.0).collect();
         assert_eq!(found, vec![300, 900, 1500]);
     }
 }

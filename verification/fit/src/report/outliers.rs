@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::coords::to_u;
 pub use crate::dataset::fmt_sig;
-use crate::dataset::{local_deviation, robust_scale};
+use crate::dataset::{local_deviation_at, robust_scale};
 use crate::estimate::{FitOutcome, default_starts};
 use crate::prepare::Prepared;
 use crate::report::FitReport;
@@ -67,7 +67,7 @@ pub struct Outlier {
 
 /// The outliers of the fitted channel's residual `resid` (data - model, SI), in time order.
 pub(crate) fn residual_outliers(prep: &Prepared, resid: &[f64]) -> Vec<Outlier> {
-    let dev = local_deviation(resid);
+    let dev = local_deviation_at(&prep.dataset.t, resid);
     if dev.is_empty() {
         return Vec::new();
     }
