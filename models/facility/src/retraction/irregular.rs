@@ -777,16 +777,7 @@ fn run_lanes_body<const N: usize, const L: usize>(
         let gi = ((ti - t0) * inv_h + half) as u64;
         if gi > g {
             if gi - g > GAP_STEPS {
-                // a long gap: one exponential per lane
-                for (b, x) in tails.iter().enumerate() {
-                    let p = block::<N>(&propagator(&x.a, (gi - g) as f64 * h));
-                    let p: [[f64; N]; N] =
-                        std::array::from_fn(|i| std::array::from_fn(|j| p[i][j] * x.d[j] / x.d[i]));
-                    let vb: [f64; N] = std::array::from_fn(|i| v[i][b]);
-                    for i in 0..N {
-                        v[i][b] = dotn(&p[i], &vb);
-                    }
-                }
+                cross_gap(&tails, &mut v, (gi - g) as f64 * h);
             } else {
                 for _ in g..gi {
                     let mut u = [[0.0; L]; N];
@@ -820,13 +811,7 @@ fn run_lanes_body<const N: usize, const L: usize>(
             if L == 1 {
                 flush(&mut pending, &mut outs[0]);
             }
-            for (b, x) in tails.iter().enumerate() {
-                if running[b] {
-                    let p = propagator(&x.a, e);
-                    let y: f64 = (0..N).map(|j| p[1][j] * (v[j][b] * x.d[j])).sum();
-                    outs[b].push(y * scale_y[b] - d0[b]);
-                }
-            }
+            read_exactly(&tails, &v, e, &running, outs);
             continue;
         }
         let bin = (((e - lo) * inv_w) as usize).min(nb - 1);
@@ -869,6 +854,41 @@ fn run_lanes_body<const N: usize, const L: usize>(
         flush(&mut pending, &mut outs[0]);
     }
     (v, g)
+}
+
+/// A long gap of `dt` [s] crossed by one exponential per lane (the lanes' balanced states `v`).
+fn cross_gap<const N: usize, const L: usize>(
+    tails: &[&Irregular<N>; L],
+    v: &mut [[f64; L]; N],
+    dt: f64,
+) {
+    for (b, x) in tails.iter().enumerate() {
+        let p = block::<N>(&propagator(&x.a, dt));
+        let p: [[f64; N]; N] =
+            std::array::from_fn(|i| std::array::from_fn(|j| p[i][j] * x.d[j] / x.d[i]));
+        let vb: [f64; N] = std::array::from_fn(|i| v[i][b]);
+        for i in 0..N {
+            v[i][b] = dotn(&p[i], &vb);
+        }
+    }
+}
+
+/// The reading `e` [s] after the lanes' first grid point (balanced states `v`) by an
+/// exponential each: a fast mode split off the bins has not decayed there.
+fn read_exactly<const N: usize, const L: usize>(
+    tails: &[&Irregular<N>; L],
+    v: &[[f64; L]; N],
+    e: f64,
+    running: &[bool; L],
+    outs: &mut [Vec<f64>],
+) {
+    for (b, x) in tails.iter().enumerate() {
+        if running[b] {
+            let p = propagator(&x.a, e);
+            let y: f64 = (0..N).map(|j| p[1][j] * (v[j][b] * x.d[j])).sum();
+            outs[b].push(y * x.scale_y - x.d0);
+        }
+    }
 }
 
 /// Samples a lane alone reads together ([`run_lanes_body`]).
