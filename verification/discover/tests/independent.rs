@@ -352,6 +352,14 @@ fn check_defect(name: &str) {
             assert_eq!(c["mismatch"], false, "{name}: {c}");
         }
     }
+    // ... and what it does not: jittered stamps with no sample missing have no gap
+    for kind in e["shows_not"].as_array().into_iter().flatten() {
+        let found = v["record_shows"].as_array().cloned().unwrap_or_default();
+        assert!(
+            found.iter().all(|f| f["kind"] != *kind),
+            "{name}: {kind} named: {found:?}"
+        );
+    }
     if let Some(shows) = e["shows"].as_object() {
         let found = v["record_shows"].as_array().cloned().unwrap_or_default();
         for (kind, ch) in shows {

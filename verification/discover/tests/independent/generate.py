@@ -825,6 +825,7 @@ def main():
             expect["shows"] = {"heavy tails": "x"}
         if "jitter" in kw:
             expect["shows"] = {"irregular sampling": None}
+            expect["shows_not"] = ["gaps"]
         if "gaps" in kw:
             expect["shows"] = {"gaps": None}
             expect["largest_gap_s"] = (max(k for _, k in kw["gaps"]) + 1) / 2e5
@@ -850,7 +851,8 @@ def main():
                   description="retraction: plunger hidden, time stamps jittered by sd 10 % of the step")
         expected.append({"name": "jitter-rt-plunger", "class": "defect", "baseline": ["piezo"],
                          "expect": {"explained": True, "added": ["plunger_compliance"],
-                                    "shows": {"irregular sampling": None}, "noise_agrees": ["y"]},
+                                    "shows": {"irregular sampling": None}, "shows_not": ["gaps"],
+                                    "noise_agrees": ["y"]},
                          "truth": rt_params(q), "combinations": combinations(q, 120.0)})
 
     # A mis-stated noise figure on a retraction record, whose 20-sample pre-trigger is too
