@@ -17,6 +17,7 @@
 
 mod expm;
 mod irregular;
+mod spectral;
 mod tail;
 
 use expm::{Mat, N_AUG, apply, norm_inf, propagator};

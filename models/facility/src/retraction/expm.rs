@@ -3,6 +3,8 @@
 
 /// Size of the augmented state: `q, y, y', l, l'`, `E/E0`, ramp switch.
 pub(super) const N_AUG: usize = 7;
+/// Size of the homogeneous part of the state once the voltage is off: `q, y, y', l, l'`.
+pub(super) const N_HOM: usize = 5;
 pub(super) type Mat = [[f64; N_AUG]; N_AUG];
 
 /// `a b` of `N x N` matrices (zero entries of `a` skipped).
@@ -19,6 +21,16 @@ fn matmul<const N: usize>(a: &[[f64; N]; N], b: &[[f64; N]; N]) -> [[f64; N]; N]
         }
     }
     c
+}
+
+/// `r . v` in a fixed order (left to right).
+#[inline(always)]
+pub(super) fn dotn<const N: usize>(r: &[f64; N], v: &[f64; N]) -> f64 {
+    let mut s = r[0] * v[0];
+    for i in 1..N {
+        s += r[i] * v[i];
+    }
+    s
 }
 
 #[inline]

@@ -4,10 +4,7 @@
 //! through a short Taylor series ([`Tail`]); several evaluations' tails run side by side in
 //! one thread ([`run_lanes`], the same bits as each alone).
 
-use super::expm::{Mat, N_AUG, norm_inf, propagator};
-
-/// Size of the homogeneous part of the state once the voltage is off: `q, y, y', l, l'`.
-const N_HOM: usize = 5;
+use super::expm::{Mat, N_AUG, N_HOM, norm_inf, propagator};
 
 /// `|A e|` up to which a sample `e` off its uniform grid point is reached by the Taylor series
 /// of `exp(A e)` (at most five terms: the first one left out is below `1e-3^5 / 5! ~ 8e-18`
