@@ -45,6 +45,24 @@ impl Model {
         }
     }
 
+    /// [`Model::predict_many`] over `ps` in as few groups as the lanes allow, of balanced sizes
+    /// (five parameter vectors in lanes of four: three and two), the groups spread over the
+    /// thread pool; in order, each the bits of [`Model::predict`] at it.
+    pub fn predict_in_lanes(
+        &self,
+        ps: &[Vec<f64>],
+        times: &[f64],
+        inputs: &Inputs,
+    ) -> Vec<Vec<f64>> {
+        use rayon::prelude::*;
+        let lanes = self.lanes().max(1);
+        let groups = ps.len().div_ceil(lanes).max(1);
+        let size = ps.len().div_ceil(groups).max(1);
+        ps.par_chunks(size)
+            .flat_map_iter(|c| self.predict_many(c, times, inputs))
+            .collect()
+    }
+
     /// The mean of [`Model::predict`] over each group of `k` consecutive times of `fine` (the
     /// sub-samples of a sampled record, `geodesic synth --oversample`): a TM release without a
     /// time shift is integrated with its contact step divided by `k`

@@ -693,16 +693,10 @@ impl crate::numeric::lm::Residuals for JointResiduals<'_, '_> {
 
     fn eval_many(&self, us: &[Vec<f64>]) -> Vec<Vec<f64>> {
         let j = self.joint;
-        let model = &j.o.model;
-        let (t, inputs) = (&j.prep.dataset.t, &j.prep.inputs);
-        let lanes = model.lanes().max(1);
-        let groups = us.len().div_ceil(lanes).max(1);
-        let size = us.len().div_ceil(groups).max(1);
         let ps: Vec<Vec<f64>> = us.iter().map(|u| j.params(u)).collect();
-        let raws: Vec<Vec<f64>> = ps
-            .par_chunks(size)
-            .flat_map_iter(|c| model.predict_many(c, t, inputs))
-            .collect();
+        let raws =
+            j.o.model
+                .predict_in_lanes(&ps, &j.prep.dataset.t, &j.prep.inputs);
         raws.into_par_iter()
             .zip(us.par_iter())
             .map(|(raw, u)| j.residual_of(raw, u, self.solved))

@@ -194,20 +194,9 @@ impl<'a> Problem<'a> {
     /// (each the bits of [`Problem::resid_n`] at it), in groups of the model's lanes, the
     /// groups spread over threads.
     pub(super) fn resid_of_many(&self, ps: &[Vec<f64>], n_use: usize) -> Vec<Vec<f64>> {
-        // as few groups as the lanes allow, of balanced sizes (five columns: three and two)
-        let lanes = self.model.lanes().max(1);
-        let groups = ps.len().div_ceil(lanes).max(1);
-        let size = ps.len().div_ceil(groups).max(1);
-        let preds: Vec<Vec<Vec<f64>>> = ps
-            .par_chunks(size)
-            .map(|c| {
-                self.model
-                    .predict_many(c, &self.t[..n_use], &self.prep.inputs)
-            })
-            .collect();
-        preds
+        self.model
+            .predict_in_lanes(ps, &self.t[..n_use], &self.prep.inputs)
             .into_iter()
-            .flatten()
             .map(|mut r| {
                 for (m, d) in r.iter_mut().zip(self.data) {
                     *m -= d;
