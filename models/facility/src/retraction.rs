@@ -449,6 +449,14 @@ mod tests {
 
     /// The stiff wrong-model optimum the million-row record reaches with `piezo` alone
     /// (|A| ~ 4e10 /s: four terms of the offset series).
+    /// The thesis model with a compliant plunger (`Mg` 0.019 kg, `Kg` 2.15e6 N/m).
+    fn plunger() -> RtConfig {
+        RtConfig {
+            plunger: Some((0.019, 2.15e6)),
+            ..RtConfig::default()
+        }
+    }
+
     fn stiff() -> RtConfig {
         RtConfig {
             m_kg: 1.0013e-6,
@@ -484,9 +492,8 @@ mod tests {
         for cfg in [
             RtConfig::default(),
             RtConfig {
-                plunger: Some((0.019, 2.15e6)),
                 em_v_s: Some(5e7),
-                ..RtConfig::default()
+                ..plunger()
             },
         ] {
             let times: Vec<f64> = (0..=300).map(|i| i as f64 * 1e-6 - 2e-5).collect();
@@ -536,9 +543,8 @@ mod tests {
         // 50 ms at 1 MHz: sample-time rounding makes the intervals differ by up to 1e-11
         // relative; the lag correction keeps the result equal to exact per-interval propagation
         let cfg = RtConfig {
-            plunger: Some((0.019, 2.15e6)),
             em_v_s: Some(5e7),
-            ..RtConfig::default()
+            ..plunger()
         };
         let times: Vec<f64> = (-20..50_000).map(|i| i as f64 / 1e6).collect();
         let y = cfg.retraction(&times);
@@ -575,10 +581,7 @@ mod tests {
         // datasets' format): offsets from the grid up to 5e-11 s. The uniform path must agree
         // with a fresh propagator per interval; a record with a 2 % jitter must be refused by
         // it (and still be computed, interval by interval)
-        let cfg = RtConfig {
-            plunger: Some((0.019, 2.15e6)),
-            ..RtConfig::default()
-        };
+        let cfg = plunger();
         let rounded: Vec<f64> = (-20..200_000)
             .map(|i| format!("{:.9e}", i as f64 / 1e6).parse().unwrap())
             .collect();
@@ -647,10 +650,7 @@ mod tests {
     #[test]
     fn many_configurations_side_by_side_have_the_bits_of_each_alone() {
         let stiff = stiff();
-        let plunger = RtConfig {
-            plunger: Some((0.019, 2.15e6)),
-            ..RtConfig::default()
-        };
+        let plunger = plunger();
         let ramp = |em: f64| RtConfig {
             em_v_s: Some(em),
             ..plunger
@@ -728,10 +728,7 @@ mod tests {
     /// item 5): the hashes were taken with the code before it (commit 1a64db1).
     #[test]
     fn regular_grids_keep_their_bits() {
-        let plunger = RtConfig {
-            plunger: Some((0.019, 2.15e6)),
-            ..RtConfig::default()
-        };
+        let plunger = plunger();
         let cfgs = [
             RtConfig::default(),
             plunger,
@@ -910,10 +907,7 @@ mod tests {
     /// reads accurately, its bits alone.
     #[test]
     fn irregular_sampling_matches_per_interval_exponentials() {
-        let plunger = RtConfig {
-            plunger: Some((0.019, 2.15e6)),
-            ..RtConfig::default()
-        };
+        let plunger = plunger();
         let (light, ringing) = (light(), ringing());
         let cfgs = [
             RtConfig::default(),
@@ -1025,10 +1019,7 @@ mod tests {
     /// takes one bin of few terms.
     #[test]
     fn irregular_records_cost_at_most_twice_their_regular_twin() {
-        let plunger = RtConfig {
-            plunger: Some((0.019, 2.15e6)),
-            ..RtConfig::default()
-        };
+        let plunger = plunger();
         let light = RtConfig {
             m_kg: 9e-6,
             plunger: Some((1.9e-4, 2.15e6)),
